@@ -1,0 +1,52 @@
+#pragma once
+// Pinhole camera model shared by the renderer, the mapper and the view planner.
+//
+// Camera frame convention (optical frame): x points right in the image, y points down,
+// z points forward along the optical axis. Pixel (i, j) -- column i, row j, row 0 at the
+// top of the image -- covers the continuous image coordinates [i, i+1) x [j, j+1), so its
+// centre is (i + 0.5, j + 0.5). A point p_camera projects to
+//   u = fx * x / z + cx,   v = fy * y / z + cy.
+// With cx = width / 2 the optical axis passes through the image centre.
+// Depth images hold planar z-depth (metres along the optical axis), 0 where invalid.
+
+#include <string>
+
+#include "canopy/common/types.h"
+
+namespace canopy {
+
+/// Intrinsics and valid depth range of a depth camera.
+struct CameraIntrinsics {
+  int width_px = 400;
+  int height_px = 400;
+  double fx_px = 381.36;
+  double fy_px = 381.36;
+  double cx_px = 200.0;
+  double cy_px = 200.0;
+  double min_range_m = 0.07;   ///< Depths below this are invalid (RealSense D405 min-Z).
+  double max_range_m = 1.0;    ///< Depths beyond this are invalid (mapping range).
+  double depth_noise_k = 0.0;  ///< Depth noise sigma = k * z^2 [m]; 0 disables noise.
+
+  /// Point in the camera frame seen at continuous pixel coordinates (u, v) with depth z.
+  Vec3 unproject(double u, double v, double z_m) const {
+    return Vec3((u - cx_px) * z_m / fx_px, (v - cy_px) * z_m / fy_px, z_m);
+  }
+  /// Unit-z direction (z = 1) through continuous pixel coordinates (u, v).
+  Vec3 ray_direction(double u, double v) const { return unproject(u, v, 1.0); }
+  /// Projects p_camera to continuous pixel coordinates; false when behind the camera.
+  bool project(const Vec3& p_camera, double* u, double* v) const {
+    if (p_camera.z() <= 0.0) return false;
+    *u = fx_px * p_camera.x() / p_camera.z() + cx_px;
+    *v = fy_px * p_camera.y() / p_camera.z() + cy_px;
+    return true;
+  }
+  bool in_image(double u, double v) const {
+    return u >= 0.0 && v >= 0.0 && u < width_px && v < height_px;
+  }
+  /// Vertical field of view in degrees (what MuJoCo's camera `fovy` expects).
+  double fovy_deg() const;
+  /// Throws InputError naming `where` when a value is out of range.
+  void validate(const std::string& where) const;
+};
+
+}  // namespace canopy

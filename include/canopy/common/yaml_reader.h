@@ -1,0 +1,76 @@
+#pragma once
+// Strict YAML reading for config and world files: every value is read through a
+// YamlReader, which remembers the file and key path so errors name both, and `finish()`
+// rejects keys that nothing read (typos must not be silently ignored).
+
+#include <yaml-cpp/yaml.h>
+
+#include <set>
+#include <string>
+#include <vector>
+
+#include "canopy/common/error.h"
+
+namespace canopy {
+
+/// Reads one YAML mapping with key tracking. Throws InputError on any problem.
+class YamlReader {
+ public:
+  YamlReader(YAML::Node node, std::string file, std::string path);
+
+  /// Loads and parses `file`; throws InputError when it is missing or malformed.
+  static YamlReader load_file(const std::string& file);
+  /// Parses YAML text (for tests and embedded configs); `name` stands in for the file.
+  static YamlReader load_string(const std::string& text, const std::string& name);
+
+  bool has(const std::string& key) const;
+  /// Value of `key` converted to T, or `fallback` when absent.
+  template <typename T>
+  T get(const std::string& key, const T& fallback);
+  /// Value of `key` converted to T; throws when absent.
+  template <typename T>
+  T require(const std::string& key);
+  /// Nested mapping under `key` (an empty mapping when absent).
+  YamlReader child(const std::string& key);
+  /// Throws InputError naming the first key that no get/require/child call read.
+  void finish() const;
+
+  /// Throws InputError "<file>: key '<path.key>': value '<value>' <problem>".
+  [[noreturn]] void fail(const std::string& key, const std::string& problem) const;
+  /// fail() unless `ok`.
+  void check(bool ok, const std::string& key, const std::string& problem) const {
+    if (!ok) fail(key, problem);
+  }
+
+  const std::string& file() const { return file_; }
+  std::string key_path(const std::string& key) const;
+  std::string value_text(const std::string& key) const;
+
+ private:
+  YAML::Node node_;
+  std::string file_;
+  std::string path_;
+  mutable std::set<std::string> read_;
+};
+
+template <typename T>
+T YamlReader::get(const std::string& key, const T& fallback) {
+  if (!has(key)) {
+    read_.insert(key);
+    return fallback;
+  }
+  return require<T>(key);
+}
+
+template <typename T>
+T YamlReader::require(const std::string& key) {
+  read_.insert(key);
+  if (!has(key)) throw InputError(file_ + ": missing key '" + key_path(key) + "'");
+  try {
+    return node_[key].template as<T>();
+  } catch (const YAML::Exception&) {
+    fail(key, "has the wrong type");
+  }
+}
+
+}  // namespace canopy

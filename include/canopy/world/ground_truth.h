@@ -1,0 +1,42 @@
+#pragma once
+// Ground truth of a generated world's fruits: what mapping metrics are scored against.
+
+#include <string>
+#include <vector>
+
+#include "canopy/common/types.h"
+
+namespace canopy::world {
+
+/// One fruit: its instance id (as rendered in instance images), its plant, and its surface
+/// sampled uniformly by area.
+struct FruitTruth {
+  int instance_id = 0;
+  int plant_index = 0;
+  std::string color;                ///< "red", "yellow", "green", ...
+  std::string shape;                ///< "blocky" or "conical"
+  Vec3 center = Vec3::Zero();       ///< Centre of the bounding box [m, world].
+  Vec3 bbox_min = Vec3::Zero();     ///< Axis-aligned bounding box [m, world].
+  Vec3 bbox_max = Vec3::Zero();
+  double surface_area_m2 = 0.0;
+  std::vector<Vec3> surface_points; ///< World-frame surface samples, about spacing_m apart.
+};
+
+/// All fruits of a world.
+struct GroundTruth {
+  double point_spacing_m = 0.003;
+  std::vector<FruitTruth> fruits;
+
+  /// Total number of surface points over all fruits.
+  size_t total_points() const;
+  /// Fruits of one plant (by plant index), in instance order.
+  std::vector<const FruitTruth*> fruits_of_plant(int plant_index) const;
+
+  /// Writes `<dir>/fruits.json` (per-fruit metadata) and `<dir>/fruit_points.csv`
+  /// (instance_id,x,y,z per line), each atomically.
+  void save(const std::string& dir) const;
+  /// Reads what save() wrote; throws InputError naming the file on malformed content.
+  static GroundTruth load(const std::string& dir);
+};
+
+}  // namespace canopy::world

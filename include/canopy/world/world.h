@@ -1,0 +1,45 @@
+#pragma once
+// A generated world: triangle meshes of every plant part with its semantic class and fruit
+// instance, plus the fruit ground truth. Free of MuJoCo; sim/ turns it into an MJCF scene.
+
+#include <string>
+#include <vector>
+
+#include "canopy/common/frame.h"
+#include "canopy/world/ground_truth.h"
+#include "canopy/world/mesh.h"
+#include "canopy/world/world_spec.h"
+
+namespace canopy::world {
+
+/// One piece of plant geometry (a stem, a leaf, a fruit, ...), in world coordinates.
+struct PlantPart {
+  std::string name;                 ///< Unique, e.g. "p3_leaf_12".
+  std::string kind;                 ///< "stem", "petiole", "leaf", "peduncle", "fruit".
+  int class_id = 0;                 ///< Index into WorldSpec::classes.
+  int instance_id = kNoInstance;    ///< Fruit instance id (fruits only).
+  float rgba[4] = {0.f, 0.f, 0.f, 1.f};
+  TriMesh mesh;                     ///< World-frame vertices.
+};
+
+/// One plant: its base position on the ground and its parts.
+struct Plant {
+  int index = 0;
+  Vec3 base_position = Vec3::Zero();
+  double height_m = 0.0;
+  std::vector<PlantPart> parts;
+};
+
+/// A generated greenhouse world.
+struct World {
+  WorldSpec spec;
+  std::vector<Plant> plants;
+  GroundTruth truth;
+
+  size_t triangle_count() const;
+};
+
+/// Generates all plants of `spec` from its seed (same seed, same world, bit for bit).
+World generate_world(const WorldSpec& spec);
+
+}  // namespace canopy::world

@@ -1,0 +1,78 @@
+#pragma once
+// A greenhouse world as written in worlds/<name>.yaml: rows of procedurally generated
+// sweet-pepper plants along an aisle, the semantic classes, the camera and the robot start.
+
+#include <cstdint>
+#include <map>
+#include <string>
+
+#include "canopy/common/camera.h"
+#include "canopy/common/classes.h"
+#include "canopy/common/types.h"
+
+namespace canopy::world {
+
+/// Plants in rows parallel to the world x axis, on both sides of an aisle along y = 0.
+struct RowLayout {
+  int rows = 2;                    ///< 1 (left of the aisle, y > 0) or 2 (both sides).
+  int plants_per_row = 4;
+  double plant_spacing_m = 0.5;    ///< Along the row.
+  double row_offset_m = 0.75;      ///< |y| of each row's centre line.
+  double x_start_m = 0.0;          ///< x of the first plant of each row.
+  double position_jitter_m = 0.03; ///< Uniform jitter of each plant's position.
+};
+
+/// Ranges from which every plant draws its own shape (FACTS.md section 4).
+struct PlantParams {
+  double height_min_m = 1.0, height_max_m = 1.3;
+  double stem_diameter_min_m = 0.012, stem_diameter_max_m = 0.016;
+  double v_angle_min_deg = 8.0, v_angle_max_deg = 20.0;   ///< Each stem's lean from vertical.
+  int leaves_per_stem_min = 9, leaves_per_stem_max = 14;
+  double leaf_length_min_m = 0.07, leaf_length_max_m = 0.14;  ///< Blade length.
+  double leaf_width_ratio = 0.5;                           ///< Blade width / length.
+  double petiole_length_min_m = 0.03, petiole_length_max_m = 0.08;
+  int fruits_min = 3, fruits_max = 6;                      ///< Per plant.
+  double fruit_zone_min = 0.35, fruit_zone_max = 0.85;     ///< Fraction of plant height.
+  double blocky_fraction = 0.7;                            ///< Else conical.
+  double blocky_width_min_m = 0.075, blocky_width_max_m = 0.09;
+  double blocky_length_min_m = 0.09, blocky_length_max_m = 0.12;
+  double conical_width_min_m = 0.05, conical_width_max_m = 0.06;
+  double conical_length_min_m = 0.11, conical_length_max_m = 0.16;
+  std::map<std::string, double> fruit_colors = {{"red", 0.6}, {"yellow", 0.3}, {"green", 0.1}};
+};
+
+/// Which semantic class each kind of geometry carries (names from SemanticClasses).
+struct PartClasses {
+  std::string ground = "background";
+  std::string robot = "background";
+  std::string stem = "leaf";
+  std::string petiole = "leaf";
+  std::string leaf = "leaf";
+  std::string peduncle = "leaf";
+  std::string fruit = "fruit";
+};
+
+/// Everything a world file holds. Defaults reproduce the paper's set-up: 8 plants in two
+/// rows facing the aisle.
+struct WorldSpec {
+  std::string name = "default";
+  std::string source_file;            ///< The YAML file it was read from ("" when built in code).
+  std::uint64_t seed = 1;
+  SemanticClasses classes;
+  PartClasses part_classes;
+  RowLayout rows;
+  PlantParams plant;
+  CameraIntrinsics camera;
+  BasePose robot_start;               ///< Base pose at the start of the aisle.
+  double gt_point_spacing_m = 0.003;  ///< Ground-truth fruit surface sample spacing.
+
+  /// Reads and validates a world file; throws InputError naming file, key and value.
+  static WorldSpec load(const std::string& path);
+  /// Throws InputError (naming source_file) when a value is out of range.
+  void validate() const;
+  /// Class index of a part kind ("stem", "leaf", "fruit", ...).
+  int class_of(const std::string& part) const;
+  int plant_count() const { return rows.rows * rows.plants_per_row; }
+};
+
+}  // namespace canopy::world

@@ -1,0 +1,273 @@
+#include "canopy/common/io.h"
+
+#include <png.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <sstream>
+
+#include "canopy/common/error.h"
+
+namespace fs = std::filesystem;
+
+namespace canopy {
+
+namespace {
+
+std::string temp_name(const std::string& path) {
+  return path + ".tmp" + std::to_string(::getpid());
+}
+
+void rename_or_throw(const std::string& from, const std::string& to) {
+  std::error_code ec;
+  fs::rename(from, to, ec);
+  if (ec) {
+    fs::remove(from, ec);
+    throw std::runtime_error("cannot move " + from + " to " + to + ": " + ec.message());
+  }
+}
+
+struct FileCloser {
+  void operator()(FILE* f) const {
+    if (f) std::fclose(f);
+  }
+};
+
+// Writes rows through libpng into a temporary file, then renames it into place.
+template <typename RowFn>
+void write_png_rows(const std::string& path, int width, int height, int bit_depth, int color_type,
+                    RowFn&& row_fn) {
+  const std::string tmp = temp_name(path);
+  std::unique_ptr<FILE, FileCloser> f(std::fopen(tmp.c_str(), "wb"));
+  if (!f) throw std::runtime_error("cannot write " + path);
+  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
+  png_infop info = png ? png_create_info_struct(png) : nullptr;
+  if (!png || !info) {
+    png_destroy_write_struct(&png, &info);
+    throw std::runtime_error("libpng: out of memory writing " + path);
+  }
+  if (setjmp(png_jmpbuf(png))) {
+    png_destroy_write_struct(&png, &info);
+    f.reset();
+    std::remove(tmp.c_str());
+    throw std::runtime_error("libpng: failed writing " + path);
+  }
+  png_init_io(png, f.get());
+  png_set_IHDR(png, info, static_cast<png_uint_32>(width), static_cast<png_uint_32>(height), bit_depth,
+               color_type, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+  png_set_compression_level(png, 3);
+  png_write_info(png, info);
+  std::vector<png_byte> row;
+  for (int y = 0; y < height; ++y) {
+    row_fn(y, row);
+    png_write_row(png, row.data());
+  }
+  png_write_end(png, nullptr);
+  png_destroy_write_struct(&png, &info);
+  if (std::fflush(f.get()) != 0) throw std::runtime_error("cannot write " + path);
+  f.reset();
+  rename_or_throw(tmp, path);
+}
+
+struct PngRead {
+  int width = 0, height = 0, bit_depth = 0, color_type = 0, channels = 0;
+  std::vector<png_byte> pixels;  // rows packed
+  size_t rowbytes = 0;
+};
+
+PngRead read_png_raw(const std::string& path) {
+  std::unique_ptr<FILE, FileCloser> f(std::fopen(path.c_str(), "rb"));
+  if (!f) throw InputError(path + ": cannot open file");
+  png_byte sig[8];
+  if (std::fread(sig, 1, 8, f.get()) != 8 || png_sig_cmp(sig, 0, 8) != 0)
+    throw InputError(path + ": not a PNG file");
+  png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
+  png_infop info = png ? png_create_info_struct(png) : nullptr;
+  if (!png || !info) {
+    png_destroy_read_struct(&png, &info, nullptr);
+    throw std::runtime_error("libpng: out of memory reading " + path);
+  }
+  PngRead out;
+  if (setjmp(png_jmpbuf(png))) {
+    png_destroy_read_struct(&png, &info, nullptr);
+    throw InputError(path + ": corrupt PNG file");
+  }
+  png_init_io(png, f.get());
+  png_set_sig_bytes(png, 8);
+  png_read_info(png, info);
+  out.width = static_cast<int>(png_get_image_width(png, info));
+  out.height = static_cast<int>(png_get_image_height(png, info));
+  out.bit_depth = png_get_bit_depth(png, info);
+  out.color_type = png_get_color_type(png, info);
+  if (out.bit_depth == 16) png_set_swap(png);  // host order (little-endian)
+  if (out.color_type == PNG_COLOR_TYPE_PALETTE) png_set_palette_to_rgb(png);
+  png_read_update_info(png, info);
+  out.channels = png_get_channels(png, info);
+  out.rowbytes = png_get_rowbytes(png, info);
+  out.pixels.resize(out.rowbytes * static_cast<size_t>(out.height));
+  std::vector<png_bytep> rows(static_cast<size_t>(out.height));
+  for (int y = 0; y < out.height; ++y) rows[static_cast<size_t>(y)] = out.pixels.data() + out.rowbytes * y;
+  png_read_image(png, rows.data());
+  png_destroy_read_struct(&png, &info, nullptr);
+  return out;
+}
+
+}  // namespace
+
+void write_file_atomic(const std::string& path, const std::string& content) {
+  const std::string tmp = temp_name(path);
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (!out) throw std::runtime_error("cannot write " + path);
+    out.write(content.data(), static_cast<std::streamsize>(content.size()));
+    out.flush();
+    if (!out) {
+      std::remove(tmp.c_str());
+      throw std::runtime_error("cannot write " + path);
+    }
+  }
+  rename_or_throw(tmp, path);
+}
+
+void write_json_atomic(const std::string& path, const nlohmann::json& j) {
+  write_file_atomic(path, j.dump(2) + "\n");
+}
+
+std::string read_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path + ": cannot open file");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+void write_png(const std::string& path, const Image<Rgb8>& image) {
+  write_png_rows(path, image.width, image.height, 8, PNG_COLOR_TYPE_RGB, [&](int y, std::vector<png_byte>& row) {
+    row.resize(static_cast<size_t>(image.width) * 3);
+    for (int x = 0; x < image.width; ++x) {
+      const Rgb8& p = image.at(x, y);
+      row[3 * x] = p.r;
+      row[3 * x + 1] = p.g;
+      row[3 * x + 2] = p.b;
+    }
+  });
+}
+
+void write_png_gray16(const std::string& path, const Image<std::uint16_t>& image) {
+  write_png_rows(path, image.width, image.height, 16, PNG_COLOR_TYPE_GRAY, [&](int y, std::vector<png_byte>& row) {
+    row.resize(static_cast<size_t>(image.width) * 2);
+    for (int x = 0; x < image.width; ++x) {
+      const std::uint16_t v = image.at(x, y);
+      row[2 * x] = static_cast<png_byte>(v >> 8);
+      row[2 * x + 1] = static_cast<png_byte>(v & 0xff);
+    }
+  });
+}
+
+Image<Rgb8> read_png_rgb(const std::string& path) {
+  PngRead raw = read_png_raw(path);
+  if (raw.bit_depth != 8 || (raw.channels != 3 && raw.channels != 4))
+    throw InputError(path + ": expected an 8-bit RGB or RGBA PNG");
+  Image<Rgb8> img(raw.width, raw.height);
+  for (int y = 0; y < raw.height; ++y)
+    for (int x = 0; x < raw.width; ++x) {
+      const png_byte* p = raw.pixels.data() + raw.rowbytes * y + raw.channels * x;
+      img.at(x, y) = Rgb8{p[0], p[1], p[2]};
+    }
+  return img;
+}
+
+Image<std::uint16_t> read_png_gray16(const std::string& path) {
+  PngRead raw = read_png_raw(path);
+  if (raw.bit_depth != 16 || raw.channels != 1) throw InputError(path + ": expected a 16-bit grayscale PNG");
+  Image<std::uint16_t> img(raw.width, raw.height);
+  for (int y = 0; y < raw.height; ++y)
+    for (int x = 0; x < raw.width; ++x) {
+      const png_byte* p = raw.pixels.data() + raw.rowbytes * y + 2 * x;
+      img.at(x, y) = static_cast<std::uint16_t>(p[0] | (p[1] << 8));
+    }
+  return img;
+}
+
+std::vector<double> parse_numbers(const std::string& text, int count, const std::string& what) {
+  std::vector<double> out;
+  std::stringstream ss(text);
+  std::string item;
+  while (std::getline(ss, item, ',')) {
+    size_t used = 0;
+    double v = 0.0;
+    try {
+      v = std::stod(item, &used);
+    } catch (const std::exception&) {
+      throw InputError(what + ": value '" + text + "': '" + item + "' is not a number");
+    }
+    while (used < item.size() && std::isspace(static_cast<unsigned char>(item[used]))) ++used;
+    if (used != item.size()) throw InputError(what + ": value '" + text + "': '" + item + "' is not a number");
+    if (!std::isfinite(v)) throw InputError(what + ": value '" + text + "': '" + item + "' is not finite");
+    out.push_back(v);
+  }
+  if (count >= 0 && static_cast<int>(out.size()) != count)
+    throw InputError(what + ": value '" + text + "' must have " + std::to_string(count) +
+                     " comma-separated numbers, has " + std::to_string(out.size()));
+  return out;
+}
+
+Pose parse_pose7(const std::string& text, const std::string& what) {
+  const auto v = parse_numbers(text, 7, what);
+  const Quat q(v[3], v[4], v[5], v[6]);
+  if (std::abs(q.norm() - 1.0) > 1e-3)
+    throw InputError(what + ": value '" + text + "': quaternion (qw,qx,qy,qz) has norm " +
+                     std::to_string(q.norm()) + ", must be unit length");
+  return make_pose(Vec3(v[0], v[1], v[2]), q);
+}
+
+BasePose parse_base_pose(const std::string& text, const std::string& what) {
+  const auto v = parse_numbers(text, 3, what);
+  return BasePose{v[0], v[1], v[2]};
+}
+
+nlohmann::json pose_to_json(const Pose& T) {
+  const Quat q(T.linear());
+  const Vec3 t = T.translation();
+  return {{"position", {t.x(), t.y(), t.z()}}, {"quaternion_wxyz", {q.w(), q.x(), q.y(), q.z()}}};
+}
+
+Pose pose_from_json(const nlohmann::json& j) {
+  const auto& p = j.at("position");
+  const auto& q = j.at("quaternion_wxyz");
+  return make_pose(Vec3(p.at(0).get<double>(), p.at(1).get<double>(), p.at(2).get<double>()),
+                   Quat(q.at(0).get<double>(), q.at(1).get<double>(), q.at(2).get<double>(), q.at(3).get<double>()));
+}
+
+StagedDir::StagedDir(std::string final_dir) : final_dir_(std::move(final_dir)) {
+  while (!final_dir_.empty() && final_dir_.back() == '/') final_dir_.pop_back();
+  if (final_dir_.empty()) throw InputError("--out: the output folder name is empty");
+  staging_dir_ = final_dir_ + ".partial";
+  std::error_code ec;
+  fs::remove_all(staging_dir_, ec);
+  fs::create_directories(staging_dir_, ec);
+  if (ec) throw InputError("--out: cannot create folder " + staging_dir_ + ": " + ec.message());
+}
+
+StagedDir::~StagedDir() {
+  if (!committed_) {
+    std::error_code ec;
+    fs::remove_all(staging_dir_, ec);
+  }
+}
+
+std::string StagedDir::path(const std::string& name) const { return staging_dir_ + "/" + name; }
+
+void StagedDir::commit() {
+  std::error_code ec;
+  fs::remove_all(final_dir_, ec);
+  fs::rename(staging_dir_, final_dir_, ec);
+  if (ec) throw std::runtime_error("cannot move " + staging_dir_ + " to " + final_dir_ + ": " + ec.message());
+  committed_ = true;
+}
+
+}  // namespace canopy

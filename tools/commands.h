@@ -1,0 +1,20 @@
+#pragma once
+// The canopy command-line tool: each subcommand lives in its own cmd_*.cpp and registers
+// itself here. Commands parse flags, load configs and call the library; they own no
+// algorithm (STYLE.md).
+
+#include <CLI/CLI.hpp>
+
+namespace canopy::cli {
+
+/// `canopy world`: generate a world's MJCF and fruit ground truth.
+void add_world_command(CLI::App& app);
+/// `canopy render`: render one view of a world.
+void add_render_command(CLI::App& app);
+/// `canopy run`: the main job (tools/run.sh).
+void add_run_command(CLI::App& app);
+
+/// `canopy bench render`.
+void add_bench_render(CLI::App& bench);
+
+}  // namespace canopy::cli

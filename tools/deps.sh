@@ -1,0 +1,32 @@
+#!/usr/bin/env bash
+# Installs the Debian packages canopy needs to build and test. Idempotent: does nothing when
+# everything is present. Needs root or sudo when something is missing.
+set -euo pipefail
+
+PACKAGES=(
+  build-essential cmake ninja-build ccache pkg-config
+  libmujoco-dev libqhull-dev libosmesa6-dev
+  libeigen3-dev liboctomap-dev libompl-dev libfcl-dev liburdfdom-dev
+  libboost-serialization-dev libboost-filesystem-dev libboost-system-dev
+  libyaml-cpp-dev libcli11-dev libspdlog-dev libfmt-dev nlohmann-json3-dev
+  libnanoflann-dev libtbb-dev libpng-dev
+  libgtest-dev libgmock-dev libbenchmark-dev
+)
+
+missing=()
+for p in "${PACKAGES[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if ((${#missing[@]} == 0)); then
+  exit 0
+fi
+
+echo "canopy: installing missing Debian packages: ${missing[*]}"
+SUDO=""
+if [[ $(id -u) -ne 0 ]]; then
+  command -v sudo >/dev/null || { echo "canopy: need root or sudo to install: ${missing[*]}" >&2; exit 1; }
+  SUDO=sudo
+fi
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
