@@ -1,0 +1,102 @@
+#pragma once
+// Collision checking with FCL: the robot's collision shapes (from the URDF) against the
+// ground, against the current occupancy map (an FCL octree built from the map's occupied
+// voxel centres, not the ground truth) and against themselves (non-adjacent links only).
+// FCL stays inside collision.cpp; this header is FCL-free.
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "canopy/common/types.h"
+#include "canopy/motion/robot_model.h"
+
+namespace canopy {
+class YamlReader;
+}
+
+namespace canopy::motion {
+
+/// Collision checking settings.
+struct CollisionParams {
+  /// Robot shapes are inflated by this much against the map and the ground (a safety
+  /// margin for map noise and tracking error).
+  double environment_padding_m = 0.01;
+  /// Inflation for self-collision checks.
+  double self_padding_m = 0.0;
+  bool check_ground = true;
+  double ground_height_m = 0.0;
+
+  static CollisionParams from_yaml(YamlReader& y, const CollisionParams& defaults);
+  void validate() const;
+};
+
+/// The environment as occupied voxels (an FCL octree). Immutable once built; share it.
+class CollisionEnvironment {
+ public:
+  /// Builds the octree from occupied voxel centres on a grid of `resolution_m` (voxel
+  /// centres at (k + 1/2) * resolution, as OctoMap places them). Throws InputError on a
+  /// non-positive resolution; non-finite centres are skipped.
+  static std::shared_ptr<const CollisionEnvironment> from_voxels(const std::vector<Vec3>& centres,
+                                                                 double resolution_m);
+  ~CollisionEnvironment();
+  size_t voxel_count() const { return voxel_count_; }
+  double resolution_m() const { return resolution_m_; }
+
+  struct Impl;
+  const Impl& impl() const { return *impl_; }
+
+ private:
+  CollisionEnvironment() = default;
+  std::unique_ptr<Impl> impl_;
+  size_t voxel_count_ = 0;
+  double resolution_m_ = 0.0;
+};
+
+/// Which robot shapes a query considers against the environment and the ground.
+enum class BodySet {
+  kAll,      ///< Every shape.
+  kArmOnly,  ///< Only shapes moved by the arm joints (the base's were checked once already).
+};
+
+/// Every colliding pair found for one state, for diagnostics.
+struct CollisionReport {
+  bool in_collision = false;
+  std::vector<std::string> pairs;  ///< "shape_a | shape_b", "shape | map", "shape | ground".
+};
+
+/// Collision checks for one robot model in one environment. All queries are const and
+/// thread-safe (no shared mutable state).
+class CollisionChecker {
+ public:
+  CollisionChecker(const RobotModel& model, const CollisionParams& params,
+                   std::shared_ptr<const CollisionEnvironment> environment = nullptr);
+  ~CollisionChecker();
+  CollisionChecker(CollisionChecker&&) noexcept;
+
+  /// True if the robot at (base, q) touches the map, the ground or itself. Non-finite
+  /// input counts as a collision.
+  bool in_collision(const BasePose& base, const ArmConfig& q, BodySet set = BodySet::kAll) const;
+  /// Only the base-fixed shapes against the map and the ground.
+  bool base_in_collision(const BasePose& base) const;
+  /// All colliding pairs (slower; for messages and tests).
+  CollisionReport report(const BasePose& base, const ArmConfig& q) const;
+
+  /// Self-collision shape pairs that are checked (indices into model().bodies()).
+  const std::vector<std::pair<int, int>>& self_pairs() const { return self_pairs_; }
+  const RobotModel& model() const { return *model_; }
+  const CollisionParams& params() const { return params_; }
+  const std::shared_ptr<const CollisionEnvironment>& environment() const { return environment_; }
+
+ private:
+  struct Shapes;
+  bool check(const BasePose& base, const ArmConfig& q, BodySet set, CollisionReport* report) const;
+
+  const RobotModel* model_;
+  CollisionParams params_;
+  std::shared_ptr<const CollisionEnvironment> environment_;
+  std::unique_ptr<Shapes> shapes_;
+  std::vector<std::pair<int, int>> self_pairs_;
+};
+
+}  // namespace canopy::motion

@@ -1,0 +1,195 @@
+#include "canopy/motion/collision.h"
+
+#include <fcl/geometry/octree/octree.h>
+#include <fcl/geometry/shape/box.h>
+#include <fcl/geometry/shape/capsule.h>
+#include <fcl/geometry/shape/cylinder.h>
+#include <fcl/geometry/shape/halfspace.h>
+#include <fcl/geometry/shape/sphere.h>
+#include <fcl/narrowphase/collision.h>
+#include <octomap/OcTree.h>
+
+#include <cmath>
+
+#include "canopy/common/error.h"
+#include "canopy/common/yaml_reader.h"
+
+namespace canopy::motion {
+
+namespace {
+
+using Geometry = fcl::CollisionGeometryd;
+
+std::shared_ptr<Geometry> make_geometry(const robot::Shape& s, double pad) {
+  std::shared_ptr<Geometry> g;
+  switch (s.type) {
+    case robot::ShapeType::kBox:
+      g = std::make_shared<fcl::Boxd>(s.box_size.x() + 2 * pad, s.box_size.y() + 2 * pad, s.box_size.z() + 2 * pad);
+      break;
+    case robot::ShapeType::kSphere: g = std::make_shared<fcl::Sphered>(s.radius + pad); break;
+    case robot::ShapeType::kCylinder: g = std::make_shared<fcl::Cylinderd>(s.radius + pad, s.length + 2 * pad); break;
+    case robot::ShapeType::kCapsule: g = std::make_shared<fcl::Capsuled>(s.radius + pad, s.length); break;
+    case robot::ShapeType::kMesh: CANOPY_CHECK(false, "mesh collision shapes are rejected by RobotModel");
+  }
+  g->computeLocalAABB();
+  return g;
+}
+
+bool collide(const Geometry& a, const Pose& Ta, const Geometry& b, const Pose& Tb) {
+  // One contact, no contact details: the cheapest query FCL offers.
+  static const fcl::CollisionRequestd request(1, false);
+  fcl::CollisionResultd result;
+  return fcl::collide(&a, Ta, &b, Tb, request, result) > 0;
+}
+
+}  // namespace
+
+// ----------------------------------------------------------------------------------------
+CollisionParams CollisionParams::from_yaml(YamlReader& y, const CollisionParams& d) {
+  CollisionParams p;
+  p.environment_padding_m = y.get("environment_padding_m", d.environment_padding_m);
+  p.self_padding_m = y.get("self_padding_m", d.self_padding_m);
+  p.check_ground = y.get("check_ground", d.check_ground);
+  p.ground_height_m = y.get("ground_height_m", d.ground_height_m);
+  try {
+    p.validate();
+  } catch (const InputError& e) {
+    throw InputError(y.file() + ": " + e.what());
+  }
+  return p;
+}
+
+void CollisionParams::validate() const {
+  if (!(std::isfinite(environment_padding_m) && environment_padding_m >= 0.0))
+    throw InputError("collision: environment_padding_m must be >= 0");
+  if (!(std::isfinite(self_padding_m) && self_padding_m >= 0.0))
+    throw InputError("collision: self_padding_m must be >= 0");
+  if (!std::isfinite(ground_height_m)) throw InputError("collision: ground_height_m must be finite");
+}
+
+// ----------------------------------------------------------------------------------------
+struct CollisionEnvironment::Impl {
+  std::shared_ptr<const octomap::OcTree> octomap;
+  std::shared_ptr<fcl::OcTreed> octree;
+};
+
+CollisionEnvironment::~CollisionEnvironment() = default;
+
+std::shared_ptr<const CollisionEnvironment> CollisionEnvironment::from_voxels(const std::vector<Vec3>& centres,
+                                                                              double resolution_m) {
+  if (!(std::isfinite(resolution_m) && resolution_m > 0.0))
+    throw InputError("collision environment: resolution " + std::to_string(resolution_m) + " m must be > 0");
+  auto tree = std::make_shared<octomap::OcTree>(resolution_m);
+  const float occupied = tree->getClampingThresMaxLog();
+  for (const Vec3& c : centres) {
+    if (!c.allFinite()) continue;
+    octomap::OcTreeKey key;
+    if (!tree->coordToKeyChecked(c.x(), c.y(), c.z(), key)) continue;
+    tree->setNodeValue(key, occupied, /*lazy_eval=*/true);
+  }
+  tree->updateInnerOccupancy();
+  std::shared_ptr<CollisionEnvironment> env(new CollisionEnvironment());
+  env->impl_ = std::make_unique<Impl>();
+  env->impl_->octomap = tree;
+  env->impl_->octree = std::make_shared<fcl::OcTreed>(tree);
+  env->impl_->octree->computeLocalAABB();
+  env->voxel_count_ = tree->getNumLeafNodes();
+  env->resolution_m_ = resolution_m;
+  return env;
+}
+
+// ----------------------------------------------------------------------------------------
+struct CollisionChecker::Shapes {
+  std::vector<std::shared_ptr<Geometry>> padded;  // Against the map and the ground.
+  std::vector<std::shared_ptr<Geometry>> self;    // Against each other.
+  std::shared_ptr<Geometry> ground;
+};
+
+CollisionChecker::~CollisionChecker() = default;
+CollisionChecker::CollisionChecker(CollisionChecker&&) noexcept = default;
+
+CollisionChecker::CollisionChecker(const RobotModel& model, const CollisionParams& params,
+                                   std::shared_ptr<const CollisionEnvironment> environment)
+    : model_(&model), params_(params), environment_(std::move(environment)), shapes_(std::make_unique<Shapes>()) {
+  params_.validate();
+  const auto& bodies = model.bodies();
+  for (const CollisionBody& b : bodies) {
+    shapes_->padded.push_back(make_geometry(b.shape, params_.environment_padding_m));
+    shapes_->self.push_back(make_geometry(b.shape, params_.self_padding_m));
+  }
+  shapes_->ground = std::make_shared<fcl::Halfspaced>(Vec3::UnitZ(), params_.ground_height_m);
+  shapes_->ground->computeLocalAABB();
+  for (size_t i = 0; i < bodies.size(); ++i) {
+    for (size_t j = i + 1; j < bodies.size(); ++j) {
+      if (!model.links_adjacent(bodies[i].link, bodies[j].link))
+        self_pairs_.emplace_back(static_cast<int>(i), static_cast<int>(j));
+    }
+  }
+}
+
+bool CollisionChecker::in_collision(const BasePose& base, const ArmConfig& q, BodySet set) const {
+  return check(base, q, set, nullptr);
+}
+
+CollisionReport CollisionChecker::report(const BasePose& base, const ArmConfig& q) const {
+  CollisionReport r;
+  r.in_collision = check(base, q, BodySet::kAll, &r);
+  return r;
+}
+
+bool CollisionChecker::base_in_collision(const BasePose& base) const {
+  if (!std::isfinite(base.x_m) || !std::isfinite(base.y_m) || !std::isfinite(base.yaw_rad)) return true;
+  std::vector<Pose> poses;
+  model_->body_poses(base, model_->config().home, &poses);
+  const auto& bodies = model_->bodies();
+  for (size_t b = 0; b < bodies.size(); ++b) {
+    if (bodies[b].on_arm) continue;
+    if (params_.check_ground && collide(*shapes_->padded[b], poses[b], *shapes_->ground, Pose::Identity()))
+      return true;
+    if (environment_ && collide(*shapes_->padded[b], poses[b], *environment_->impl().octree, Pose::Identity()))
+      return true;
+  }
+  return false;
+}
+
+bool CollisionChecker::check(const BasePose& base, const ArmConfig& q, BodySet set, CollisionReport* report) const {
+  bool finite = std::isfinite(base.x_m) && std::isfinite(base.y_m) && std::isfinite(base.yaw_rad);
+  for (double v : q) finite = finite && std::isfinite(v);
+  if (!finite) {
+    if (report) report->pairs.push_back("non-finite state");
+    return true;
+  }
+  thread_local std::vector<Pose> poses;
+  model_->body_poses(base, q, &poses);
+  const auto& bodies = model_->bodies();
+  bool hit = false;
+  auto found = [&](const std::string& what) {
+    hit = true;
+    if (report) report->pairs.push_back(what);
+    return report == nullptr;  // Stop at the first hit unless reporting.
+  };
+
+  // Self-collision first: cheap bounding-sphere rejection removes most pairs.
+  for (const auto& [i, j] : self_pairs_) {
+    const auto ui = static_cast<size_t>(i), uj = static_cast<size_t>(j);
+    const double reach = bodies[ui].bounding_radius_m + bodies[uj].bounding_radius_m + 2 * params_.self_padding_m;
+    if ((poses[ui].translation() - poses[uj].translation()).squaredNorm() > reach * reach) continue;
+    if (collide(*shapes_->self[ui], poses[ui], *shapes_->self[uj], poses[uj]) &&
+        found(bodies[ui].shape.name + " | " + bodies[uj].shape.name))
+      return true;
+  }
+  for (size_t b = 0; b < bodies.size(); ++b) {
+    if (set == BodySet::kArmOnly && !bodies[b].on_arm) continue;
+    const double lowest = poses[b].translation().z() - bodies[b].bounding_radius_m - params_.environment_padding_m;
+    if (params_.check_ground && lowest <= params_.ground_height_m &&
+        collide(*shapes_->padded[b], poses[b], *shapes_->ground, Pose::Identity()) &&
+        found(bodies[b].shape.name + " | ground"))
+      return true;
+    if (environment_ && collide(*shapes_->padded[b], poses[b], *environment_->impl().octree, Pose::Identity()) &&
+        found(bodies[b].shape.name + " | map"))
+      return true;
+  }
+  return hit;
+}
+
+}  // namespace canopy::motion

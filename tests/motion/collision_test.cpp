@@ -1,0 +1,195 @@
+#include "canopy/motion/collision.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <thread>
+
+#include "canopy/common/error.h"
+#include "canopy/common/robot_config.h"
+
+namespace canopy::motion {
+namespace {
+
+const RobotModel& model() {
+  static const RobotModel m = RobotModel::load(default_robot_config());
+  return m;
+}
+
+ArmConfig random_config(std::mt19937& rng) {
+  std::uniform_real_distribution<double> u(-M_PI, M_PI);
+  ArmConfig q;
+  for (auto& v : q) v = u(rng);
+  return q;
+}
+
+// Slow reference: distance from a point to a shape (0 inside), from the shape's definition.
+double point_shape_distance(const robot::Shape& s, const Pose& T_world_shape, const Vec3& p_world) {
+  const Vec3 p = T_world_shape.inverse(Eigen::Isometry) * p_world;
+  switch (s.type) {
+    case robot::ShapeType::kBox: {
+      const Vec3 d = (p.cwiseAbs() - 0.5 * s.box_size).cwiseMax(0.0);
+      return d.norm();
+    }
+    case robot::ShapeType::kSphere: return std::max(0.0, p.norm() - s.radius);
+    case robot::ShapeType::kCapsule: {
+      const double z = std::clamp(p.z(), -0.5 * s.length, 0.5 * s.length);
+      return std::max(0.0, (p - Vec3(0, 0, z)).norm() - s.radius);
+    }
+    case robot::ShapeType::kCylinder: {
+      const double radial = std::max(0.0, std::hypot(p.x(), p.y()) - s.radius);
+      const double axial = std::max(0.0, std::abs(p.z()) - 0.5 * s.length);
+      return std::hypot(radial, axial);
+    }
+    case robot::ShapeType::kMesh: break;
+  }
+  return 1e9;
+}
+
+TEST(Collision, HomeIsFreeAndNanIsNot) {
+  const CollisionChecker checker(model(), CollisionParams{});
+  const BasePose base{0, 0, 0};
+  EXPECT_FALSE(checker.in_collision(base, model().config().home));
+  EXPECT_FALSE(checker.base_in_collision(base));
+  ArmConfig q = model().config().home;
+  q[1] = std::nan("");
+  EXPECT_TRUE(checker.in_collision(base, q));
+  EXPECT_TRUE(checker.in_collision({std::nan(""), 0, 0}, model().config().home));
+  EXPECT_THROW(CollisionEnvironment::from_voxels({}, 0.0), InputError);
+  CollisionParams bad;
+  bad.environment_padding_m = -1;
+  EXPECT_THROW(CollisionChecker(model(), bad), InputError);
+}
+
+// One occupied voxel against every robot shape: FCL must agree with the analytic
+// point-to-shape distance wherever the answer is unambiguous (the voxel's own extent makes
+// a band of half a voxel diagonal undecidable from the centre alone).
+TEST(Collision, SingleVoxelAgreesWithAnalyticDistance) {
+  const double res = 0.01;
+  CollisionParams params;
+  params.environment_padding_m = 0.0;
+  params.check_ground = false;
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<double> jitter(-0.15, 0.15);
+  const BasePose base{0.3, -0.2, 0.4};
+  std::vector<Pose> poses;
+  int decided = 0, hits = 0;
+  for (int trial = 0; trial < 400; ++trial) {
+    const ArmConfig q = random_config(rng);
+    model().body_poses(base, q, &poses);
+    // A point near a random body so that both outcomes occur.
+    const size_t b = static_cast<size_t>(trial) % poses.size();
+    const Vec3 p = poses[b].translation() + Vec3(jitter(rng), jitter(rng), jitter(rng));
+    const auto env = CollisionEnvironment::from_voxels({p}, res);
+    ASSERT_EQ(env->voxel_count(), 1u);
+    // The voxel's actual centre (snapped to the grid).
+    const Vec3 c = ((p / res).array().floor() + 0.5).matrix() * res;
+    double dmin = 1e9;
+    for (size_t k = 0; k < poses.size(); ++k)
+      dmin = std::min(dmin, point_shape_distance(model().bodies()[k].shape, poses[k], c));
+    const double half_diag = 0.5 * std::sqrt(3.0) * res;
+    // Compare environment-only collisions: self-collision must be ruled out first.
+    const CollisionChecker no_env(model(), params);
+    if (no_env.in_collision(base, q)) continue;
+    const CollisionChecker checker(model(), params, env);
+    const bool hit = checker.in_collision(base, q);
+    if (dmin == 0.0) {
+      EXPECT_TRUE(hit) << "voxel centre inside a shape but no collision, trial " << trial;
+      ++decided;
+      hits += hit;
+    } else if (dmin > half_diag + 1e-9) {
+      EXPECT_FALSE(hit) << "voxel " << dmin << " m away but a collision, trial " << trial;
+      ++decided;
+    }
+  }
+  EXPECT_GT(decided, 150);
+  EXPECT_GT(hits, 20);
+}
+
+TEST(Collision, CameraIntoTheChassisIsASelfCollision) {
+  const CollisionChecker checker(model(), CollisionParams{});
+  const BasePose base{0, 0, 0};
+  // Camera looking straight down its box dipping into the chassis top (z = 0.39 m).
+  Pose T_base_cam = Pose::Identity();
+  T_base_cam.linear() = Eigen::AngleAxisd(M_PI, Vec3::UnitX()).toRotationMatrix();
+  T_base_cam.translation() = Vec3(0.45, 0.0, 0.37);
+  const IkResult ik = model().camera_ik(base, T_base_cam, model().config().home);
+  ASSERT_GT(ik.count, 0);
+  const CollisionReport r = checker.report(base, ik.q[0]);
+  EXPECT_TRUE(r.in_collision);
+  bool camera_chassis = false;
+  for (const auto& p : r.pairs) camera_chassis = camera_chassis || p == "chassis_box | camera_box";
+  EXPECT_TRUE(camera_chassis) << (r.pairs.empty() ? "" : r.pairs.front());
+  // Lifted 28 cm it is free.
+  T_base_cam.translation().z() = 0.65;
+  const IkResult up = model().camera_ik(base, T_base_cam, model().config().home);
+  ASSERT_GT(up.count, 0);
+  EXPECT_FALSE(checker.in_collision(base, up.q[0]));
+}
+
+TEST(Collision, GroundAndMap) {
+  CollisionParams params;
+  params.ground_height_m = 0.55;  // the real floor is out of the arm's reach; raise it
+  const CollisionChecker raised(model(), params);
+  const BasePose base{0, 0, 0};
+  Pose T_cam = Pose::Identity();
+  T_cam.linear() = Eigen::AngleAxisd(M_PI, Vec3::UnitX()).toRotationMatrix();
+  T_cam.translation() = Vec3(0.2, 0.35, 0.5);  // beside the base, below the raised floor
+  const IkResult ik = model().camera_ik(base, T_cam, model().config().home);
+  ASSERT_GT(ik.count, 0);
+  const CollisionReport r = raised.report(base, ik.q[0]);
+  ASSERT_TRUE(r.in_collision);
+  bool ground = false;
+  for (const auto& p : r.pairs) ground = ground || p.find("| ground") != std::string::npos;
+  EXPECT_TRUE(ground);
+
+  // A slab of voxels where the camera is: collision with the map, then moved away: none.
+  std::vector<Vec3> slab;
+  const ArmConfig q = model().config().home;
+  const Vec3 cam = model().camera_pose(base, q).translation();
+  for (double x = -0.05; x <= 0.05; x += 0.015)
+    for (double z = -0.05; z <= 0.05; z += 0.015) slab.push_back(cam + Vec3(x, 0.0, z));
+  const CollisionChecker with_map(model(), CollisionParams{}, CollisionEnvironment::from_voxels(slab, 0.015));
+  const CollisionReport rm = with_map.report(base, q);
+  ASSERT_TRUE(rm.in_collision);
+  bool map = false;
+  for (const auto& p : rm.pairs) map = map || p.find("| map") != std::string::npos;
+  EXPECT_TRUE(map);
+  std::vector<Vec3> far = slab;
+  for (auto& v : far) v.y() += 1.0;
+  const CollisionChecker far_map(model(), CollisionParams{}, CollisionEnvironment::from_voxels(far, 0.015));
+  EXPECT_FALSE(far_map.in_collision(base, q));
+  EXPECT_FALSE(far_map.base_in_collision(base));
+  // Voxels inside the chassis: the base itself is in collision, the arm alone is not.
+  const CollisionChecker under(model(), CollisionParams{}, CollisionEnvironment::from_voxels({Vec3(0, 0, 0.2)}, 0.015));
+  EXPECT_TRUE(under.base_in_collision(base));
+  EXPECT_TRUE(under.in_collision(base, q));
+  EXPECT_FALSE(under.in_collision(base, q, BodySet::kArmOnly));
+}
+
+TEST(Collision, SelfPairsAreNonAdjacentAndQueriesAreThreadSafe) {
+  const CollisionChecker checker(model(), CollisionParams{});
+  for (const auto& [i, j] : checker.self_pairs())
+    EXPECT_FALSE(model().links_adjacent(model().bodies()[static_cast<size_t>(i)].link,
+                                        model().bodies()[static_cast<size_t>(j)].link));
+  std::mt19937 rng(23);
+  std::vector<ArmConfig> qs(2000);
+  for (auto& q : qs) q = random_config(rng);
+  std::vector<char> serial(qs.size()), parallel(qs.size());
+  for (size_t i = 0; i < qs.size(); ++i) serial[i] = checker.in_collision({0, 0, 0}, qs[i]);
+  std::vector<std::thread> threads;
+  for (int t = 0; t < 4; ++t)
+    threads.emplace_back([&, t] {
+      for (size_t i = static_cast<size_t>(t); i < qs.size(); i += 4) parallel[i] = checker.in_collision({0, 0, 0}, qs[i]);
+    });
+  for (auto& th : threads) th.join();
+  EXPECT_EQ(serial, parallel);
+  const long colliding = std::count(serial.begin(), serial.end(), 1);
+  // Random configurations of a UR3 on a mast: many fold into themselves or the base.
+  EXPECT_GT(colliding, 100);
+  EXPECT_LT(colliding, 1900);
+}
+
+}  // namespace
+}  // namespace canopy::motion
