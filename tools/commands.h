@@ -11,8 +11,6 @@ namespace canopy::cli {
 void add_world_command(CLI::App& app);
 /// `canopy render`: render one view of a world.
 void add_render_command(CLI::App& app);
-/// `canopy run`: the main job (tools/run.sh).
-void add_run_command(CLI::App& app);
 
 /// `canopy bench render`.
 void add_bench_render(CLI::App& bench);

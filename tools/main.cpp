@@ -1,5 +1,6 @@
 // canopy: active semantic mapping with a mobile manipulator, headless in MuJoCo.
 
+#include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
 #include <cstdio>
@@ -17,7 +18,6 @@ int main(int argc, char** argv) {
 
   canopy::cli::add_world_command(app);
   canopy::cli::add_render_command(app);
-  canopy::cli::add_run_command(app);
   CLI::App* bench = app.add_subcommand("bench", "Benchmarks that print timings (not tests)");
   bench->require_subcommand(1);
   canopy::cli::add_bench_render(*bench);

@@ -13,7 +13,7 @@ namespace canopy {
 namespace {
 
 ArmConfig read_arm(YamlReader& y, const std::string& key, const ArmConfig& fallback, bool positive) {
-  if (!y.has(key)) return y.get<ArmConfig>(key, fallback);
+  if (!y.has(key)) return fallback;
   const auto v = y.require<std::vector<double>>(key);
   y.check(v.size() == kArmDof, key, "must list 6 numbers (one per arm joint)");
   ArmConfig out{};
@@ -58,8 +58,6 @@ RobotConfig RobotConfig::load(const std::string& yaml_path) {
     const auto v = y.require<std::vector<double>>("base_kv");
     y.check(v.size() == 3 && v[0] > 0 && v[1] > 0 && v[2] > 0, "base_kv", "must list 3 positive gains");
     c.base_kv = {v[0], v[1], v[2]};
-  } else {
-    y.get("base_kv", 0.0);
   }
   c.gravity_compensation = y.get("gravity_compensation", c.gravity_compensation);
   y.finish();

@@ -20,7 +20,7 @@ struct RobotConfig {
   std::vector<std::string> base_joints = {"base_x", "base_y", "base_yaw"};
   std::vector<std::string> arm_joints = {"shoulder_pan_joint", "shoulder_lift_joint", "elbow_joint",
                                          "wrist_1_joint", "wrist_2_joint", "wrist_3_joint"};
-  ArmConfig home = {1.5708, -2.2, 1.9, -1.3, -1.5708, 0.0};
+  ArmConfig home = {-2.1738, -0.5441, 2.3290, 1.3567, -0.9678, 0.0};
   ArmConfig arm_max_velocity = {3.1416, 3.1416, 3.1416, 6.2832, 6.2832, 6.2832};
   ArmConfig arm_max_acceleration = {3.0, 3.0, 3.0, 6.0, 6.0, 6.0};
   double base_max_speed_m_s = 1.0;

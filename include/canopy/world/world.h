@@ -18,6 +18,8 @@ struct PlantPart {
   std::string kind;                 ///< "stem", "petiole", "leaf", "peduncle", "fruit".
   int class_id = 0;                 ///< Index into WorldSpec::classes.
   int instance_id = kNoInstance;    ///< Fruit instance id (fruits only).
+  std::string fruit_color;          ///< Fruits only: "red", "yellow", ...
+  std::string fruit_shape;          ///< Fruits only: "blocky" or "conical".
   float rgba[4] = {0.f, 0.f, 0.f, 1.f};
   TriMesh mesh;                     ///< World-frame vertices.
 };
@@ -38,6 +40,9 @@ struct World {
 
   size_t triangle_count() const;
 };
+
+/// Samples every fruit's surface uniformly by area, about spec.gt_point_spacing_m apart.
+GroundTruth sample_ground_truth(const World& world);
 
 /// Generates all plants of `spec` from its seed (same seed, same world, bit for bit).
 World generate_world(const WorldSpec& spec);

@@ -27,8 +27,8 @@ struct PlantParams {
   double height_min_m = 1.0, height_max_m = 1.3;
   double stem_diameter_min_m = 0.012, stem_diameter_max_m = 0.016;
   double v_angle_min_deg = 8.0, v_angle_max_deg = 20.0;   ///< Each stem's lean from vertical.
-  int leaves_per_stem_min = 9, leaves_per_stem_max = 14;
-  double leaf_length_min_m = 0.07, leaf_length_max_m = 0.14;  ///< Blade length.
+  int leaves_per_stem_min = 14, leaves_per_stem_max = 20;
+  double leaf_length_min_m = 0.08, leaf_length_max_m = 0.15;  ///< Blade length.
   double leaf_width_ratio = 0.5;                           ///< Blade width / length.
   double petiole_length_min_m = 0.03, petiole_length_max_m = 0.08;
   int fruits_min = 3, fruits_max = 6;                      ///< Per plant.

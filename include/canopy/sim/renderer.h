@@ -1,0 +1,49 @@
+#pragma once
+// Headless off-screen rendering with OSMesa (no display, no GPU): RGB, metric z-depth and
+// per-pixel semantic class and fruit instance, from the wrist camera or a free camera.
+
+#include <memory>
+
+#include "canopy/common/frame.h"
+#include "canopy/common/random.h"
+#include "canopy/sim/simulator.h"
+
+namespace canopy::sim {
+
+/// Rendering switches. Anti-aliasing is always off (labels must not blend).
+struct RenderOptions {
+  bool shadows = false;         ///< Shadows in the RGB pass only (they cost 3-4x).
+  std::uint64_t noise_seed = 1; ///< Seed of the depth noise (CameraIntrinsics::depth_noise_k).
+};
+
+/// Renders frames of a Simulator's scene. One Renderer per thread; it owns an OSMesa
+/// context and a MuJoCo render context.
+class Renderer {
+ public:
+  Renderer(Simulator& sim, const CameraIntrinsics& intrinsics, const RenderOptions& options = {});
+  ~Renderer();
+  Renderer(const Renderer&) = delete;
+  Renderer& operator=(const Renderer&) = delete;
+
+  /// Frame from the wrist camera at the simulator's current state (robot visible).
+  LabelledFrame render_wrist_camera();
+  /// Frame from a free-floating camera at T_world_camera, robot hidden.
+  LabelledFrame render_free_camera(const Pose& T_world_camera);
+  /// Any camera pose; `show_robot` chooses whether robot geoms are drawn; `labels` adds the
+  /// segmentation pass.
+  LabelledFrame render(const Pose& T_world_camera, bool show_robot, bool labels = true);
+  /// Triangles drawn in the last frame (meshes exactly, primitives as tessellated).
+  long last_triangle_count() const { return last_triangles_; }
+  const CameraIntrinsics& intrinsics() const { return intrinsics_; }
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+  Simulator& sim_;
+  CameraIntrinsics intrinsics_;
+  RenderOptions options_;
+  Rng noise_rng_;
+  long last_triangles_ = 0;
+};
+
+}  // namespace canopy::sim

@@ -1,0 +1,49 @@
+#pragma once
+// Builds the MuJoCo scene (MJCF text) of a generated world with the robot: the robot's
+// bodies, joints, geoms and wrist camera come from the RobotDescription (the URDF), the
+// plants from the world's meshes. Also records each geom's semantic class and instance.
+
+#include <map>
+#include <string>
+
+#include "canopy/common/frame.h"
+#include "canopy/common/robot_config.h"
+#include "canopy/robot/robot_description.h"
+#include "canopy/world/world.h"
+
+namespace canopy::sim {
+
+/// Semantic label of a geom.
+struct GeomLabel {
+  int class_id = 0;
+  int instance_id = kNoInstance;
+};
+
+/// Geom groups used in generated scenes (mjvOption::geomgroup).
+enum GeomGroup { kGroupGround = 0, kGroupPlants = 1, kGroupRobotVisual = 2, kGroupRobotCollision = 3 };
+
+/// MJCF text plus the labels of its named geoms. Unnamed or unlisted geoms are background.
+struct SceneDescription {
+  std::string mjcf;
+  std::map<std::string, GeomLabel> labels;
+  bool has_robot = false;
+};
+
+/// Name of the MuJoCo camera on the wrist and of the sites marking robot frames.
+constexpr const char* kWristCameraName = "wrist_camera";
+std::string frame_site_name(const std::string& link);
+/// Prefix of every robot geom, joint and body name in the generated scene.
+constexpr const char* kRobotPrefix = "robot/";
+
+/// Simulation settings written into the scene.
+struct SceneOptions {
+  double timestep_s = 0.002;
+  double znear_m = 0.02;   ///< Near clipping plane (must be below the camera's min range).
+  double zfar_m = 20.0;
+};
+
+/// The full scene: ground, lights, plants, robot, actuators and the home keyframe.
+SceneDescription make_scene_mjcf(const world::World& world, const robot::RobotDescription& robot,
+                                 const RobotConfig& robot_config, const SceneOptions& options = {});
+
+}  // namespace canopy::sim

@@ -1,0 +1,89 @@
+#pragma once
+// The MuJoCo simulation of a world with the robot: stepping, robot state and servo
+// commands, and geom labels for rendering. Only sim/ and mission/ include MuJoCo.
+
+#include <mujoco/mujoco.h>
+
+#include <array>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "canopy/common/robot_config.h"
+#include "canopy/common/types.h"
+#include "canopy/sim/scene_mjcf.h"
+
+namespace canopy::sim {
+
+/// Turns MuJoCo's fatal errors into exceptions (idempotent; called by Simulator).
+void install_mujoco_error_handler();
+
+/// A contact between a robot collision geom and another geom.
+struct RobotContact {
+  std::string robot_geom;
+  std::string other_geom;
+  bool self_collision = false;  ///< The other geom belongs to the robot too.
+  double depth_m = 0.0;         ///< Penetration depth (positive when overlapping).
+};
+
+/// Owns an mjModel and mjData built from a scene description.
+class Simulator {
+ public:
+  /// Generates the scene of `world` with the robot and resets to the home keyframe.
+  Simulator(const world::World& world, const RobotConfig& robot_config, const SceneOptions& options = {});
+  /// Loads an arbitrary scene (analytic test scenes, no robot control).
+  explicit Simulator(SceneDescription scene);
+  ~Simulator();
+  Simulator(const Simulator&) = delete;
+  Simulator& operator=(const Simulator&) = delete;
+
+  const mjModel* model() const { return model_; }
+  mjData* data() const { return data_; }
+  const SceneDescription& scene() const { return scene_; }
+  /// Label of MuJoCo geom `geom_id` (background when unlabelled).
+  const GeomLabel& geom_label(int geom_id) const { return geom_labels_[static_cast<size_t>(geom_id)]; }
+  bool has_robot() const { return scene_.has_robot; }
+  const RobotConfig& robot_config() const { return robot_config_; }
+
+  /// Resets time, velocities and servo targets; the base at the world's start, arm at home.
+  void reset_home();
+  /// Teleports the robot (zero velocities; servo targets = q) and updates kinematics.
+  void set_robot_state(const BasePose& base, const ArmConfig& q);
+  BasePose base_pose() const;
+  ArmConfig arm_positions() const;
+  ArmConfig arm_velocities() const;
+  /// Position-servo set points of the arm.
+  void set_arm_targets(const ArmConfig& q);
+  /// Differential-drive command: forward speed along the heading and yaw rate.
+  void set_base_velocity(double v_m_s, double omega_rad_s);
+  /// Advances `n` steps (gravity compensation applied to the arm when configured).
+  void step(int n = 1);
+  double time() const { return data_->time; }
+  double timestep() const { return model_->opt.timestep; }
+  /// Recomputes positions-dependent quantities (kinematics, cameras) for the current qpos.
+  void update_kinematics();
+  /// T_world_camera of the wrist camera (optical frame: x right, y down, z forward).
+  Pose camera_pose() const;
+  /// World pose of a robot link (its frame site).
+  Pose frame_pose(const std::string& link) const;
+  /// Contacts of robot collision geoms in the current state.
+  std::vector<RobotContact> robot_contacts() const;
+
+ private:
+  void load(const std::string& mjcf);
+  void bind_robot();
+  int require_id(int type, const std::string& name) const;
+
+  SceneDescription scene_;
+  RobotConfig robot_config_;
+  BasePose start_;
+  mjModel* model_ = nullptr;
+  mjData* data_ = nullptr;
+  std::vector<GeomLabel> geom_labels_;
+  // Robot bindings (indices into qpos / qvel / ctrl).
+  std::array<int, 3> base_qpos_{}, base_dof_{}, base_act_{};
+  std::array<int, kArmDof> arm_qpos_{}, arm_dof_{}, arm_act_{};
+  int camera_id_ = -1;
+};
+
+}  // namespace canopy::sim

@@ -1,0 +1,245 @@
+#include "canopy/sim/scene_mjcf.h"
+
+#include <cstdio>
+#include <functional>
+#include <set>
+#include <sstream>
+
+#include "canopy/common/error.h"
+
+namespace canopy::sim {
+
+namespace {
+
+using robot::JointType;
+using robot::Link;
+using robot::Shape;
+using robot::ShapeType;
+
+std::string num(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof(buf), "%.12g", v);
+  return buf;
+}
+std::string vec3(const Vec3& v) { return num(v.x()) + " " + num(v.y()) + " " + num(v.z()); }
+std::string quat(const Mat3& R) {
+  const Quat q(R);
+  return num(q.w()) + " " + num(q.x()) + " " + num(q.y()) + " " + num(q.z());
+}
+std::string pose_attrs(const Pose& T) {
+  return "pos=\"" + vec3(T.translation()) + "\" quat=\"" + quat(T.linear()) + "\"";
+}
+
+std::string shape_geom(const Shape& s, const Pose& T_body_shape) {
+  std::string type, size;
+  switch (s.type) {
+    case ShapeType::kBox: type = "box"; size = vec3(0.5 * s.box_size); break;
+    case ShapeType::kSphere: type = "sphere"; size = num(s.radius); break;
+    case ShapeType::kCylinder: type = "cylinder"; size = num(s.radius) + " " + num(0.5 * s.length); break;
+    case ShapeType::kCapsule: type = "capsule"; size = num(s.radius) + " " + num(0.5 * s.length); break;
+    case ShapeType::kMesh:
+      throw InputError("robot shape '" + s.name + "': mesh shapes are not supported in the generated scene yet");
+  }
+  return "type=\"" + type + "\" size=\"" + size + "\" " + pose_attrs(T_body_shape);
+}
+
+// Writes the robot as nested MuJoCo bodies: one body per movable joint; links attached by
+// fixed joints are merged into the body that carries them (their frames become sites).
+class RobotWriter {
+ public:
+  RobotWriter(const robot::RobotDescription& d, const RobotConfig& cfg, int robot_class, double fovy_deg,
+              SceneDescription* scene)
+      : d_(d), cfg_(cfg), robot_class_(robot_class), fovy_deg_(fovy_deg), scene_(scene) {}
+
+  void write(std::ostream& os) {
+    // Children of the root link that hang on fixed joints go into the world body.
+    write_body_contents(os, 0, "    ", /*is_world=*/true);
+  }
+
+ private:
+  // Links merged into the body whose frame is link `body_link`, with their transforms.
+  void collect(int link, const Pose& T_body_link, std::vector<std::pair<int, Pose>>* merged,
+               std::vector<int>* child_joints) const {
+    merged->push_back({link, T_body_link});
+    for (size_t ji = 0; ji < d_.joints().size(); ++ji) {
+      const auto& j = d_.joints()[ji];
+      if (j.parent_link != d_.links()[static_cast<size_t>(link)].name) continue;
+      if (j.movable()) {
+        child_joints->push_back(static_cast<int>(ji));
+      } else {
+        collect(d_.link_index(j.child_link), T_body_link * j.T_parent_joint, merged, child_joints);
+      }
+    }
+  }
+
+  void write_body_contents(std::ostream& os, int body_link, const std::string& ind, bool is_world) {
+    std::vector<std::pair<int, Pose>> merged;
+    std::vector<int> child_joints;
+    collect(body_link, Pose::Identity(), &merged, &child_joints);
+    // Inertia of everything merged, about the body origin, then at the combined COM.
+    double mass = 0.0;
+    Vec3 com = Vec3::Zero();
+    for (const auto& [li, T] : merged) {
+      const Link& l = d_.links()[static_cast<size_t>(li)];
+      mass += l.mass;
+      com += l.mass * (T * l.com);
+    }
+    if (!is_world) {
+      if (mass <= 0.0) throw InputError(cfg_.urdf_path + ": moving link '" + d_.links()[static_cast<size_t>(body_link)].name + "' has no mass");
+      com /= mass;
+      Mat3 I = Mat3::Zero();
+      for (const auto& [li, T] : merged) {
+        const Link& l = d_.links()[static_cast<size_t>(li)];
+        const Vec3 r = T * l.com - com;
+        I += T.linear() * l.inertia * T.linear().transpose() + l.mass * (r.squaredNorm() * Mat3::Identity() - r * r.transpose());
+      }
+      os << ind << "<inertial pos=\"" << vec3(com) << "\" mass=\"" << num(mass) << "\" fullinertia=\""
+         << num(I(0, 0)) << " " << num(I(1, 1)) << " " << num(I(2, 2)) << " " << num(I(0, 1)) << " "
+         << num(I(0, 2)) << " " << num(I(1, 2)) << "\"/>\n";
+    }
+    for (const auto& [li, T] : merged) {
+      const Link& l = d_.links()[static_cast<size_t>(li)];
+      if (is_world && li == body_link) continue;
+      for (const auto& s : l.visuals) {
+        const std::string name = kRobotPrefix + s.name;
+        scene_->labels[name] = GeomLabel{robot_class_, kNoInstance};
+        os << ind << "<geom name=\"" << name << "\" " << shape_geom(s, T * s.T_link_shape) << " group=\""
+           << kGroupRobotVisual << "\" contype=\"0\" conaffinity=\"0\" rgba=\"" << s.rgba[0] << " " << s.rgba[1]
+           << " " << s.rgba[2] << " " << s.rgba[3] << "\"/>\n";
+      }
+      for (const auto& s : l.collisions) {
+        const std::string name = kRobotPrefix + s.name;
+        scene_->labels[name] = GeomLabel{robot_class_, kNoInstance};
+        os << ind << "<geom name=\"" << name << "\" " << shape_geom(s, T * s.T_link_shape) << " group=\""
+           << kGroupRobotCollision << "\" contype=\"1\" conaffinity=\"1\" rgba=\"0.9 0.3 0.3 0.4\"/>\n";
+      }
+      os << ind << "<site name=\"" << frame_site_name(l.name) << "\" " << pose_attrs(T) << " size=\"0.005\" group=\"5\"/>\n";
+      if (l.name == cfg_.camera_frame) {
+        // MuJoCo cameras look along -z with y up; the optical frame looks along +z with y down.
+        const Mat3 R = T.linear() * Eigen::AngleAxisd(M_PI, Vec3::UnitX()).toRotationMatrix();
+        os << ind << "<camera name=\"" << kWristCameraName << "\" pos=\"" << vec3(T.translation()) << "\" quat=\""
+           << quat(R) << "\" fovy=\"" << num(fovy_deg_) << "\"/>\n";
+      }
+    }
+    for (int ji : child_joints) {
+      const auto& j = d_.joints()[static_cast<size_t>(ji)];
+      const int child = d_.link_index(j.child_link);
+      Pose T_parent_link = Pose::Identity();
+      for (const auto& [li, T] : merged)
+        if (d_.links()[static_cast<size_t>(li)].name == j.parent_link) T_parent_link = T;
+      os << ind << "<body name=\"" << kRobotPrefix << j.child_link << "\" " << pose_attrs(T_parent_link * j.T_parent_joint)
+         << ">\n";
+      const std::string jind = ind + "  ";
+      os << jind << "<joint name=\"" << kRobotPrefix << j.name << "\" type=\""
+         << (j.type == JointType::kPrismatic ? "slide" : "hinge") << "\" axis=\"" << vec3(j.axis) << "\"";
+      if (j.limited()) os << " limited=\"true\" range=\"" << num(j.lower) << " " << num(j.upper) << "\"";
+      os << " damping=\"" << num(j.damping) << "\" armature=\"" << num(armature(j.name)) << "\"/>\n";
+      write_body_contents(os, child, jind, false);
+      os << ind << "</body>\n";
+    }
+  }
+
+  double armature(const std::string& joint) const {
+    for (int i = 0; i < kArmDof; ++i)
+      if (cfg_.arm_joints[static_cast<size_t>(i)] == joint) return cfg_.arm_armature[static_cast<size_t>(i)];
+    return 0.0;
+  }
+
+ private:
+  const robot::RobotDescription& d_;
+  const RobotConfig& cfg_;
+  int robot_class_;
+  double fovy_deg_;
+  SceneDescription* scene_;
+};
+
+void write_mesh_asset(std::ostream& os, const std::string& name, const world::TriMesh& mesh) {
+  os << "    <mesh name=\"" << name << "\" vertex=\"";
+  char buf[64];
+  for (const auto& v : mesh.vertices) {
+    std::snprintf(buf, sizeof(buf), "%.6f %.6f %.6f ", v.x(), v.y(), v.z());
+    os << buf;
+  }
+  os << "\" face=\"";
+  for (const auto& f : mesh.faces) os << f[0] << " " << f[1] << " " << f[2] << " ";
+  os << "\"/>\n";
+}
+
+}  // namespace
+
+std::string frame_site_name(const std::string& link) { return std::string(kRobotPrefix) + "frame/" + link; }
+
+SceneDescription make_scene_mjcf(const world::World& world, const robot::RobotDescription& robot,
+                                 const RobotConfig& cfg, const SceneOptions& options) {
+  const world::WorldSpec& spec = world.spec;
+  SceneDescription scene;
+  scene.has_robot = true;
+  const double extent = 2.0;  // fixes MuJoCo's relative znear/zfar; see Renderer::depth_from_buffer
+  std::ostringstream os;
+  os << "<mujoco model=\"canopy_" << spec.name << "\">\n"
+     << "  <!-- Generated by canopy from " << (spec.source_file.empty() ? "a world spec" : spec.source_file)
+     << " (seed " << spec.seed << ") and " << cfg.urdf_path << ". Do not edit. -->\n"
+     << "  <compiler angle=\"radian\" inertiafromgeom=\"false\"/>\n"
+     << "  <option timestep=\"" << num(options.timestep_s) << "\" integrator=\"implicit\"/>\n"
+     << "  <statistic extent=\"" << num(extent) << "\" center=\"" << num(spec.rows.x_start_m) << " 0 0.6\"/>\n"
+     << "  <visual>\n"
+     << "    <global offwidth=\"" << spec.camera.width_px << "\" offheight=\"" << spec.camera.height_px << "\"/>\n"
+     << "    <quality shadowsize=\"2048\" offsamples=\"0\"/>\n"
+     << "    <map znear=\"" << num(options.znear_m / extent) << "\" zfar=\"" << num(options.zfar_m / extent) << "\"/>\n"
+     << "    <headlight ambient=\"0.35 0.35 0.35\" diffuse=\"0.45 0.45 0.45\" specular=\"0.05 0.05 0.05\"/>\n"
+     << "  </visual>\n"
+     << "  <asset>\n"
+     << "    <texture name=\"sky\" type=\"skybox\" builtin=\"gradient\" rgb1=\"0.75 0.85 0.95\" rgb2=\"0.95 0.95 0.95\" width=\"64\" height=\"64\"/>\n"
+     << "    <texture name=\"ground\" type=\"2d\" builtin=\"checker\" rgb1=\"0.42 0.36 0.30\" rgb2=\"0.46 0.40 0.33\" width=\"64\" height=\"64\"/>\n"
+     << "    <material name=\"ground\" texture=\"ground\" texrepeat=\"20 20\" specular=\"0\"/>\n"
+     << "    <material name=\"plant\" specular=\"0.08\" shininess=\"0.1\"/>\n";
+  for (const auto& plant : world.plants)
+    for (const auto& part : plant.parts) write_mesh_asset(os, part.name, part.mesh);
+  os << "  </asset>\n  <worldbody>\n"
+     << "    <light name=\"sun\" directional=\"true\" pos=\"0 0 5\" dir=\"-0.3 0.2 -1\" diffuse=\"0.55 0.55 0.55\" specular=\"0.05 0.05 0.05\" castshadow=\"true\"/>\n"
+     << "    <geom name=\"ground\" type=\"plane\" size=\"30 30 0.1\" material=\"ground\" group=\"" << kGroupGround
+     << "\" contype=\"1\" conaffinity=\"1\"/>\n";
+  scene.labels["ground"] = GeomLabel{spec.class_of("ground"), kNoInstance};
+  for (const auto& plant : world.plants)
+    for (const auto& part : plant.parts) {
+      os << "    <geom name=\"" << part.name << "\" type=\"mesh\" mesh=\"" << part.name << "\" material=\"plant\" rgba=\""
+         << part.rgba[0] << " " << part.rgba[1] << " " << part.rgba[2] << " 1\" group=\"" << kGroupPlants
+         << "\" contype=\"0\" conaffinity=\"0\"/>\n";
+      scene.labels[part.name] = GeomLabel{part.class_id, part.instance_id};
+    }
+  RobotWriter(robot, cfg, spec.class_of("robot"), spec.camera.fovy_deg(), &scene).write(os);
+  os << "  </worldbody>\n  <actuator>\n";
+  const auto& bj = cfg.base_joints;
+  for (int i = 0; i < 3; ++i) {
+    const auto& j = robot.joint(bj[static_cast<size_t>(i)]);
+    os << "    <velocity name=\"" << kRobotPrefix << j.name << "/vel\" joint=\"" << kRobotPrefix << j.name << "\" kv=\""
+       << num(cfg.base_kv[static_cast<size_t>(i)]) << "\" forcelimited=\"true\" forcerange=\"" << num(-j.max_effort)
+       << " " << num(j.max_effort) << "\"/>\n";
+  }
+  for (int i = 0; i < kArmDof; ++i) {
+    const auto& j = robot.joint(cfg.arm_joints[static_cast<size_t>(i)]);
+    os << "    <position name=\"" << kRobotPrefix << j.name << "/pos\" joint=\"" << kRobotPrefix << j.name << "\" kp=\""
+       << num(cfg.arm_kp[static_cast<size_t>(i)]) << "\" forcelimited=\"true\" forcerange=\"" << num(-j.max_effort)
+       << " " << num(j.max_effort) << "\"/>\n";
+  }
+  os << "  </actuator>\n";
+  // Home keyframe: the base at the aisle start, the arm at home, servos holding home.
+  // MuJoCo numbers joints in body order, which is the description's depth-first order.
+  std::map<std::string, double> start{{bj[0], spec.robot_start.x_m}, {bj[1], spec.robot_start.y_m},
+                                      {bj[2], spec.robot_start.yaw_rad}};
+  for (int i = 0; i < kArmDof; ++i) start[cfg.arm_joints[static_cast<size_t>(i)]] = cfg.home[static_cast<size_t>(i)];
+  os << "  <keyframe>\n    <key name=\"home\" qpos=\"";
+  std::string sep;
+  for (const auto& j : robot.joints())
+    if (j.movable()) {
+      os << sep << num(start.count(j.name) ? start.at(j.name) : 0.0);
+      sep = " ";
+    }
+  os << "\" ctrl=\"0 0 0";
+  for (double q : cfg.home) os << " " << num(q);
+  os << "\"/>\n  </keyframe>\n</mujoco>\n";
+  scene.mjcf = os.str();
+  return scene;
+}
+
+}  // namespace canopy::sim

@@ -1,0 +1,206 @@
+#include "canopy/sim/simulator.h"
+
+#include <spdlog/spdlog.h>
+
+#include <cstring>
+#include <mutex>
+#include <stdexcept>
+
+#include "canopy/common/error.h"
+
+namespace canopy::sim {
+
+namespace {
+
+[[noreturn]] void throw_mujoco_error(const char* msg) { throw std::runtime_error(std::string("MuJoCo: ") + msg); }
+void log_mujoco_warning(const char* msg) { spdlog::warn("MuJoCo: {}", msg); }
+
+Pose pose_from_mj(const mjtNum* pos, const mjtNum* mat) {
+  Pose T = Pose::Identity();
+  T.translation() = Vec3(pos[0], pos[1], pos[2]);
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) T.linear()(r, c) = mat[3 * r + c];
+  return T;
+}
+
+bool starts_with(const char* s, const char* prefix) { return s && std::strncmp(s, prefix, std::strlen(prefix)) == 0; }
+
+}  // namespace
+
+void install_mujoco_error_handler() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    mju_user_error = throw_mujoco_error;
+    mju_user_warning = log_mujoco_warning;
+  });
+}
+
+Simulator::Simulator(const world::World& world, const RobotConfig& robot_config, const SceneOptions& options)
+    : robot_config_(robot_config), start_(world.spec.robot_start) {
+  const robot::RobotDescription description = robot::RobotDescription::load_urdf(robot_config.urdf_path);
+  scene_ = make_scene_mjcf(world, description, robot_config, options);
+  load(scene_.mjcf);
+  bind_robot();
+  reset_home();
+}
+
+Simulator::Simulator(SceneDescription scene) : scene_(std::move(scene)) {
+  scene_.has_robot = false;
+  load(scene_.mjcf);
+  mj_forward(model_, data_);
+}
+
+Simulator::~Simulator() {
+  if (data_) mj_deleteData(data_);
+  if (model_) mj_deleteModel(model_);
+}
+
+void Simulator::load(const std::string& mjcf) {
+  install_mujoco_error_handler();
+  auto vfs = std::make_unique<mjVFS>();
+  mj_defaultVFS(vfs.get());
+  const char* name = "canopy_scene.xml";
+  if (mj_makeEmptyFileVFS(vfs.get(), name, static_cast<int>(mjcf.size())) != 0)
+    throw std::runtime_error("MuJoCo: cannot create the in-memory scene file");
+  const int idx = mj_findFileVFS(vfs.get(), name);
+  std::memcpy(vfs->filedata[idx], mjcf.data(), mjcf.size());
+  char error[1024] = "";
+  model_ = mj_loadXML(name, vfs.get(), error, sizeof(error));
+  mj_deleteVFS(vfs.get());
+  if (!model_) throw std::runtime_error(std::string("MuJoCo could not compile the scene: ") + error);
+  data_ = mj_makeData(model_);
+  geom_labels_.assign(static_cast<size_t>(model_->ngeom), GeomLabel{});
+  for (const auto& [geom_name, label] : scene_.labels) {
+    const int id = mj_name2id(model_, mjOBJ_GEOM, geom_name.c_str());
+    if (id >= 0) geom_labels_[static_cast<size_t>(id)] = label;
+  }
+}
+
+int Simulator::require_id(int type, const std::string& name) const {
+  const int id = mj_name2id(model_, static_cast<mjtObj>(type), name.c_str());
+  CANOPY_CHECK(id >= 0, "scene has no object '" << name << "'");
+  return id;
+}
+
+void Simulator::bind_robot() {
+  auto bind_joint = [&](const std::string& joint, int* qpos, int* dof) {
+    const int j = require_id(mjOBJ_JOINT, kRobotPrefix + joint);
+    *qpos = model_->jnt_qposadr[j];
+    *dof = model_->jnt_dofadr[j];
+  };
+  for (int i = 0; i < 3; ++i) {
+    const std::string& j = robot_config_.base_joints[static_cast<size_t>(i)];
+    bind_joint(j, &base_qpos_[static_cast<size_t>(i)], &base_dof_[static_cast<size_t>(i)]);
+    base_act_[static_cast<size_t>(i)] = require_id(mjOBJ_ACTUATOR, kRobotPrefix + j + "/vel");
+  }
+  for (int i = 0; i < kArmDof; ++i) {
+    const std::string& j = robot_config_.arm_joints[static_cast<size_t>(i)];
+    bind_joint(j, &arm_qpos_[static_cast<size_t>(i)], &arm_dof_[static_cast<size_t>(i)]);
+    arm_act_[static_cast<size_t>(i)] = require_id(mjOBJ_ACTUATOR, kRobotPrefix + j + "/pos");
+  }
+  camera_id_ = require_id(mjOBJ_CAMERA, kWristCameraName);
+}
+
+void Simulator::reset_home() {
+  CANOPY_CHECK(has_robot(), "reset_home on a scene without the robot");
+  mj_resetData(model_, data_);
+  set_robot_state(start_, robot_config_.home);
+}
+
+void Simulator::set_robot_state(const BasePose& base, const ArmConfig& q) {
+  CANOPY_CHECK(has_robot(), "set_robot_state on a scene without the robot");
+  const double b[3] = {base.x_m, base.y_m, base.yaw_rad};
+  for (int i = 0; i < 3; ++i) {
+    data_->qpos[base_qpos_[static_cast<size_t>(i)]] = b[i];
+    data_->ctrl[base_act_[static_cast<size_t>(i)]] = 0.0;
+  }
+  for (int i = 0; i < kArmDof; ++i) {
+    data_->qpos[arm_qpos_[static_cast<size_t>(i)]] = q[static_cast<size_t>(i)];
+    data_->ctrl[arm_act_[static_cast<size_t>(i)]] = q[static_cast<size_t>(i)];
+  }
+  mju_zero(data_->qvel, model_->nv);
+  mju_zero(data_->qacc_warmstart, model_->nv);
+  mj_forward(model_, data_);
+}
+
+BasePose Simulator::base_pose() const {
+  return BasePose{data_->qpos[base_qpos_[0]], data_->qpos[base_qpos_[1]], wrap_angle(data_->qpos[base_qpos_[2]])};
+}
+
+ArmConfig Simulator::arm_positions() const {
+  ArmConfig q{};
+  for (int i = 0; i < kArmDof; ++i) q[static_cast<size_t>(i)] = data_->qpos[arm_qpos_[static_cast<size_t>(i)]];
+  return q;
+}
+
+ArmConfig Simulator::arm_velocities() const {
+  ArmConfig v{};
+  for (int i = 0; i < kArmDof; ++i) v[static_cast<size_t>(i)] = data_->qvel[arm_dof_[static_cast<size_t>(i)]];
+  return v;
+}
+
+void Simulator::set_arm_targets(const ArmConfig& q) {
+  for (int i = 0; i < kArmDof; ++i) data_->ctrl[arm_act_[static_cast<size_t>(i)]] = q[static_cast<size_t>(i)];
+}
+
+void Simulator::set_base_velocity(double v_m_s, double omega_rad_s) {
+  const double yaw = data_->qpos[base_qpos_[2]];
+  data_->ctrl[base_act_[0]] = v_m_s * std::cos(yaw);
+  data_->ctrl[base_act_[1]] = v_m_s * std::sin(yaw);
+  data_->ctrl[base_act_[2]] = omega_rad_s;
+}
+
+void Simulator::step(int n) {
+  for (int k = 0; k < n; ++k) {
+    if (has_robot() && robot_config_.gravity_compensation) {
+      // The arm controller cancels gravity and Coriolis forces, as UR controllers do, so the
+      // position servos settle exactly. qfrc_bias is from the previous step's positions.
+      mju_zero(data_->qfrc_applied, model_->nv);
+      for (int i = 0; i < kArmDof; ++i) {
+        const int dof = arm_dof_[static_cast<size_t>(i)];
+        data_->qfrc_applied[dof] = data_->qfrc_bias[dof];
+      }
+    }
+    mj_step(model_, data_);
+  }
+}
+
+void Simulator::update_kinematics() {
+  mj_kinematics(model_, data_);
+  mj_comPos(model_, data_);
+  mj_camlight(model_, data_);
+}
+
+Pose Simulator::camera_pose() const {
+  CANOPY_CHECK(camera_id_ >= 0, "scene has no wrist camera");
+  // MuJoCo's camera frame looks along -z with y up; rotate to the optical convention.
+  const Pose T_mj = pose_from_mj(data_->cam_xpos + 3 * camera_id_, data_->cam_xmat + 9 * camera_id_);
+  Pose T = T_mj;
+  T.linear() = T_mj.linear() * Eigen::AngleAxisd(M_PI, Vec3::UnitX()).toRotationMatrix();
+  return T;
+}
+
+Pose Simulator::frame_pose(const std::string& link) const {
+  const int site = require_id(mjOBJ_SITE, frame_site_name(link));
+  return pose_from_mj(data_->site_xpos + 3 * site, data_->site_xmat + 9 * site);
+}
+
+std::vector<RobotContact> Simulator::robot_contacts() const {
+  std::vector<RobotContact> out;
+  for (int i = 0; i < data_->ncon; ++i) {
+    const mjContact& c = data_->contact[i];
+    const char* n1 = mj_id2name(model_, mjOBJ_GEOM, c.geom1);
+    const char* n2 = mj_id2name(model_, mjOBJ_GEOM, c.geom2);
+    const bool r1 = starts_with(n1, kRobotPrefix), r2 = starts_with(n2, kRobotPrefix);
+    if (!r1 && !r2) continue;
+    RobotContact rc;
+    rc.robot_geom = r1 ? n1 : n2;
+    rc.other_geom = r1 ? (n2 ? n2 : "") : (n1 ? n1 : "");
+    rc.self_collision = r1 && r2;
+    rc.depth_m = -c.dist;
+    out.push_back(rc);
+  }
+  return out;
+}
+
+}  // namespace canopy::sim

@@ -1,0 +1,291 @@
+// Procedural sweet-pepper plants (FACTS.md section 4): a short trunk splitting into two
+// stems in a V, alternate leaves on petioles, and blocky or conical fruits hanging from
+// peduncles in the fruit zone. Every part is a closed low-poly mesh in world coordinates.
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "canopy/common/error.h"
+#include "canopy/common/random.h"
+#include "canopy/world/world.h"
+
+namespace canopy::world {
+
+namespace {
+
+constexpr double kDeg = M_PI / 180.0;
+
+struct Color {
+  float r, g, b;
+};
+
+Color fruit_color(const std::string& name) {
+  if (name == "red") return {0.75f, 0.06f, 0.05f};
+  if (name == "yellow") return {0.95f, 0.78f, 0.08f};
+  if (name == "orange") return {0.95f, 0.45f, 0.05f};
+  return {0.12f, 0.40f, 0.08f};  // green (unripe)
+}
+
+void set_rgba(PlantPart* p, Color c) {
+  p->rgba[0] = c.r;
+  p->rgba[1] = c.g;
+  p->rgba[2] = c.b;
+  p->rgba[3] = 1.f;
+}
+
+Color jitter(Rng& rng, Color c, float amount) {
+  auto j = [&](float v) { return std::clamp(v + static_cast<float>(rng.uniform(-amount, amount)), 0.f, 1.f); };
+  return {j(c.r), j(c.g), j(c.b)};
+}
+
+// Closed, thin leaf blade in its local frame: base at the origin, blade along +x, upper
+// side towards +z. `fold` raises the edges along the midrib, `droop` bends the tip down.
+TriMesh make_leaf(double length, double width, double fold, double droop, double thickness) {
+  constexpr int ns = 6;  // stations along the blade
+  constexpr int nt = 5;  // samples across, t in [-1, 1]
+  TriMesh m;
+  auto half_width = [&](double s) {
+    // Ovate outline: widest at about a third of the length, narrow at base and tip.
+    return std::max(0.0015, 0.5 * width * std::pow(std::sin(M_PI * std::pow(s, 0.75)), 0.9));
+  };
+  for (int side = 0; side < 2; ++side) {
+    const double dz = side == 0 ? 0.5 * thickness : -0.5 * thickness;
+    for (int i = 0; i <= ns; ++i) {
+      const double s = static_cast<double>(i) / ns;
+      const double x = s * length, w = half_width(s);
+      for (int j = 0; j < nt; ++j) {
+        const double t = -1.0 + 2.0 * j / (nt - 1);
+        m.vertices.push_back(Vec3(x, t * w, fold * std::abs(t) * w - droop * x * x + dz));
+      }
+    }
+  }
+  const int per_side = (ns + 1) * nt;
+  auto top = [&](int i, int j) { return i * nt + j; };
+  auto bot = [&](int i, int j) { return per_side + i * nt + j; };
+  for (int i = 0; i < ns; ++i)
+    for (int j = 0; j + 1 < nt; ++j) {
+      m.faces.push_back({top(i, j), top(i + 1, j), top(i + 1, j + 1)});
+      m.faces.push_back({top(i, j), top(i + 1, j + 1), top(i, j + 1)});
+      m.faces.push_back({bot(i, j), bot(i + 1, j + 1), bot(i + 1, j)});
+      m.faces.push_back({bot(i, j), bot(i, j + 1), bot(i + 1, j + 1)});
+    }
+  // Rim: the outline walked counter-clockwise seen from +z, stitched top to bottom.
+  std::vector<std::pair<int, int>> loop;
+  for (int i = 0; i <= ns; ++i) loop.push_back({i, 0});
+  for (int j = 1; j < nt; ++j) loop.push_back({ns, j});
+  for (int i = ns - 1; i >= 0; --i) loop.push_back({i, nt - 1});
+  for (int j = nt - 2; j >= 1; --j) loop.push_back({0, j});
+  for (size_t k = 0; k < loop.size(); ++k) {
+    const auto a = loop[k], b = loop[(k + 1) % loop.size()];
+    const int at = top(a.first, a.second), ab = bot(a.first, a.second);
+    const int bt = top(b.first, b.second), bb = bot(b.first, b.second);
+    m.faces.push_back({at, ab, bb});
+    m.faces.push_back({at, bb, bt});
+  }
+  return m;
+}
+
+// Fruit profile (r, z) from the top pole (z = 0) down to the bottom pole (z = -length).
+std::vector<Vec2> fruit_profile(bool blocky, double width, double length) {
+  const double R = 0.5 * width;
+  const int n = 11;
+  std::vector<Vec2> p;
+  for (int i = 0; i < n; ++i) {
+    const double t = static_cast<double>(i) / (n - 1);
+    double r;
+    if (blocky) {
+      r = R * std::pow(std::sin(M_PI * t), 0.35) * (1.0 - 0.12 * t);
+    } else {
+      r = R * std::sqrt(std::sin(0.5 * M_PI * std::min(1.0, t / 0.22))) * std::pow(1.0 - t, 0.85);
+    }
+    p.push_back(Vec2(i == 0 || i == n - 1 ? 0.0 : r, -t * length));
+  }
+  return p;
+}
+
+// Rotation taking +z to `dir` (any roll).
+Mat3 frame_with_z(const Vec3& dir) {
+  const Vec3 z = dir.normalized();
+  const Vec3 x = z.unitOrthogonal();
+  Mat3 R;
+  R.col(0) = x;
+  R.col(1) = z.cross(x);
+  R.col(2) = z;
+  return R;
+}
+
+struct Stem {
+  std::vector<Vec3> points;
+  std::vector<double> radii;
+  // Point on the stem at height z (linear along the polyline).
+  Vec3 at_height(double z) const {
+    for (size_t i = 0; i + 1 < points.size(); ++i) {
+      if (z <= points[i + 1].z() || i + 2 == points.size()) {
+        const double t = std::clamp((z - points[i].z()) / (points[i + 1].z() - points[i].z()), 0.0, 1.0);
+        return points[i] + t * (points[i + 1] - points[i]);
+      }
+    }
+    return points.back();
+  }
+};
+
+std::string pick_color(Rng& rng, const std::map<std::string, double>& weights) {
+  double total = 0.0;
+  for (const auto& kv : weights) total += kv.second;
+  double u = rng.uniform() * total;
+  for (const auto& kv : weights) {
+    if (u < kv.second) return kv.first;
+    u -= kv.second;
+  }
+  return weights.rbegin()->first;
+}
+
+Plant make_plant(const WorldSpec& spec, int index, const Vec3& base, int* next_instance) {
+  const PlantParams& pp = spec.plant;
+  Rng rng(mix_seed(spec.seed, static_cast<std::uint64_t>(index) + 1000));
+  Plant plant;
+  plant.index = index;
+  plant.base_position = base;
+  plant.height_m = rng.uniform(pp.height_min_m, pp.height_max_m);
+  const double H = plant.height_m;
+  const double r_stem = 0.5 * rng.uniform(pp.stem_diameter_min_m, pp.stem_diameter_max_m);
+  const double split_z = rng.uniform(0.15, 0.25);
+  const double v_azimuth = rng.uniform(0.0, 2.0 * M_PI);
+  const std::string prefix = "p" + std::to_string(index) + "_";
+  const Color stem_color{0.30f, 0.48f, 0.18f};
+
+  auto add_part = [&](const std::string& kind, int k, TriMesh mesh, Color c) -> PlantPart& {
+    PlantPart part;
+    part.name = prefix + kind + "_" + std::to_string(k);
+    part.kind = kind;
+    part.class_id = spec.class_of(kind);
+    part.mesh = std::move(mesh);
+    set_rgba(&part, c);
+    plant.parts.push_back(std::move(part));
+    return plant.parts.back();
+  };
+
+  // Trunk and the two stems of the V.
+  add_part("stem", 0,
+           make_tube({base, base + Vec3(0, 0, split_z)}, {1.2 * r_stem, 1.1 * r_stem}, 6), stem_color);
+  std::vector<Stem> stems(2);
+  for (int k = 0; k < 2; ++k) {
+    const double az = v_azimuth + k * M_PI + rng.uniform(-20.0, 20.0) * kDeg;
+    const double lean = rng.uniform(pp.v_angle_min_deg, pp.v_angle_max_deg) * kDeg;
+    const Vec3 out(std::cos(az), std::sin(az), 0.0);
+    const Vec3 side(-out.y(), out.x(), 0.0);
+    const double wiggle_phase = rng.uniform(0.0, 2.0 * M_PI);
+    const int segments = 8;
+    for (int i = 0; i <= segments; ++i) {
+      const double s = static_cast<double>(i) / segments;
+      const double z = split_z + s * (H - split_z);
+      const double wiggle = 0.015 * std::sin(wiggle_phase + 5.0 * s);
+      stems[k].points.push_back(base + Vec3(0, 0, z) + (z - split_z) * std::tan(lean) * out + wiggle * side);
+      stems[k].radii.push_back(r_stem * (1.0 - 0.45 * s));
+    }
+    add_part("stem", k + 1, make_tube(stems[k].points, stems[k].radii, 6), stem_color);
+  }
+
+  // Leaves: alternate (137.5 degree) along each stem, on petioles.
+  int leaf_count = 0;
+  for (int k = 0; k < 2; ++k) {
+    const int n = rng.integer(pp.leaves_per_stem_min, pp.leaves_per_stem_max);
+    double azimuth = rng.uniform(0.0, 2.0 * M_PI);
+    for (int i = 0; i < n; ++i) {
+      const double z = base.z() + H * (0.25 + 0.72 * (i + rng.uniform(0.0, 0.8)) / std::max(n, 1));
+      azimuth += 137.5 * kDeg + rng.uniform(-15.0, 15.0) * kDeg;
+      const Vec3 node = stems[k].at_height(z);
+      const Vec3 out(std::cos(azimuth), std::sin(azimuth), 0.0);
+      const double lp = rng.uniform(pp.petiole_length_min_m, pp.petiole_length_max_m);
+      const Vec3 tip = node + lp * (out + Vec3(0, 0, 0.5)).normalized();
+      add_part("petiole", leaf_count,
+               make_tube({node, 0.5 * (node + tip) + Vec3(0, 0, 0.004), tip}, {0.0018, 0.0016, 0.0014}, 4), stem_color);
+      const double L = rng.uniform(pp.leaf_length_min_m, pp.leaf_length_max_m);
+      TriMesh blade = make_leaf(L, pp.leaf_width_ratio * L, rng.uniform(0.1, 0.35), rng.uniform(0.5, 3.0), 0.001);
+      const double pitch = rng.uniform(-10.0, 35.0) * kDeg;  // positive: blade points down
+      const double roll = rng.uniform(-20.0, 20.0) * kDeg;
+      Pose T = Pose::Identity();
+      T.translation() = tip;
+      T.rotate(Eigen::AngleAxisd(azimuth, Vec3::UnitZ()));
+      T.rotate(Eigen::AngleAxisd(pitch, Vec3::UnitY()));
+      T.rotate(Eigen::AngleAxisd(roll, Vec3::UnitX()));
+      blade.transform(T);
+      add_part("leaf", leaf_count, std::move(blade), jitter(rng, {0.22f, 0.52f, 0.14f}, 0.04f));
+      ++leaf_count;
+    }
+  }
+
+  // Fruits hanging from peduncles, not overlapping each other.
+  const int n_fruits = rng.integer(pp.fruits_min, pp.fruits_max);
+  std::vector<std::pair<Vec3, double>> placed;  // bounding spheres
+  for (int f = 0; f < n_fruits; ++f) {
+    for (int attempt = 0; attempt < 60; ++attempt) {
+      const bool blocky = rng.bernoulli(pp.blocky_fraction);
+      const double width = blocky ? rng.uniform(pp.blocky_width_min_m, pp.blocky_width_max_m)
+                                  : rng.uniform(pp.conical_width_min_m, pp.conical_width_max_m);
+      const double length = blocky ? rng.uniform(pp.blocky_length_min_m, pp.blocky_length_max_m)
+                                   : rng.uniform(pp.conical_length_min_m, pp.conical_length_max_m);
+      const int k = rng.integer(0, 1);
+      const double z = base.z() + H * rng.uniform(pp.fruit_zone_min, pp.fruit_zone_max);
+      const double azimuth = rng.uniform(0.0, 2.0 * M_PI);
+      const Vec3 node = stems[k].at_height(z);
+      const Vec3 out(std::cos(azimuth), std::sin(azimuth), 0.0);
+      const Vec3 top = node + (0.5 * width + 0.02) * out + Vec3(0, 0, -0.015);
+      const Vec3 axis = (Vec3(0, 0, -1) + std::tan(rng.uniform(0.0, 15.0) * kDeg) *
+                                              Vec3(std::cos(rng.uniform(0.0, 2 * M_PI)), std::sin(rng.uniform(0.0, 2 * M_PI)), 0))
+                            .normalized();
+      const Vec3 centre = top + 0.5 * length * axis;
+      const double radius = 0.5 * std::max(width, length);
+      if (top.z() - length < base.z() + 0.05) continue;
+      bool clash = false;
+      for (const auto& [c, r] : placed) clash |= (c - centre).norm() < r + radius;
+      if (clash) continue;
+      placed.push_back({centre, radius});
+      const std::string color = pick_color(rng, pp.fruit_colors);
+      TriMesh mesh = make_lobed_revolution(fruit_profile(blocky, width, length), 14, blocky ? 4 : 3,
+                                           blocky ? 0.10 : 0.06);
+      Pose T = Pose::Identity();
+      T.translation() = top;
+      T.linear() = frame_with_z(-axis) * Eigen::AngleAxisd(rng.uniform(0.0, 2 * M_PI), Vec3::UnitZ()).toRotationMatrix();
+      mesh.transform(T);
+      add_part("peduncle", f, make_tube({node, top + Vec3(0, 0, 0.012)}, {0.003, 0.0035}, 5), {0.25f, 0.45f, 0.15f});
+      PlantPart& fruit = add_part("fruit", f, std::move(mesh), jitter(rng, fruit_color(color), 0.03f));
+      fruit.instance_id = (*next_instance)++;
+      fruit.fruit_color = color;
+      fruit.fruit_shape = blocky ? "blocky" : "conical";
+      break;
+    }
+  }
+  return plant;
+}
+
+}  // namespace
+
+size_t World::triangle_count() const {
+  size_t n = 0;
+  for (const auto& p : plants)
+    for (const auto& part : p.parts) n += part.mesh.faces.size();
+  return n;
+}
+
+World generate_world(const WorldSpec& spec) {
+  spec.validate();
+  World world;
+  world.spec = spec;
+  int next_instance = 0;
+  Rng layout(mix_seed(spec.seed, 1));
+  for (int row = 0; row < spec.rows.rows; ++row) {
+    const double y = row == 0 ? spec.rows.row_offset_m : -spec.rows.row_offset_m;
+    for (int i = 0; i < spec.rows.plants_per_row; ++i) {
+      const double j = spec.rows.position_jitter_m;
+      const Vec3 base(spec.rows.x_start_m + i * spec.rows.plant_spacing_m + layout.uniform(-j, j),
+                      y + layout.uniform(-j, j), 0.0);
+      world.plants.push_back(make_plant(spec, static_cast<int>(world.plants.size()), base, &next_instance));
+    }
+  }
+  world.truth = sample_ground_truth(world);
+  return world;
+}
+
+}  // namespace canopy::world

@@ -1,0 +1,173 @@
+#include "canopy/world/world_spec.h"
+
+#include <cmath>
+
+#include "canopy/common/error.h"
+#include "canopy/common/yaml_reader.h"
+
+namespace canopy::world {
+
+namespace {
+
+// Reads a [min, max] pair; both must be finite, min <= max and, with `positive`, > 0.
+void read_range(YamlReader& y, const std::string& key, double* lo, double* hi, bool positive = true) {
+  if (!y.has(key)) return;
+  std::vector<double> v;
+  try {
+    v = y.require<std::vector<double>>(key);
+  } catch (const InputError&) {
+    y.fail(key, "must be a pair [min, max] of numbers");
+  }
+  y.check(v.size() == 2, key, "must be a pair [min, max]");
+  y.check(std::isfinite(v[0]) && std::isfinite(v[1]), key, "must be finite");
+  y.check(v[0] <= v[1], key, "must have min <= max");
+  if (positive) y.check(v[0] > 0.0, key, "must be positive");
+  *lo = v[0];
+  *hi = v[1];
+}
+
+void read_int_range(YamlReader& y, const std::string& key, int* lo, int* hi) {
+  if (!y.has(key)) return;
+  std::vector<int> v;
+  try {
+    v = y.require<std::vector<int>>(key);
+  } catch (const InputError&) {
+    y.fail(key, "must be a pair [min, max] of whole numbers");
+  }
+  y.check(v.size() == 2 && v[0] >= 0 && v[0] <= v[1], key, "must be a pair [min, max] with 0 <= min <= max");
+  *lo = v[0];
+  *hi = v[1];
+}
+
+double read_positive(YamlReader& y, const std::string& key, double fallback) {
+  const double v = y.get(key, fallback);
+  y.check(std::isfinite(v) && v > 0.0, key, "must be > 0");
+  return v;
+}
+
+}  // namespace
+
+WorldSpec WorldSpec::load(const std::string& path) {
+  YamlReader y = YamlReader::load_file(path);
+  WorldSpec s;
+  s.source_file = path;
+  s.name = y.get("name", s.name);
+  const long long seed = y.get<long long>("seed", static_cast<long long>(s.seed));
+  y.check(seed >= 0, "seed", "must be >= 0");
+  s.seed = static_cast<std::uint64_t>(seed);
+  s.classes.names = y.get("classes", s.classes.names);
+  s.classes.target = y.get("target_class", s.classes.target);
+
+  YamlReader pc = y.child("part_classes");
+  s.part_classes.ground = pc.get("ground", s.part_classes.ground);
+  s.part_classes.robot = pc.get("robot", s.part_classes.robot);
+  s.part_classes.stem = pc.get("stem", s.part_classes.stem);
+  s.part_classes.petiole = pc.get("petiole", s.part_classes.petiole);
+  s.part_classes.leaf = pc.get("leaf", s.part_classes.leaf);
+  s.part_classes.peduncle = pc.get("peduncle", s.part_classes.peduncle);
+  s.part_classes.fruit = pc.get("fruit", s.part_classes.fruit);
+  pc.finish();
+
+  YamlReader r = y.child("rows");
+  s.rows.rows = r.get("rows", s.rows.rows);
+  r.check(s.rows.rows == 1 || s.rows.rows == 2, "rows", "must be 1 or 2");
+  s.rows.plants_per_row = r.get("plants_per_row", s.rows.plants_per_row);
+  r.check(s.rows.plants_per_row >= 1 && s.rows.plants_per_row <= 1000, "plants_per_row", "must be in 1..1000");
+  s.rows.plant_spacing_m = read_positive(r, "plant_spacing_m", s.rows.plant_spacing_m);
+  s.rows.row_offset_m = read_positive(r, "row_offset_m", s.rows.row_offset_m);
+  s.rows.x_start_m = r.get("x_start_m", s.rows.x_start_m);
+  r.check(std::isfinite(s.rows.x_start_m), "x_start_m", "must be finite");
+  s.rows.position_jitter_m = r.get("position_jitter_m", s.rows.position_jitter_m);
+  r.check(s.rows.position_jitter_m >= 0.0 && s.rows.position_jitter_m < 0.5 * s.rows.plant_spacing_m,
+          "position_jitter_m", "must be in [0, plant_spacing_m / 2)");
+  r.finish();
+
+  YamlReader p = y.child("plant");
+  PlantParams& pp = s.plant;
+  read_range(p, "height_m", &pp.height_min_m, &pp.height_max_m);
+  read_range(p, "stem_diameter_m", &pp.stem_diameter_min_m, &pp.stem_diameter_max_m);
+  read_range(p, "v_angle_deg", &pp.v_angle_min_deg, &pp.v_angle_max_deg, false);
+  read_int_range(p, "leaves_per_stem", &pp.leaves_per_stem_min, &pp.leaves_per_stem_max);
+  read_range(p, "leaf_length_m", &pp.leaf_length_min_m, &pp.leaf_length_max_m);
+  pp.leaf_width_ratio = read_positive(p, "leaf_width_ratio", pp.leaf_width_ratio);
+  read_range(p, "petiole_length_m", &pp.petiole_length_min_m, &pp.petiole_length_max_m);
+  read_int_range(p, "fruits", &pp.fruits_min, &pp.fruits_max);
+  read_range(p, "fruit_zone", &pp.fruit_zone_min, &pp.fruit_zone_max);
+  pp.blocky_fraction = p.get("blocky_fraction", pp.blocky_fraction);
+  p.check(pp.blocky_fraction >= 0.0 && pp.blocky_fraction <= 1.0, "blocky_fraction", "must be in [0, 1]");
+  read_range(p, "blocky_width_m", &pp.blocky_width_min_m, &pp.blocky_width_max_m);
+  read_range(p, "blocky_length_m", &pp.blocky_length_min_m, &pp.blocky_length_max_m);
+  read_range(p, "conical_width_m", &pp.conical_width_min_m, &pp.conical_width_max_m);
+  read_range(p, "conical_length_m", &pp.conical_length_min_m, &pp.conical_length_max_m);
+  if (p.has("fruit_colors")) {
+    try {
+      pp.fruit_colors = p.require<std::map<std::string, double>>("fruit_colors");
+    } catch (const InputError&) {
+      p.fail("fruit_colors", "must map colour names to weights");
+    }
+  }
+  p.finish();
+  for (const auto& [name, w] : pp.fruit_colors) {
+    if (name != "red" && name != "yellow" && name != "green" && name != "orange")
+      throw InputError(path + ": key 'plant.fruit_colors." + name + "': unknown colour (use red, yellow, orange, green)");
+    if (!(w >= 0.0) || !std::isfinite(w))
+      throw InputError(path + ": key 'plant.fruit_colors." + name + "': value '" + std::to_string(w) + "' must be >= 0");
+  }
+
+  YamlReader c = y.child("camera");
+  CameraIntrinsics& K = s.camera;
+  K.width_px = c.get("width_px", K.width_px);
+  K.height_px = c.get("height_px", K.height_px);
+  K.fx_px = c.get("fx_px", K.fx_px);
+  K.fy_px = c.get("fy_px", K.fy_px);
+  K.cx_px = c.get("cx_px", 0.5 * K.width_px);
+  K.cy_px = c.get("cy_px", 0.5 * K.height_px);
+  K.min_range_m = c.get("min_range_m", K.min_range_m);
+  K.max_range_m = c.get("max_range_m", K.max_range_m);
+  K.depth_noise_k = c.get("depth_noise_k", K.depth_noise_k);
+  c.finish();
+
+  if (y.has("robot_start")) {
+    const auto v = y.require<std::vector<double>>("robot_start");
+    y.check(v.size() == 3 && std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]), "robot_start",
+            "must be [x, y, yaw] (finite)");
+    s.robot_start = BasePose{v[0], v[1], v[2]};
+  }
+  s.gt_point_spacing_m = read_positive(y, "gt_point_spacing_m", s.gt_point_spacing_m);
+  y.check(s.gt_point_spacing_m >= 0.0005, "gt_point_spacing_m", "must be >= 0.0005 (too many points otherwise)");
+  y.finish();
+  s.validate();
+  return s;
+}
+
+void WorldSpec::validate() const {
+  const std::string where = source_file.empty() ? std::string("world") : source_file;
+  classes.validate(where);
+  camera.validate(where);
+  for (const std::string part : {"ground", "robot", "stem", "petiole", "leaf", "peduncle", "fruit"}) {
+    if (class_of(part) < 0)
+      throw InputError(where + ": key 'part_classes." + part + "': its class is not in the class list");
+  }
+  double total = 0.0;
+  for (const auto& kv : plant.fruit_colors) total += kv.second;
+  if (plant.fruits_max > 0 && !(total > 0.0))
+    throw InputError(where + ": key 'plant.fruit_colors': the weights must not all be zero");
+  if (plant.fruit_zone_max > 1.0)
+    throw InputError(where + ": key 'plant.fruit_zone': must lie within (0, 1]");
+  if (2.0 * rows.row_offset_m < 0.5)
+    throw InputError(where + ": key 'rows.row_offset_m': rows closer than 0.25 m to the aisle leave no room for the robot");
+}
+
+int WorldSpec::class_of(const std::string& part) const {
+  const std::string* name = nullptr;
+  if (part == "ground") name = &part_classes.ground;
+  else if (part == "robot") name = &part_classes.robot;
+  else if (part == "stem") name = &part_classes.stem;
+  else if (part == "petiole") name = &part_classes.petiole;
+  else if (part == "leaf") name = &part_classes.leaf;
+  else if (part == "peduncle") name = &part_classes.peduncle;
+  else if (part == "fruit") name = &part_classes.fruit;
+  return name ? classes.index_of(*name) : -1;
+}
+
+}  // namespace canopy::world
