@@ -1,0 +1,96 @@
+// The MuJoCo robot agrees with the URDF description, its arm settles at commanded joint
+// positions and its base reaches commanded planar poses.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "canopy/common/random.h"
+#include "canopy/motion/base_follower.h"
+#include "canopy/robot/robot_description.h"
+#include "canopy/sim/renderer.h"
+
+namespace canopy::sim {
+namespace {
+
+world::WorldSpec tiny_world() {
+  world::WorldSpec s;
+  s.rows.rows = 1;
+  s.rows.plants_per_row = 1;
+  return s;
+}
+
+TEST(RobotSim, CameraPoseAgreesWithTheUrdfChain) {
+  const RobotConfig cfg = default_robot_config();
+  const robot::RobotDescription d = robot::RobotDescription::load_urdf(cfg.urdf_path);
+  Simulator sim(world::generate_world(tiny_world()), cfg);
+  Rng rng(11);
+  for (int trial = 0; trial < 200; ++trial) {
+    const BasePose base{rng.uniform(-3, 3), rng.uniform(-3, 3), rng.uniform(-M_PI, M_PI)};
+    ArmConfig q{};
+    for (auto& v : q) v = rng.uniform(-M_PI, M_PI);
+    sim.set_robot_state(base, q);
+    robot::JointPositions jp{{cfg.base_joints[0], base.x_m}, {cfg.base_joints[1], base.y_m}, {cfg.base_joints[2], base.yaw_rad}};
+    for (int i = 0; i < kArmDof; ++i) jp[cfg.arm_joints[static_cast<size_t>(i)]] = q[static_cast<size_t>(i)];
+    const Pose expected = d.link_pose(cfg.camera_frame, jp);
+    const Pose actual = sim.camera_pose();
+    EXPECT_LT((actual.translation() - expected.translation()).norm(), 1e-6);
+    EXPECT_LT((actual.linear() - expected.linear()).norm(), 1e-6);
+    const Pose tool = sim.frame_pose(cfg.tool_frame);
+    EXPECT_LT((tool.translation() - d.link_pose(cfg.tool_frame, jp).translation()).norm(), 1e-6);
+  }
+}
+
+TEST(RobotSim, ArmSettlesAtCommandedConfiguration) {
+  const RobotConfig cfg = default_robot_config();
+  Simulator sim(world::generate_world(tiny_world()), cfg);
+  const ArmConfig targets[] = {{-1.2, -1.0, 1.8, 0.9, -1.2, 0.4}, {-2.9, -0.3, 2.0, 1.5, -0.5, -1.0}, cfg.home};
+  for (const ArmConfig& target : targets) {
+    sim.set_arm_targets(target);
+    sim.step(static_cast<int>(4.0 / sim.timestep()));
+    const ArmConfig q = sim.arm_positions();
+    for (int i = 0; i < kArmDof; ++i) EXPECT_NEAR(q[static_cast<size_t>(i)], target[static_cast<size_t>(i)], 1e-3) << "joint " << i;
+  }
+}
+
+TEST(RobotSim, BaseReachesCommandedPlanarPoses) {
+  const RobotConfig cfg = default_robot_config();
+  Simulator sim(world::generate_world(tiny_world()), cfg);
+  const BasePose goals[] = {{0.2, 0.0, 0.0}, {0.9, 0.15, 0.5}, {0.4, -0.1, -1.2}};
+  const double dt = sim.timestep();
+  for (const BasePose& goal : goals) {
+    motion::BaseFollower follower(motion::BaseFollowerParams::from_robot(cfg), {goal});
+    bool done = false;
+    for (int k = 0; k < static_cast<int>(30.0 / dt) && !done; ++k) {
+      const motion::BaseCommand cmd = follower.update(sim.base_pose(), dt);
+      ASSERT_TRUE(cmd.fault.empty()) << cmd.fault;
+      done = cmd.done;
+      sim.set_base_velocity(cmd.v_m_s, cmd.omega_rad_s);
+      sim.step();
+    }
+    EXPECT_TRUE(done);
+    const BasePose p = sim.base_pose();
+    EXPECT_NEAR(p.x_m, goal.x_m, 0.02);
+    EXPECT_NEAR(p.y_m, goal.y_m, 0.02);
+    EXPECT_NEAR(wrap_angle(p.yaw_rad - goal.yaw_rad), 0.0, M_PI / 180.0);
+  }
+}
+
+TEST(RobotSim, WristCameraSeesThePlantFromHome) {
+  world::WorldSpec spec = tiny_world();
+  spec.robot_start = BasePose{-0.2, 0.0, 0.0};  // arm base (x + 0.2) in front of the plant at x = 0
+  const world::World w = world::generate_world(spec);
+  Simulator sim(w, default_robot_config());
+  Renderer renderer(sim, spec.camera);
+  const LabelledFrame f = renderer.render_wrist_camera();
+  int leaf = 0, valid = 0;
+  for (size_t i = 0; i < f.class_id.data.size(); ++i) {
+    leaf += f.class_id.data[i] == spec.classes.index_of("leaf");
+    valid += f.depth_m.data[i] > 0.f;
+  }
+  EXPECT_GT(leaf, 500);
+  EXPECT_GT(valid, 500);
+}
+
+}  // namespace
+}  // namespace canopy::sim

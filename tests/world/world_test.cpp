@@ -1,0 +1,152 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <set>
+#include <fstream>
+
+#include "canopy/common/error.h"
+#include "canopy/common/robot_config.h"
+#include "canopy/world/world.h"
+
+namespace canopy::world {
+namespace {
+
+WorldSpec small_spec(std::uint64_t seed) {
+  WorldSpec s;
+  s.seed = seed;
+  s.rows.rows = 1;
+  s.rows.plants_per_row = 2;
+  return s;
+}
+
+std::string write_temp(const std::string& name, const std::string& text) {
+  const std::string path = testing::TempDir() + "/" + name;
+  std::ofstream(path) << text;
+  return path;
+}
+
+TEST(Mesh, PrimitivesAreClosedAndOutward) {
+  const TriMesh tube = make_tube({Vec3(0, 0, 0), Vec3(0, 0, 1)}, {0.1, 0.1}, 64);
+  EXPECT_NEAR(tube.volume(), M_PI * 0.01 * 1.0, 0.01 * M_PI * 0.01);
+  const std::vector<Vec2> profile = {{0, 0}, {0.5, -0.25}, {0.5, -0.75}, {0, -1}};
+  const TriMesh rev = make_lobed_revolution(profile, 32, 0, 0.0);
+  EXPECT_GT(rev.volume(), 0.0);
+}
+
+TEST(WorldGeneration, SameSeedSameWorldOtherSeedOtherWorld) {
+  const World a = generate_world(small_spec(7));
+  const World b = generate_world(small_spec(7));
+  const World c = generate_world(small_spec(8));
+  ASSERT_EQ(a.plants.size(), b.plants.size());
+  for (size_t p = 0; p < a.plants.size(); ++p) {
+    ASSERT_EQ(a.plants[p].parts.size(), b.plants[p].parts.size());
+    for (size_t k = 0; k < a.plants[p].parts.size(); ++k)
+      EXPECT_EQ(a.plants[p].parts[k].mesh.vertices, b.plants[p].parts[k].mesh.vertices);
+  }
+  ASSERT_EQ(a.truth.fruits.size(), b.truth.fruits.size());
+  for (size_t f = 0; f < a.truth.fruits.size(); ++f)
+    EXPECT_EQ(a.truth.fruits[f].surface_points, b.truth.fruits[f].surface_points);
+  bool differs = a.plants.size() != c.plants.size();
+  for (size_t p = 0; !differs && p < a.plants.size(); ++p)
+    differs = a.plants[p].parts.size() != c.plants[p].parts.size() ||
+              a.plants[p].parts[0].mesh.vertices != c.plants[p].parts[0].mesh.vertices;
+  EXPECT_TRUE(differs);
+}
+
+TEST(WorldGeneration, DefaultWorldHasEightDistinctPlantsWithLabelledParts) {
+  const WorldSpec spec = WorldSpec::load(find_data_file("worlds/default.yaml"));
+  const World w = generate_world(spec);
+  ASSERT_EQ(w.plants.size(), 8u);
+  std::set<std::pair<long, size_t>> signatures;  // (height in mm, part count)
+  int next_instance = 0;
+  for (const auto& p : w.plants) {
+    signatures.insert({std::lround(p.height_m * 1000), p.parts.size()});
+    EXPECT_GE(p.height_m, spec.plant.height_min_m);
+    EXPECT_LE(p.height_m, spec.plant.height_max_m);
+    int fruits = 0;
+    for (const auto& part : p.parts) {
+      EXPECT_GT(part.mesh.volume(), 0.0) << part.name;  // closed, outward meshes
+      EXPECT_EQ(part.class_id, spec.class_of(part.kind)) << part.name;
+      if (part.kind == "fruit") {
+        EXPECT_EQ(part.instance_id, next_instance++);
+        ++fruits;
+      } else {
+        EXPECT_EQ(part.instance_id, kNoInstance);
+      }
+    }
+    EXPECT_GE(fruits, spec.plant.fruits_min);
+    EXPECT_LE(fruits, spec.plant.fruits_max);
+    // Plants face the aisle: rows on both sides of y = 0.
+    EXPECT_NEAR(std::abs(p.base_position.y()), spec.rows.row_offset_m, spec.rows.position_jitter_m + 1e-9);
+  }
+  EXPECT_EQ(signatures.size(), 8u) << "plants should differ from each other";
+}
+
+TEST(GroundTruth, PointsLieOnFruitsWithTheRequestedDensity) {
+  const World w = generate_world(small_spec(3));
+  ASSERT_FALSE(w.truth.fruits.empty());
+  for (const auto& f : w.truth.fruits) {
+    const double expected = f.surface_area_m2 / (w.truth.point_spacing_m * w.truth.point_spacing_m);
+    EXPECT_NEAR(static_cast<double>(f.surface_points.size()), expected, 4.0 * std::sqrt(expected) + 5.0);
+    for (const auto& p : f.surface_points) {
+      EXPECT_TRUE((p.array() >= f.bbox_min.array() - 1e-9).all() && (p.array() <= f.bbox_max.array() + 1e-9).all());
+    }
+  }
+}
+
+TEST(GroundTruth, SaveLoadRoundTrip) {
+  const World w = generate_world(small_spec(4));
+  const std::string dir = testing::TempDir() + "/gt_roundtrip";
+  std::filesystem::create_directories(dir);
+  w.truth.save(dir);
+  const GroundTruth back = GroundTruth::load(dir);
+  ASSERT_EQ(back.fruits.size(), w.truth.fruits.size());
+  for (size_t i = 0; i < back.fruits.size(); ++i) {
+    EXPECT_EQ(back.fruits[i].instance_id, w.truth.fruits[i].instance_id);
+    EXPECT_EQ(back.fruits[i].surface_points, w.truth.fruits[i].surface_points);  // %.17g is exact
+    EXPECT_EQ(back.fruits[i].bbox_min, w.truth.fruits[i].bbox_min);
+  }
+  std::ofstream(dir + "/fruit_points.csv") << "instance_id,x,y,z\n0,1,2\n";
+  EXPECT_THROW(GroundTruth::load(dir), InputError);
+}
+
+TEST(WorldSpec, DefaultsInYamlEqualStructDefaults) {
+  const WorldSpec file = WorldSpec::load(find_data_file("worlds/default.yaml"));
+  const WorldSpec d;
+  EXPECT_EQ(file.seed, d.seed);
+  EXPECT_EQ(file.classes.names, d.classes.names);
+  EXPECT_EQ(file.rows.plants_per_row, d.rows.plants_per_row);
+  EXPECT_EQ(file.rows.row_offset_m, d.rows.row_offset_m);
+  EXPECT_EQ(file.plant.leaves_per_stem_max, d.plant.leaves_per_stem_max);
+  EXPECT_EQ(file.plant.leaf_length_max_m, d.plant.leaf_length_max_m);
+  EXPECT_EQ(file.plant.fruit_colors, d.plant.fruit_colors);
+  EXPECT_EQ(file.camera.fx_px, d.camera.fx_px);
+  EXPECT_EQ(file.camera.max_range_m, d.camera.max_range_m);
+  EXPECT_EQ(file.gt_point_spacing_m, d.gt_point_spacing_m);
+}
+
+void expect_error(const std::string& yaml, const std::string& fragment) {
+  const std::string path = write_temp("bad_world.yaml", yaml);
+  try {
+    WorldSpec::load(path);
+    FAIL() << "no error for: " << yaml;
+  } catch (const InputError& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find(path), std::string::npos) << msg;
+    EXPECT_NE(msg.find(fragment), std::string::npos) << msg;
+  }
+}
+
+TEST(WorldSpec, BadInputNamesFileKeyAndValue) {
+  expect_error("seed: 1\nrows: {plantz_per_row: 3}\n", "unknown key 'rows.plantz_per_row'");
+  expect_error("plant: {height_m: [-1.0, 1.0]}\n", "key 'plant.height_m': value '[-1.0, 1.0]'");
+  expect_error("camera: {fx_px: 0}\n", "camera.fx_px");
+  expect_error("rows: {plants_per_row: many}\n", "key 'rows.plants_per_row': value 'many'");
+  expect_error("seed: [1, 2\n", "malformed YAML");
+  expect_error("target_class: flower\n", "target_class");
+  EXPECT_THROW(WorldSpec::load("/nonexistent/world.yaml"), InputError);
+}
+
+}  // namespace
+}  // namespace canopy::world
