@@ -1,0 +1,184 @@
+#pragma once
+// The semantic octree: an OctoMap tree (OcTreeBaseImpl) whose nodes carry a SemanticState.
+//
+// Only leaves carry meaning: a leaf at the finest depth is one voxel; a leaf higher up is a
+// pruned block of identical voxels. A key with no leaf is unknown (never observed). Inner
+// nodes' payloads are unspecified. All queries are const and allocation-free, so the
+// next-best-view ray caster can call find() per voxel from several threads at once.
+
+#include <octomap/AbstractOcTree.h>
+#include <octomap/OcTreeBaseImpl.h>
+#include <octomap/OcTreeDataNode.h>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "canopy/common/classes.h"
+#include "canopy/common/types.h"
+#include "canopy/mapping/map_params.h"
+#include "canopy/mapping/semantic_state.h"
+
+namespace canopy::mapping {
+
+/// Octree node holding one SemanticState (8-byte child pointer + 20-byte payload).
+class SemanticNode : public octomap::OcTreeDataNode<SemanticState> {
+ public:
+  SemanticNode() : octomap::OcTreeDataNode<SemanticState>(SemanticState{}) {}
+  const SemanticState& state() const { return value; }
+  SemanticState& state() { return value; }
+
+  // Structure edits that, unlike OcTreeBaseImpl's, do not touch the tree's node counter, so
+  // disjoint subtrees can be edited from several threads; the caller fixes the count.
+  /// Child i or nullptr.
+  SemanticNode* child(unsigned i) const {
+    return children ? static_cast<SemanticNode*>(children[i]) : nullptr;
+  }
+  bool has_children() const;
+  /// Creates child i (which must not exist) with a fresh state.
+  SemanticNode* make_child(unsigned i);
+  /// Turns a pruned leaf into eight children carrying its state (8 nodes created).
+  void expand();
+  /// Replaces eight identical leaf children by this node (8 nodes deleted); false if not.
+  bool collapse();
+};
+
+/// One voxel update of a scan: a Morton-ordered key and what was seen there.
+struct VoxelUpdate {
+  static constexpr std::uint8_t kFree = 255;  ///< `label` of a pass-through.
+  std::uint64_t code = 0;                     ///< morton_code(key); sort key of the batch.
+  std::uint8_t label = kFree;                 ///< Observed class, or kFree.
+};
+
+/// Counters of one batch update.
+struct UpdateCounts {
+  std::size_t applied = 0;        ///< Voxel updates that changed a voxel.
+  std::size_t saturated = 0;      ///< Updates skipped because the voxel could not change.
+  std::size_t created = 0;        ///< Nodes allocated (new voxels and expansions).
+  std::size_t pruned = 0;         ///< Inner nodes collapsed.
+};
+
+/// Leaf counts of a map.
+struct VoxelCounts {
+  std::size_t leaves = 0;          ///< Leaf nodes (pruned blocks count once).
+  std::size_t voxels = 0;          ///< Known finest-level voxels (blocks expanded).
+  std::size_t occupied = 0;        ///< Known voxels with p_occ > 0.5.
+  std::size_t free = 0;            ///< Known voxels with p_occ <= 0.5.
+  std::size_t target = 0;          ///< Occupied voxels whose most likely class is the target.
+  std::size_t nodes = 0;           ///< All tree nodes.
+  std::size_t memory_bytes = 0;    ///< Approximate heap use of the tree.
+};
+
+/// Morton code of a key: bits interleaved so that bits 3l..3l+2 hold the child index at
+/// tree level 15 - l (OctoMap's computeChildIdx), so sorting by code visits leaves in
+/// depth-first order.
+std::uint64_t morton_code(const octomap::OcTreeKey& key);
+/// Inverse of morton_code.
+octomap::OcTreeKey morton_key(std::uint64_t code);
+
+/// Probabilistic multi-class voxel map (SSMI rules) with OctoMap's addressing.
+class SemanticOcTree : public octomap::OcTreeBaseImpl<SemanticNode, octomap::AbstractOcTree> {
+  using Base = octomap::OcTreeBaseImpl<SemanticNode, octomap::AbstractOcTree>;
+
+ public:
+  SemanticOcTree(const SemanticMapParams& params, const SemanticClasses& classes);
+  SemanticOcTree(const SemanticOcTree& other);  ///< Deep copy.
+  SemanticOcTree(SemanticOcTree&& other) noexcept;
+
+  SemanticOcTree* create() const override { return new SemanticOcTree(params_, classes_); }
+  std::string getTreeType() const override { return "SemanticOcTree"; }
+
+  const SemanticMapParams& params() const { return params_; }
+  const SemanticClasses& classes() const { return classes_; }
+  int num_classes() const { return classes_.size(); }
+  const UpdateRule& rule() const { return rule_; }
+  /// Incremented by every change; lets caches beside the tree (a flat voxel index) notice.
+  std::uint64_t revision() const { return revision_; }
+
+  // --- Queries (const, thread-safe between updates) ------------------------------------
+  /// State of the voxel with `key`, or nullptr when it is unknown.
+  const SemanticState* find(const octomap::OcTreeKey& key) const {
+    const SemanticNode* n = search(key);
+    return n ? &n->state() : nullptr;
+  }
+  /// State of the voxel containing `p_world`, or nullptr when unknown or outside the tree.
+  const SemanticState* find(const Vec3& p_world) const;
+  /// Key of the voxel containing `p_world`; false outside the tree's range.
+  bool key_of(const Vec3& p_world, octomap::OcTreeKey* key) const {
+    return coordToKeyChecked(p_world.x(), p_world.y(), p_world.z(), *key);
+  }
+  /// Centre of a finest-level voxel.
+  Vec3 center_of(const octomap::OcTreeKey& key) const {
+    return {keyToCoord(key[0]), keyToCoord(key[1]), keyToCoord(key[2])};
+  }
+  /// True when the voxel containing `p_world` was never observed.
+  bool is_unknown(const Vec3& p_world) const { return find(p_world) == nullptr; }
+  /// p_occ at `p_world`; 0.5 when unknown.
+  double occupancy(const Vec3& p_world) const;
+  /// Entropy (nats) at `p_world`; unseen_entropy() when unknown.
+  double entropy(const Vec3& p_world) const;
+  /// Entropy of a never-observed voxel under params().unseen_logodds.
+  double unseen_entropy() const { return unseen_entropy_; }
+  /// True when a state counts as a voxel of class `c`: occupied (p_occ > 0.5) and c is
+  /// its most likely class.
+  static bool is_class_voxel(const SemanticState& s, int c) {
+    return s.most_likely_class() == c && s.occupancy_logodds() > 0.f;
+  }
+
+  /// Calls f(key, depth, state) for every leaf; `key` is the leaf's key at `depth` (a block
+  /// of 2^(16 - depth) voxels per axis when depth < 16), in depth-first order.
+  template <typename F>
+  void for_each_leaf(F&& f) const {
+    if (root) for_each_leaf_recurs(root, octomap::OcTreeKey(tree_max_val, tree_max_val, tree_max_val), 0, f);
+  }
+  /// Leaf and voxel counts (target = classes().target_index()).
+  VoxelCounts counts() const;
+
+  // --- Updates ---------------------------------------------------------------------------
+  /// Applies one hit of class `c` to the voxel `key` (creating it when unknown).
+  void update_hit(const octomap::OcTreeKey& key, int c);
+  /// Applies one pass-through to the voxel `key`.
+  void update_free(const octomap::OcTreeKey& key);
+  /// Applies a batch sorted by code with unique codes, descending the tree once for all of
+  /// it; prunes touched nodes when params().prune. Order-independent by construction.
+  UpdateCounts apply_sorted_updates(const std::vector<VoxelUpdate>& updates);
+
+  /// True when both trees have identical structure, payloads, params and classes.
+  bool identical(const SemanticOcTree& other) const;
+
+  /// For map_io: the root pointer and node creation (file loading builds the tree directly).
+  SemanticNode* mutable_root() { return root; }
+  SemanticNode* create_root();
+  /// After building the tree node by node: sets the node count and the revision.
+  void set_loaded_state(std::size_t nodes, std::uint64_t revision) {
+    tree_size = nodes;
+    size_changed = true;
+    revision_ = revision;
+  }
+
+ private:
+  template <typename F>
+  void for_each_leaf_recurs(const SemanticNode* node, const octomap::OcTreeKey& key, unsigned depth, F& f) const {
+    if (!nodeHasChildren(node)) {
+      f(key, depth, node->state());
+      return;
+    }
+    const unsigned short half = static_cast<unsigned short>(tree_max_val >> (depth + 1));
+    for (unsigned i = 0; i < 8; ++i) {
+      if (!nodeChildExists(node, i)) continue;
+      octomap::OcTreeKey k = key;
+      octomap::computeChildKey(i, half, key, k);
+      for_each_leaf_recurs(getNodeChild(node, i), k, depth + 1, f);
+    }
+  }
+  void apply_range(SemanticNode* top, unsigned top_depth, const VoxelUpdate* begin, const VoxelUpdate* end,
+                   bool collapse_top, bool top_is_fresh, UpdateCounts& counts);
+
+  SemanticMapParams params_;
+  SemanticClasses classes_;
+  UpdateRule rule_;
+  double unseen_entropy_ = 0.0;
+  std::uint64_t revision_ = 0;
+};
+
+}  // namespace canopy::mapping

@@ -1,0 +1,56 @@
+#pragma once
+// Colour segmentation in HSV (the paper's simulation method; FACTS.md section 8). Hue is in
+// OpenCV's 0..179 range (degrees / 2), saturation and value in 0..255. A pixel takes the
+// class of the first band it falls in, else the background (class 0).
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "canopy/common/classes.h"
+#include "canopy/common/image.h"
+#include "canopy/common/yaml_reader.h"
+
+namespace canopy::perception {
+
+/// HSV of one pixel: h in [0, 180), s and v in [0, 255].
+struct Hsv {
+  int h = 0, s = 0, v = 0;
+};
+
+/// OpenCV-compatible RGB to HSV (8-bit, hue halved).
+Hsv rgb_to_hsv(const Rgb8& c);
+
+/// One colour band that maps to a class; bounds are inclusive.
+struct HsvBand {
+  std::string class_name;
+  int h_min = 0, h_max = 179;
+  int s_min = 0, s_max = 255;
+  int v_min = 0, v_max = 255;
+  bool contains(const Hsv& p) const {
+    return p.h >= h_min && p.h <= h_max && p.s >= s_min && p.s <= s_max && p.v >= v_min && p.v <= v_max;
+  }
+  bool operator==(const HsvBand& o) const;
+};
+
+/// The bands, first match wins. Defaults: the prototype's red and green bands plus a yellow
+/// fruit band (the default world has yellow fruit; green fruit segments as leaf).
+struct ColorSegmentationParams {
+  std::vector<HsvBand> bands = {
+      {"fruit", 0, 20, 50, 255, 50, 255},     // red and orange
+      {"fruit", 160, 179, 50, 255, 50, 255},  // red (hue wraps)
+      {"fruit", 21, 35, 100, 255, 50, 255},   // yellow: saturated only
+      {"leaf", 40, 80, 20, 255, 20, 255},     // green
+  };
+
+  static ColorSegmentationParams from_yaml(YamlReader& y);
+  YAML::Node to_yaml() const;
+  bool operator==(const ColorSegmentationParams& o) const { return bands == o.bands; }
+};
+
+/// Labels every pixel of `rgb` with a class index of `classes` (bands naming classes that
+/// are not in the list throw InputError naming `where`).
+Image<std::uint8_t> segment_by_color(const Image<Rgb8>& rgb, const ColorSegmentationParams& params,
+                                     const SemanticClasses& classes, const std::string& where = "color segmentation");
+
+}  // namespace canopy::perception

@@ -1,0 +1,63 @@
+#pragma once
+// The semantic extractor (paper Methods (i)): labels a frame's pixels by colour segmentation
+// or with the renderer's true labels, adds segmentation noise (P_gt) and optional depth
+// noise, and turns depth + labels into a labelled point cloud in the world frame.
+
+#include <cstdint>
+#include <random>
+#include <string>
+
+#include "canopy/common/classes.h"
+#include "canopy/common/frame.h"
+#include "canopy/common/yaml_reader.h"
+#include "canopy/perception/color_segmentation.h"
+#include "canopy/perception/labelled_cloud.h"
+
+namespace canopy::perception {
+
+/// Where pixel labels come from.
+enum class LabelSource { kColor, kTruth };
+
+/// "color" or "truth".
+std::string to_string(LabelSource s);
+/// Parses "color" / "truth"; throws InputError naming `where` otherwise.
+LabelSource label_source_from_string(const std::string& s, const std::string& where);
+
+/// Extractor settings; defaults are the paper's (colour segmentation, P_gt = 0.7).
+struct ExtractorParams {
+  LabelSource source = LabelSource::kColor;
+  ColorSegmentationParams color;
+  double p_gt = 0.7;              ///< Probability a mask keeps its class; 1 = no noise.
+  double depth_noise_k = 0.0;     ///< Extra depth noise sigma = k z^2 [m]; 0 = none.
+  std::uint64_t seed = 1;         ///< Seed of the label and depth noise.
+
+  static ExtractorParams from_yaml(YamlReader& y);
+  YAML::Node to_yaml() const;
+  bool operator==(const ExtractorParams& o) const;
+};
+
+/// Turns frames into labelled clouds. Holds the noise generator: the n-th frame's noise
+/// depends only on the seed and n.
+class SemanticExtractor {
+ public:
+  SemanticExtractor(const ExtractorParams& params, const SemanticClasses& classes);
+
+  /// Pixel labels for `frame` after segmentation and noise (stats->masks*, bad_label).
+  Image<std::uint8_t> label(const LabelledFrame& frame, ExtractStats* stats);
+  /// The labelled cloud of `frame` (world frame, origin = camera position).
+  LabelledCloud extract(const LabelledFrame& frame);
+
+  const ExtractorParams& params() const { return params_; }
+
+ private:
+  ExtractorParams params_;
+  SemanticClasses classes_;
+  std::mt19937_64 rng_;
+};
+
+/// Unprojects valid pixels of `depth_m` with `labels` into the world frame: the cloud part of
+/// the extractor, without noise. Skips and counts bad depths and labels >= num_classes.
+LabelledCloud depth_to_cloud(const CameraIntrinsics& K, const Pose& T_world_camera, const Image<float>& depth_m,
+                             const Image<std::uint8_t>& labels, int num_classes);
+
+}  // namespace canopy::perception

@@ -1,0 +1,310 @@
+#include "canopy/mapping/scan_inserter.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+#include "canopy/common/error.h"
+#include "radix_sort.h"
+
+namespace canopy::mapping {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double ms_since(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+constexpr std::uint64_t kInvalid = std::numeric_limits<std::uint64_t>::max();
+constexpr std::uint8_t kBeyond = 255;            // label byte of a point beyond max range
+constexpr std::uint64_t kBeyondFlag = 1ull << 63;  // on a ray target: no hit at its end
+constexpr std::size_t kMaxGridCells = std::size_t(1) << 26;
+
+// Axis-aligned box of keys with a dense byte grid index.
+struct KeyBox {
+  int lo[3] = {0, 0, 0};
+  int n[3] = {0, 0, 0};
+  std::size_t cells() const { return std::size_t(n[0]) * n[1] * n[2]; }
+  bool index(const octomap::OcTreeKey& k, std::size_t* i) const {
+    const int x = k[0] - lo[0], y = k[1] - lo[1], z = k[2] - lo[2];
+    if (x < 0 || y < 0 || z < 0 || x >= n[0] || y >= n[1] || z >= n[2]) return false;
+    *i = (std::size_t(z) * n[1] + y) * n[0] + x;
+    return true;
+  }
+};
+
+// The ray's segment: OctoMap's arithmetic (float points), so the fast kernel and
+// computeRayKeys visit the same voxels.
+struct Segment {
+  octomap::point3d origin, end;
+};
+
+Segment ray_segment(const SemanticOcTree& map, const octomap::point3d& origin, std::uint64_t target,
+                    double ray_range, double max_range) {
+  const octomap::OcTreeKey k = morton_key(target & ~kBeyondFlag);
+  const octomap::point3d c = map.keyToCoord(k);
+  const double limit = (target & kBeyondFlag) ? std::min(ray_range, max_range) : ray_range;
+  const octomap::point3d d = c - origin;
+  if (double(d.norm()) <= limit) return {origin, c};
+  return {origin, origin + d.normalized() * float(limit)};
+}
+
+// Amanatides-Woo traversal, step for step as OcTreeBaseImpl::computeRayKeys; calls
+// visit(key) for every free cell.
+template <typename Visit>
+void traverse(const SemanticOcTree& map, const Segment& s, Visit&& visit) {
+  octomap::OcTreeKey ko, ke;
+  if (!map.coordToKeyChecked(s.origin, ko) || !map.coordToKeyChecked(s.end, ke)) return;
+  if (ko == ke) return;
+  visit(ko);
+  octomap::point3d dir = s.end - s.origin;
+  const float length = float(dir.norm());
+  dir /= length;
+  const double res = map.getResolution();
+  int step[3];
+  double t_max[3], t_delta[3];
+  octomap::OcTreeKey k = ko;
+  for (unsigned i = 0; i < 3; ++i) {
+    step[i] = dir(i) > 0.0 ? 1 : (dir(i) < 0.0 ? -1 : 0);
+    if (step[i] != 0) {
+      double border = map.keyToCoord(k[i]);
+      border += float(step[i] * res * 0.5);
+      t_max[i] = (border - s.origin(i)) / dir(i);
+      t_delta[i] = res / std::fabs(dir(i));
+    } else {
+      t_max[i] = t_delta[i] = std::numeric_limits<double>::max();
+    }
+  }
+  while (true) {
+    unsigned dim;
+    if (t_max[0] < t_max[1]) dim = t_max[0] < t_max[2] ? 0 : 2;
+    else dim = t_max[1] < t_max[2] ? 1 : 2;
+    k[dim] = static_cast<octomap::key_type>(k[dim] + step[dim]);
+    t_max[dim] += t_delta[dim];
+    if (k == ke) return;
+    if (std::min(std::min(t_max[0], t_max[1]), t_max[2]) > length) return;
+    visit(k);
+  }
+}
+
+template <typename F>
+void run_in_arena(int threads, F&& f) {
+  if (threads > 0) {
+    tbb::task_arena arena(threads);
+    arena.execute(f);
+  } else {
+    f();
+  }
+}
+
+}  // namespace
+
+bool ray_free_keys(const SemanticOcTree& map, const Vec3& origin, const Vec3& end, std::vector<octomap::OcTreeKey>* keys) {
+  octomap::KeyRay ray;
+  const octomap::point3d o(float(origin.x()), float(origin.y()), float(origin.z()));
+  const octomap::point3d e(float(end.x()), float(end.y()), float(end.z()));
+  if (!map.computeRayKeys(o, e, ray)) return false;
+  keys->insert(keys->end(), ray.begin(), ray.end());
+  return true;
+}
+
+ScanInserter::ScanInserter(SemanticOcTree& map) : map_(map) {}
+
+void ScanInserter::compute_updates(const perception::LabelledCloud& cloud, std::vector<VoxelUpdate>* updates,
+                                   InsertStats* stats) {
+  const SemanticMapParams& P = map_.params();
+  const int num_classes = map_.num_classes();
+  const std::size_t n = cloud.points_world.size();
+  CANOPY_CHECK(cloud.labels.size() == n, "cloud has " << n << " points but " << cloud.labels.size() << " labels");
+  stats->points = n;
+  updates->clear();
+  if (!std::isfinite(cloud.origin_world.x()) || !std::isfinite(cloud.origin_world.y()) ||
+      !std::isfinite(cloud.origin_world.z())) {
+    stats->bad_point = n;
+    return;
+  }
+  octomap::OcTreeKey origin_key;
+  if (!map_.key_of(cloud.origin_world, &origin_key)) {
+    stats->outside_map = n;
+    return;
+  }
+  const Clock::time_point t0 = Clock::now();
+
+  // 1. Per point: key code and label, or kInvalid (bad input is counted).
+  values_.resize(n);
+  std::atomic<std::size_t> bad_point{0}, bad_label{0}, outside{0}, beyond{0};
+  const Vec3f o = cloud.origin_world.cast<float>();
+  const double max_range2 = P.max_range_m * P.max_range_m;
+  run_in_arena(P.threads, [&] {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const auto& r) {
+      std::size_t nb = 0, nl = 0, no = 0, nf = 0;
+      for (std::size_t i = r.begin(); i != r.end(); ++i) {
+        const Vec3f& p = cloud.points_world[i];
+        const std::uint8_t label = cloud.labels[i];
+        octomap::OcTreeKey key;
+        if (!std::isfinite(p.x()) || !std::isfinite(p.y()) || !std::isfinite(p.z())) {
+          ++nb;
+          values_[i] = kInvalid;
+        } else if (label >= num_classes) {
+          ++nl;
+          values_[i] = kInvalid;
+        } else if (!map_.coordToKeyChecked(p.x(), p.y(), p.z(), key)) {
+          ++no;
+          values_[i] = kInvalid;
+        } else {
+          const bool far = double((p - o).squaredNorm()) > max_range2;
+          nf += far;
+          values_[i] = (morton_code(key) << 8) | (far ? kBeyond : label);
+        }
+      }
+      bad_point += nb;
+      bad_label += nl;
+      outside += no;
+      beyond += nf;
+    });
+  });
+  stats->bad_point = bad_point;
+  stats->bad_label = bad_label;
+  stats->outside_map = outside;
+  stats->beyond_range = beyond;
+  values_.erase(std::remove(values_.begin(), values_.end(), kInvalid), values_.end());
+  detail::radix_sort_u64(values_, scratch_, 56);
+
+  // 2. Voxel filter: one ray target per voxel; a hit with the majority label when any point
+  //    in it is within range (ties go to the smaller class index).
+  hits_.clear();
+  ray_targets_.clear();
+  for (std::size_t i = 0; i < values_.size();) {
+    const std::uint64_t code = values_[i] >> 8;
+    int best_label = -1;
+    std::size_t best_count = 0;
+    std::size_t j = i;
+    while (j < values_.size() && (values_[j] >> 8) == code) {
+      const std::uint8_t label = values_[j] & 0xff;
+      std::size_t k = j;
+      while (k < values_.size() && values_[k] == values_[j]) ++k;
+      if (label != kBeyond && k - j > best_count) {
+        best_count = k - j;
+        best_label = label;
+      }
+      j = k;
+    }
+    if (best_label >= 0) hits_.push_back({code, static_cast<std::uint8_t>(best_label)});
+    ray_targets_.push_back(best_label >= 0 ? code : (code | kBeyondFlag));
+    i = j;
+  }
+  stats->rays = ray_targets_.size();
+  stats->hit_voxels = hits_.size();
+  stats->ms_filter = ms_since(t0);
+  const Clock::time_point t1 = Clock::now();
+
+  // 3. Free space: mark the cells of every ray in a byte grid over the rays' box
+  //    (0 untouched, 1 free, 2 hit in this scan), then collect the free ones.
+  const octomap::point3d origin(o.x(), o.y(), o.z());
+  std::vector<Segment> segments(ray_targets_.size());
+  KeyBox box;
+  int lo[3] = {origin_key[0], origin_key[1], origin_key[2]}, hi[3] = {lo[0], lo[1], lo[2]};
+  for (std::size_t r = 0; r < ray_targets_.size(); ++r) {
+    segments[r] = ray_segment(map_, origin, ray_targets_[r], P.ray_range_m, P.max_range_m);
+    octomap::OcTreeKey ke;
+    if (!map_.coordToKeyChecked(segments[r].end, ke)) continue;
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = std::min(lo[a], int(ke[a]));
+      hi[a] = std::max(hi[a], int(ke[a]));
+    }
+  }
+  for (int a = 0; a < 3; ++a) {
+    box.lo[a] = lo[a] - 1;
+    box.n[a] = hi[a] - lo[a] + 3;
+  }
+  free_codes_.clear();
+  if (box.cells() <= kMaxGridCells) {
+    if (grid_.size() < box.cells()) grid_.assign(box.cells(), 0);
+    std::uint8_t* grid = grid_.data();
+    for (const VoxelUpdate& h : hits_) {
+      std::size_t idx;
+      if (box.index(morton_key(h.code), &idx)) grid[idx] = 2;
+    }
+    run_in_arena(P.threads, [&] {
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, segments.size(), 256), [&](const auto& r) {
+        for (std::size_t s = r.begin(); s != r.end(); ++s) {
+          traverse(map_, segments[s], [&](const octomap::OcTreeKey& k) {
+            std::size_t idx;
+            if (!box.index(k, &idx)) return;
+            // Read first: cells near the origin are shared by every ray; writing only
+            // untouched cells keeps their cache lines shared between the cores.
+            if (__atomic_load_n(grid + idx, __ATOMIC_RELAXED) == 0) __atomic_store_n(grid + idx, 1, __ATOMIC_RELAXED);
+          });
+        }
+      });
+    });
+    // Collect per z-slice (in order, so the result does not depend on threads) and clear.
+    std::vector<std::vector<std::uint64_t>> slices(static_cast<std::size_t>(box.n[2]));
+    run_in_arena(P.threads, [&] {
+      tbb::parallel_for(tbb::blocked_range<int>(0, box.n[2], 4), [&](const auto& r) {
+        for (int z = r.begin(); z != r.end(); ++z) {
+          auto& out = slices[static_cast<std::size_t>(z)];
+          const std::size_t plane = std::size_t(box.n[0]) * box.n[1];
+          std::uint8_t* g = grid + std::size_t(z) * plane;
+          for (std::size_t i = 0; i < plane; ++i) {
+            if (g[i] == 0) continue;
+            if (g[i] == 1) {
+              const int x = int(i % box.n[0]), y = int(i / box.n[0]);
+              const octomap::OcTreeKey k(static_cast<octomap::key_type>(box.lo[0] + x),
+                                         static_cast<octomap::key_type>(box.lo[1] + y),
+                                         static_cast<octomap::key_type>(box.lo[2] + z));
+              out.push_back(morton_code(k));
+            }
+            g[i] = 0;
+          }
+        }
+      });
+    });
+    for (const auto& s : slices) free_codes_.insert(free_codes_.end(), s.begin(), s.end());
+    detail::radix_sort_u64(free_codes_, scratch_, 48);
+  } else {
+    // Rays too long for a dense grid: collect, sort and de-duplicate the keys.
+    for (const Segment& s : segments)
+      traverse(map_, s, [&](const octomap::OcTreeKey& k) { free_codes_.push_back(morton_code(k)); });
+    detail::radix_sort_u64(free_codes_, scratch_, 48);
+    free_codes_.erase(std::unique(free_codes_.begin(), free_codes_.end()), free_codes_.end());
+    std::size_t w = 0, h = 0;
+    for (const std::uint64_t c : free_codes_) {
+      while (h < hits_.size() && hits_[h].code < c) ++h;
+      if (h < hits_.size() && hits_[h].code == c) continue;
+      free_codes_[w++] = c;
+    }
+    free_codes_.resize(w);
+  }
+  stats->free_voxels = free_codes_.size();
+
+  // 4. Merge hits and free cells into one sorted batch.
+  updates->reserve(hits_.size() + free_codes_.size());
+  std::size_t h = 0;
+  for (const std::uint64_t c : free_codes_) {
+    while (h < hits_.size() && hits_[h].code < c) updates->push_back(hits_[h++]);
+    updates->push_back({c, VoxelUpdate::kFree});
+  }
+  while (h < hits_.size()) updates->push_back(hits_[h++]);
+  stats->ms_raycast = ms_since(t1);
+}
+
+InsertStats ScanInserter::insert(const perception::LabelledCloud& cloud) {
+  const Clock::time_point t0 = Clock::now();
+  InsertStats stats;
+  compute_updates(cloud, &updates_, &stats);
+  const Clock::time_point t1 = Clock::now();
+  stats.tree = map_.apply_sorted_updates(updates_);
+  stats.ms_update = ms_since(t1);
+  stats.ms_total = ms_since(t0);
+  return stats;
+}
+
+}  // namespace canopy::mapping

@@ -1,0 +1,78 @@
+#include "canopy/perception/segmentation_noise.h"
+
+#include <vector>
+
+#include "canopy/common/error.h"
+
+namespace canopy::perception {
+
+int label_masks(const Image<std::uint8_t>& labels, const Image<std::int32_t>& instance, Image<std::int32_t>* masks) {
+  const int w = labels.width, h = labels.height;
+  const bool use_instance = !instance.empty();
+  CANOPY_CHECK(!use_instance || (instance.width == w && instance.height == h), "instance image size differs");
+  *masks = Image<std::int32_t>(w, h, -1);
+  auto same = [&](std::size_t a, std::size_t b) {
+    return labels.data[a] == labels.data[b] && (!use_instance || instance.data[a] == instance.data[b]);
+  };
+  int next = 0;
+  std::vector<std::size_t> stack;
+  for (std::size_t seed = 0; seed < labels.data.size(); ++seed) {
+    if (labels.data[seed] == 0 || masks->data[seed] >= 0) continue;
+    const int id = next++;
+    masks->data[seed] = id;
+    stack.assign(1, seed);
+    while (!stack.empty()) {
+      const std::size_t p = stack.back();
+      stack.pop_back();
+      const int x = int(p % std::size_t(w)), y = int(p / std::size_t(w));
+      const std::size_t nb[4] = {p - 1, p + 1, p - std::size_t(w), p + std::size_t(w)};
+      const bool ok[4] = {x > 0, x + 1 < w, y > 0, y + 1 < h};
+      for (int k = 0; k < 4; ++k) {
+        if (!ok[k] || masks->data[nb[k]] >= 0 || !same(p, nb[k])) continue;
+        masks->data[nb[k]] = id;
+        stack.push_back(nb[k]);
+      }
+    }
+  }
+  return next;
+}
+
+MaskNoiseStats apply_mask_noise(Image<std::uint8_t>& labels, const Image<std::int32_t>& instance, int num_classes,
+                                double p_gt, std::mt19937_64& rng) {
+  MaskNoiseStats stats;
+  if (p_gt >= 1.0 || num_classes < 2) return stats;
+  Image<std::int32_t> masks;
+  const int n = label_masks(labels, instance, &masks);
+  stats.masks = static_cast<std::size_t>(n);
+  // One draw per mask, in mask order (row-major order of each mask's first pixel).
+  std::vector<int> new_class(static_cast<std::size_t>(n), -1);
+  std::vector<int> true_class(static_cast<std::size_t>(n), -1);
+  for (std::size_t i = 0; i < labels.data.size(); ++i) {
+    const int m = masks.data[i];
+    if (m >= 0 && true_class[static_cast<std::size_t>(m)] < 0) true_class[static_cast<std::size_t>(m)] = labels.data[i];
+  }
+  for (int m = 0; m < n; ++m) {
+    const int c = true_class[static_cast<std::size_t>(m)];
+    if (c >= num_classes) {  // not a class: left for the extractor to count and skip
+      new_class[static_cast<std::size_t>(m)] = c;
+      --stats.masks;
+      continue;
+    }
+    if (uniform01(rng) < p_gt) {
+      new_class[static_cast<std::size_t>(m)] = c;
+      continue;
+    }
+    int wrong = static_cast<int>(uniform01(rng) * (num_classes - 1));  // 0 .. K-2
+    if (wrong >= num_classes - 1) wrong = num_classes - 2;
+    if (wrong >= c) ++wrong;  // skip the true class
+    new_class[static_cast<std::size_t>(m)] = wrong;
+    ++stats.flipped;
+  }
+  for (std::size_t i = 0; i < labels.data.size(); ++i) {
+    const int m = masks.data[i];
+    if (m >= 0) labels.data[i] = static_cast<std::uint8_t>(new_class[static_cast<std::size_t>(m)]);
+  }
+  return stats;
+}
+
+}  // namespace canopy::perception

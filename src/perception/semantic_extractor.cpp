@@ -1,0 +1,101 @@
+#include "canopy/perception/semantic_extractor.h"
+
+#include <cmath>
+
+#include "canopy/common/error.h"
+#include "canopy/perception/segmentation_noise.h"
+
+namespace canopy::perception {
+
+SemanticExtractor::SemanticExtractor(const ExtractorParams& params, const SemanticClasses& classes)
+    : params_(params), classes_(classes), rng_(params.seed) {}
+
+Image<std::uint8_t> SemanticExtractor::label(const LabelledFrame& frame, ExtractStats* stats) {
+  Image<std::uint8_t> labels;
+  if (params_.source == LabelSource::kTruth) {
+    if (frame.class_id.empty()) throw InputError("semantic extractor: frame has no true labels (--seg truth)");
+    labels = frame.class_id;
+  } else {
+    if (frame.rgb.empty()) throw InputError("semantic extractor: frame has no RGB image (--seg color)");
+    labels = segment_by_color(frame.rgb, params_.color, classes_);
+  }
+  // Masks split by fruit instance only when labels are the truth (colour segmentation
+  // cannot tell touching fruits apart).
+  static const Image<std::int32_t> kNone;
+  const Image<std::int32_t>& instance = params_.source == LabelSource::kTruth ? frame.instance : kNone;
+  const MaskNoiseStats n = apply_mask_noise(labels, instance, classes_.size(), params_.p_gt, rng_);
+  stats->masks += n.masks;
+  stats->masks_flipped += n.flipped;
+  return labels;
+}
+
+LabelledCloud SemanticExtractor::extract(const LabelledFrame& frame) {
+  ExtractStats stats;
+  Image<std::uint8_t> labels = label(frame, &stats);
+  LabelledCloud cloud;
+  if (params_.depth_noise_k > 0.0) {
+    Image<float> depth = frame.depth_m;
+    for (float& z : depth.data) {
+      if (!(std::isfinite(z) && z > 0.f)) continue;
+      // Box-Muller from two uniforms of the frame's generator.
+      const double u1 = 1.0 - uniform01(rng_), u2 = uniform01(rng_);
+      const double g = std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * M_PI * u2);
+      z = static_cast<float>(z + g * params_.depth_noise_k * double(z) * double(z));
+    }
+    cloud = depth_to_cloud(frame.intrinsics, frame.T_world_camera, depth, labels, classes_.size());
+  } else {
+    cloud = depth_to_cloud(frame.intrinsics, frame.T_world_camera, frame.depth_m, labels, classes_.size());
+  }
+  cloud.stats.masks = stats.masks;
+  cloud.stats.masks_flipped = stats.masks_flipped;
+  return cloud;
+}
+
+LabelledCloud depth_to_cloud(const CameraIntrinsics& K, const Pose& T_world_camera, const Image<float>& depth_m,
+                             const Image<std::uint8_t>& labels, int num_classes) {
+  if (depth_m.width != labels.width || depth_m.height != labels.height)
+    throw InputError("semantic extractor: depth image is " + std::to_string(depth_m.width) + "x" +
+                     std::to_string(depth_m.height) + " but the label image is " + std::to_string(labels.width) +
+                     "x" + std::to_string(labels.height));
+  LabelledCloud cloud;
+  cloud.origin_world = T_world_camera.translation();
+  cloud.points_world.reserve(depth_m.data.size());
+  cloud.labels.reserve(depth_m.data.size());
+  const Eigen::Matrix3f R = T_world_camera.linear().cast<float>();
+  const Vec3f t = T_world_camera.translation().cast<float>();
+  ExtractStats& s = cloud.stats;
+  for (int j = 0; j < depth_m.height; ++j) {
+    for (int i = 0; i < depth_m.width; ++i) {
+      ++s.pixels;
+      const float z = depth_m.at(i, j);
+      if (!std::isfinite(z) || z <= 0.f) {
+        ++s.bad_depth;
+        continue;
+      }
+      if (z < K.min_range_m || z > K.max_range_m) {
+        ++s.out_of_range;
+        continue;
+      }
+      const std::uint8_t c = labels.at(i, j);
+      if (c >= num_classes) {
+        ++s.bad_label;
+        continue;
+      }
+      const Vec3f p_camera(float((i + 0.5 - K.cx_px) / K.fx_px) * z, float((j + 0.5 - K.cy_px) / K.fy_px) * z, z);
+      cloud.points_world.push_back(R * p_camera + t);
+      cloud.labels.push_back(c);
+    }
+  }
+  s.points = cloud.points_world.size();
+  return cloud;
+}
+
+std::string to_string(LabelSource s) { return s == LabelSource::kColor ? "color" : "truth"; }
+
+LabelSource label_source_from_string(const std::string& s, const std::string& where) {
+  if (s == "color") return LabelSource::kColor;
+  if (s == "truth") return LabelSource::kTruth;
+  throw InputError(where + ": value '" + s + "' must be 'color' or 'truth'");
+}
+
+}  // namespace canopy::perception

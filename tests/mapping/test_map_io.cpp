@@ -1,0 +1,105 @@
+#include <gtest/gtest.h>
+
+#include <octomap/OcTree.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "canopy/common/error.h"
+#include "canopy/common/io.h"
+#include "canopy/mapping/map_io.h"
+#include "canopy/mapping/scan_inserter.h"
+#include "canopy/perception/semantic_extractor.h"
+#include "synthetic.h"
+
+using namespace canopy;
+using namespace canopy::mapping;
+namespace fs = std::filesystem;
+
+namespace {
+SemanticOcTree sample_map() {
+  SemanticOcTree map(SemanticMapParams{}, SemanticClasses{});
+  ScanInserter ins(map);
+  CameraIntrinsics K;
+  K.width_px = K.height_px = 120;
+  K.fx_px = K.fy_px = 114.4;
+  K.cx_px = K.cy_px = 60;
+  const std::vector<synth::Sphere> scene = {{Vec3(0.5, 0, 1), 0.05, 2, 1}, {Vec3(0.6, 0.1, 1), 0.08, 1}};
+  for (int v = 0; v < 3; ++v) {
+    const LabelledFrame f = synth::render_spheres(
+        K, synth::look_at(Vec3(0, -0.3 + 0.3 * v, 1.1), Vec3(0.5, 0, 1)), scene);
+    ins.insert(perception::depth_to_cloud(K, f.T_world_camera, f.depth_m, f.class_id, 3));
+  }
+  return map;
+}
+
+std::string temp_dir() {
+  const fs::path d = fs::temp_directory_path() / ("canopy_map_io_" + std::to_string(::getpid()));
+  fs::create_directories(d);
+  return d.string();
+}
+}  // namespace
+
+TEST(MapIo, SaveLoadRoundTripIsExact) {
+  const SemanticOcTree map = sample_map();
+  ASSERT_GT(map.size(), 1000u);
+  const std::string path = temp_dir() + "/map.csm";
+  save_map(map, path);
+  const SemanticOcTree back = load_map(path);
+  EXPECT_TRUE(back.identical(map));
+  EXPECT_EQ(back.revision(), map.revision());
+  EXPECT_EQ(serialize_map(back), serialize_map(map));
+  // An empty map round-trips too.
+  const SemanticOcTree empty(SemanticMapParams{}, SemanticClasses{});
+  EXPECT_TRUE(deserialize_map(serialize_map(empty), "empty").identical(empty));
+}
+
+TEST(MapIo, TruncatedOrCorruptFilesThrowInputError) {
+  const std::string bytes = serialize_map(sample_map());
+  // Every truncation length fails cleanly (a sample of them, to stay fast).
+  for (std::size_t n = 0; n < bytes.size(); n += 1 + bytes.size() / 97)
+    EXPECT_THROW(deserialize_map(bytes.substr(0, n), "cut"), InputError) << n;
+  for (std::size_t i = 0; i < bytes.size(); i += 1 + bytes.size() / 61) {
+    std::string bad = bytes;
+    bad[i] = static_cast<char>(bad[i] ^ 0x5a);
+    EXPECT_THROW(deserialize_map(bad, "flipped"), InputError) << i;
+  }
+  EXPECT_THROW(load_map("/nonexistent/map.csm"), InputError);
+  try {
+    deserialize_map(bytes.substr(0, bytes.size() - 3), "my.csm");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("my.csm"), std::string::npos);
+  }
+}
+
+TEST(MapIo, PlyHasOneVertexPerOccupiedVoxel) {
+  const SemanticOcTree map = sample_map();
+  const std::string path = temp_dir() + "/map.ply";
+  const std::size_t n = export_ply(map, path);
+  EXPECT_EQ(n, map.counts().occupied);
+  const std::string text = read_file(path);
+  const std::size_t end = text.find("end_header\n");
+  ASSERT_NE(end, std::string::npos);
+  EXPECT_NE(text.find("element vertex " + std::to_string(n) + "\n"), std::string::npos);
+  EXPECT_EQ(text.size() - (end + 11), n * (12 + 4 + 4));
+}
+
+TEST(MapIo, BtExportReadsBackInOctoMap) {
+  const SemanticOcTree map = sample_map();
+  const std::string path = temp_dir() + "/map.bt";
+  export_bt(map, path);
+  octomap::OcTree tree(0.1);
+  ASSERT_TRUE(tree.readBinary(path));
+  EXPECT_DOUBLE_EQ(tree.getResolution(), map.getResolution());
+  std::size_t agree = 0, total = 0;
+  map.for_each_leaf([&](const octomap::OcTreeKey& key, unsigned depth, const SemanticState& s) {
+    if (depth != 16) return;
+    const octomap::OcTreeNode* n = tree.search(key);
+    ASSERT_NE(n, nullptr);
+    ++total;
+    agree += tree.isNodeOccupied(n) == (s.occupancy_logodds() > 0.f);
+  });
+  EXPECT_EQ(agree, total);
+  EXPECT_GT(total, 1000u);
+}

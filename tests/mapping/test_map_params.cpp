@@ -1,0 +1,80 @@
+#include <gtest/gtest.h>
+
+#include "canopy/common/robot_config.h"
+#include "canopy/mapping/map_metrics.h"
+#include "canopy/mapping/map_params.h"
+#include "canopy/perception/semantic_extractor.h"
+
+using namespace canopy;
+
+namespace {
+template <typename P>
+P round_trip(const P& p) {
+  YAML::Emitter e;
+  e << p.to_yaml();
+  YamlReader y = YamlReader::load_string(e.c_str(), "round trip");
+  P q = P::from_yaml(y);
+  y.finish();
+  return q;
+}
+}  // namespace
+
+TEST(MappingParams, DefaultsArePapersValues) {
+  mapping::SemanticMapParams p;
+  EXPECT_EQ(p.resolution_m, 0.015);
+  EXPECT_EQ(p.hit_logodds, 1.0f);
+  EXPECT_EQ(p.pass_logodds, -0.1f);
+  EXPECT_EQ(p.clamp_max_logodds, 9.21f);
+  EXPECT_EQ(p.clamp_min_logodds, -9.21f);
+  EXPECT_EQ(p.max_range_m, 1.0);
+  EXPECT_EQ(p.ray_range_m, 0.8);
+  perception::ExtractorParams e;
+  EXPECT_EQ(e.p_gt, 0.7);
+  mapping::MetricsParams m;
+  EXPECT_EQ(m.coverage_distance_m, 0.015);
+  EXPECT_EQ(m.entropy_box_m, 0.1);
+}
+
+TEST(MappingParams, YamlRoundTrip) {
+  mapping::SemanticMapParams p;
+  p.resolution_m = 0.02;
+  p.hit_logodds = 0.85f;
+  p.pass_logodds = -0.4f;
+  p.threads = 2;
+  EXPECT_EQ(round_trip(p), p);
+  perception::ExtractorParams e;
+  e.source = perception::LabelSource::kTruth;
+  e.p_gt = 0.9;
+  e.color.bands.pop_back();
+  EXPECT_EQ(round_trip(e), e);
+  mapping::MetricsParams m;
+  m.entropy_box_m = 0.12;
+  EXPECT_EQ(round_trip(m), m);
+}
+
+// configs/mapping.yaml restates the defaults.
+TEST(MappingParams, ConfigFileEqualsStructDefaults) {
+  YamlReader y = YamlReader::load_file(find_data_file("configs/mapping.yaml"));
+  YamlReader map = y.child("map");
+  EXPECT_EQ(mapping::SemanticMapParams::from_yaml(map), mapping::SemanticMapParams{});
+  map.finish();
+  YamlReader ex = y.child("extractor");
+  EXPECT_EQ(perception::ExtractorParams::from_yaml(ex), perception::ExtractorParams{});
+  ex.finish();
+  YamlReader me = y.child("metrics");
+  EXPECT_EQ(mapping::MetricsParams::from_yaml(me), mapping::MetricsParams{});
+  me.finish();
+  y.finish();
+}
+
+TEST(MappingParams, UnknownAndBadKeysAreErrors) {
+  YamlReader y = YamlReader::load_string("resolution_m: 0.01\nresolutoin: 3\n", "t.yaml");
+  mapping::SemanticMapParams::from_yaml(y);
+  EXPECT_THROW(y.finish(), InputError);
+  YamlReader bad = YamlReader::load_string("pass_logodds: 0.5\n", "t.yaml");
+  EXPECT_THROW(mapping::SemanticMapParams::from_yaml(bad), InputError);
+  YamlReader bad2 = YamlReader::load_string("p_gt: 1.5\n", "t.yaml");
+  EXPECT_THROW(perception::ExtractorParams::from_yaml(bad2), InputError);
+  YamlReader bad3 = YamlReader::load_string("source: magic\n", "t.yaml");
+  EXPECT_THROW(perception::ExtractorParams::from_yaml(bad3), InputError);
+}

@@ -1,0 +1,184 @@
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <random>
+#include <set>
+
+#include "canopy/mapping/scan_inserter.h"
+#include "canopy/perception/semantic_extractor.h"
+#include "synthetic.h"
+
+using namespace canopy;
+using namespace canopy::mapping;
+using canopy::perception::LabelledCloud;
+
+namespace {
+SemanticOcTree make_map(int threads = 1) {
+  SemanticMapParams p;
+  p.threads = threads;
+  return SemanticOcTree(p, SemanticClasses{});
+}
+constexpr std::uint8_t kFruit = 2;
+
+LabelledCloud one_point(const Vec3& origin, const Vec3& p, std::uint8_t label = kFruit) {
+  LabelledCloud c;
+  c.origin_world = origin;
+  c.points_world.push_back(p.cast<float>());
+  c.labels.push_back(label);
+  return c;
+}
+
+std::set<std::uint64_t> codes(const std::vector<octomap::OcTreeKey>& keys) {
+  std::set<std::uint64_t> out;
+  for (const auto& k : keys) out.insert(morton_code(k));
+  return out;
+}
+}  // namespace
+
+TEST(ScanInserter, OneHitAndItsRayGiveExactLogOdds) {
+  SemanticOcTree map = make_map();
+  ScanInserter ins(map);
+  const Vec3 origin(0.0, 0.0, 1.0), p(0.5, 0.0, 1.0);
+  const InsertStats st = ins.insert(one_point(origin, p));
+  EXPECT_EQ(st.hit_voxels, 1u);
+  EXPECT_EQ(st.rays, 1u);
+  const SemanticState* hit = map.find(p);
+  ASSERT_NE(hit, nullptr);
+  EXPECT_EQ(hit->count, 1);
+  EXPECT_EQ(hit->logodds[0], 1.0f);
+  EXPECT_EQ(hit->others, -0.1f);
+  const SemanticState* free = map.find(Vec3(0.25, 0.0, 1.0));
+  ASSERT_NE(free, nullptr);
+  EXPECT_EQ(free->count, 0);
+  EXPECT_EQ(free->others, -0.1f);
+  // A second scan through the hit voxel from the other side: it becomes free-updated once.
+  ins.insert(one_point(Vec3(1.0, 0.0, 1.0), Vec3(0.2, 0.0, 1.0)));
+  EXPECT_EQ(map.find(p)->logodds[0], 1.0f + -0.1f);
+  EXPECT_EQ(map.find(p)->others, -0.1f + -0.1f);
+}
+
+// The fast ray kernel visits exactly the voxels OctoMap's computeRayKeys visits.
+TEST(ScanInserter, FreeSpaceRayCarvesOnlyItsCells) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int trial = 0; trial < 300; ++trial) {
+    SemanticOcTree map = make_map();
+    ScanInserter ins(map);
+    const Vec3 origin(u(rng) * 0.3, u(rng) * 0.3, 1.0 + u(rng) * 0.3);
+    Vec3 dir(u(rng), u(rng), u(rng));
+    dir.normalize();
+    const double len = 0.05 + 0.9 * (0.5 + 0.5 * u(rng));
+    const Vec3 p = origin + dir * len;
+    std::vector<VoxelUpdate> updates;
+    InsertStats st;
+    ins.compute_updates(one_point(origin, p), &updates, &st);
+    // Reference: segment to the endpoint voxel's centre, cut at the ray range.
+    octomap::OcTreeKey kp;
+    ASSERT_TRUE(map.key_of(p, &kp));
+    Vec3 end = map.center_of(kp);
+    const octomap::point3d of(float(origin.x()), float(origin.y()), float(origin.z()));
+    const octomap::point3d cf(float(end.x()), float(end.y()), float(end.z()));
+    if ((cf - of).norm() > 0.8) {
+      const octomap::point3d e = of + (cf - of).normalized() * 0.8f;
+      end = Vec3(e.x(), e.y(), e.z());
+    }
+    std::vector<octomap::OcTreeKey> ref;
+    ASSERT_TRUE(ray_free_keys(map, origin, end, &ref));
+    std::set<std::uint64_t> expected = codes(ref);
+    expected.erase(morton_code(kp));  // the hit is never free
+    std::set<std::uint64_t> got;
+    for (const auto& up : updates)
+      if (up.label == VoxelUpdate::kFree) got.insert(up.code);
+    EXPECT_EQ(got, expected) << "trial " << trial;
+    const bool is_hit = len <= 1.0;
+    EXPECT_EQ(st.hit_voxels, is_hit ? 1u : 0u);
+  }
+}
+
+TEST(ScanInserter, RayRangeAndMaxRange) {
+  SemanticOcTree map = make_map();
+  ScanInserter ins(map);
+  const Vec3 origin(0.0, 0.0, 1.0);
+  // Endpoint at 0.95 m: a hit (within 1.0 m) but free space stops at 0.8 m.
+  ins.insert(one_point(origin, origin + Vec3(0.95, 0, 0)));
+  EXPECT_NE(map.find(origin + Vec3(0.95, 0, 0)), nullptr);
+  EXPECT_NE(map.find(origin + Vec3(0.78, 0, 0)), nullptr);
+  EXPECT_EQ(map.find(origin + Vec3(0.85, 0, 0)), nullptr);
+  // Endpoint at 1.2 m: no hit, free space up to 0.8 m only.
+  SemanticOcTree map2 = make_map();
+  ScanInserter ins2(map2);
+  const InsertStats st = ins2.insert(one_point(origin, origin + Vec3(0, 1.2, 0)));
+  EXPECT_EQ(st.beyond_range, 1u);
+  EXPECT_EQ(st.hit_voxels, 0u);
+  EXPECT_EQ(map2.find(origin + Vec3(0, 1.2, 0)), nullptr);
+  EXPECT_NE(map2.find(origin + Vec3(0, 0.7, 0)), nullptr);
+}
+
+TEST(ScanInserter, HitsAreExcludedFromFreeAndVoxelFilteredByMajority) {
+  SemanticOcTree map = make_map();
+  ScanInserter ins(map);
+  LabelledCloud c;
+  c.origin_world = Vec3(0, 0, 1);
+  // Two voxels on the same line: the nearer one is hit, the ray to the farther one passes it.
+  const Vec3 near(0.3, 0.0, 1.0), far(0.6, 0.0, 1.0);
+  for (int i = 0; i < 3; ++i) {
+    c.points_world.push_back(near.cast<float>());
+    c.labels.push_back(i < 2 ? 1 : 2);  // majority leaf
+  }
+  c.points_world.push_back(far.cast<float>());
+  c.labels.push_back(2);
+  const InsertStats st = ins.insert(c);
+  EXPECT_EQ(st.hit_voxels, 2u);
+  EXPECT_EQ(st.rays, 2u);
+  const SemanticState* n = map.find(near);
+  ASSERT_NE(n, nullptr);
+  EXPECT_EQ(n->most_likely_class(), 1);
+  EXPECT_EQ(n->logodds[0], 1.0f);  // one hit, no free update in the same scan
+  EXPECT_EQ(map.find(far)->most_likely_class(), 2);
+}
+
+TEST(ScanInserter, BadPointsAndLabelsAreSkippedAndCounted) {
+  SemanticOcTree map = make_map();
+  ScanInserter ins(map);
+  LabelledCloud c;
+  c.origin_world = Vec3(0, 0, 1);
+  const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+  c.points_world = {Vec3f(nan, 0, 1), Vec3f(0.3f, inf, 1), Vec3f(0.3f, 0, 1), Vec3f(0.3f, 0.1f, 1), Vec3f(1e6f, 0, 0)};
+  c.labels = {1, 1, 7, 2, 1};
+  const InsertStats st = ins.insert(c);
+  EXPECT_EQ(st.bad_point, 2u);
+  EXPECT_EQ(st.bad_label, 1u);
+  EXPECT_EQ(st.outside_map, 1u);
+  EXPECT_EQ(st.skipped(), 4u);
+  EXPECT_EQ(st.hit_voxels, 1u);
+  EXPECT_EQ(map.find(Vec3(0.3, 0.0, 1.0)), nullptr);  // the bad-label point left no hit
+}
+
+// A real image-sized cloud: one or two threads give the identical map.
+TEST(ScanInserter, ThreadCountDoesNotChangeTheMap) {
+  CameraIntrinsics K;
+  std::vector<synth::Sphere> scene = {{Vec3(0.5, 0, 1.0), 0.045, 2, 0}, {Vec3(0.55, 0.1, 1.05), 0.06, 1},
+                                        {Vec3(0.6, -0.1, 0.95), 0.07, 1}};
+  SemanticOcTree a = make_map(1), b = make_map(2);
+  ScanInserter ia(a), ib(b);
+  for (int v = 0; v < 3; ++v) {
+    const Vec3 eye(0.0, -0.2 + 0.2 * v, 1.0);
+    const LabelledFrame f = synth::render_spheres(K, synth::look_at(eye, Vec3(0.5, 0, 1.0)), scene);
+    const LabelledCloud cloud = perception::depth_to_cloud(K, f.T_world_camera, f.depth_m, f.class_id, 3);
+    const InsertStats sa = ia.insert(cloud);
+    const InsertStats sb = ib.insert(cloud);
+    EXPECT_EQ(sa.free_voxels, sb.free_voxels);
+    EXPECT_GT(sa.free_voxels, 1000u);
+  }
+  EXPECT_EQ(a.size(), b.size());
+  std::size_t n = 0;
+  a.for_each_leaf([&](const octomap::OcTreeKey& key, unsigned depth, const SemanticState& s) {
+    if (depth != 16) return;
+    ASSERT_NE(b.find(key), nullptr);
+    EXPECT_EQ(*b.find(key), s);
+    ++n;
+  });
+  EXPECT_GT(n, 1000u);
+}

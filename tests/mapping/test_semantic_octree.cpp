@@ -1,0 +1,160 @@
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <random>
+
+#include "canopy/mapping/semantic_octree.h"
+
+using namespace canopy;
+using namespace canopy::mapping;
+
+namespace {
+SemanticOcTree make_map(int threads = 1, bool prune = true) {
+  SemanticMapParams p;
+  p.threads = threads;
+  p.prune = prune;
+  return SemanticOcTree(p, SemanticClasses{});
+}
+constexpr int kFruit = 2;
+}  // namespace
+
+TEST(SemanticOcTree, NodeIsCompact) {
+  EXPECT_LE(sizeof(SemanticNode), 32u);
+}
+
+TEST(SemanticOcTree, MortonRoundTripAndChildOrder) {
+  std::mt19937 rng(3);
+  for (int i = 0; i < 1000; ++i) {
+    const octomap::OcTreeKey k(rng() & 0xffff, rng() & 0xffff, rng() & 0xffff);
+    EXPECT_EQ(morton_key(morton_code(k)), k);
+    for (int depth = 0; depth < 16; ++depth)
+      EXPECT_EQ((morton_code(k) >> (3 * depth)) & 7, octomap::computeChildIdx(k, depth));
+  }
+}
+
+TEST(SemanticOcTree, UnknownUntilObserved) {
+  SemanticOcTree map = make_map();
+  const Vec3 p(0.1, 0.2, 0.3);
+  EXPECT_TRUE(map.is_unknown(p));
+  EXPECT_DOUBLE_EQ(map.occupancy(p), 0.5);
+  EXPECT_DOUBLE_EQ(map.entropy(p), map.unseen_entropy());
+  octomap::OcTreeKey k;
+  ASSERT_TRUE(map.key_of(p, &k));
+  map.update_hit(k, kFruit);
+  ASSERT_FALSE(map.is_unknown(p));
+  EXPECT_EQ(map.find(p)->most_likely_class(), kFruit);
+  EXPECT_EQ(map.find(p)->logodds[0], 1.0f);
+  // Neighbours stay unknown.
+  EXPECT_TRUE(map.is_unknown(p + Vec3(0.015, 0, 0)));
+  EXPECT_EQ(map.size(), 17u);  // root + 16 levels
+}
+
+TEST(SemanticOcTree, PruningKeepsSemantics) {
+  SemanticOcTree map = make_map();
+  // Eight siblings get the same hit: they collapse into their parent.
+  const octomap::OcTreeKey base(32768, 32768, 32768);
+  std::vector<VoxelUpdate> batch;
+  for (int i = 0; i < 8; ++i)
+    batch.push_back({morton_code(octomap::OcTreeKey(base[0] + (i & 1), base[1] + ((i >> 1) & 1), base[2] + (i >> 2))),
+                     static_cast<std::uint8_t>(kFruit)});
+  std::sort(batch.begin(), batch.end(), [](auto& a, auto& b) { return a.code < b.code; });
+  const auto counts = map.apply_sorted_updates(batch);
+  EXPECT_GE(counts.pruned, 1u);
+  EXPECT_EQ(map.size(), 16u);  // the 8 leaves became one
+  for (const auto& u : batch) {
+    const SemanticState* s = map.find(morton_key(u.code));
+    ASSERT_NE(s, nullptr);
+    EXPECT_EQ(s->most_likely_class(), kFruit);
+    EXPECT_EQ(s->logodds[0], 1.0f);
+  }
+  // A different update to one voxel expands the block; the others keep their state.
+  map.update_free(morton_key(batch[3].code));
+  EXPECT_EQ(map.size(), 24u);
+  for (std::size_t i = 0; i < batch.size(); ++i) {
+    const SemanticState* s = map.find(morton_key(batch[i].code));
+    ASSERT_NE(s, nullptr);
+    EXPECT_EQ(s->logodds[0], i == 3 ? 0.9f : 1.0f);
+  }
+  // Eight siblings with different states never collapse.
+  SemanticOcTree map2 = make_map();
+  for (int i = 0; i < 8; ++i)
+    map2.update_hit(morton_key(batch[static_cast<std::size_t>(i)].code), i % 2 ? kFruit : 1);
+  EXPECT_EQ(map2.size(), 24u);
+}
+
+TEST(SemanticOcTree, SaturatedPrunedBlockIsNotExpanded) {
+  SemanticOcTree map = make_map();
+  const octomap::OcTreeKey base(40000, 40000, 40000);
+  std::vector<VoxelUpdate> batch;
+  for (int i = 0; i < 8; ++i)
+    batch.push_back({morton_code(octomap::OcTreeKey(base[0] + (i & 1), base[1] + ((i >> 1) & 1), base[2] + (i >> 2))),
+                     VoxelUpdate::kFree});
+  std::sort(batch.begin(), batch.end(), [](auto& a, auto& b) { return a.code < b.code; });
+  for (int rep = 0; rep < 100; ++rep) map.apply_sorted_updates(batch);
+  const std::size_t size = map.size();
+  const auto counts = map.apply_sorted_updates({batch[0]});
+  EXPECT_EQ(counts.saturated, 1u);
+  EXPECT_EQ(counts.created, 0u);
+  EXPECT_EQ(map.size(), size);
+  EXPECT_EQ(map.find(morton_key(batch[5].code))->others, -9.21f);
+}
+
+// A batch applied at once equals the same updates applied one by one, with 1 or 2 threads.
+TEST(SemanticOcTree, BatchEqualsSingleUpdatesAndIsThreadIndependent) {
+  std::mt19937 rng(7);
+  std::vector<std::vector<VoxelUpdate>> scans;
+  for (int s = 0; s < 4; ++s) {
+    std::vector<VoxelUpdate> batch;
+    for (int i = 0; i < 30000; ++i) {
+      const octomap::OcTreeKey k(32700 + rng() % 60, 32700 + rng() % 60, 32760 + rng() % 30);
+      const std::uint8_t label = rng() % 4 == 0 ? VoxelUpdate::kFree : static_cast<std::uint8_t>(rng() % 3);
+      batch.push_back({morton_code(k), label});
+    }
+    std::sort(batch.begin(), batch.end(), [](auto& a, auto& b) { return a.code < b.code; });
+    batch.erase(std::unique(batch.begin(), batch.end(), [](auto& a, auto& b) { return a.code == b.code; }),
+                batch.end());
+    scans.push_back(batch);
+  }
+  SemanticOcTree serial = make_map(1), parallel = make_map(2), single = make_map(1);
+  for (const auto& batch : scans) {
+    serial.apply_sorted_updates(batch);
+    parallel.apply_sorted_updates(batch);
+    for (const auto& u : batch) {
+      if (u.label == VoxelUpdate::kFree) single.update_free(morton_key(u.code));
+      else single.update_hit(morton_key(u.code), u.label);
+    }
+  }
+  EXPECT_EQ(serial.size(), parallel.size());
+  EXPECT_EQ(serial.size(), single.size());
+  std::size_t checked = 0;
+  serial.for_each_leaf([&](const octomap::OcTreeKey& key, unsigned depth, const SemanticState& s) {
+    if (depth != 16) return;
+    const SemanticState* a = parallel.find(key);
+    const SemanticState* b = single.find(key);
+    ASSERT_NE(a, nullptr);
+    ASSERT_NE(b, nullptr);
+    EXPECT_EQ(*a, s);
+    EXPECT_EQ(*b, s);
+    ++checked;
+  });
+  EXPECT_GT(checked, 1000u);
+  // Unpruned trees hold every voxel as its own leaf.
+  SemanticOcTree unpruned = make_map(2, false);
+  for (const auto& batch : scans) unpruned.apply_sorted_updates(batch);
+  EXPECT_GE(unpruned.size(), serial.size());
+}
+
+TEST(SemanticOcTree, CopyIsDeepAndIdentical) {
+  SemanticOcTree map = make_map();
+  map.update_hit(octomap::OcTreeKey(32768, 32768, 32768), kFruit);
+  map.update_free(octomap::OcTreeKey(32769, 32768, 32768));
+  SemanticOcTree copy(map);
+  EXPECT_TRUE(copy.identical(map));
+  copy.update_free(octomap::OcTreeKey(32768, 32768, 32768));
+  EXPECT_FALSE(copy.identical(map));
+  const VoxelCounts c = map.counts();
+  EXPECT_EQ(c.voxels, 2u);
+  EXPECT_EQ(c.occupied, 1u);
+  EXPECT_EQ(c.target, 1u);
+  EXPECT_EQ(c.free, 1u);
+}
