@@ -1,0 +1,90 @@
+#pragma once
+// Collision-free arm motion in joint space with OMPL (RRTConnect by default): the FCL
+// checker validates states, motions are checked at a fixed joint-space resolution, the
+// path is simplified and timed within the joint limits. Expected failures (no IK, start or
+// goal in collision, timeout, bad input) come back as a status with a message.
+// OMPL stays inside arm_planner.cpp.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "canopy/common/types.h"
+#include "canopy/motion/collision.h"
+#include "canopy/motion/robot_model.h"
+#include "canopy/motion/trajectory.h"
+
+namespace canopy {
+class YamlReader;
+}
+
+namespace canopy::motion {
+
+/// Outcome of a planning request.
+enum class PlanStatus {
+  kSuccess,
+  kNoIk,              ///< The camera pose has no IK solution within the joint limits.
+  kStartInCollision,  ///< The start state (or the base itself) is in collision.
+  kGoalInCollision,   ///< Every IK solution of the goal is in collision.
+  kTimeout,           ///< No path found within the time limit.
+  kInvalidInput,      ///< Non-finite or out-of-limit input.
+};
+const char* to_string(PlanStatus status);
+
+/// Planner settings (configs/motion.yaml, section "planner").
+struct PlannerParams {
+  std::string planner = "RRTConnect";      ///< A name from planner_names().
+  double time_limit_s = 1.0;               ///< Per request.
+  double motion_check_resolution_rad = 0.02;  ///< Joint-space (Euclidean) step of motion checks.
+  double range_rad = 0.0;                  ///< Tree extension step; 0: the planner's default.
+  bool try_direct_first = true;            ///< Try the straight joint-space line before OMPL.
+  bool simplify = true;                    ///< Shortcut the path (deterministic, to convergence).
+  int max_goal_configs = 8;                ///< IK solutions handed to the planner as goals.
+
+  static PlannerParams from_yaml(YamlReader& y, const PlannerParams& defaults);
+  void validate() const;
+};
+
+/// Names accepted by PlannerParams::planner.
+std::vector<std::string> planner_names();
+
+/// Sets OMPL's global seed; effective only before the first planner runs in the process
+/// (OMPL's rule). Returns false when it was already set (to any value) in this process.
+bool seed_planner_rng(std::uint64_t seed);
+
+/// Result of a planning request.
+struct PlanResult {
+  PlanStatus status = PlanStatus::kInvalidInput;
+  std::string message;
+  std::vector<ArmConfig> path;  ///< Collision-checked waypoints, start first (on success).
+  ArmTrajectory trajectory;     ///< Timed path (on success).
+  ArmConfig goal{};             ///< The goal configuration reached (on success).
+  double planning_time_s = 0.0;
+  bool direct = false;          ///< The straight line was valid; OMPL was not needed.
+  bool ok() const { return status == PlanStatus::kSuccess; }
+};
+
+/// Plans arm motions for a robot model in the environment of a collision checker, with the
+/// base fixed. Queries are const; run one at a time per process for reproducible results.
+class ArmPlanner {
+ public:
+  ArmPlanner(const CollisionChecker& checker, const PlannerParams& params,
+             const TrajectoryParams& trajectory = TrajectoryParams{});
+
+  /// Plans from `start` to one of `goals` (tried nearest first).
+  PlanResult plan_to_configs(const BasePose& base, const ArmConfig& start, const std::vector<ArmConfig>& goals) const;
+  /// Plans from `start` until the camera is at T_world_camera (IK solutions as goals).
+  PlanResult plan_to_camera_pose(const BasePose& base, const ArmConfig& start, const Pose& T_world_camera) const;
+  /// True when the straight joint-space line a -> b is collision-free at the resolution.
+  bool motion_valid(const BasePose& base, const ArmConfig& a, const ArmConfig& b) const;
+
+  const PlannerParams& params() const { return params_; }
+  const CollisionChecker& checker() const { return *checker_; }
+
+ private:
+  const CollisionChecker* checker_;
+  PlannerParams params_;
+  TrajectoryParams trajectory_params_;
+};
+
+}  // namespace canopy::motion

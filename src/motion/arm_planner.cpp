@@ -1,0 +1,310 @@
+#include "canopy/motion/arm_planner.h"
+
+#include <ompl/base/goals/GoalStates.h>
+#include <ompl/base/spaces/RealVectorStateSpace.h>
+#include <ompl/geometric/PathSimplifier.h>
+#include <ompl/geometric/SimpleSetup.h>
+#include <ompl/geometric/planners/est/BiEST.h>
+#include <ompl/geometric/planners/est/EST.h>
+#include <ompl/geometric/planners/informedtrees/BITstar.h>
+#include <ompl/geometric/planners/kpiece/BKPIECE1.h>
+#include <ompl/geometric/planners/kpiece/KPIECE1.h>
+#include <ompl/geometric/planners/kpiece/LBKPIECE1.h>
+#include <ompl/geometric/planners/prm/LazyPRM.h>
+#include <ompl/geometric/planners/prm/PRM.h>
+#include <ompl/geometric/planners/rrt/BiTRRT.h>
+#include <ompl/geometric/planners/rrt/LazyRRT.h>
+#include <ompl/geometric/planners/rrt/RRT.h>
+#include <ompl/geometric/planners/rrt/RRTConnect.h>
+#include <ompl/geometric/planners/rrt/RRTstar.h>
+#include <ompl/geometric/planners/sbl/SBL.h>
+#include <ompl/util/Console.h>
+#include <ompl/util/RandomNumbers.h>
+
+#include <chrono>
+#include <cmath>
+#include <functional>
+#include <map>
+#include <mutex>
+
+#include "canopy/common/error.h"
+#include "canopy/common/yaml_reader.h"
+
+namespace ob = ompl::base;
+namespace og = ompl::geometric;
+
+namespace canopy::motion {
+
+namespace {
+
+using PlannerFactory = std::function<ob::PlannerPtr(const ob::SpaceInformationPtr&, double range)>;
+
+template <typename P>
+PlannerFactory with_range() {
+  return [](const ob::SpaceInformationPtr& si, double range) {
+    auto p = std::make_shared<P>(si);
+    if (range > 0.0) p->setRange(range);
+    return ob::PlannerPtr(p);
+  };
+}
+
+template <typename P>
+PlannerFactory plain() {
+  return [](const ob::SpaceInformationPtr& si, double) { return ob::PlannerPtr(std::make_shared<P>(si)); };
+}
+
+// The planner registry: one place that maps names to OMPL planners (STYLE.md).
+const std::map<std::string, PlannerFactory>& planner_registry() {
+  static const std::map<std::string, PlannerFactory> registry = {
+      {"RRTConnect", with_range<og::RRTConnect>()}, {"RRT", with_range<og::RRT>()},
+      {"RRTstar", with_range<og::RRTstar>()},       {"BiTRRT", with_range<og::BiTRRT>()},
+      {"LazyRRT", with_range<og::LazyRRT>()},       {"KPIECE1", with_range<og::KPIECE1>()},
+      {"BKPIECE1", with_range<og::BKPIECE1>()},     {"LBKPIECE1", with_range<og::LBKPIECE1>()},
+      {"EST", with_range<og::EST>()},               {"BiEST", with_range<og::BiEST>()},
+      {"SBL", with_range<og::SBL>()},               {"PRM", plain<og::PRM>()},
+      {"LazyPRM", with_range<og::LazyPRM>()},       {"BITstar", plain<og::BITstar>()},
+  };
+  return registry;
+}
+
+bool finite(const ArmConfig& q) {
+  for (double v : q)
+    if (!std::isfinite(v)) return false;
+  return true;
+}
+
+std::string config_text(const ArmConfig& q) {
+  std::string s = "[";
+  for (int i = 0; i < kArmDof; ++i) s += (i ? ", " : "") + std::to_string(q[i]);
+  return s + "]";
+}
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
+
+const char* to_string(PlanStatus s) {
+  switch (s) {
+    case PlanStatus::kSuccess: return "success";
+    case PlanStatus::kNoIk: return "no_ik";
+    case PlanStatus::kStartInCollision: return "start_in_collision";
+    case PlanStatus::kGoalInCollision: return "goal_in_collision";
+    case PlanStatus::kTimeout: return "timeout";
+    case PlanStatus::kInvalidInput: return "invalid_input";
+  }
+  return "unknown";
+}
+
+std::vector<std::string> planner_names() {
+  std::vector<std::string> names;
+  for (const auto& [name, factory] : planner_registry()) names.push_back(name);
+  return names;
+}
+
+bool seed_planner_rng(std::uint64_t seed) {
+  static std::once_flag once;
+  bool applied = false;
+  std::call_once(once, [&] {
+    ompl::RNG::setSeed(static_cast<std::uint_fast32_t>(seed));
+    applied = true;
+  });
+  return applied;
+}
+
+PlannerParams PlannerParams::from_yaml(YamlReader& y, const PlannerParams& d) {
+  PlannerParams p;
+  p.planner = y.get("planner", d.planner);
+  p.time_limit_s = y.get("time_limit_s", d.time_limit_s);
+  p.motion_check_resolution_rad = y.get("motion_check_resolution_rad", d.motion_check_resolution_rad);
+  p.range_rad = y.get("range_rad", d.range_rad);
+  p.try_direct_first = y.get("try_direct_first", d.try_direct_first);
+  p.simplify = y.get("simplify", d.simplify);
+  p.max_goal_configs = y.get("max_goal_configs", d.max_goal_configs);
+  try {
+    p.validate();
+  } catch (const InputError& e) {
+    throw InputError(y.file() + ": " + e.what());
+  }
+  return p;
+}
+
+void PlannerParams::validate() const {
+  if (!planner_registry().count(planner)) {
+    std::string names;
+    for (const auto& n : planner_names()) names += (names.empty() ? "" : ", ") + n;
+    throw InputError("planner: unknown planner '" + planner + "' (known: " + names + ")");
+  }
+  if (!(std::isfinite(time_limit_s) && time_limit_s > 0.0)) throw InputError("planner: time_limit_s must be > 0");
+  if (!(std::isfinite(motion_check_resolution_rad) && motion_check_resolution_rad > 0.0))
+    throw InputError("planner: motion_check_resolution_rad must be > 0");
+  if (!(std::isfinite(range_rad) && range_rad >= 0.0)) throw InputError("planner: range_rad must be >= 0");
+  if (max_goal_configs < 1 || max_goal_configs > 8) throw InputError("planner: max_goal_configs must be in [1, 8]");
+}
+
+ArmPlanner::ArmPlanner(const CollisionChecker& checker, const PlannerParams& params, const TrajectoryParams& trajectory)
+    : checker_(&checker), params_(params), trajectory_params_(trajectory) {
+  params_.validate();
+  trajectory_params_.validate();
+  // OMPL reports every solve at INFO level; warnings and errors still show.
+  ompl::msg::setLogLevel(ompl::msg::LOG_WARN);
+}
+
+bool ArmPlanner::motion_valid(const BasePose& base, const ArmConfig& a, const ArmConfig& b) const {
+  const int n = static_cast<int>(std::ceil(joint_distance(a, b) / params_.motion_check_resolution_rad));
+  for (int k = 1; k <= n; ++k) {
+    const double s = static_cast<double>(k) / n;
+    ArmConfig q;
+    for (int i = 0; i < kArmDof; ++i) q[i] = a[i] + s * (b[i] - a[i]);
+    if (checker_->in_collision(base, q, BodySet::kArmOnly)) return false;
+  }
+  return true;
+}
+
+PlanResult ArmPlanner::plan_to_camera_pose(const BasePose& base, const ArmConfig& start, const Pose& T_world_camera) const {
+  const auto t0 = std::chrono::steady_clock::now();
+  PlanResult r;
+  if (!T_world_camera.matrix().allFinite()) {
+    r.status = PlanStatus::kInvalidInput;
+    r.message = "goal camera pose is not finite";
+    return r;
+  }
+  if (!finite(start)) {
+    r.status = PlanStatus::kInvalidInput;
+    r.message = "start configuration " + config_text(start) + " is not finite";
+    return r;
+  }
+  const IkResult ik = checker_->model().camera_ik(base, T_world_camera, start);
+  if (ik.empty()) {
+    r.status = PlanStatus::kNoIk;
+    const Vec3 p = T_world_camera.translation();
+    r.message = "no IK solution within the joint limits for the camera at (" + std::to_string(p.x()) + ", " +
+                std::to_string(p.y()) + ", " + std::to_string(p.z()) + ")";
+    r.planning_time_s = seconds_since(t0);
+    return r;
+  }
+  std::vector<ArmConfig> goals(ik.q.begin(), ik.q.begin() + ik.count);
+  r = plan_to_configs(base, start, goals);
+  r.planning_time_s = seconds_since(t0);
+  return r;
+}
+
+PlanResult ArmPlanner::plan_to_configs(const BasePose& base, const ArmConfig& start,
+                                       const std::vector<ArmConfig>& goals_in) const {
+  const auto t0 = std::chrono::steady_clock::now();
+  PlanResult r;
+  auto fail = [&](PlanStatus s, std::string msg) {
+    r.status = s;
+    r.message = std::move(msg);
+    r.planning_time_s = seconds_since(t0);
+    return r;
+  };
+  const RobotModel& model = checker_->model();
+  if (!std::isfinite(base.x_m) || !std::isfinite(base.y_m) || !std::isfinite(base.yaw_rad))
+    return fail(PlanStatus::kInvalidInput, "base pose is not finite");
+  if (!model.within_limits(start))
+    return fail(PlanStatus::kInvalidInput, "start configuration " + config_text(start) + " is not finite or outside the joint limits");
+  if (goals_in.empty()) return fail(PlanStatus::kInvalidInput, "no goal configuration given");
+  for (const ArmConfig& g : goals_in)
+    if (!model.within_limits(g))
+      return fail(PlanStatus::kInvalidInput, "goal configuration " + config_text(g) + " is not finite or outside the joint limits");
+
+  if (checker_->base_in_collision(base)) return fail(PlanStatus::kStartInCollision, "the base itself is in collision with the map");
+  const CollisionReport start_report = checker_->report(base, start);
+  if (start_report.in_collision)
+    return fail(PlanStatus::kStartInCollision, "start state in collision: " + start_report.pairs.front());
+
+  // Goals nearest first, those in collision dropped.
+  std::vector<ArmConfig> goals = goals_in;
+  std::stable_sort(goals.begin(), goals.end(), [&](const ArmConfig& a, const ArmConfig& b) {
+    return joint_distance(a, start) < joint_distance(b, start);
+  });
+  std::string goal_collision;
+  std::vector<ArmConfig> free_goals;
+  for (const ArmConfig& g : goals) {
+    const CollisionReport gr = checker_->report(base, g);
+    if (gr.in_collision) {
+      if (goal_collision.empty()) goal_collision = gr.pairs.front();
+    } else if (static_cast<int>(free_goals.size()) < params_.max_goal_configs) {
+      free_goals.push_back(g);
+    }
+  }
+  if (free_goals.empty())
+    return fail(PlanStatus::kGoalInCollision, "every goal configuration is in collision (first: " + goal_collision + ")");
+
+  auto succeed = [&](std::vector<ArmConfig> path, bool direct) {
+    r.status = PlanStatus::kSuccess;
+    r.path = std::move(path);
+    r.goal = r.path.back();
+    r.direct = direct;
+    r.trajectory = ArmTrajectory::time_parameterize(r.path, model.limits(), trajectory_params_);
+    r.planning_time_s = seconds_since(t0);
+    return r;
+  };
+
+  if (params_.try_direct_first) {
+    for (const ArmConfig& g : free_goals)
+      if (motion_valid(base, start, g)) return succeed({start, g}, true);
+  }
+
+  // OMPL in the 6-D joint space bounded by the planning limits.
+  const ArmLimits& lim = model.limits();
+  auto space = std::make_shared<ob::RealVectorStateSpace>(kArmDof);
+  ob::RealVectorBounds bounds(kArmDof);
+  for (int i = 0; i < kArmDof; ++i) {
+    bounds.setLow(static_cast<unsigned>(i), lim.lower[i]);
+    bounds.setHigh(static_cast<unsigned>(i), lim.upper[i]);
+  }
+  space->setBounds(bounds);
+  og::SimpleSetup ss(space);
+  const CollisionChecker* checker = checker_;
+  ss.setStateValidityChecker([checker, base, space](const ob::State* s) {
+    if (!space->satisfiesBounds(s)) return false;
+    const auto* v = s->as<ob::RealVectorStateSpace::StateType>();
+    ArmConfig q;
+    for (int i = 0; i < kArmDof; ++i) q[i] = v->values[i];
+    return !checker->in_collision(base, q, BodySet::kArmOnly);
+  });
+  // A fixed joint-space resolution: OMPL takes it as a fraction of the space's extent.
+  ss.getSpaceInformation()->setStateValidityCheckingResolution(params_.motion_check_resolution_rad /
+                                                                space->getMaximumExtent());
+  ob::ScopedState<> start_state(space);
+  for (int i = 0; i < kArmDof; ++i) start_state[static_cast<unsigned>(i)] = start[i];
+  ss.setStartState(start_state);
+  auto goal_states = std::make_shared<ob::GoalStates>(ss.getSpaceInformation());
+  for (const ArmConfig& g : free_goals) {
+    ob::ScopedState<> gs(space);
+    for (int i = 0; i < kArmDof; ++i) gs[static_cast<unsigned>(i)] = g[i];
+    goal_states->addState(gs);
+  }
+  ss.setGoal(goal_states);
+  ss.setPlanner(planner_registry().at(params_.planner)(ss.getSpaceInformation(), params_.range_rad));
+  ss.setup();
+
+  const double remaining = params_.time_limit_s - seconds_since(t0);
+  if (remaining <= 0.0) return fail(PlanStatus::kTimeout, "time limit used up before planning started");
+  const ob::PlannerStatus solved = ss.solve(remaining);
+  if (solved != ob::PlannerStatus::EXACT_SOLUTION)
+    return fail(PlanStatus::kTimeout, std::string("no path within ") + std::to_string(params_.time_limit_s) + " s (" +
+                                          solved.asString() + ")");
+  if (params_.simplify) {
+    og::PathSimplifier simplifier(ss.getSpaceInformation());
+    simplifier.simplifyMax(ss.getSolutionPath());
+  }
+  og::PathGeometric& p = ss.getSolutionPath();
+  std::vector<ArmConfig> path;
+  for (size_t k = 0; k < p.getStateCount(); ++k) {
+    const auto* v = p.getState(static_cast<unsigned>(k))->as<ob::RealVectorStateSpace::StateType>();
+    ArmConfig q;
+    for (int i = 0; i < kArmDof; ++i) q[i] = v->values[i];
+    path.push_back(q);
+  }
+  // Defensive re-check with our own interpolation: what the robot executes must be free.
+  for (size_t k = 1; k < path.size(); ++k)
+    if (!motion_valid(base, path[k - 1], path[k]))
+      return fail(PlanStatus::kTimeout, "planner returned a path segment in collision");
+  return succeed(std::move(path), false);
+}
+
+}  // namespace canopy::motion

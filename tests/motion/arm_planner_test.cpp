@@ -1,0 +1,176 @@
+#include "canopy/motion/arm_planner.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "canopy/common/error.h"
+#include "canopy/common/robot_config.h"
+#include "canopy/common/yaml_reader.h"
+
+namespace canopy::motion {
+namespace {
+
+const RobotModel& model() {
+  static const RobotModel m = RobotModel::load(default_robot_config());
+  return m;
+}
+
+// A pillar of voxels beside the robot, in the way of many straight joint-space moves.
+std::shared_ptr<const CollisionEnvironment> pillar() {
+  std::vector<Vec3> v;
+  const double res = 0.02;
+  for (double x = 0.10; x <= 0.30; x += res)
+    for (double y = 0.42; y <= 0.52; y += res)
+      for (double z = 0.0; z <= 1.5; z += res) v.emplace_back(x, y, z);
+  return CollisionEnvironment::from_voxels(v, res);
+}
+
+class ArmPlannerTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() { seed_planner_rng(42); }
+  const BasePose base_{0, 0, 0};
+  CollisionChecker checker_{model(), CollisionParams{}, pillar()};
+};
+
+// Dense check of a result: starts and ends where asked, every step collision-free, the
+// trajectory within the joint limits.
+void expect_valid_plan(const CollisionChecker& checker, const BasePose& base, const PlanResult& r,
+                       const ArmConfig& start) {
+  ASSERT_TRUE(r.ok()) << to_string(r.status) << ": " << r.message;
+  EXPECT_LT(joint_distance(r.path.front(), start), 1e-12);
+  EXPECT_LT(joint_distance(r.path.back(), r.goal), 1e-12);
+  const ArmTrajectory& t = r.trajectory;
+  const ArmLimits& lim = model().limits();
+  for (double time = 0.0; time <= t.duration(); time += 0.005) {
+    const ArmReference ref = t.sample(time);
+    ASSERT_FALSE(checker.in_collision(base, ref.q)) << "trajectory in collision at t = " << time;
+    for (int i = 0; i < kArmDof; ++i) {
+      EXPECT_LE(std::abs(ref.qd[i]), lim.max_velocity[i] * (1 + 1e-9));
+      EXPECT_LE(std::abs(ref.qdd[i]), lim.max_acceleration[i] * (1 + 1e-9));
+    }
+  }
+  EXPECT_LT(joint_distance(t.sample(t.duration()).q, r.goal), 1e-9);
+}
+
+// Goals are camera poses of random collision-free configurations (all IK branches offered).
+TEST_F(ArmPlannerTest, RandomReachableGoalsAreMostlyPlanned) {
+  const ArmPlanner planner(checker_, PlannerParams{});
+  const ArmConfig start = model().config().home;
+  ASSERT_FALSE(checker_.in_collision(base_, start));
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> u(-M_PI, M_PI);
+  int goals = 0, solved = 0, via_ompl = 0;
+  while (goals < 25) {
+    ArmConfig q;
+    for (auto& v : q) v = u(rng);
+    // Each joint at the 2*pi equivalent nearest the start, as IK goals are: with +-2*pi
+    // joint ranges the other equivalents are often only reachable through the robot.
+    for (int i = 0; i < kArmDof; ++i) q[i] = start[i] + std::remainder(q[i] - start[i], 2 * M_PI);
+    if (!model().within_limits(q) || checker_.in_collision(base_, q)) continue;
+    ++goals;
+    const PlanResult r = planner.plan_to_camera_pose(base_, start, model().camera_pose(base_, q));
+    if (!r.ok()) continue;
+    ++solved;
+    via_ompl += !r.direct;
+    expect_valid_plan(checker_, base_, r, start);
+  }
+  EXPECT_GE(solved, 24) << "OMPL 2denvs-style threshold: >= 95% success";
+  EXPECT_GE(via_ompl, 1) << "the pillar should force some non-straight paths";
+}
+
+TEST_F(ArmPlannerTest, CameraPoseGoal) {
+  const ArmPlanner planner(checker_, PlannerParams{});
+  const ArmConfig start = model().config().home;
+  // A camera pose reached by a known collision-free configuration.
+  const ArmConfig q_goal = {0.2, -1.6, 1.4, -1.2, -1.4, 0.3};
+  ASSERT_FALSE(checker_.in_collision(base_, q_goal));
+  const Pose goal = model().camera_pose(base_, q_goal);
+  const PlanResult r = planner.plan_to_camera_pose(base_, start, goal);
+  expect_valid_plan(checker_, base_, r, start);
+  EXPECT_TRUE(pose_within(model().camera_pose(base_, r.goal), goal, 1e-6, 1e-6));
+}
+
+TEST_F(ArmPlannerTest, FailuresComeBackAsStatuses) {
+  const ArmPlanner planner(checker_, PlannerParams{});
+  const ArmConfig start = model().config().home;
+  Pose goal = model().camera_pose(base_, start);
+
+  Pose nan_goal = goal;
+  nan_goal(0, 3) = std::nan("");
+  EXPECT_EQ(planner.plan_to_camera_pose(base_, start, nan_goal).status, PlanStatus::kInvalidInput);
+  ArmConfig nan_start = start;
+  nan_start[0] = std::nan("");
+  EXPECT_EQ(planner.plan_to_camera_pose(base_, nan_start, goal).status, PlanStatus::kInvalidInput);
+  ArmConfig out_of_limits = start;
+  out_of_limits[2] = 3.5;
+  EXPECT_EQ(planner.plan_to_configs(base_, out_of_limits, {start}).status, PlanStatus::kInvalidInput);
+  EXPECT_EQ(planner.plan_to_configs(base_, start, {}).status, PlanStatus::kInvalidInput);
+  EXPECT_EQ(planner.plan_to_configs({std::nan(""), 0, 0}, start, {start}).status, PlanStatus::kInvalidInput);
+
+  Pose far = goal;
+  far.translation() += Vec3(2.0, 0, 0);
+  const PlanResult no_ik = planner.plan_to_camera_pose(base_, start, far);
+  EXPECT_EQ(no_ik.status, PlanStatus::kNoIk);
+  EXPECT_FALSE(no_ik.message.empty());
+
+  // Goal camera inside the pillar.
+  Pose in_pillar = goal;
+  in_pillar.translation() = Vec3(0.2, 0.44, 0.9);
+  in_pillar.linear() = Eigen::AngleAxisd(-M_PI / 2, Vec3::UnitX()).toRotationMatrix();  // looking +y
+  const PlanResult gic = planner.plan_to_camera_pose(base_, start, in_pillar);
+  EXPECT_EQ(gic.status, PlanStatus::kGoalInCollision) << to_string(gic.status) << " " << gic.message;
+
+  // Start in collision: a voxel where the camera is.
+  const Vec3 cam = model().camera_pose(base_, start).translation();
+  const CollisionChecker blocked(model(), CollisionParams{}, CollisionEnvironment::from_voxels({cam}, 0.02));
+  const ArmPlanner blocked_planner(blocked, PlannerParams{});
+  const PlanResult sic = blocked_planner.plan_to_configs(base_, start, {{0.2, -1.6, 1.4, -1.2, -1.4, 0.3}});
+  EXPECT_EQ(sic.status, PlanStatus::kStartInCollision);
+  EXPECT_NE(sic.message.find("map"), std::string::npos) << sic.message;
+
+  // The base itself in collision.
+  const CollisionChecker base_blocked(model(), CollisionParams{},
+                                      CollisionEnvironment::from_voxels({Vec3(0, 0, 0.2)}, 0.02));
+  EXPECT_EQ(ArmPlanner(base_blocked, PlannerParams{}).plan_to_configs(base_, start, {start}).status,
+            PlanStatus::kStartInCollision);
+
+  // Timeout: a tiny budget and no straight-line shortcut.
+  PlannerParams rushed;
+  rushed.time_limit_s = 1e-5;
+  rushed.try_direct_first = false;
+  const ArmPlanner rushed_planner(checker_, rushed);
+  const PlanResult to = rushed_planner.plan_to_configs(base_, start, {{-2.0, -1.0, 2.0, -1.0, 1.0, 0.0}});
+  EXPECT_EQ(to.status, PlanStatus::kTimeout) << to.message;
+}
+
+TEST(ArmPlannerParams, YamlAndRegistry) {
+  YamlReader y = YamlReader::load_string("planner: PRM\ntime_limit_s: 2.5\n", "t");
+  const PlannerParams p = PlannerParams::from_yaml(y, PlannerParams{});
+  y.finish();
+  EXPECT_EQ(p.planner, "PRM");
+  EXPECT_EQ(p.time_limit_s, 2.5);
+  YamlReader bad = YamlReader::load_string("planner: NoSuchPlanner\n", "t");
+  EXPECT_THROW(PlannerParams::from_yaml(bad, PlannerParams{}), InputError);
+  EXPECT_GE(planner_names().size(), 10u);
+  EXPECT_STREQ(to_string(PlanStatus::kGoalInCollision), "goal_in_collision");
+}
+
+TEST_F(ArmPlannerTest, OtherPlannersFromTheRegistry) {
+  const ArmConfig start = model().config().home;
+  const ArmConfig goal = {-1.2, -1.3, 1.2, -1.5, -1.4, 0.5};
+  ASSERT_FALSE(checker_.in_collision(base_, goal));
+  for (const char* name : {"RRT", "BiEST", "KPIECE1"}) {
+    PlannerParams p;
+    p.planner = name;
+    p.try_direct_first = false;
+    p.time_limit_s = 2.0;
+    const PlanResult r = ArmPlanner(checker_, p).plan_to_configs(base_, start, {goal});
+    SCOPED_TRACE(name);
+    expect_valid_plan(checker_, base_, r, start);
+  }
+}
+
+}  // namespace
+}  // namespace canopy::motion
