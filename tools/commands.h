@@ -12,6 +12,9 @@ void add_world_command(CLI::App& app);
 /// `canopy render`: render one view of a world.
 void add_render_command(CLI::App& app);
 
+/// `canopy run`: the main job (tools/run.sh).
+void add_run_command(CLI::App& app);
+
 /// `canopy bench render`.
 void add_bench_render(CLI::App& bench);
 

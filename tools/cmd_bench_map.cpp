@@ -1,0 +1,127 @@
+// canopy bench map: semantic insertion vs plain OctoMap insertPointCloud (discretize=true)
+// on the same labelled clouds of rendered default-world frames, in the same run.
+
+#include <octomap/OcTree.h>
+#include <spdlog/spdlog.h>
+
+#include <chrono>
+#include <cstdio>
+
+#include "canopy/mapping/mapping_config.h"
+#include "canopy/mapping/scan_inserter.h"
+#include "canopy/mapping/views.h"
+#include "canopy/sim/renderer.h"
+#include "cli_util.h"
+#include "commands.h"
+
+namespace canopy::cli {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+struct Timing {
+  double ms = 0.0;
+  std::size_t nodes = 0;
+};
+
+Timing time_semantic(const std::vector<perception::LabelledCloud>& clouds, const mapping::SemanticMapParams& p,
+                     const SemanticClasses& classes, int repeats) {
+  Timing t;
+  for (int r = 0; r < repeats; ++r) {
+    mapping::SemanticOcTree map(p, classes);
+    mapping::ScanInserter ins(map);
+    const auto t0 = Clock::now();
+    for (const auto& c : clouds) ins.insert(c);
+    t.ms += std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    t.nodes = map.size();
+  }
+  t.ms /= double(repeats) * double(clouds.size());
+  return t;
+}
+
+Timing time_octomap(const std::vector<octomap::Pointcloud>& clouds, const std::vector<Vec3>& origins, double res,
+                    double max_range, int repeats) {
+  Timing t;
+  for (int r = 0; r < repeats; ++r) {
+    octomap::OcTree tree(res);
+    const auto t0 = Clock::now();
+    for (std::size_t i = 0; i < clouds.size(); ++i) {
+      const octomap::point3d o(float(origins[i].x()), float(origins[i].y()), float(origins[i].z()));
+      tree.insertPointCloud(clouds[i], o, max_range, /*lazy_eval=*/false, /*discretize=*/true);
+    }
+    t.ms += std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    t.nodes = tree.size();
+  }
+  t.ms /= double(repeats) * double(clouds.size());
+  return t;
+}
+
+}  // namespace
+
+void add_bench_map(CLI::App& bench) {
+  struct Options {
+    std::string world = default_world_path();
+    std::string config = find_data_file("configs/mapping.yaml");
+    int frames = 32;
+    int repeats = 3;
+  };
+  auto opt = std::make_shared<Options>();
+  CLI::App* sub = bench.add_subcommand("map", "Semantic insertion vs OctoMap insertPointCloud, ms per frame");
+  sub->add_option("--world", opt->world, "World file (YAML)")->capture_default_str();
+  sub->add_option("--config", opt->config, "Mapping config (YAML)")->capture_default_str();
+  sub->add_option("--frames", opt->frames, "Frames to insert (ring views)")->capture_default_str()->check(CLI::Range(1, 10000));
+  sub->add_option("--repeats", opt->repeats, "Runs over all frames, averaged")->capture_default_str()->check(CLI::Range(1, 100));
+  sub->callback([opt] {
+    const mapping::MappingConfig cfg = mapping::MappingConfig::load(opt->config);
+    const world::WorldSpec spec = load_world_spec(opt->world);
+    const world::World world = world::generate_world(spec);
+    sim::Simulator sim(world, default_robot_config());
+    sim::Renderer renderer(sim, spec.camera);
+    std::vector<Pose> views = mapping::ring_views(world);
+    // Spread the frames over all plants.
+    std::vector<Pose> picked;
+    for (int i = 0; i < opt->frames; ++i)
+      picked.push_back(views[static_cast<std::size_t>(i) * views.size() / static_cast<std::size_t>(opt->frames)]);
+    perception::ExtractorParams ep = cfg.extractor;
+    ep.source = perception::LabelSource::kTruth;
+    perception::SemanticExtractor extractor(ep, spec.classes);
+    std::vector<perception::LabelledCloud> clouds;
+    std::vector<octomap::Pointcloud> octo;
+    std::vector<Vec3> origins;
+    std::size_t points = 0;
+    for (const Pose& T : picked) {
+      clouds.push_back(extractor.extract(renderer.render_free_camera(T)));
+      octomap::Pointcloud pc;
+      for (const Vec3f& p : clouds.back().points_world) pc.push_back(p.x(), p.y(), p.z());
+      octo.push_back(std::move(pc));
+      origins.push_back(clouds.back().origin_world);
+      points += clouds.back().size();
+    }
+    const int n = static_cast<int>(clouds.size());
+    spdlog::info("rendered {} frames, {:.0f} points per frame on average", n, double(points) / n);
+
+    const mapping::SemanticMapParams p = cfg.map;
+    mapping::SemanticMapParams p1 = p, pfull = p;
+    p1.threads = 1;
+    pfull.ray_range_m = p.max_range_m;
+    const Timing octomap_t = time_octomap(octo, origins, p.resolution_m, p.max_range_m, opt->repeats);
+    const Timing sem = time_semantic(clouds, p, spec.classes, opt->repeats);
+    const Timing sem1 = time_semantic(clouds, p1, spec.classes, opt->repeats);
+    const Timing semfull = time_semantic(clouds, pfull, spec.classes, opt->repeats);
+
+    std::printf("bench map: world '%s', %d frames of %dx%d (%.0f points each), resolution %.3f m, %d repeats\n",
+                spec.name.c_str(), n, spec.camera.width_px, spec.camera.height_px, double(points) / n,
+                p.resolution_m, opt->repeats);
+    std::printf("  OctoMap insertPointCloud (discretize, max range %.2f m):  %8.2f ms/frame  (%zu nodes)\n",
+                p.max_range_m, octomap_t.ms, octomap_t.nodes);
+    std::printf("  semantic, ray range %.2f m, all cores:                    %8.2f ms/frame  ratio %.3f  (%zu nodes)\n",
+                p.ray_range_m, sem.ms, sem.ms / octomap_t.ms, sem.nodes);
+    std::printf("  semantic, ray range %.2f m, 1 thread:                     %8.2f ms/frame  ratio %.3f\n",
+                p.ray_range_m, sem1.ms, sem1.ms / octomap_t.ms);
+    std::printf("  semantic, ray range %.2f m (= OctoMap's), all cores:      %8.2f ms/frame  ratio %.3f  (%zu nodes)\n",
+                pfull.ray_range_m, semfull.ms, semfull.ms / octomap_t.ms, semfull.nodes);
+  });
+}
+
+}  // namespace canopy::cli

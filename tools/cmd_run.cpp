@@ -1,0 +1,111 @@
+// canopy run: the main job (./tools/run.sh). Generates the world, drives the robot along the
+// aisle, renders the wrist camera's views of both rows and writes images and a summary.
+
+#include <spdlog/spdlog.h>
+
+#include <chrono>
+#include <cstdio>
+#include <set>
+
+#include "canopy/common/frame_io.h"
+#include "canopy/common/io.h"
+#include "canopy/mission/aisle_survey.h"
+#include "cli_util.h"
+#include "commands.h"
+
+namespace canopy::cli {
+
+namespace {
+
+// A view from behind and above the aisle start, looking down the aisle.
+Pose overview_pose(const world::WorldSpec& spec) {
+  const double x_mid = spec.rows.x_start_m + 0.5 * (spec.rows.plants_per_row - 1) * spec.rows.plant_spacing_m;
+  const Vec3 eye(spec.robot_start.x_m - 1.6, 0.0, 2.3);
+  const Vec3 target(x_mid, 0.0, 0.5);
+  const Vec3 z = (target - eye).normalized();
+  const Vec3 x = z.cross(Vec3::UnitZ()).normalized();
+  Pose T = Pose::Identity();
+  T.linear().col(0) = x;
+  T.linear().col(1) = z.cross(x);
+  T.linear().col(2) = z;
+  T.translation() = eye;
+  return T;
+}
+
+}  // namespace
+
+void add_run_command(CLI::App& app) {
+  struct Options {
+    std::string world = default_world_path();
+    std::string out = "results";
+    bool shadows = false;
+  };
+  auto opt = std::make_shared<Options>();
+  CLI::App* sub = app.add_subcommand("run", "Main job: drive the aisle, render the wrist camera's views, write results");
+  sub->add_option("--world", opt->world, "World file (YAML)")->capture_default_str();
+  sub->add_option("--out", opt->out, "Results folder")->capture_default_str();
+  sub->add_flag("--shadows", opt->shadows, "Shadows in RGB images");
+  sub->callback([opt] {
+    const auto wall0 = std::chrono::steady_clock::now();
+    const world::WorldSpec spec = load_world_spec(opt->world);
+    const world::World world = world::generate_world(spec);
+    spdlog::info("generated {} plants, {} fruits, {} triangles", world.plants.size(), world.truth.fruits.size(),
+                 world.triangle_count());
+    sim::Simulator sim(world, default_robot_config());
+    sim::RenderOptions ro;
+    ro.shadows = opt->shadows;
+    sim::Renderer renderer(sim, spec.camera, ro);
+    StagedDir out(opt->out);
+
+    // Overview of the scene with the robot at the start of the aisle.
+    {
+      CameraIntrinsics wide = spec.camera;
+      sim::Renderer overview(sim, wide, sim::RenderOptions{true, 1});
+      write_png(out.path("overview.png"), overview.render(overview_pose(spec), true, false).rgb);
+    }
+    const mission::SurveyResult survey = mission::run_aisle_survey(
+        sim, renderer, spec, mission::SurveyParams{}, [](const std::string& m) { spdlog::info("{}", m); });
+
+    nlohmann::json obs = nlohmann::json::array();
+    for (const auto& o : survey.observations) {
+      char prefix[64];
+      std::snprintf(prefix, sizeof(prefix), "stop%d_%s_", o.stop, o.side.c_str());
+      write_frame(out.path(prefix), o.frame, spec.classes);
+      std::vector<long> class_pixels(spec.classes.names.size(), 0);
+      long valid = 0;
+      std::set<int> instances;
+      for (size_t i = 0; i < o.frame.class_id.data.size(); ++i) {
+        ++class_pixels[o.frame.class_id.data[i]];
+        valid += o.frame.depth_m.data[i] > 0.f;
+        if (o.frame.instance.data[i] != kNoInstance) instances.insert(o.frame.instance.data[i]);
+      }
+      nlohmann::json pixels;
+      for (size_t c = 0; c < class_pixels.size(); ++c) pixels[spec.classes.names[c]] = class_pixels[c];
+      obs.push_back({{"files", std::string(prefix) + "{rgb,depth,labels,instances}.png"},
+                     {"stop", o.stop},
+                     {"side", o.side},
+                     {"base", {o.base.x_m, o.base.y_m, o.base.yaw_rad}},
+                     {"arm_error_rad", o.arm_error_rad},
+                     {"arm_settle_time_s", o.settle_time_s},
+                     {"valid_depth_pixels", valid},
+                     {"class_pixels", pixels},
+                     {"fruits_in_view", std::vector<int>(instances.begin(), instances.end())}});
+    }
+    nlohmann::json summary;
+    summary["world"] = {{"file", opt->world}, {"name", spec.name}, {"seed", spec.seed},
+                        {"plants", world.plants.size()}, {"fruits", world.truth.fruits.size()},
+                        {"triangles", world.triangle_count()}};
+    summary["all_stops_reached"] = survey.all_stops_reached;
+    summary["stop_position_error_m"] = survey.stop_position_error_m;
+    summary["simulated_time_s"] = survey.sim_time_s;
+    summary["wall_time_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+    summary["observations"] = obs;
+    write_json_atomic(out.path("summary.json"), summary);
+    out.commit();
+    spdlog::info("wrote {}/summary.json, overview.png and {} views ({:.1f} s simulated, {:.1f} s wall)", opt->out,
+                 survey.observations.size(), survey.sim_time_s, summary["wall_time_s"].get<double>());
+    if (!survey.all_stops_reached) throw std::runtime_error("the base did not reach every stop (see summary.json)");
+  });
+}
+
+}  // namespace canopy::cli
