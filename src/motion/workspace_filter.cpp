@@ -1,0 +1,161 @@
+#include "canopy/motion/workspace_filter.h"
+
+#include <nanoflann.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <random>
+
+#include "canopy/common/error.h"
+#include "canopy/common/yaml_reader.h"
+#include "canopy/motion/collision.h"
+
+namespace canopy::motion {
+
+namespace {
+
+struct PointCloud {
+  const std::vector<Vec3>* points;
+  size_t kdtree_get_point_count() const { return points->size(); }
+  double kdtree_get_pt(size_t i, size_t dim) const { return (*points)[i][static_cast<int>(dim)]; }
+  template <class Box>
+  bool kdtree_get_bbox(Box&) const {
+    return false;
+  }
+};
+
+using KdTree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, PointCloud>, PointCloud, 3>;
+
+}  // namespace
+
+const char* to_string(ViewVerdict v) {
+  switch (v) {
+    case ViewVerdict::kKept: return "kept";
+    case ViewVerdict::kOutsideWorkspace: return "outside_workspace";
+    case ViewVerdict::kNoIk: return "no_ik";
+    case ViewVerdict::kInCollision: return "in_collision";
+    case ViewVerdict::kInvalidInput: return "invalid_input";
+  }
+  return "unknown";
+}
+
+WorkspaceParams WorkspaceParams::from_yaml(YamlReader& y, const WorkspaceParams& d) {
+  WorkspaceParams p;
+  p.samples = y.get("samples", d.samples);
+  p.seed = y.get("seed", d.seed);
+  p.membership_radius_m = y.get("membership_radius_m", d.membership_radius_m);
+  p.min_camera_height_m = y.get("min_camera_height_m", d.min_camera_height_m);
+  p.max_forward_shift_m = y.get("max_forward_shift_m", d.max_forward_shift_m);
+  p.max_backward_shift_m = y.get("max_backward_shift_m", d.max_backward_shift_m);
+  p.shift_step_m = y.get("shift_step_m", d.shift_step_m);
+  try {
+    p.validate();
+  } catch (const InputError& e) {
+    throw InputError(y.file() + ": " + e.what());
+  }
+  return p;
+}
+
+void WorkspaceParams::validate() const {
+  if (samples < 100 || samples > 10000000) throw InputError("workspace: samples must be in [100, 1e7]");
+  auto non_negative = [](double v, const char* name) {
+    if (!(std::isfinite(v) && v >= 0.0)) throw InputError(std::string("workspace: ") + name + " must be >= 0");
+  };
+  non_negative(max_forward_shift_m, "max_forward_shift_m");
+  non_negative(max_backward_shift_m, "max_backward_shift_m");
+  if (!(std::isfinite(membership_radius_m) && membership_radius_m > 0.0))
+    throw InputError("workspace: membership_radius_m must be > 0");
+  if (!(std::isfinite(shift_step_m) && shift_step_m > 0.0)) throw InputError("workspace: shift_step_m must be > 0");
+  if (!std::isfinite(min_camera_height_m)) throw InputError("workspace: min_camera_height_m must be finite");
+}
+
+struct WorkspaceFilter::Index {
+  PointCloud cloud;
+  std::unique_ptr<KdTree> tree;
+};
+
+WorkspaceFilter::~WorkspaceFilter() = default;
+WorkspaceFilter::WorkspaceFilter(WorkspaceFilter&&) noexcept = default;
+
+WorkspaceFilter::WorkspaceFilter(const RobotModel& model, const WorkspaceParams& params)
+    : model_(&model), params_(params), index_(std::make_unique<Index>()) {
+  params_.validate();
+  // Joint combinations drawn uniformly within one turn of each joint (wider ranges only
+  // repeat positions) and the planning limits.
+  std::mt19937_64 rng(params_.seed);
+  const ArmLimits& lim = model.limits();
+  std::array<std::uniform_real_distribution<double>, kArmDof> u;
+  for (int i = 0; i < kArmDof; ++i)
+    u[static_cast<size_t>(i)] =
+        std::uniform_real_distribution<double>(std::max(lim.lower[i], -M_PI), std::min(lim.upper[i], M_PI));
+  const double arm_height = model.T_base_arm().translation().z();
+  points_.reserve(static_cast<size_t>(params_.samples));
+  for (int s = 0; s < params_.samples; ++s) {
+    ArmConfig q;
+    for (int i = 0; i < kArmDof; ++i) q[i] = u[static_cast<size_t>(i)](rng);
+    const Vec3 p = model.camera_in_arm(q).translation();
+    // The base is planar, so height above the ground is the same in every base pose.
+    if (p.z() + arm_height < params_.min_camera_height_m) continue;
+    points_.push_back(p);
+  }
+  CANOPY_CHECK(!points_.empty(), "workspace filter: no sample above the ground");
+  index_->cloud.points = &points_;
+  index_->tree = std::make_unique<KdTree>(3, index_->cloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));
+}
+
+double WorkspaceFilter::distance_to_workspace(const BasePose& base, const Vec3& p_world) const {
+  if (!p_world.allFinite() || !std::isfinite(base.x_m) || !std::isfinite(base.y_m) || !std::isfinite(base.yaw_rad))
+    return std::numeric_limits<double>::infinity();
+  const Pose T_arm_world = (RobotModel::T_world_base(base) * model_->T_base_arm()).inverse(Eigen::Isometry);
+  const Vec3 p = T_arm_world * p_world;
+  unsigned index = 0;
+  double d2 = 0.0;
+  index_->tree->knnSearch(p.data(), 1, &index, &d2);
+  return std::sqrt(d2);
+}
+
+FilteredView WorkspaceFilter::filter(const BasePose& base, const Pose& T_world_camera, const ArmConfig& seed,
+                                     const CollisionChecker* checker) const {
+  FilteredView out;
+  bool seed_ok = true;
+  for (double v : seed) seed_ok = seed_ok && std::isfinite(v);
+  if (!T_world_camera.matrix().allFinite() || !seed_ok || !std::isfinite(base.x_m) || !std::isfinite(base.y_m) ||
+      !std::isfinite(base.yaw_rad))
+    return out;  // kInvalidInput
+
+  // Shifts along the viewing direction, smallest first (forward first on ties).
+  std::vector<double> shifts = {0.0};
+  const double step = params_.shift_step_m;
+  const int n_fwd = static_cast<int>(std::floor(params_.max_forward_shift_m / step + 1e-9));
+  const int n_back = static_cast<int>(std::floor(params_.max_backward_shift_m / step + 1e-9));
+  for (int k = 1; k <= std::max(n_fwd, n_back); ++k) {
+    if (k <= n_fwd) shifts.push_back(k * step);
+    if (k <= n_back) shifts.push_back(-k * step);
+  }
+  const Vec3 p0 = T_world_camera.translation();
+  const Vec3 dir = T_world_camera.linear().col(2);
+  bool any_workspace = false, any_ik = false;
+  for (double t : shifts) {
+    Pose T = T_world_camera;
+    T.translation() = p0 + t * dir;
+    if (!in_workspace(base, T.translation())) continue;
+    any_workspace = true;
+    const IkResult ik = model_->camera_ik(base, T, seed);
+    if (ik.empty()) continue;
+    any_ik = true;
+    for (int s = 0; s < ik.count; ++s) {
+      const ArmConfig& q = ik.q[static_cast<size_t>(s)];
+      if (checker && checker->in_collision(base, q)) continue;
+      out.verdict = ViewVerdict::kKept;
+      out.T_world_camera = T;
+      out.shift_m = t;
+      out.q = q;
+      return out;
+    }
+  }
+  out.verdict = !any_workspace ? ViewVerdict::kOutsideWorkspace : !any_ik ? ViewVerdict::kNoIk : ViewVerdict::kInCollision;
+  return out;
+}
+
+}  // namespace canopy::motion
