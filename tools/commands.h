@@ -14,8 +14,12 @@ void add_render_command(CLI::App& app);
 
 /// `canopy run`: the main job (tools/run.sh).
 void add_run_command(CLI::App& app);
+/// `canopy map`: map a world from camera views (semantic map, PLY, .bt, metrics.json).
+void add_map_command(CLI::App& app);
 
 /// `canopy bench render`.
 void add_bench_render(CLI::App& bench);
+/// `canopy bench map`: semantic insertion vs OctoMap insertPointCloud.
+void add_bench_map(CLI::App& bench);
 
 }  // namespace canopy::cli

@@ -9,7 +9,7 @@
 
 namespace canopy::mapping::detail {
 
-/// Sorts `v` ascending on its low `bits` bits (higher bits must be equal or zero);
+/// Sorts `v` ascending (stably) by its low `bits` bits; higher bits ride along unsorted;
 /// `tmp` is scratch.
 inline void radix_sort_u64(std::vector<std::uint64_t>& v, std::vector<std::uint64_t>& tmp, int bits = 64) {
   const std::size_t n = v.size();

@@ -8,6 +8,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 #include "canopy/common/error.h"
@@ -137,33 +138,49 @@ void ScanInserter::compute_updates(const perception::LabelledCloud& cloud, std::
   }
   const Clock::time_point t0 = Clock::now();
 
-  // 1. Per point: key code and label, or kInvalid (bad input is counted).
+  // 1. Per point: key code and label, or kInvalid (bad input is counted). Neighbouring
+  //    pixels mostly fall in the same voxel, so each chunk merges runs of equal (code, label)
+  //    into one value carrying the run length in its top byte.
   values_.resize(n);
   std::atomic<std::size_t> bad_point{0}, bad_label{0}, outside{0}, beyond{0};
   const Vec3f o = cloud.origin_world.cast<float>();
   const double max_range2 = P.max_range_m * P.max_range_m;
+  constexpr std::uint64_t kLow56 = (1ull << 56) - 1;
+  constexpr std::uint64_t kMaxRun = 254;  // so a value never equals kInvalid
   run_in_arena(P.threads, [&] {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const auto& r) {
       std::size_t nb = 0, nl = 0, no = 0, nf = 0;
+      std::size_t out = r.begin();  // write cursor within this chunk
+      std::uint64_t run_value = kInvalid, run_length = 0;
+      auto flush = [&] {
+        if (run_length) values_[out++] = (run_length << 56) | run_value;
+        run_length = 0;
+      };
       for (std::size_t i = r.begin(); i != r.end(); ++i) {
         const Vec3f& p = cloud.points_world[i];
         const std::uint8_t label = cloud.labels[i];
         octomap::OcTreeKey key;
         if (!std::isfinite(p.x()) || !std::isfinite(p.y()) || !std::isfinite(p.z())) {
           ++nb;
-          values_[i] = kInvalid;
         } else if (label >= num_classes) {
           ++nl;
-          values_[i] = kInvalid;
         } else if (!map_.coordToKeyChecked(p.x(), p.y(), p.z(), key)) {
           ++no;
-          values_[i] = kInvalid;
         } else {
           const bool far = double((p - o).squaredNorm()) > max_range2;
           nf += far;
-          values_[i] = (morton_code(key) << 8) | (far ? kBeyond : label);
+          const std::uint64_t v = (morton_code(key) << 8) | (far ? kBeyond : label);
+          if (v == run_value && run_length < kMaxRun) {
+            ++run_length;
+          } else {
+            flush();
+            run_value = v;
+            run_length = 1;
+          }
         }
       }
+      flush();
+      for (std::size_t i = out; i != r.end(); ++i) values_[i] = kInvalid;
       bad_point += nb;
       bad_label += nl;
       outside += no;
@@ -175,26 +192,26 @@ void ScanInserter::compute_updates(const perception::LabelledCloud& cloud, std::
   stats->outside_map = outside;
   stats->beyond_range = beyond;
   values_.erase(std::remove(values_.begin(), values_.end(), kInvalid), values_.end());
-  detail::radix_sort_u64(values_, scratch_, 56);
+  detail::radix_sort_u64(values_, scratch_, 56);  // by (code, label); run lengths ride along
 
   // 2. Voxel filter: one ray target per voxel; a hit with the majority label when any point
   //    in it is within range (ties go to the smaller class index).
   hits_.clear();
   ray_targets_.clear();
   for (std::size_t i = 0; i < values_.size();) {
-    const std::uint64_t code = values_[i] >> 8;
+    const std::uint64_t code = (values_[i] & kLow56) >> 8;
     int best_label = -1;
-    std::size_t best_count = 0;
+    std::uint64_t best_count = 0;
     std::size_t j = i;
-    while (j < values_.size() && (values_[j] >> 8) == code) {
-      const std::uint8_t label = values_[j] & 0xff;
-      std::size_t k = j;
-      while (k < values_.size() && values_[k] == values_[j]) ++k;
-      if (label != kBeyond && k - j > best_count) {
-        best_count = k - j;
+    while (j < values_.size() && ((values_[j] & kLow56) >> 8) == code) {
+      const std::uint64_t v = values_[j] & kLow56;
+      const std::uint8_t label = v & 0xff;
+      std::uint64_t count = 0;
+      for (; j < values_.size() && (values_[j] & kLow56) == v; ++j) count += values_[j] >> 56;
+      if (label != kBeyond && count > best_count) {
+        best_count = count;
         best_label = label;
       }
-      j = k;
     }
     if (best_label >= 0) hits_.push_back({code, static_cast<std::uint8_t>(best_label)});
     ray_targets_.push_back(best_label >= 0 ? code : (code | kBeyondFlag));
@@ -254,6 +271,14 @@ void ScanInserter::compute_updates(const perception::LabelledCloud& cloud, std::
           const std::size_t plane = std::size_t(box.n[0]) * box.n[1];
           std::uint8_t* g = grid + std::size_t(z) * plane;
           for (std::size_t i = 0; i < plane; ++i) {
+            if ((i & 7) == 0 && i + 8 <= plane) {
+              std::uint64_t word;
+              std::memcpy(&word, g + i, 8);
+              if (word == 0) {
+                i += 7;
+                continue;
+              }
+            }
             if (g[i] == 0) continue;
             if (g[i] == 1) {
               const int x = int(i % box.n[0]), y = int(i / box.n[0]);

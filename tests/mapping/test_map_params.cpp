@@ -1,8 +1,11 @@
 #include <gtest/gtest.h>
 
+#include <fstream>
+
 #include "canopy/common/robot_config.h"
 #include "canopy/mapping/map_metrics.h"
 #include "canopy/mapping/map_params.h"
+#include "canopy/mapping/mapping_config.h"
 #include "canopy/perception/semantic_extractor.h"
 
 using namespace canopy;
@@ -65,6 +68,17 @@ TEST(MappingParams, ConfigFileEqualsStructDefaults) {
   EXPECT_EQ(mapping::MetricsParams::from_yaml(me), mapping::MetricsParams{});
   me.finish();
   y.finish();
+  const mapping::MappingConfig c = mapping::MappingConfig::load(find_data_file("configs/mapping.yaml"));
+  EXPECT_EQ(c.map, mapping::SemanticMapParams{});
+  // The whole config round-trips through its YAML.
+  YAML::Emitter e;
+  e << c.to_yaml();
+  const std::string tmp = ::testing::TempDir() + "/mapping_rt.yaml";
+  { std::ofstream(tmp) << e.c_str(); }
+  const mapping::MappingConfig back = mapping::MappingConfig::load(tmp);
+  EXPECT_EQ(back.map, c.map);
+  EXPECT_EQ(back.extractor, c.extractor);
+  EXPECT_EQ(back.metrics, c.metrics);
 }
 
 TEST(MappingParams, UnknownAndBadKeysAreErrors) {
