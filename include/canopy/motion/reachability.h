@@ -1,0 +1,85 @@
+#pragma once
+// Reachability of camera views for a fixed base pose: a grid of camera poses (positions on
+// spheres around target points, e.g. fruits, times viewing directions towards them) is
+// classified as IK-reachable, collision-free and planned. `canopy reach` reports it, and
+// regression tests pin the fractions so that a change that breaks reachability fails CI.
+// Also: the ground-truth occupancy of a generated world (its meshes voxelised), used as the
+// environment when no map exists yet and to count executed contacts with the plants.
+
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "canopy/common/types.h"
+#include "canopy/motion/arm_planner.h"
+#include "canopy/motion/workspace_filter.h"
+
+namespace canopy::world {
+struct World;
+}
+
+namespace canopy::motion {
+
+/// The view grid (defaults: the paper's candidate sphere, FACTS.md section 6).
+struct ReachParams {
+  double view_radius_m = 0.4;          ///< Camera distance to its target.
+  int azimuths = 10;                   ///< In [0, 360) degrees, no duplicate at 360.
+  int polar_angles = 5;                ///< From polar_min_deg to polar_max_deg (from +z).
+  double polar_min_deg = 30.0;
+  double polar_max_deg = 150.0;
+  double max_target_distance_m = 0.9;  ///< Targets farther (horizontally) from the arm base are skipped.
+  bool plan = true;                    ///< Plan to every collision-free view (else IK/collision only).
+  void validate() const;
+};
+
+/// Camera pose at `camera` looking at `target` with zero roll (image up towards +z world).
+/// Throws InputError when the two points coincide or the view is vertical.
+Pose look_at(const Vec3& camera, const Vec3& target);
+/// The grid of views around one target.
+std::vector<Pose> sphere_views(const Vec3& target, const ReachParams& params);
+
+/// One evaluated view.
+struct ReachSample {
+  Vec3 target = Vec3::Zero();
+  Pose T_world_camera = Pose::Identity();
+  bool ik = false;              ///< An IK solution within the joint limits exists.
+  bool collision_free = false;  ///< One of them is collision-free.
+  bool workspace_kept = false;  ///< The workspace filter keeps the view (possibly moved).
+  bool planned = false;         ///< A path from the start was found.
+  PlanStatus plan_status = PlanStatus::kNoIk;
+  double planning_time_s = 0.0;
+};
+
+/// All views of one base pose.
+struct ReachReport {
+  BasePose base;
+  int targets = 0;
+  std::vector<ReachSample> samples;
+  int count_ik() const;
+  int count_collision_free() const;
+  int count_workspace_kept() const;
+  int count_planned() const;
+  /// Fractions of all samples (0 when there is none).
+  double fraction_ik() const;
+  double fraction_collision_free() const;
+  double fraction_planned() const;
+  double median_planning_time_s() const;  ///< Over the views that were planned for.
+  /// Summary (and, with `samples`, every view) as JSON.
+  nlohmann::json to_json(bool samples) const;
+};
+
+/// Evaluates the view grid around `targets` (those within reach distance of the arm base)
+/// with the base at `base` and the arm starting at `start`. The workspace filter, when
+/// given, is evaluated alongside (it does not change the other counts).
+ReachReport evaluate_reachability(const ArmPlanner& planner, const WorkspaceFilter* filter, const BasePose& base,
+                                  const ArmConfig& start, const std::vector<Vec3>& targets,
+                                  const ReachParams& params);
+
+/// Centres of the voxels (edge `resolution_m`, centres at (k + 1/2) * resolution) that the
+/// surfaces of every plant part of `world` pass through: ground-truth occupancy.
+std::vector<Vec3> world_occupied_voxels(const world::World& world, double resolution_m);
+/// Fruit centres of `world` (ground truth), in instance order.
+std::vector<Vec3> world_fruit_centres(const world::World& world);
+
+}  // namespace canopy::motion

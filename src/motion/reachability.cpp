@@ -1,0 +1,193 @@
+#include "canopy/motion/reachability.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <unordered_set>
+
+#include "canopy/common/error.h"
+#include "canopy/common/io.h"
+#include "canopy/world/world.h"
+
+namespace canopy::motion {
+
+void ReachParams::validate() const {
+  if (!(std::isfinite(view_radius_m) && view_radius_m > 0.0)) throw InputError("reach: view_radius_m must be > 0");
+  if (azimuths < 1 || azimuths > 360) throw InputError("reach: azimuths must be in [1, 360]");
+  if (polar_angles < 1 || polar_angles > 180) throw InputError("reach: polar_angles must be in [1, 180]");
+  if (!(polar_min_deg > 0.0 && polar_max_deg < 180.0 && polar_min_deg <= polar_max_deg))
+    throw InputError("reach: polar angles must satisfy 0 < min <= max < 180 degrees");
+  if (!(std::isfinite(max_target_distance_m) && max_target_distance_m > 0.0))
+    throw InputError("reach: max_target_distance_m must be > 0");
+}
+
+Pose look_at(const Vec3& camera, const Vec3& target) {
+  const Vec3 d = target - camera;
+  if (!d.allFinite() || d.norm() < 1e-9) throw InputError("look_at: camera and target coincide or are not finite");
+  const Vec3 z = d.normalized();
+  const Vec3 x_raw = z.cross(Vec3::UnitZ());  // image right; image up then has +z
+  if (x_raw.norm() < 1e-6) throw InputError("look_at: vertical viewing direction has no defined roll");
+  Pose T = Pose::Identity();
+  const Vec3 x = x_raw.normalized();
+  T.linear().col(0) = x;
+  T.linear().col(1) = z.cross(x);
+  T.linear().col(2) = z;
+  T.translation() = camera;
+  return T;
+}
+
+std::vector<Pose> sphere_views(const Vec3& target, const ReachParams& p) {
+  p.validate();
+  std::vector<Pose> views;
+  for (int k = 0; k < p.polar_angles; ++k) {
+    const double polar_deg =
+        p.polar_angles == 1 ? 0.5 * (p.polar_min_deg + p.polar_max_deg)
+                            : p.polar_min_deg + (p.polar_max_deg - p.polar_min_deg) * k / (p.polar_angles - 1);
+    const double th = polar_deg * M_PI / 180.0;
+    for (int a = 0; a < p.azimuths; ++a) {
+      const double ph = 2.0 * M_PI * a / p.azimuths;
+      const Vec3 c = target + p.view_radius_m * Vec3(std::sin(th) * std::cos(ph), std::sin(th) * std::sin(ph), std::cos(th));
+      views.push_back(look_at(c, target));
+    }
+  }
+  return views;
+}
+
+int ReachReport::count_ik() const {
+  return static_cast<int>(std::count_if(samples.begin(), samples.end(), [](const ReachSample& s) { return s.ik; }));
+}
+int ReachReport::count_collision_free() const {
+  return static_cast<int>(
+      std::count_if(samples.begin(), samples.end(), [](const ReachSample& s) { return s.collision_free; }));
+}
+int ReachReport::count_workspace_kept() const {
+  return static_cast<int>(
+      std::count_if(samples.begin(), samples.end(), [](const ReachSample& s) { return s.workspace_kept; }));
+}
+int ReachReport::count_planned() const {
+  return static_cast<int>(std::count_if(samples.begin(), samples.end(), [](const ReachSample& s) { return s.planned; }));
+}
+double ReachReport::fraction_ik() const { return samples.empty() ? 0.0 : double(count_ik()) / samples.size(); }
+double ReachReport::fraction_collision_free() const {
+  return samples.empty() ? 0.0 : double(count_collision_free()) / samples.size();
+}
+double ReachReport::fraction_planned() const { return samples.empty() ? 0.0 : double(count_planned()) / samples.size(); }
+
+double ReachReport::median_planning_time_s() const {
+  std::vector<double> t;
+  for (const auto& s : samples)
+    if (s.collision_free && s.planning_time_s > 0.0) t.push_back(s.planning_time_s);
+  if (t.empty()) return 0.0;
+  std::nth_element(t.begin(), t.begin() + static_cast<long>(t.size() / 2), t.end());
+  return t[t.size() / 2];
+}
+
+nlohmann::json ReachReport::to_json(bool with_samples) const {
+  nlohmann::json j;
+  j["base"] = {base.x_m, base.y_m, base.yaw_rad};
+  j["targets"] = targets;
+  j["views"] = samples.size();
+  j["ik_reachable"] = count_ik();
+  j["collision_free"] = count_collision_free();
+  j["workspace_kept"] = count_workspace_kept();
+  j["planned"] = count_planned();
+  j["fraction_ik_reachable"] = fraction_ik();
+  j["fraction_collision_free"] = fraction_collision_free();
+  j["fraction_planned"] = fraction_planned();
+  j["median_planning_time_s"] = median_planning_time_s();
+  if (with_samples) {
+    nlohmann::json arr = nlohmann::json::array();
+    for (const auto& s : samples) {
+      nlohmann::json e;
+      e["target"] = {s.target.x(), s.target.y(), s.target.z()};
+      e["camera"] = pose_to_json(s.T_world_camera);
+      e["ik"] = s.ik;
+      e["collision_free"] = s.collision_free;
+      e["workspace_kept"] = s.workspace_kept;
+      e["planned"] = s.planned;
+      e["plan_status"] = s.collision_free ? to_string(s.plan_status) : "not_attempted";
+      e["planning_time_s"] = s.planning_time_s;
+      arr.push_back(e);
+    }
+    j["samples"] = arr;
+  }
+  return j;
+}
+
+ReachReport evaluate_reachability(const ArmPlanner& planner, const WorkspaceFilter* filter, const BasePose& base,
+                                  const ArmConfig& start, const std::vector<Vec3>& targets, const ReachParams& params) {
+  params.validate();
+  const CollisionChecker& checker = planner.checker();
+  const RobotModel& model = checker.model();
+  ReachReport report;
+  report.base = base;
+  const Vec3 arm = (RobotModel::T_world_base(base) * model.T_base_arm()).translation();
+  for (const Vec3& target : targets) {
+    if (!target.allFinite() || (target - arm).head<2>().norm() > params.max_target_distance_m) continue;
+    ++report.targets;
+    for (const Pose& T : sphere_views(target, params)) {
+      ReachSample s;
+      s.target = target;
+      s.T_world_camera = T;
+      const IkResult ik = model.camera_ik(base, T, start);
+      s.ik = !ik.empty();
+      for (int k = 0; k < ik.count && !s.collision_free; ++k)
+        s.collision_free = !checker.in_collision(base, ik.q[static_cast<size_t>(k)]);
+      if (filter) s.workspace_kept = filter->filter(base, T, start, &checker).kept();
+      if (s.collision_free && params.plan) {
+        const PlanResult r = planner.plan_to_camera_pose(base, start, T);
+        s.planned = r.ok();
+        s.plan_status = r.status;
+        s.planning_time_s = r.planning_time_s;
+      }
+      report.samples.push_back(s);
+    }
+  }
+  return report;
+}
+
+std::vector<Vec3> world_occupied_voxels(const world::World& world, double res) {
+  if (!(std::isfinite(res) && res > 0.0)) throw InputError("world voxels: resolution must be > 0");
+  // Keys packed as 21 bits per axis (about +-15 km at 1.5 cm).
+  auto key = [res](const Vec3& p) {
+    const auto k = (p / res).array().floor().cast<std::int64_t>() + (std::int64_t{1} << 20);
+    return (static_cast<std::uint64_t>(k.x()) << 42) | (static_cast<std::uint64_t>(k.y()) << 21) |
+           static_cast<std::uint64_t>(k.z());
+  };
+  std::unordered_set<std::uint64_t> keys;
+  const double step = 0.5 * res;  // Samples closer than a voxel: no voxel is skipped.
+  for (const auto& plant : world.plants) {
+    for (const auto& part : plant.parts) {
+      const auto& v = part.mesh.vertices;
+      for (const auto& f : part.mesh.faces) {
+        const Vec3 &a = v[static_cast<size_t>(f[0])], &b = v[static_cast<size_t>(f[1])], &c = v[static_cast<size_t>(f[2])];
+        const double longest = std::max({(b - a).norm(), (c - a).norm(), (c - b).norm()});
+        const int n = std::max(1, static_cast<int>(std::ceil(longest / step)));
+        for (int i = 0; i <= n; ++i)
+          for (int j = 0; j <= n - i; ++j) keys.insert(key(a + (b - a) * (double(i) / n) + (c - a) * (double(j) / n)));
+      }
+    }
+  }
+  std::vector<Vec3> centres;
+  centres.reserve(keys.size());
+  const std::uint64_t mask = (std::uint64_t{1} << 21) - 1;
+  for (std::uint64_t k : keys) {
+    const auto unpack = [&](int shift) {
+      return static_cast<double>(static_cast<std::int64_t>((k >> shift) & mask) - (std::int64_t{1} << 20));
+    };
+    centres.emplace_back((unpack(42) + 0.5) * res, (unpack(21) + 0.5) * res, (unpack(0) + 0.5) * res);
+  }
+  // Deterministic order (the hash set's is not).
+  std::sort(centres.begin(), centres.end(), [](const Vec3& p, const Vec3& q) {
+    return std::lexicographical_compare(p.data(), p.data() + 3, q.data(), q.data() + 3);
+  });
+  return centres;
+}
+
+std::vector<Vec3> world_fruit_centres(const world::World& world) {
+  std::vector<Vec3> c;
+  for (const auto& f : world.truth.fruits) c.push_back(f.center);
+  return c;
+}
+
+}  // namespace canopy::motion
