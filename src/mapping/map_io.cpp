@@ -1,7 +1,5 @@
 #include "canopy/mapping/map_io.h"
 
-#include <octomap/OcTree.h>
-
 #include <cmath>
 #include <cstring>
 #include <sstream>
@@ -259,37 +257,37 @@ std::size_t export_ply(const SemanticOcTree& map, const std::string& path) {
 }
 
 namespace {
-// OcTree with access to its root, to mirror the semantic tree's structure node for node.
-class OccupancyMirror : public octomap::OcTree {
- public:
-  explicit OccupancyMirror(double res) : octomap::OcTree(res) {}
-  void mirror(const SemanticOcTree& src) {
-    clear();
-    if (!src.getRoot()) return;
-    root = new octomap::OcTreeNode();
-    ++tree_size;
-    copy(src.getRoot(), root);
+// OctoMap's binary node encoding (OccupancyOcTreeBase::writeBinaryNode): two bits per child,
+// 00 unknown, 01 occupied leaf, 10 free leaf, 11 inner; then the inner children, in order.
+// Written here rather than through octomap::OcTree, whose writer prints to stderr.
+void write_bt_node(std::string& out, const SemanticNode* node) {
+  std::uint8_t bits[2] = {0, 0};
+  for (unsigned i = 0; i < 8; ++i) {
+    const SemanticNode* c = node->child(i);
+    if (!c) continue;
+    unsigned code;
+    if (c->has_children()) code = 3;
+    else code = c->state().occupancy_logodds() > 0.f ? 2 : 1;  // bit pair (b0, b1): 01 -> 2, 10 -> 1
+    bits[i / 4] = static_cast<std::uint8_t>(bits[i / 4] | (code << (2 * (i % 4))));
   }
-
- private:
-  void copy(const SemanticNode* s, octomap::OcTreeNode* d) {
-    if (!s->has_children()) {
-      d->setLogOdds(s->state().occupancy_logodds());
-      return;
-    }
-    for (unsigned i = 0; i < 8; ++i)
-      if (s->child(i)) copy(s->child(i), createNodeChild(d, i));
-    d->updateOccupancyChildren();
+  out.push_back(static_cast<char>(bits[0]));
+  out.push_back(static_cast<char>(bits[1]));
+  for (unsigned i = 0; i < 8; ++i) {
+    const SemanticNode* c = node->child(i);
+    if (c && c->has_children()) write_bt_node(out, c);
   }
-};
+}
 }  // namespace
 
 void export_bt(const SemanticOcTree& map, const std::string& path) {
-  OccupancyMirror tree(map.getResolution());
-  tree.mirror(map);
-  std::ostringstream out;
-  if (!tree.writeBinaryConst(out)) throw std::runtime_error("octomap failed to serialise " + path);
-  write_file_atomic(path, out.str());
+  std::ostringstream header;
+  header.precision(17);
+  header << "# Octomap OcTree binary file\n# written by canopy: occupancy of a semantic map "
+            "(p_occ > 0.5 occupied)\n#\nid OcTree\nsize "
+         << map.size() << "\nres " << map.getResolution() << "\ndata\n";
+  std::string body;
+  if (map.getRoot()) write_bt_node(body, map.getRoot());
+  write_file_atomic(path, header.str() + body);
 }
 
 }  // namespace canopy::mapping
