@@ -35,14 +35,8 @@ void add_bench_render(CLI::App& bench) {
     for (int i = 0; i < opt->frames; ++i) {
       const double s = opt->frames > 1 ? static_cast<double>(i) / (opt->frames - 1) : 0.5;
       const double side = i % 2 == 0 ? 1.0 : -1.0;
-      Pose T = Pose::Identity();
-      T.translation() = Vec3(x0 + s * (x1 - x0), side * (spec.rows.row_offset_m - 0.45), 0.7);
-      // Optical z towards the row, y down.
-      const Vec3 z(0, side, 0), y(0, 0, -1);
-      T.linear().col(0) = y.cross(z);
-      T.linear().col(1) = y;
-      T.linear().col(2) = z;
-      views.push_back(T);
+      const Vec3 eye(x0 + s * (x1 - x0), side * (spec.rows.row_offset_m - 0.45), 0.7);
+      views.push_back(look_at(eye, eye + Vec3(0, side, 0)));
     }
     renderer.render_free_camera(views.front());  // warm-up (shader compilation, uploads)
     double rgbd_ms = 0.0, full_ms = 0.0;

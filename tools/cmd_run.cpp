@@ -9,6 +9,7 @@
 
 #include "canopy/common/frame_io.h"
 #include "canopy/common/io.h"
+#include "canopy/common/video.h"
 #include "canopy/mission/aisle_survey.h"
 #include "cli_util.h"
 #include "commands.h"
@@ -20,16 +21,14 @@ namespace {
 // A view from behind and above the aisle start, looking down the aisle.
 Pose overview_pose(const world::WorldSpec& spec) {
   const double x_mid = spec.rows.x_start_m + 0.5 * (spec.rows.plants_per_row - 1) * spec.rows.plant_spacing_m;
-  const Vec3 eye(spec.robot_start.x_m - 1.6, 0.0, 2.3);
-  const Vec3 target(x_mid, 0.0, 0.5);
-  const Vec3 z = (target - eye).normalized();
-  const Vec3 x = z.cross(Vec3::UnitZ()).normalized();
-  Pose T = Pose::Identity();
-  T.linear().col(0) = x;
-  T.linear().col(1) = z.cross(x);
-  T.linear().col(2) = z;
-  T.translation() = eye;
-  return T;
+  return look_at(Vec3(spec.robot_start.x_m - 1.6, 0.0, 2.3), Vec3(x_mid, 0.0, 0.5));
+}
+
+// A chase camera behind and above the base, looking ahead along the aisle.
+Pose chase_pose(const BasePose& base) {
+  const Vec3 heading(std::cos(base.yaw_rad), std::sin(base.yaw_rad), 0.0);
+  const Vec3 ground(base.x_m, base.y_m, 0.0);
+  return look_at(ground - 1.4 * heading + Vec3(0, 0, 1.9), ground + 0.9 * heading + Vec3(0, 0, 0.6));
 }
 
 }  // namespace
@@ -38,6 +37,8 @@ void add_run_command(CLI::App& app) {
   struct Options {
     std::string world = default_world_path();
     std::string out = "results";
+    std::string video;
+    double video_fps = 25.0;
     bool shadows = false;
   };
   auto opt = std::make_shared<Options>();
@@ -45,6 +46,8 @@ void add_run_command(CLI::App& app) {
   sub->add_option("--world", opt->world, "World file (YAML)")->capture_default_str();
   sub->add_option("--out", opt->out, "Results folder")->capture_default_str();
   sub->add_flag("--shadows", opt->shadows, "Shadows in RGB images");
+  sub->add_option("--video", opt->video, "Also write an MP4 (H.264) of the run, seen from behind the robot, to this file");
+  sub->add_option("--video-fps", opt->video_fps, "Video frames per simulated second")->capture_default_str();
   sub->callback([opt] {
     const auto wall0 = std::chrono::steady_clock::now();
     const world::WorldSpec spec = load_world_spec(opt->world);
@@ -63,8 +66,24 @@ void add_run_command(CLI::App& app) {
       sim::Renderer overview(sim, wide, sim::RenderOptions{true, 1});
       write_png(out.path("overview.png"), overview.render(overview_pose(spec), true, false).rgb);
     }
-    const mission::SurveyResult survey = mission::run_aisle_survey(
-        sim, renderer, spec, mission::SurveyParams{}, [](const std::string& m) { spdlog::info("{}", m); });
+    mission::SurveyCallbacks callbacks;
+    callbacks.progress = [](const std::string& m) { spdlog::info("{}", m); };
+    std::unique_ptr<VideoWriter> video;
+    std::unique_ptr<sim::Renderer> video_renderer;
+    if (!opt->video.empty()) {
+      CameraIntrinsics video_camera = spec.camera;  // same size as the offscreen buffer
+      video = std::make_unique<VideoWriter>(opt->video, video_camera.width_px, video_camera.height_px, opt->video_fps);
+      video_renderer = std::make_unique<sim::Renderer>(sim, video_camera, sim::RenderOptions{true, 1});
+      callbacks.video_period_s = 1.0 / opt->video_fps;
+      callbacks.video_tick = [&](double) {
+        video->write(video_renderer->render(chase_pose(sim.base_pose()), true, false).rgb);
+      };
+    }
+    const mission::SurveyResult survey = mission::run_aisle_survey(sim, renderer, spec, mission::SurveyParams{}, callbacks);
+    if (video) {
+      video->close();
+      spdlog::info("wrote {} ({} frames)", opt->video, video->frames());
+    }
 
     nlohmann::json obs = nlohmann::json::array();
     for (const auto& o : survey.observations) {

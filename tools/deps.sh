@@ -11,6 +11,7 @@ PACKAGES=(
   libyaml-cpp-dev libcli11-dev libspdlog-dev libfmt-dev nlohmann-json3-dev
   libnanoflann-dev libtbb-dev libpng-dev
   libgtest-dev libgmock-dev libbenchmark-dev
+  ffmpeg
 )
 
 missing=()

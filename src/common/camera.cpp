@@ -11,6 +11,18 @@ double CameraIntrinsics::fovy_deg() const {
   return 2.0 * std::atan(0.5 * height_px / fy_px) * 180.0 / M_PI;
 }
 
+Pose look_at(const Vec3& eye, const Vec3& target) {
+  const Vec3 z = (target - eye).normalized();
+  Vec3 x = z.cross(Vec3::UnitZ());
+  x = x.norm() < 1e-9 ? Vec3::UnitX() : x.normalized();
+  Pose T = Pose::Identity();
+  T.linear().col(0) = x;
+  T.linear().col(1) = z.cross(x);
+  T.linear().col(2) = z;
+  T.translation() = eye;
+  return T;
+}
+
 void CameraIntrinsics::validate(const std::string& where) const {
   auto bad = [&](const std::string& key, double value, const std::string& problem) {
     std::ostringstream os;

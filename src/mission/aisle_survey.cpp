@@ -15,13 +15,34 @@ double max_error(const ArmConfig& a, const ArmConfig& b) {
   return e;
 }
 
+// Steps the simulation and fires the video tick whenever its period has elapsed.
+class Stepper {
+ public:
+  Stepper(sim::Simulator& sim, const SurveyCallbacks& cb) : sim_(sim), cb_(cb), next_frame_(sim.time()) {}
+  void step(int n) {
+    for (int k = 0; k < n; ++k) {
+      if (cb_.video_tick && cb_.video_period_s > 0.0 && sim_.time() >= next_frame_ - 1e-9) {
+        cb_.video_tick(sim_.time());
+        next_frame_ += cb_.video_period_s;
+      }
+      sim_.step();
+    }
+  }
+
+ private:
+  sim::Simulator& sim_;
+  const SurveyCallbacks& cb_;
+  double next_frame_;
+};
+
 // Steps until the arm is within tolerance of `target` and nearly still, or the timeout.
-double settle_arm(sim::Simulator& sim, const ArmConfig& target, const SurveyParams& params, double* error) {
+double settle_arm(sim::Simulator& sim, Stepper& stepper, const ArmConfig& target, const SurveyParams& params,
+                  double* error) {
   sim.set_arm_targets(target);
   sim.set_base_velocity(0.0, 0.0);
   const double t0 = sim.time();
   while (sim.time() - t0 < params.arm_timeout_s) {
-    sim.step(10);
+    stepper.step(10);
     const ArmConfig v = sim.arm_velocities();
     double speed = 0.0;
     for (double x : v) speed = std::max(speed, std::abs(x));
@@ -34,8 +55,10 @@ double settle_arm(sim::Simulator& sim, const ArmConfig& target, const SurveyPara
 }  // namespace
 
 SurveyResult run_aisle_survey(sim::Simulator& sim, sim::Renderer& renderer, const world::WorldSpec& spec,
-                              const SurveyParams& params, const SurveyProgress& progress) {
+                              const SurveyParams& params, const SurveyCallbacks& callbacks) {
   SurveyResult result;
+  Stepper stepper(sim, callbacks);
+  const auto& progress = callbacks.progress;
   const RobotConfig& cfg = sim.robot_config();
   // The home view looks at the left row; the same pose with the shoulder turned by pi looks
   // at the right row (mirror image through the arm's base axis).
@@ -57,7 +80,7 @@ SurveyResult run_aisle_survey(sim::Simulator& sim, sim::Renderer& renderer, cons
       const motion::BaseCommand cmd = follower.update(sim.base_pose(), dt);
       reached = cmd.done;
       sim.set_base_velocity(cmd.v_m_s, cmd.omega_rad_s);
-      sim.step();
+      stepper.step(1);
     }
     sim.set_base_velocity(0.0, 0.0);
     const BasePose at = sim.base_pose();
@@ -67,7 +90,7 @@ SurveyResult run_aisle_survey(sim::Simulator& sim, sim::Renderer& renderer, cons
       SurveyObservation obs;
       obs.stop = stop;
       obs.side = side == 0 ? "left" : "right";
-      obs.settle_time_s = settle_arm(sim, side == 0 ? look_left : look_right, params, &obs.arm_error_rad);
+      obs.settle_time_s = settle_arm(sim, stepper, side == 0 ? look_left : look_right, params, &obs.arm_error_rad);
       obs.base = sim.base_pose();
       obs.frame = renderer.render_wrist_camera();
       if (progress) progress("stop " + std::to_string(stop + 1) + ": " + obs.side + " view, arm settled in " +

@@ -130,3 +130,27 @@ TEST(RobotConfig, DefaultsEqualTheShippedYaml) {
 
 }  // namespace
 }  // namespace canopy
+
+namespace canopy {
+namespace {
+
+TEST(Camera, LookAtHasZeroRollAndLooksAtTheTarget) {
+  const Vec3 eye(0.3, -0.2, 1.0), target(1.0, 0.5, 0.6);
+  const Pose T = look_at(eye, target);
+  EXPECT_LT((T.linear().transpose() * T.linear() - Mat3::Identity()).norm(), 1e-12);
+  EXPECT_NEAR(T.linear().determinant(), 1.0, 1e-12);
+  // The target projects to the image centre, image x is horizontal, image up is world up.
+  CameraIntrinsics K;
+  double u = 0, v = 0;
+  ASSERT_TRUE(K.project(T.inverse() * target, &u, &v));
+  EXPECT_NEAR(u, K.cx_px, 1e-9);
+  EXPECT_NEAR(v, K.cy_px, 1e-9);
+  EXPECT_NEAR(T.linear().col(0).z(), 0.0, 1e-12);
+  EXPECT_LT(T.linear().col(1).z(), 0.0);
+  // Straight down is still a valid rotation.
+  const Pose D = look_at(Vec3(0, 0, 1), Vec3(0, 0, 0));
+  EXPECT_NEAR(D.linear().determinant(), 1.0, 1e-12);
+}
+
+}  // namespace
+}  // namespace canopy

@@ -19,19 +19,8 @@ std::string scene_xml(const std::string& body, int size_px = 400) {
          body + "</worldbody></mujoco>";
 }
 
-// Camera at `eye` looking along `forward` with image-up as close to +z as possible.
-Pose look(const Vec3& eye, const Vec3& forward) {
-  const Vec3 z = forward.normalized();
-  Vec3 x = z.cross(Vec3::UnitZ());
-  if (x.norm() < 1e-6) x = Vec3::UnitX();
-  x.normalize();
-  Pose T = Pose::Identity();
-  T.linear().col(0) = x;
-  T.linear().col(1) = z.cross(x);
-  T.linear().col(2) = z;
-  T.translation() = eye;
-  return T;
-}
+// Camera at `eye` looking along `forward` with image-up towards +z.
+Pose look(const Vec3& eye, const Vec3& forward) { return look_at(eye, eye + forward); }
 
 TEST(Renderer, TiltedPlaneDepthMatchesAnalyticAtCentreAndCorners) {
   SceneDescription scene;
@@ -73,7 +62,9 @@ TEST(Renderer, SphereDepthMatchesRaySphereIntersection) {
       const double a = d.squaredNorm(), b = 2 * d.dot(o - c), cc = (o - c).squaredNorm() - r * r;
       const double disc = b * b - 4 * a * cc;
       if (disc <= 0) {
-        if (disc < -0.02) EXPECT_EQ(f.depth_m.at(u, v), 0.f) << "background pixel " << u << "," << v;
+        if (disc < -0.02) {
+          EXPECT_EQ(f.depth_m.at(u, v), 0.f) << "background pixel " << u << "," << v;
+        }
         continue;
       }
       const double t = (-b - std::sqrt(disc)) / (2 * a);

@@ -49,4 +49,8 @@ struct CameraIntrinsics {
   void validate(const std::string& where) const;
 };
 
+/// Optical-frame pose at `eye` looking at `target` with zero roll: image x is horizontal and
+/// image up (-y) has positive world z. Straight up or down, image x is world +x.
+Pose look_at(const Vec3& eye, const Vec3& target);
+
 }  // namespace canopy

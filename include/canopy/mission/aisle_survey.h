@@ -40,11 +40,16 @@ struct SurveyResult {
   bool all_stops_reached = true;
 };
 
-/// Callback for progress (the library does not print).
-using SurveyProgress = std::function<void(const std::string& message)>;
+/// Callbacks: progress messages (the library does not print) and a video tick, called with
+/// the simulated time every `video_period_s` of simulated time (0: never).
+struct SurveyCallbacks {
+  std::function<void(const std::string& message)> progress;
+  std::function<void(double sim_time_s)> video_tick;
+  double video_period_s = 0.0;
+};
 
 /// Drives the aisle of `spec`'s world in `sim`, rendering with `renderer`.
 SurveyResult run_aisle_survey(sim::Simulator& sim, sim::Renderer& renderer, const world::WorldSpec& spec,
-                              const SurveyParams& params, const SurveyProgress& progress = {});
+                              const SurveyParams& params, const SurveyCallbacks& callbacks = {});
 
 }  // namespace canopy::mission
