@@ -95,6 +95,21 @@ void traverse(const SemanticOcTree& map, const Segment& s, Visit&& visit) {
   }
 }
 
+// OctoMap's coordToKeyChecked (key = floor(x / res) + 2^15, checked), with an inline floor:
+// libm's floor is a call per coordinate on baseline x86-64.
+inline bool fast_key(const Vec3f& p, double inv_res, octomap::OcTreeKey* key) {
+  for (int a = 0; a < 3; ++a) {
+    const double v = inv_res * double(p[a]);
+    if (!(v > -32769.0 && v < 32769.0)) return false;
+    int i = static_cast<int>(v);
+    i -= v < i;
+    i += 32768;
+    if (i < 0 || i >= 65536) return false;
+    (*key)[a] = static_cast<octomap::key_type>(i);
+  }
+  return true;
+}
+
 template <typename F>
 void run_in_arena(int threads, F&& f) {
   if (threads > 0) {
@@ -145,6 +160,7 @@ void ScanInserter::compute_updates(const perception::LabelledCloud& cloud, std::
   std::atomic<std::size_t> bad_point{0}, bad_label{0}, outside{0}, beyond{0};
   const Vec3f o = cloud.origin_world.cast<float>();
   const double max_range2 = P.max_range_m * P.max_range_m;
+  const double inv_res = 1.0 / map_.getResolution();
   constexpr std::uint64_t kLow56 = (1ull << 56) - 1;
   constexpr std::uint64_t kMaxRun = 254;  // so a value never equals kInvalid
   run_in_arena(P.threads, [&] {
@@ -152,6 +168,8 @@ void ScanInserter::compute_updates(const perception::LabelledCloud& cloud, std::
       std::size_t nb = 0, nl = 0, no = 0, nf = 0;
       std::size_t out = r.begin();  // write cursor within this chunk
       std::uint64_t run_value = kInvalid, run_length = 0;
+      octomap::OcTreeKey last_key(0, 0, 0);
+      std::uint64_t last_code = morton_code(last_key) << 8;
       auto flush = [&] {
         if (run_length) values_[out++] = (run_length << 56) | run_value;
         run_length = 0;
@@ -164,12 +182,16 @@ void ScanInserter::compute_updates(const perception::LabelledCloud& cloud, std::
           ++nb;
         } else if (label >= num_classes) {
           ++nl;
-        } else if (!map_.coordToKeyChecked(p.x(), p.y(), p.z(), key)) {
+        } else if (!fast_key(p, inv_res, &key)) {
           ++no;
         } else {
           const bool far = double((p - o).squaredNorm()) > max_range2;
           nf += far;
-          const std::uint64_t v = (morton_code(key) << 8) | (far ? kBeyond : label);
+          if (!(key == last_key)) {  // neighbouring pixels mostly share a voxel
+            last_key = key;
+            last_code = morton_code(key) << 8;
+          }
+          const std::uint64_t v = last_code | (far ? kBeyond : label);
           if (v == run_value && run_length < kMaxRun) {
             ++run_length;
           } else {
