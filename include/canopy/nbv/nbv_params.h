@@ -1,0 +1,70 @@
+#pragma once
+// Parameters of the next-best-view core (paper Methods (iii), Table I; FACTS.md section 6).
+// Defaults equal the paper's values; configs/nbv.yaml restates them.
+
+#include <yaml-cpp/yaml.h>
+
+#include <string>
+
+#include "canopy/common/yaml_reader.h"
+
+namespace canopy::nbv {
+
+/// Fruit clustering (DBSCAN over target-class voxels).
+struct ClusterParams {
+  double min_logodds = 1.0;   ///< A voxel joins when its top class is the target with log-odds above this.
+  double epsilon_m = 0.05;    ///< DBSCAN neighbourhood radius (expected fruit radius).
+  int min_points = 3;         ///< DBSCAN core-point threshold (neighbours incl. the point).
+};
+
+/// Candidate views on a sphere around each cluster centroid.
+struct CandidateParams {
+  double radius_m = 0.4;         ///< r.
+  int polar_count = 5;           ///< N_theta, polar angles from world +z.
+  double polar_min_deg = 30.0;   ///< First polar angle.
+  double polar_max_deg = 150.0;  ///< Last polar angle (inclusive).
+  int azimuth_count = 10;        ///< N_phi, azimuths in [0, 360) without the 360 duplicate.
+  double min_height_m = 0.05;    ///< Candidates below this world z are dropped (the floor).
+};
+
+/// Ray sets cast from a candidate view.
+struct RayParams {
+  double cluster_size_m = 0.1;   ///< L: window b = L fx / z around the projected centroid.
+  double step_m = 0.015;         ///< delta S: pixel step ds = delta S fx / z (map resolution).
+  int dense_grid = 28;           ///< Dense baseline: dense_grid^2 rays over the whole image.
+  int sparse_grid = 6;           ///< Sparse baseline: sparse_grid^2 rays over the whole image.
+  /// Rays end at planar depth z + depth_margin_m, z = the centroid's depth (paper: L / 2).
+  double depth_margin_m = 0.05;
+};
+
+/// Gain-function settings.
+struct GainParams {
+  double max_dist_m = 0.1;            ///< OSAMCEP / UVPC: voxels farther from the target do not count.
+  double ae_stop_occupancy = 0.9;     ///< AE: the ray stops after the first voxel with p_occ >= this.
+  double unknown_low = 0.4;           ///< UVC/UVPC: a known voxel with p in (low, high] is unknown.
+  double unknown_high = 0.6;          ///< UVC/UVPC: a voxel with p_occ > high blocks the ray.
+  double uvpc_base_weight = 0.5;      ///< UVPC weight = base + (max_dist - d) / max_dist.
+};
+
+/// Cluster planner.
+struct PlannerParams {
+  int top_k = 1;                 ///< Views kept per cluster (prototype: 1).
+};
+
+/// All next-best-view settings (configs/nbv.yaml sections).
+struct NbvParams {
+  ClusterParams cluster;
+  CandidateParams candidates;
+  RayParams rays;
+  GainParams gain;
+  PlannerParams planner;
+
+  /// Reads sections cluster, candidates, rays, gain, planner of one mapping (InputError on bad values).
+  static NbvParams from_yaml(YamlReader& y);
+  /// Loads a file and rejects unknown keys.
+  static NbvParams load(const std::string& path);
+  YAML::Node to_yaml() const;
+  bool operator==(const NbvParams& o) const;
+};
+
+}  // namespace canopy::nbv

@@ -1,0 +1,114 @@
+#pragma once
+// Scoring views and the cluster planner (paper Methods (iii)): every candidate of every fruit
+// cluster is scored by casting its ray set through the voxel index and summing a gain; the
+// top-k per cluster are returned, and a cluster whose best gain is <= 0 is done.
+//
+// Bad input gives defined results with a reason, never NaN: no clusters -> an empty plan;
+// a camera inside an occupied voxel, outside the map, a target behind the camera or a window
+// with no ray -> that view scores 0 with its status.
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "canopy/common/camera.h"
+#include "canopy/nbv/candidates.h"
+#include "canopy/nbv/clusters.h"
+#include "canopy/nbv/gains.h"
+#include "canopy/nbv/ray_sets.h"
+#include "canopy/nbv/voxel_index.h"
+
+namespace canopy::nbv {
+
+/// Why a view scored what it did.
+enum class ViewStatus { kOk, kNoRays, kTargetBehind, kInsideOccupied, kOutsideMap };
+const char* to_string(ViewStatus s);
+
+/// Score of one view.
+struct ViewScore {
+  double gain = 0.0;
+  ViewStatus status = ViewStatus::kOk;
+  std::size_t rays = 0;          ///< Rays cast.
+  std::size_t rays_outside = 0;  ///< Rays with an end outside the map (skipped).
+  std::size_t voxels = 0;        ///< Voxels visited.
+  double ms = 0.0;               ///< Ray casting and gain time.
+};
+
+/// Scores views against one voxel index; holds per-thread scratch (no allocation per ray).
+class ViewEvaluator {
+ public:
+  ViewEvaluator(const VoxelIndex& index, const CameraIntrinsics& intrinsics, const RayParams& params);
+
+  /// Gain of the view at T_world_camera looking at `target` with ray set `rays`.
+  ViewScore evaluate(const Pose& T_world_camera, const Vec3& target, const GainFunction& gain,
+                     const RaySetEntry& rays, std::uint64_t view_seed);
+  /// The same through the slow reference traversal (computeRayKeys + a tree search per key,
+  /// voxel values computed from the tree's states).
+  ViewScore evaluate_reference(const Pose& T_world_camera, const Vec3& target, const GainFunction& gain,
+                               const RaySetEntry& rays, std::uint64_t view_seed);
+
+  /// The ray ends of a view (world frame) as evaluate() casts them; false with a status when
+  /// the view is not scored.
+  bool ray_segments(const Pose& T_world_camera, const Vec3& target, const RaySetEntry& rays,
+                    std::vector<Vec3>* ends, ViewStatus* status);
+
+ private:
+  bool precheck(const Pose& T_world_camera, const Vec3& target, ViewScore* score) const;
+
+  const VoxelIndex& index_;
+  CameraIntrinsics intrinsics_;
+  RayParams params_;
+  std::vector<Vec2> pixels_;
+  std::vector<Vec3> ends_;
+  std::vector<RayVoxel> buffer_;
+  octomap::KeyRay key_ray_;
+  std::vector<ReferenceVoxel> ref_voxels_;
+  std::vector<VoxelInfo> ref_infos_;
+};
+
+/// A scored candidate.
+struct ScoredView {
+  Candidate candidate;
+  ViewScore score;
+};
+
+/// What the planner found for one cluster.
+struct ClusterResult {
+  int cluster = -1;
+  std::size_t candidates = 0;
+  double best_gain = 0.0;
+  bool done = false;              ///< Best gain <= 0 (or no candidate).
+  std::vector<ScoredView> top;    ///< Up to top_k views with gain > 0, best first.
+};
+
+/// The planner's answer.
+struct Plan {
+  std::vector<ScoredView> views;        ///< All clusters' top views, best first (ties: cluster, candidate order).
+  std::vector<ClusterResult> clusters;
+  std::string reason;                   ///< Why `views` is empty ("no clusters", ...); empty otherwise.
+  std::size_t candidates = 0;           ///< Candidates scored.
+  double ms_raycast = 0.0;              ///< Sum of the views' ray-casting times.
+};
+
+/// Candidate filter (e.g. the arm's workspace); true keeps the candidate.
+using CandidateFilter = std::function<bool(const Candidate&)>;
+
+/// The cluster-centric next-best-view planner (ours).
+class ClusterPlanner {
+ public:
+  ClusterPlanner(const NbvParams& params, const CameraIntrinsics& intrinsics);
+
+  /// Samples candidates around each cluster, scores them with `gain` and `rays`, keeps the
+  /// top-k per cluster. `seed` feeds the per-view seeds (rs). Deterministic.
+  Plan plan(const VoxelIndex& index, const std::vector<Cluster>& clusters, const GainFunction& gain,
+            const RaySetEntry& rays, std::uint64_t seed, const CandidateFilter& filter = nullptr) const;
+
+  const NbvParams& params() const { return params_; }
+
+ private:
+  NbvParams params_;
+  CameraIntrinsics intrinsics_;
+};
+
+}  // namespace canopy::nbv

@@ -1,0 +1,113 @@
+#pragma once
+// A flat voxel index kept beside the semantic octree for next-best-view ray casting
+// (FACTS.md section 9), and the two ray traversals that read the map:
+//  - fast: an Amanatides-Woo DDA at the map resolution (the same arithmetic as OctoMap's
+//    computeRayKeys, so both visit the same voxels) whose lookups go to 8x8x8-voxel bricks
+//    found by an open-addressing hash, with the last brick cached: most steps cost an array
+//    read, not a 16-level tree descent;
+//  - reference: computeRayKeys plus one tree search per key (slow, obviously correct).
+//
+// Every distinct voxel state is interned once into a palette of VoxelInfo that already holds
+// what the gains need (p_occ, entropies, the target flag, SSMI mutual-information terms), so
+// the gains do no exp/log per voxel. Palette id 0 is the unknown (never observed) voxel, and
+// equal ids mean identical states: the run-length segments of SSMI's MI are runs of one id.
+
+#include <cstdint>
+#include <vector>
+
+
+#include "canopy/common/types.h"
+#include "canopy/mapping/semantic_octree.h"
+
+namespace canopy::nbv {
+
+/// What the gains need about one voxel state, computed once per distinct state.
+struct VoxelInfo {
+  static constexpr int kMaxCategories = 8;  ///< free + at most 7 classes.
+  bool known = false;          ///< False: never observed (no leaf in the tree).
+  bool is_target = false;      ///< Occupied and the most likely class is the target.
+  std::int8_t cls = -1;        ///< Most likely stored class; -1 when none (or unknown).
+  float p_occ = 0.5f;          ///< Occupancy probability (0.5 when unknown).
+  float entropy = 0.f;         ///< Multi-class entropy H(x) in nats (unseen prior when unknown).
+  float binary_entropy = 0.f;  ///< H_b(p_occ) in nats.
+  // SSMI mutual information over categories {free, class 0..K-1}.
+  float prob[kMaxCategories] = {};    ///< Categorical distribution (free first).
+  float kl_free = 0.f;                ///< KL(posterior || prior) after a pass-through update.
+  float kl_hit[kMaxCategories] = {};  ///< KL after a hit of class k (index k, not k + 1).
+};
+
+/// Builds the VoxelInfo of `state` (nullptr: an unknown voxel under the map's unseen prior).
+VoxelInfo make_voxel_info(const mapping::SemanticOcTree& map, const mapping::SemanticState* state);
+
+/// One voxel visited by a ray, in order from the camera.
+struct RayVoxel {
+  const VoxelInfo* info = nullptr;  ///< Never null: unknown voxels point at the unknown entry.
+  float dist_m = 0.f;               ///< Distance from the voxel centre to the view's target.
+  std::uint32_t id = 0;             ///< Palette id (0 = unknown); equal ids = identical states.
+};
+
+/// Flat brick-hashed index of a SemanticOcTree's voxels (pruned blocks expanded).
+class VoxelIndex {
+ public:
+  static constexpr int kBrickBits = 3;                 ///< Bricks of 8^3 voxels.
+  static constexpr int kBrickSide = 1 << kBrickBits;
+  static constexpr int kBrickCells = kBrickSide * kBrickSide * kBrickSide;
+
+  VoxelIndex() = default;
+  /// Builds the index of `map` (keeps a pointer; the map must outlive the index).
+  explicit VoxelIndex(const mapping::SemanticOcTree& map) { rebuild(map); }
+
+  /// Rebuilds from scratch.
+  void rebuild(const mapping::SemanticOcTree& map);
+  /// Rebuilds when the map's revision (or the map) changed; true when it did.
+  bool refresh(const mapping::SemanticOcTree& map);
+
+  /// Palette id of the voxel with `key` (0 when unknown).
+  std::uint32_t lookup(const octomap::OcTreeKey& key) const;
+  const VoxelInfo& info(std::uint32_t id) const { return palette_[id]; }
+  const VoxelInfo& unknown() const { return palette_[0]; }
+  const mapping::SemanticOcTree* map() const { return map_; }
+
+  /// Fast traversal of the segment origin -> end: the voxels OctoMap's computeRayKeys returns
+  /// (the origin's voxel first, the end's voxel excluded), at most `capacity` of them written
+  /// to `out`. Returns the count; 0 when both ends share a voxel. *outside (when given) is
+  /// set when an end lies outside the tree's range (then nothing is visited). `keys`, when
+  /// given, receives the visited keys (same capacity). No allocation.
+  std::size_t cast(const Vec3& origin, const Vec3& end, const Vec3& target, RayVoxel* out, std::size_t capacity,
+                   bool* outside = nullptr, octomap::OcTreeKey* keys = nullptr) const;
+
+  /// Upper bound of the voxels a segment of `length_m` can visit.
+  std::size_t max_voxels(double length_m) const;
+
+  std::size_t palette_size() const { return palette_.size(); }
+  std::size_t brick_count() const { return brick_keys_.size(); }
+  std::size_t memory_bytes() const;
+  double build_ms() const { return build_ms_; }
+
+ private:
+  std::uint32_t* brick_for_insert(std::uint64_t brick_key);
+  const std::uint32_t* brick(std::uint64_t brick_key) const;
+  void grow();
+
+  const mapping::SemanticOcTree* map_ = nullptr;
+  std::uint64_t revision_ = ~std::uint64_t{0};
+  double resolution_ = 0.0;
+  std::vector<VoxelInfo> palette_;
+  std::vector<std::uint32_t> cells_;          // brick-major, kBrickCells per brick
+  std::vector<std::uint64_t> brick_keys_;     // brick key of each brick (insertion order)
+  std::vector<std::uint64_t> table_keys_;     // open addressing: brick key or kEmpty
+  std::vector<std::uint32_t> table_values_;   // brick index
+  std::uint64_t table_mask_ = 0;
+  double build_ms_ = 0.0;
+};
+
+/// The slow reference traversal: OctoMap's computeRayKeys, then one tree search per key.
+/// Appends (key, state or nullptr) pairs; false when an end is outside the tree.
+struct ReferenceVoxel {
+  octomap::OcTreeKey key;
+  const mapping::SemanticState* state = nullptr;
+};
+bool cast_reference(const mapping::SemanticOcTree& map, const Vec3& origin, const Vec3& end,
+                    octomap::KeyRay* scratch, std::vector<ReferenceVoxel>* out);
+
+}  // namespace canopy::nbv

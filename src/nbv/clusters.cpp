@@ -1,0 +1,115 @@
+#include "canopy/nbv/clusters.h"
+
+#include <nanoflann.hpp>
+
+#include <algorithm>
+
+namespace canopy::nbv {
+
+namespace {
+
+struct PointsAdaptor {
+  const std::vector<Vec3>& pts;
+  std::size_t kdtree_get_point_count() const { return pts.size(); }
+  double kdtree_get_pt(std::size_t i, std::size_t dim) const { return pts[i][static_cast<int>(dim)]; }
+  template <class BBox>
+  bool kdtree_get_bbox(BBox&) const { return false; }
+};
+using KdTree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, PointsAdaptor>,
+                                                    PointsAdaptor, 3, std::uint32_t>;
+
+}  // namespace
+
+std::vector<int> dbscan(const std::vector<Vec3>& points, double epsilon_m, int min_points, int* cluster_count) {
+  std::vector<int> label(points.size(), -2);  // -2 unvisited, -1 noise
+  int clusters = 0;
+  if (points.empty()) {
+    if (cluster_count) *cluster_count = 0;
+    return {};
+  }
+  PointsAdaptor adaptor{points};
+  KdTree tree(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(10));
+  tree.buildIndex();
+  const double r2 = epsilon_m * epsilon_m;  // L2_Simple works in squared distances
+  const nanoflann::SearchParams sp(32, 0.f, true);
+  std::vector<std::pair<std::uint32_t, double>> nb;
+  std::vector<std::uint32_t> queue;
+  auto neighbours = [&](std::size_t i) {
+    nb.clear();
+    tree.radiusSearch(points[i].data(), r2, nb, sp);
+    return nb.size();
+  };
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    if (label[i] != -2) continue;
+    if (neighbours(i) < std::size_t(min_points)) {
+      label[i] = -1;
+      continue;
+    }
+    const int c = clusters++;
+    label[i] = c;
+    queue.clear();
+    for (const auto& n : nb)
+      if (n.first != i) queue.push_back(n.first);
+    for (std::size_t q = 0; q < queue.size(); ++q) {
+      const std::uint32_t j = queue[q];
+      if (label[j] == -1) label[j] = c;  // border point
+      if (label[j] != -2) continue;
+      label[j] = c;
+      if (neighbours(j) >= std::size_t(min_points))
+        for (const auto& n : nb)
+          if (label[n.first] < 0) queue.push_back(n.first);
+    }
+  }
+  if (cluster_count) *cluster_count = clusters;
+  return label;
+}
+
+std::vector<Vec3> cluster_points(const mapping::SemanticOcTree& map, const ClusterParams& params,
+                                 const Eigen::AlignedBox3d* region) {
+  std::vector<Vec3> pts;
+  const int target = map.classes().target_index();
+  map.for_each_leaf([&](const octomap::OcTreeKey& key, unsigned depth, const mapping::SemanticState& s) {
+    if (s.most_likely_class() != target || !(double(s.top_logodds()) > params.min_logodds)) return;
+    const int side = 1 << (16 - depth);
+    const int half = side / 2;
+    for (int z = 0; z < side; ++z)
+      for (int y = 0; y < side; ++y)
+        for (int x = 0; x < side; ++x) {
+          const octomap::OcTreeKey k(static_cast<octomap::key_type>(key[0] - half + x),
+                                     static_cast<octomap::key_type>(key[1] - half + y),
+                                     static_cast<octomap::key_type>(key[2] - half + z));
+          const Vec3 c = map.center_of(k);
+          if (region && !region->contains(c)) continue;
+          pts.push_back(c);
+        }
+  });
+  return pts;
+}
+
+std::vector<Cluster> clusters_of_points(const std::vector<Vec3>& pts, const ClusterParams& params) {
+  int n = 0;
+  const std::vector<int> label = dbscan(pts, params.epsilon_m, params.min_points, &n);
+  std::vector<Cluster> out(static_cast<std::size_t>(n));
+  for (auto& c : out) {
+    c.min = Vec3::Constant(1e300);
+    c.max = Vec3::Constant(-1e300);
+  }
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    if (label[i] < 0) continue;
+    Cluster& c = out[static_cast<std::size_t>(label[i])];
+    c.centroid += pts[i];
+    c.min = c.min.cwiseMin(pts[i]);
+    c.max = c.max.cwiseMax(pts[i]);
+    ++c.voxels;
+  }
+  for (auto& c : out) c.centroid /= double(c.voxels);
+  std::stable_sort(out.begin(), out.end(), [](const Cluster& a, const Cluster& b) { return a.voxels > b.voxels; });
+  return out;
+}
+
+std::vector<Cluster> find_clusters(const mapping::SemanticOcTree& map, const ClusterParams& params,
+                                   const Eigen::AlignedBox3d* region) {
+  return clusters_of_points(cluster_points(map, params, region), params);
+}
+
+}  // namespace canopy::nbv

@@ -1,0 +1,134 @@
+#include "canopy/nbv/nbv_params.h"
+
+#include <cmath>
+
+#include "canopy/common/error.h"
+
+namespace canopy::nbv {
+
+namespace {
+
+double real(YamlReader& y, const std::string& key, double fallback) {
+  const double v = y.get(key, fallback);
+  y.check(std::isfinite(v), key, "must be a finite number");
+  return v;
+}
+
+double positive(YamlReader& y, const std::string& key, double fallback) {
+  const double v = real(y, key, fallback);
+  y.check(v > 0.0, key, "must be > 0");
+  return v;
+}
+
+int count(YamlReader& y, const std::string& key, int fallback, int lo, int hi) {
+  const int v = y.get(key, fallback);
+  y.check(v >= lo && v <= hi, key, "must be in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+  return v;
+}
+
+}  // namespace
+
+NbvParams NbvParams::from_yaml(YamlReader& y) {
+  NbvParams p;
+  {
+    YamlReader c = y.child("cluster");
+    p.cluster.min_logodds = real(c, "min_logodds", p.cluster.min_logodds);
+    p.cluster.epsilon_m = positive(c, "epsilon_m", p.cluster.epsilon_m);
+    p.cluster.min_points = count(c, "min_points", p.cluster.min_points, 1, 1000000);
+    c.finish();
+  }
+  {
+    YamlReader c = y.child("candidates");
+    auto& q = p.candidates;
+    q.radius_m = positive(c, "radius_m", q.radius_m);
+    q.polar_count = count(c, "polar_count", q.polar_count, 1, 1000);
+    q.polar_min_deg = real(c, "polar_min_deg", q.polar_min_deg);
+    q.polar_max_deg = real(c, "polar_max_deg", q.polar_max_deg);
+    q.azimuth_count = count(c, "azimuth_count", q.azimuth_count, 1, 1000);
+    q.min_height_m = real(c, "min_height_m", q.min_height_m);
+    c.check(q.polar_min_deg >= 0.0 && q.polar_min_deg <= 180.0, "polar_min_deg", "must be in [0, 180]");
+    c.check(q.polar_max_deg >= q.polar_min_deg && q.polar_max_deg <= 180.0, "polar_max_deg",
+            "must be in [polar_min_deg, 180]");
+    c.finish();
+  }
+  {
+    YamlReader c = y.child("rays");
+    auto& q = p.rays;
+    q.cluster_size_m = positive(c, "cluster_size_m", q.cluster_size_m);
+    q.step_m = positive(c, "step_m", q.step_m);
+    q.dense_grid = count(c, "dense_grid", q.dense_grid, 1, 4096);
+    q.sparse_grid = count(c, "sparse_grid", q.sparse_grid, 1, 4096);
+    q.depth_margin_m = real(c, "depth_margin_m", q.depth_margin_m);
+    c.check(q.depth_margin_m >= 0.0, "depth_margin_m", "must be >= 0");
+    c.finish();
+  }
+  {
+    YamlReader c = y.child("gain");
+    auto& q = p.gain;
+    q.max_dist_m = positive(c, "max_dist_m", q.max_dist_m);
+    q.ae_stop_occupancy = real(c, "ae_stop_occupancy", q.ae_stop_occupancy);
+    q.unknown_low = real(c, "unknown_low", q.unknown_low);
+    q.unknown_high = real(c, "unknown_high", q.unknown_high);
+    q.uvpc_base_weight = real(c, "uvpc_base_weight", q.uvpc_base_weight);
+    c.check(q.ae_stop_occupancy > 0.0 && q.ae_stop_occupancy <= 1.0, "ae_stop_occupancy", "must be in (0, 1]");
+    c.check(q.unknown_low >= 0.0 && q.unknown_low <= 1.0, "unknown_low", "must be in [0, 1]");
+    c.check(q.unknown_high >= q.unknown_low && q.unknown_high <= 1.0, "unknown_high", "must be in [unknown_low, 1]");
+    c.finish();
+  }
+  {
+    YamlReader c = y.child("planner");
+    p.planner.top_k = count(c, "top_k", p.planner.top_k, 1, 1000);
+    c.finish();
+  }
+  return p;
+}
+
+NbvParams NbvParams::load(const std::string& path) {
+  YamlReader y = YamlReader::load_file(path);
+  NbvParams p = from_yaml(y);
+  y.finish();
+  return p;
+}
+
+YAML::Node NbvParams::to_yaml() const {
+  YAML::Node n;
+  n["cluster"]["min_logodds"] = cluster.min_logodds;
+  n["cluster"]["epsilon_m"] = cluster.epsilon_m;
+  n["cluster"]["min_points"] = cluster.min_points;
+  n["candidates"]["radius_m"] = candidates.radius_m;
+  n["candidates"]["polar_count"] = candidates.polar_count;
+  n["candidates"]["polar_min_deg"] = candidates.polar_min_deg;
+  n["candidates"]["polar_max_deg"] = candidates.polar_max_deg;
+  n["candidates"]["azimuth_count"] = candidates.azimuth_count;
+  n["candidates"]["min_height_m"] = candidates.min_height_m;
+  n["rays"]["cluster_size_m"] = rays.cluster_size_m;
+  n["rays"]["step_m"] = rays.step_m;
+  n["rays"]["dense_grid"] = rays.dense_grid;
+  n["rays"]["sparse_grid"] = rays.sparse_grid;
+  n["rays"]["depth_margin_m"] = rays.depth_margin_m;
+  n["gain"]["max_dist_m"] = gain.max_dist_m;
+  n["gain"]["ae_stop_occupancy"] = gain.ae_stop_occupancy;
+  n["gain"]["unknown_low"] = gain.unknown_low;
+  n["gain"]["unknown_high"] = gain.unknown_high;
+  n["gain"]["uvpc_base_weight"] = gain.uvpc_base_weight;
+  n["planner"]["top_k"] = planner.top_k;
+  return n;
+}
+
+bool NbvParams::operator==(const NbvParams& o) const {
+  const auto& a = *this;
+  return a.cluster.min_logodds == o.cluster.min_logodds && a.cluster.epsilon_m == o.cluster.epsilon_m &&
+         a.cluster.min_points == o.cluster.min_points && a.candidates.radius_m == o.candidates.radius_m &&
+         a.candidates.polar_count == o.candidates.polar_count &&
+         a.candidates.polar_min_deg == o.candidates.polar_min_deg &&
+         a.candidates.polar_max_deg == o.candidates.polar_max_deg &&
+         a.candidates.azimuth_count == o.candidates.azimuth_count &&
+         a.candidates.min_height_m == o.candidates.min_height_m && a.rays.cluster_size_m == o.rays.cluster_size_m &&
+         a.rays.step_m == o.rays.step_m && a.rays.dense_grid == o.rays.dense_grid &&
+         a.rays.sparse_grid == o.rays.sparse_grid && a.rays.depth_margin_m == o.rays.depth_margin_m &&
+         a.gain.max_dist_m == o.gain.max_dist_m && a.gain.ae_stop_occupancy == o.gain.ae_stop_occupancy &&
+         a.gain.unknown_low == o.gain.unknown_low && a.gain.unknown_high == o.gain.unknown_high &&
+         a.gain.uvpc_base_weight == o.gain.uvpc_base_weight && a.planner.top_k == o.planner.top_k;
+}
+
+}  // namespace canopy::nbv

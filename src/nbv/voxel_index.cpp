@@ -1,0 +1,297 @@
+#include "canopy/nbv/voxel_index.h"
+
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <unordered_map>
+
+#include "canopy/common/error.h"
+
+namespace canopy::nbv {
+
+namespace {
+
+constexpr std::uint64_t kEmpty = ~std::uint64_t{0};
+
+inline std::uint64_t brick_key_of(const octomap::OcTreeKey& k) {
+  constexpr int b = VoxelIndex::kBrickBits;
+  return std::uint64_t(k[0] >> b) | (std::uint64_t(k[1] >> b) << 13) | (std::uint64_t(k[2] >> b) << 26);
+}
+
+inline unsigned cell_of(unsigned x, unsigned y, unsigned z) {
+  constexpr unsigned m = VoxelIndex::kBrickSide - 1;
+  return (x & m) | ((y & m) << VoxelIndex::kBrickBits) | ((z & m) << (2 * VoxelIndex::kBrickBits));
+}
+
+inline std::uint64_t hash64(std::uint64_t x) {
+  x ^= x >> 33;
+  x *= 0xff51afd7ed558ccdULL;
+  x ^= x >> 33;
+  x *= 0xc4ceb9fe1a85ec53ULL;
+  return x ^ (x >> 33);
+}
+
+// Bytewise key of a SemanticState for interning (the struct has no padding: 20 bytes).
+struct StateBytes {
+  std::uint64_t a = 0, b = 0;
+  std::uint32_t c = 0;
+  explicit StateBytes(const mapping::SemanticState& s) {
+    static_assert(sizeof(mapping::SemanticState) == 20, "SemanticState layout changed");
+    unsigned char buf[20];
+    std::memcpy(buf, &s, 20);
+    std::memcpy(&a, buf, 8);
+    std::memcpy(&b, buf + 8, 8);
+    std::memcpy(&c, buf + 16, 4);
+  }
+  bool operator==(const StateBytes& o) const { return a == o.a && b == o.b && c == o.c; }
+};
+struct StateHash {
+  std::size_t operator()(const StateBytes& s) const { return hash64(s.a ^ hash64(s.b ^ (std::uint64_t(s.c) << 7))); }
+};
+
+double binary_entropy(double p) {
+  if (p <= 0.0 || p >= 1.0) return 0.0;
+  return -p * std::log(p) - (1.0 - p) * std::log(1.0 - p);
+}
+
+// KL(q || p) where q_j is proportional to p_j e^{delta_j}: sum_j q_j delta_j - ln sum_j p_j e^{delta_j}.
+double update_kl(const double* p, const double* delta, int n) {
+  double z = 0.0;
+  for (int j = 0; j < n; ++j) z += p[j] * std::exp(delta[j]);
+  if (!(z > 0.0)) return 0.0;
+  double s = 0.0;
+  for (int j = 0; j < n; ++j) s += p[j] * std::exp(delta[j]) / z * delta[j];
+  return std::max(0.0, s - std::log(z));
+}
+
+}  // namespace
+
+VoxelInfo make_voxel_info(const mapping::SemanticOcTree& map, const mapping::SemanticState* state) {
+  VoxelInfo v;
+  const int K = map.num_classes();
+  CANOPY_CHECK(K + 1 <= VoxelInfo::kMaxCategories, "VoxelInfo holds at most " << VoxelInfo::kMaxCategories - 1
+                                                                              << " classes, the map has " << K);
+  // MI treats an unknown voxel as a fresh leaf (p_occ = 0.5, classes equally likely): the state
+  // a voxel has before its first update.
+  const mapping::SemanticState fresh{};
+  const mapping::SemanticState& s = state ? *state : fresh;
+  v.known = state != nullptr;
+  if (state) {
+    v.p_occ = float(s.occupancy());
+    v.entropy = float(s.entropy());
+    v.binary_entropy = float(binary_entropy(s.occupancy()));
+    v.cls = static_cast<std::int8_t>(s.most_likely_class());
+    v.is_target = mapping::SemanticOcTree::is_class_voxel(s, map.classes().target_index());
+  } else {
+    v.p_occ = 0.5f;
+    v.entropy = float(map.unseen_entropy());
+    v.binary_entropy = float(std::log(2.0));
+  }
+  double p[VoxelInfo::kMaxCategories] = {};
+  s.distribution(K, p);
+  for (int j = 0; j <= K; ++j) v.prob[j] = float(p[j]);
+  const mapping::UpdateRule rule = map.rule();
+  double delta[VoxelInfo::kMaxCategories] = {};
+  for (int j = 1; j <= K; ++j) delta[j] = rule.pass;
+  v.kl_free = float(update_kl(p, delta, K + 1));
+  for (int k = 0; k < K; ++k) {
+    delta[k + 1] = rule.hit;
+    v.kl_hit[k] = float(update_kl(p, delta, K + 1));
+    delta[k + 1] = rule.pass;
+  }
+  return v;
+}
+
+void VoxelIndex::grow() {
+  const std::size_t cap = table_keys_.empty() ? 1024 : table_keys_.size() * 2;
+  table_keys_.assign(cap, kEmpty);
+  table_values_.assign(cap, 0);
+  table_mask_ = cap - 1;
+  for (std::size_t i = 0; i < brick_keys_.size(); ++i) {
+    std::uint64_t h = hash64(brick_keys_[i]) & table_mask_;
+    while (table_keys_[h] != kEmpty) h = (h + 1) & table_mask_;
+    table_keys_[h] = brick_keys_[i];
+    table_values_[h] = static_cast<std::uint32_t>(i);
+  }
+}
+
+std::uint32_t* VoxelIndex::brick_for_insert(std::uint64_t bk) {
+  if ((brick_keys_.size() + 1) * 2 > table_keys_.size()) grow();
+  std::uint64_t h = hash64(bk) & table_mask_;
+  while (table_keys_[h] != kEmpty) {
+    if (table_keys_[h] == bk) return &cells_[std::size_t(table_values_[h]) * kBrickCells];
+    h = (h + 1) & table_mask_;
+  }
+  table_keys_[h] = bk;
+  table_values_[h] = static_cast<std::uint32_t>(brick_keys_.size());
+  brick_keys_.push_back(bk);
+  cells_.resize(cells_.size() + kBrickCells, 0u);
+  return &cells_[cells_.size() - kBrickCells];
+}
+
+const std::uint32_t* VoxelIndex::brick(std::uint64_t bk) const {
+  if (table_keys_.empty()) return nullptr;
+  std::uint64_t h = hash64(bk) & table_mask_;
+  for (;;) {
+    const std::uint64_t k = table_keys_[h];
+    if (k == bk) return &cells_[std::size_t(table_values_[h]) * kBrickCells];
+    if (k == kEmpty) return nullptr;
+    h = (h + 1) & table_mask_;
+  }
+}
+
+void VoxelIndex::rebuild(const mapping::SemanticOcTree& map) {
+  const auto t0 = std::chrono::steady_clock::now();
+  map_ = &map;
+  revision_ = map.revision();
+  resolution_ = map.getResolution();
+  palette_.clear();
+  palette_.push_back(make_voxel_info(map, nullptr));
+  cells_.clear();
+  brick_keys_.clear();
+  table_keys_.clear();
+  table_values_.clear();
+  grow();
+
+  std::unordered_map<StateBytes, std::uint32_t, StateHash> ids;
+  ids.reserve(1024);
+  map.for_each_leaf([&](const octomap::OcTreeKey& key, unsigned depth, const mapping::SemanticState& state) {
+    const StateBytes sb(state);
+    auto it = ids.find(sb);
+    std::uint32_t id;
+    if (it == ids.end()) {
+      id = static_cast<std::uint32_t>(palette_.size());
+      palette_.push_back(make_voxel_info(map, &state));
+      ids.emplace(sb, id);
+    } else {
+      id = it->second;
+    }
+    const unsigned side = 1u << (16 - depth);
+    if (side == 1) {
+      brick_for_insert(brick_key_of(key))[cell_of(key[0], key[1], key[2])] = id;
+      return;
+    }
+    unsigned lo[3], hi[3];  // voxel key range [lo, hi]
+    for (int i = 0; i < 3; ++i) {
+      lo[i] = unsigned(key[i]) - side / 2;
+      hi[i] = lo[i] + side - 1;
+    }
+    // Fill brick by brick.
+    for (unsigned bz = lo[2] >> kBrickBits; bz <= hi[2] >> kBrickBits; ++bz)
+      for (unsigned by = lo[1] >> kBrickBits; by <= hi[1] >> kBrickBits; ++by)
+        for (unsigned bx = lo[0] >> kBrickBits; bx <= hi[0] >> kBrickBits; ++bx) {
+          const std::uint64_t bk = std::uint64_t(bx) | (std::uint64_t(by) << 13) | (std::uint64_t(bz) << 26);
+          std::uint32_t* cells = brick_for_insert(bk);
+          const unsigned x0 = std::max(lo[0], bx << kBrickBits), x1 = std::min(hi[0], (bx << kBrickBits) + kBrickSide - 1);
+          const unsigned y0 = std::max(lo[1], by << kBrickBits), y1 = std::min(hi[1], (by << kBrickBits) + kBrickSide - 1);
+          const unsigned z0 = std::max(lo[2], bz << kBrickBits), z1 = std::min(hi[2], (bz << kBrickBits) + kBrickSide - 1);
+          for (unsigned z = z0; z <= z1; ++z)
+            for (unsigned y = y0; y <= y1; ++y)
+              for (unsigned x = x0; x <= x1; ++x) cells[cell_of(x, y, z)] = id;
+        }
+  });
+  build_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+bool VoxelIndex::refresh(const mapping::SemanticOcTree& map) {
+  if (map_ == &map && revision_ == map.revision()) return false;
+  rebuild(map);
+  return true;
+}
+
+std::uint32_t VoxelIndex::lookup(const octomap::OcTreeKey& key) const {
+  const std::uint32_t* b = brick(brick_key_of(key));
+  return b ? b[cell_of(key[0], key[1], key[2])] : 0u;
+}
+
+std::size_t VoxelIndex::max_voxels(double length_m) const {
+  if (!(resolution_ > 0.0) || !std::isfinite(length_m)) return 0;
+  return static_cast<std::size_t>(3.0 * (length_m / resolution_ + 2.0)) + 4;
+}
+
+std::size_t VoxelIndex::memory_bytes() const {
+  return palette_.capacity() * sizeof(VoxelInfo) + cells_.capacity() * sizeof(std::uint32_t) +
+         brick_keys_.capacity() * 8 + table_keys_.capacity() * 8 + table_values_.capacity() * 4;
+}
+
+std::size_t VoxelIndex::cast(const Vec3& origin_d, const Vec3& end_d, const Vec3& target, RayVoxel* out,
+                             std::size_t capacity, bool* outside, octomap::OcTreeKey* keys) const {
+  if (outside) *outside = false;
+  CANOPY_CHECK(map_ != nullptr, "VoxelIndex::cast before rebuild");
+  const mapping::SemanticOcTree& map = *map_;
+  // The same arithmetic as OcTreeBaseImpl::computeRayKeys (float points, double steps), so the
+  // fast traversal and the reference visit exactly the same voxels.
+  const octomap::point3d origin(float(origin_d.x()), float(origin_d.y()), float(origin_d.z()));
+  const octomap::point3d end(float(end_d.x()), float(end_d.y()), float(end_d.z()));
+  octomap::OcTreeKey key_origin, key_end;
+  if (!map.coordToKeyChecked(origin, key_origin) || !map.coordToKeyChecked(end, key_end)) {
+    if (outside) *outside = true;
+    return 0;
+  }
+  if (key_origin == key_end || capacity == 0) return 0;
+
+  std::size_t n = 0;
+  std::uint64_t cached_bk = kEmpty;
+  const std::uint32_t* cached = nullptr;
+  const double res = resolution_;
+  const int tmv = 32768;  // tree_max_val of a 16-level tree
+  auto emit = [&](const octomap::OcTreeKey& k) {
+    const std::uint64_t bk = brick_key_of(k);
+    if (bk != cached_bk) {
+      cached_bk = bk;
+      cached = brick(bk);
+    }
+    const std::uint32_t id = cached ? cached[cell_of(k[0], k[1], k[2])] : 0u;
+    const double cx = (double(static_cast<int>(k[0]) - tmv) + 0.5) * res - target.x();
+    const double cy = (double(static_cast<int>(k[1]) - tmv) + 0.5) * res - target.y();
+    const double cz = (double(static_cast<int>(k[2]) - tmv) + 0.5) * res - target.z();
+    if (keys) keys[n] = k;
+    out[n].info = &palette_[id];
+    out[n].id = id;
+    out[n].dist_m = float(std::sqrt(cx * cx + cy * cy + cz * cz));
+    ++n;
+  };
+  emit(key_origin);
+
+  octomap::point3d direction = end - origin;
+  const float length = float(direction.norm());
+  direction /= length;
+  int step[3];
+  double t_max[3], t_delta[3];
+  octomap::OcTreeKey current = key_origin;
+  for (unsigned i = 0; i < 3; ++i) {
+    step[i] = direction(i) > 0.0 ? 1 : (direction(i) < 0.0 ? -1 : 0);
+    if (step[i] != 0) {
+      double border = map.keyToCoord(current[i]);
+      border += float(step[i] * res * 0.5);
+      t_max[i] = (border - origin(i)) / direction(i);
+      t_delta[i] = res / std::fabs(direction(i));
+    } else {
+      t_max[i] = std::numeric_limits<double>::max();
+      t_delta[i] = std::numeric_limits<double>::max();
+    }
+  }
+  while (n < capacity) {
+    unsigned dim;
+    if (t_max[0] < t_max[1]) dim = t_max[0] < t_max[2] ? 0 : 2;
+    else dim = t_max[1] < t_max[2] ? 1 : 2;
+    current[dim] = static_cast<octomap::key_type>(current[dim] + step[dim]);
+    t_max[dim] += t_delta[dim];
+    if (current == key_end) break;
+    if (std::min(std::min(t_max[0], t_max[1]), t_max[2]) > length) break;
+    emit(current);
+  }
+  return n;
+}
+
+bool cast_reference(const mapping::SemanticOcTree& map, const Vec3& origin, const Vec3& end,
+                    octomap::KeyRay* scratch, std::vector<ReferenceVoxel>* out) {
+  const octomap::point3d o(float(origin.x()), float(origin.y()), float(origin.z()));
+  const octomap::point3d e(float(end.x()), float(end.y()), float(end.z()));
+  if (!map.computeRayKeys(o, e, *scratch)) return false;
+  for (const octomap::OcTreeKey& k : *scratch) out->push_back({k, map.find(k)});
+  return true;
+}
+
+}  // namespace canopy::nbv

@@ -1,0 +1,86 @@
+#include <gtest/gtest.h>
+
+#include "canopy/nbv/candidates.h"
+#include "canopy/nbv/ray_sets.h"
+#include "canopy/common/error.h"
+
+using namespace canopy;
+using namespace canopy::nbv;
+
+TEST(Candidates, FiftyViewsOnTheSphereLookingAtTheCentroid) {
+  const Vec3 c(1.0, 2.0, 1.0);
+  const CandidateParams p;
+  const auto cands = sample_candidates(c, 3, p);
+  ASSERT_EQ(cands.size(), 50u);
+  double min_polar = 1e9, max_polar = -1e9;
+  for (std::size_t i = 0; i < cands.size(); ++i) {
+    const Pose& T = cands[i].T_world_camera;
+    EXPECT_NEAR((T.translation() - c).norm(), 0.4, 1e-12);
+    EXPECT_EQ(cands[i].cluster, 3);
+    // optical axis towards the centroid
+    EXPECT_NEAR(T.linear().col(2).dot((c - T.translation()).normalized()), 1.0, 1e-12);
+    // zero roll: x horizontal, image up (-y) has positive world z
+    EXPECT_NEAR(T.linear().col(0).z(), 0.0, 1e-12);
+    EXPECT_GT(-T.linear().col(1).z(), 0.0);
+    EXPECT_NEAR(T.linear().determinant(), 1.0, 1e-12);
+    min_polar = std::min(min_polar, cands[i].polar_deg);
+    max_polar = std::max(max_polar, cands[i].polar_deg);
+    for (std::size_t j = 0; j < i; ++j)
+      EXPECT_GT((cands[j].T_world_camera.translation() - T.translation()).norm(), 1e-3) << "duplicate " << i << " " << j;
+  }
+  EXPECT_DOUBLE_EQ(min_polar, 30.0);
+  EXPECT_DOUBLE_EQ(max_polar, 150.0);
+  EXPECT_DOUBLE_EQ(cands[9].azimuth_deg, 324.0);  // no 360
+}
+
+TEST(Candidates, BelowTheFloorDropped) {
+  const auto cands = sample_candidates(Vec3(0, 0, 0.1), 0, CandidateParams{});
+  EXPECT_LT(cands.size(), 50u);
+  for (const auto& c : cands) EXPECT_GE(c.T_world_camera.translation().z(), 0.05);
+}
+
+TEST(Candidates, StraightDownHasAnUpVector) {
+  const Pose T = look_at_zero_roll(Vec3(0, 0, 1), Vec3(0, 0, 0));
+  EXPECT_TRUE(T.linear().allFinite());
+  EXPECT_NEAR(T.linear().determinant(), 1.0, 1e-12);
+  EXPECT_NEAR(T.linear().col(2).z(), -1.0, 1e-12);
+}
+
+// Ours at z = 0.4 m: b = 95.3 px, ds = 14.3 px, a proper 7 x 7 grid centred on the target.
+TEST(RaySets, OursIsAProperGrid) {
+  CameraIntrinsics K;
+  RayParams p;
+  std::vector<Vec2> px;
+  ray_set("ours").pixels(K, p, RayWindow{200.0, 200.0, 0.4}, &px);
+  ASSERT_EQ(px.size(), 49u);
+  const double ds = 0.015 * 381.36 / 0.4;
+  Vec2 mean = Vec2::Zero();
+  for (const auto& q : px) mean += q / 49.0;
+  EXPECT_NEAR(mean.x(), 200.0, 1e-9);
+  EXPECT_NEAR(mean.y(), 200.0, 1e-9);
+  for (int j = 0; j < 7; ++j)
+    for (int i = 0; i < 7; ++i) {
+      EXPECT_NEAR(px[j * 7 + i].x(), 200.0 + (i - 3) * ds, 1e-9);
+      EXPECT_NEAR(px[j * 7 + i].y(), 200.0 + (j - 3) * ds, 1e-9);  // rows are not sheared
+    }
+  // Near the border part of the grid falls outside; far outside none is left.
+  ray_set("ours").pixels(K, p, RayWindow{2.0, 200.0, 0.4}, &px);
+  EXPECT_EQ(px.size(), 28u);
+  ray_set("ours").pixels(K, p, RayWindow{-500.0, 200.0, 0.4}, &px);
+  EXPECT_TRUE(px.empty());
+  ray_set("ours").pixels(K, p, RayWindow{200.0, 200.0, 0.0}, &px);
+  EXPECT_TRUE(px.empty());
+}
+
+TEST(RaySets, DenseAndSparseCoverTheImage) {
+  CameraIntrinsics K;
+  std::vector<Vec2> px;
+  ray_set("dense").pixels(K, RayParams{}, RayWindow{}, &px);
+  EXPECT_EQ(px.size(), 784u);
+  ray_set("sparse").pixels(K, RayParams{}, RayWindow{}, &px);
+  ASSERT_EQ(px.size(), 36u);
+  EXPECT_NEAR(px.front().x(), 400.0 / 12, 1e-9);
+  EXPECT_NEAR(px.back().y(), 400.0 - 400.0 / 12, 1e-9);
+  EXPECT_EQ(ray_set_names(), (std::vector<std::string>{"ours", "dense", "sparse"}));
+  EXPECT_THROW(ray_set("all", "--rays"), InputError);
+}
