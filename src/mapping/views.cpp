@@ -9,19 +9,6 @@
 
 namespace canopy::mapping {
 
-Pose look_at(const Vec3& eye, const Vec3& target) {
-  const Vec3 z = (target - eye).normalized();
-  Vec3 up = Vec3::UnitZ() - Vec3::UnitZ().dot(z) * z;
-  if (up.norm() < 1e-6) up = Vec3::UnitY() - Vec3::UnitY().dot(z) * z;
-  const Vec3 y = -up.normalized();
-  Pose T = Pose::Identity();
-  T.linear().col(0) = y.cross(z);
-  T.linear().col(1) = y;
-  T.linear().col(2) = z;
-  T.translation() = eye;
-  return T;
-}
-
 std::vector<Pose> ring_views(const world::World& world, const RingViews& ring) {
   std::vector<Pose> out;
   for (const world::Plant& p : world.plants) {

@@ -182,3 +182,26 @@ TEST(ScanInserter, ThreadCountDoesNotChangeTheMap) {
   });
   EXPECT_GT(n, 1000u);
 }
+
+// Rays too long for the dense grid take the sort-and-deduplicate path: same cells.
+TEST(ScanInserter, LongRaysUseTheFallbackWithTheSameCells) {
+  SemanticMapParams p;
+  p.max_range_m = 20.0;
+  p.ray_range_m = 20.0;
+  SemanticOcTree map(p, SemanticClasses{});
+  ScanInserter ins(map);
+  const Vec3 origin(0.0, 0.0, 1.0), end(7.003, 7.207, 7.111);  // box of ~470^3 cells > the grid cap
+  std::vector<VoxelUpdate> updates;
+  InsertStats st;
+  ins.compute_updates(one_point(origin, end), &updates, &st);
+  octomap::OcTreeKey kp;
+  ASSERT_TRUE(map.key_of(end, &kp));
+  std::vector<octomap::OcTreeKey> ref;
+  ASSERT_TRUE(ray_free_keys(map, origin, map.center_of(kp), &ref));
+  std::set<std::uint64_t> expected = codes(ref), got;
+  for (const auto& u : updates)
+    if (u.label == VoxelUpdate::kFree) got.insert(u.code);
+  EXPECT_EQ(got, expected);
+  EXPECT_GT(got.size(), 500u);
+  EXPECT_EQ(st.hit_voxels, 1u);
+}

@@ -5,15 +5,11 @@
 #include <string>
 #include <vector>
 
+#include "canopy/common/camera.h"  // look_at
 #include "canopy/common/types.h"
 #include "canopy/world/world.h"
 
 namespace canopy::mapping {
-
-/// Camera (optical frame: x right, y down, z forward) at `eye` looking at `target` with zero
-/// roll: the image's up direction has positive world z (falls back to world y when looking
-/// straight up or down).
-Pose look_at(const Vec3& eye, const Vec3& target);
 
 /// The `ring` preset: around each plant, `azimuths` cameras on a horizontal circle of radius
 /// `radius_m` at each height (fractions of the plant's height), looking at the plant's axis
