@@ -112,7 +112,8 @@ LabelledFrame Renderer::render(const Pose& T_world_camera, bool show_robot, bool
   last_triangles_ = 0;
   for (int g = 0; g < r.scene.ngeom; ++g) {
     const mjvGeom& geom = r.scene.geoms[g];
-    if (geom.type == mjGEOM_MESH && geom.dataid >= 0) last_triangles_ += m->mesh_facenum[geom.dataid];
+    if (geom.type == mjGEOM_MESH && geom.objtype == mjOBJ_GEOM && m->geom_dataid[geom.objid] >= 0)
+      last_triangles_ += m->mesh_facenum[m->geom_dataid[geom.objid]];
     else if (geom.type == mjGEOM_BOX) last_triangles_ += 12;
     else if (geom.type == mjGEOM_PLANE) last_triangles_ += 2;
     else last_triangles_ += 2L * m->vis.quality.numslices * m->vis.quality.numstacks;
