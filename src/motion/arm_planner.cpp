@@ -122,6 +122,7 @@ PlannerParams PlannerParams::from_yaml(YamlReader& y, const PlannerParams& d) {
   p.try_direct_first = y.get("try_direct_first", d.try_direct_first);
   p.simplify = y.get("simplify", d.simplify);
   p.max_goal_configs = y.get("max_goal_configs", d.max_goal_configs);
+  p.start_limit_tolerance_rad = y.get("start_limit_tolerance_rad", d.start_limit_tolerance_rad);
   try {
     p.validate();
   } catch (const InputError& e) {
@@ -141,6 +142,8 @@ void PlannerParams::validate() const {
     throw InputError("planner: motion_check_resolution_rad must be > 0");
   if (!(std::isfinite(range_rad) && range_rad >= 0.0)) throw InputError("planner: range_rad must be >= 0");
   if (max_goal_configs < 1 || max_goal_configs > 8) throw InputError("planner: max_goal_configs must be in [1, 8]");
+  if (!(std::isfinite(start_limit_tolerance_rad) && start_limit_tolerance_rad >= 0.0))
+    throw InputError("planner: start_limit_tolerance_rad must be >= 0");
 }
 
 ArmPlanner::ArmPlanner(const CollisionChecker& checker, const PlannerParams& params, const TrajectoryParams& trajectory)
@@ -190,7 +193,7 @@ PlanResult ArmPlanner::plan_to_camera_pose(const BasePose& base, const ArmConfig
   return r;
 }
 
-PlanResult ArmPlanner::plan_to_configs(const BasePose& base, const ArmConfig& start,
+PlanResult ArmPlanner::plan_to_configs(const BasePose& base, const ArmConfig& start_in,
                                        const std::vector<ArmConfig>& goals_in) const {
   const auto t0 = std::chrono::steady_clock::now();
   PlanResult r;
@@ -201,6 +204,13 @@ PlanResult ArmPlanner::plan_to_configs(const BasePose& base, const ArmConfig& st
     return r;
   };
   const RobotModel& model = checker_->model();
+  // A measured start may overshoot a limit slightly (a goal at the limit, servo error).
+  ArmConfig start = start_in;
+  for (int i = 0; i < kArmDof; ++i) {
+    const double tol = params_.start_limit_tolerance_rad;
+    if (start[i] < model.limits().lower[i] && start[i] >= model.limits().lower[i] - tol) start[i] = model.limits().lower[i];
+    if (start[i] > model.limits().upper[i] && start[i] <= model.limits().upper[i] + tol) start[i] = model.limits().upper[i];
+  }
   if (!std::isfinite(base.x_m) || !std::isfinite(base.y_m) || !std::isfinite(base.yaw_rad))
     return fail(PlanStatus::kInvalidInput, "base pose is not finite");
   if (!model.within_limits(start))

@@ -9,7 +9,9 @@
 #include <fcl/narrowphase/collision.h>
 #include <octomap/OcTree.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 #include "canopy/common/error.h"
 #include "canopy/common/yaml_reader.h"
@@ -33,6 +35,23 @@ std::shared_ptr<Geometry> make_geometry(const robot::Shape& s, double pad) {
   }
   g->computeLocalAABB();
   return g;
+}
+
+// World-axis bounding box of a shape (inflated by pad) at pose T.
+void shape_aabb(const robot::Shape& s, const Pose& T, double pad, Vec3* lo, Vec3* hi) {
+  const Mat3& R = T.linear();
+  Vec3 half = Vec3::Zero();
+  switch (s.type) {
+    case robot::ShapeType::kBox: half = R.cwiseAbs() * (0.5 * s.box_size + Vec3::Constant(pad)); break;
+    case robot::ShapeType::kSphere: half = Vec3::Constant(s.radius + pad); break;
+    case robot::ShapeType::kCylinder:
+      half = (0.5 * s.length + pad) * R.col(2).cwiseAbs() + Vec3::Constant(s.radius + pad);
+      break;
+    case robot::ShapeType::kCapsule: half = 0.5 * s.length * R.col(2).cwiseAbs() + Vec3::Constant(s.radius + pad); break;
+    case robot::ShapeType::kMesh: half = Vec3::Constant(1e3); break;
+  }
+  *lo = T.translation() - half;
+  *hi = T.translation() + half;
 }
 
 bool collide(const Geometry& a, const Pose& Ta, const Geometry& b, const Pose& Tb) {
@@ -68,9 +87,35 @@ void CollisionParams::validate() const {
 }
 
 // ----------------------------------------------------------------------------------------
+// A coarse occupancy grid beside the octree: FCL's octree traversal costs several
+// microseconds even far from any voxel, so shapes whose bounding box touches no occupied
+// coarse cell skip it (an exact, conservative test).
+struct CoarseGrid {
+  Vec3 origin = Vec3::Zero();
+  double cell = 0.06;
+  Eigen::Vector3i dims = Eigen::Vector3i::Zero();
+  std::vector<std::uint8_t> occupied;
+
+  bool any(const Vec3& lo, const Vec3& hi) const {
+    if (occupied.empty()) return false;
+    Eigen::Vector3i a, b;
+    for (int i = 0; i < 3; ++i) {
+      a[i] = std::max(0, static_cast<int>(std::floor((lo[i] - origin[i]) / cell)));
+      b[i] = std::min(dims[i] - 1, static_cast<int>(std::floor((hi[i] - origin[i]) / cell)));
+      if (a[i] > b[i]) return false;
+    }
+    for (int z = a.z(); z <= b.z(); ++z)
+      for (int y = a.y(); y <= b.y(); ++y)
+        for (int x = a.x(); x <= b.x(); ++x)
+          if (occupied[(static_cast<size_t>(z) * dims.y() + y) * dims.x() + x]) return true;
+    return false;
+  }
+};
+
 struct CollisionEnvironment::Impl {
   std::shared_ptr<const octomap::OcTree> octomap;
   std::shared_ptr<fcl::OcTreed> octree;
+  CoarseGrid coarse;
 };
 
 CollisionEnvironment::~CollisionEnvironment() = default;
@@ -91,6 +136,31 @@ std::shared_ptr<const CollisionEnvironment> CollisionEnvironment::from_voxels(co
   std::shared_ptr<CollisionEnvironment> env(new CollisionEnvironment());
   env->impl_ = std::make_unique<Impl>();
   env->impl_->octomap = tree;
+  // Coarse grid over the voxels' bounds; a cell is marked when a voxel cube overlaps it.
+  CoarseGrid& g = env->impl_->coarse;
+  g.cell = std::max(4.0 * resolution_m, 0.02);
+  Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
+  for (auto it = tree->begin_leafs(); it != tree->end_leafs(); ++it) {
+    const Vec3 c(it.getX(), it.getY(), it.getZ());
+    const double h = 0.5 * it.getSize();
+    lo = lo.cwiseMin(c - Vec3::Constant(h));
+    hi = hi.cwiseMax(c + Vec3::Constant(h));
+  }
+  if (lo.x() <= hi.x()) {
+    g.origin = lo;
+    for (int i = 0; i < 3; ++i) g.dims[i] = std::max(1, static_cast<int>(std::ceil((hi[i] - lo[i]) / g.cell)));
+    g.occupied.assign(static_cast<size_t>(g.dims.x()) * g.dims.y() * g.dims.z(), 0);
+    for (auto it = tree->begin_leafs(); it != tree->end_leafs(); ++it) {
+      const Vec3 c(it.getX(), it.getY(), it.getZ());
+      const double h = 0.5 * it.getSize();
+      const Vec3 a = ((c - Vec3::Constant(h) - g.origin) / g.cell).array().floor();
+      const Vec3 b = ((c + Vec3::Constant(h) - g.origin) / g.cell).array().floor();
+      for (int z = std::max(0, int(a.z())); z <= std::min(g.dims.z() - 1, int(b.z())); ++z)
+        for (int y = std::max(0, int(a.y())); y <= std::min(g.dims.y() - 1, int(b.y())); ++y)
+          for (int x = std::max(0, int(a.x())); x <= std::min(g.dims.x() - 1, int(b.x())); ++x)
+            g.occupied[(static_cast<size_t>(z) * g.dims.y() + y) * g.dims.x() + x] = 1;
+    }
+  }
   env->impl_->octree = std::make_shared<fcl::OcTreed>(tree);
   env->impl_->octree->computeLocalAABB();
   env->voxel_count_ = tree->getNumLeafNodes();
@@ -185,9 +255,14 @@ bool CollisionChecker::check(const BasePose& base, const ArmConfig& q, BodySet s
         collide(*shapes_->padded[b], poses[b], *shapes_->ground, Pose::Identity()) &&
         found(bodies[b].shape.name + " | ground"))
       return true;
-    if (environment_ && collide(*shapes_->padded[b], poses[b], *environment_->impl().octree, Pose::Identity()) &&
-        found(bodies[b].shape.name + " | map"))
-      return true;
+    if (environment_) {
+      Vec3 lo, hi;
+      shape_aabb(bodies[b].shape, poses[b], params_.environment_padding_m, &lo, &hi);
+      if (environment_->impl().coarse.any(lo, hi) &&
+          collide(*shapes_->padded[b], poses[b], *environment_->impl().octree, Pose::Identity()) &&
+          found(bodies[b].shape.name + " | map"))
+        return true;
+    }
   }
   return hit;
 }

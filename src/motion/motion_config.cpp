@@ -119,7 +119,8 @@ nlohmann::json MotionConfig::to_json() const {
                   {"range_rad", planner.range_rad},
                   {"try_direct_first", planner.try_direct_first},
                   {"simplify", planner.simplify},
-                  {"max_goal_configs", planner.max_goal_configs}};
+                  {"max_goal_configs", planner.max_goal_configs},
+                  {"start_limit_tolerance_rad", planner.start_limit_tolerance_rad}};
   j["trajectory"] = {{"velocity_scale", trajectory.velocity_scale},
                      {"acceleration_scale", trajectory.acceleration_scale}};
   j["workspace"] = {{"samples", workspace.samples},

@@ -90,6 +90,7 @@ RobotModel::RobotModel(robot::RobotDescription description, const RobotConfig& c
 
   T_base_arm_ = description_.relative_pose(links[static_cast<size_t>(base_link_)].name, config.arm_base_frame, {});
   T_tool_camera_ = description_.relative_pose(config.tool_frame, config.camera_frame, {});
+  T_camera_tool_ = T_tool_camera_.inverse(Eigen::Isometry);
 
   for (size_t i = 0; i < n; ++i) {
     for (const robot::Shape& s : links[i].collisions) {
@@ -135,7 +136,7 @@ IkResult RobotModel::camera_ik_in_arm(const Pose& T_arm_camera, const ArmConfig&
   IkResult out;
   for (int i = 0; i < kArmDof; ++i)
     if (!std::isfinite(seed[i])) return out;
-  const Pose T06 = T_arm_camera * T_tool_camera_.inverse(Eigen::Isometry);
+  const Pose T06 = T_arm_camera * T_camera_tool_;
   const UrIkSolutions raw = ur_.ik(T06, seed[5]);
   std::array<double, 8> dist{};
   for (int s = 0; s < raw.count; ++s) {

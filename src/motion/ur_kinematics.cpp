@@ -110,9 +110,10 @@ void UrKinematics::fk_frames(const ArmConfig& q, std::array<Pose, 6>* frames) co
 UrIkSolutions UrKinematics::ik(const Pose& T06, double q6_seed) const {
   UrIkSolutions out;
   if (!T06.matrix().allFinite() || !std::isfinite(q6_seed)) return out;
-  const double d4 = dh_.d[3], d6 = dh_.d[5], a2 = dh_.a[1], a3 = dh_.a[2];
+  const double d1 = dh_.d[0], d4 = dh_.d[3], d5 = dh_.d[4], d6 = dh_.d[5], a2 = dh_.a[1], a3 = dh_.a[2];
+  const Mat3& R = T06.linear();
+  const Vec3 x6 = R.col(0), y6 = R.col(1), z6 = R.col(2);
   const Vec3 p06 = T06.translation();
-  const Vec3 z6 = T06.linear().col(2);
   const Vec3 p05 = p06 - d6 * z6;
 
   // Shoulder: the wrist centre lies d4 along z1 = (sin q1, -cos q1, 0).
@@ -123,35 +124,47 @@ UrIkSolutions UrKinematics::ik(const Pose& T06, double q6_seed) const {
   if (!clamp_unit(&ratio)) return out;
   const double phi = std::asin(ratio);
   const double q1s[2] = {wrap_angle(psi + phi), wrap_angle(psi + M_PI - phi)};
+  const double c6_seed = std::cos(q6_seed), s6_seed = std::sin(q6_seed);
 
   for (double q1 : q1s) {
     const double c1 = std::cos(q1), s1 = std::sin(q1);
-    const Vec3 z1(s1, -c1, 0.0);
+    // z1 = (s1, -c1, 0); x1 = (c1, s1, 0); y1 = world z (frame 1 after alpha1 = pi/2).
     // Wrist 2: z6 . z1 = cos q5.
-    double c5 = (p06.dot(z1) - d4) / d6;
+    double c5 = (p06.x() * s1 - p06.y() * c1 - d4) / d6;
     if (!clamp_unit(&c5)) continue;
-    const double q5a = std::acos(c5);
-    for (double q5 : {q5a, -q5a}) {
-      const double s5 = std::sin(q5);
-      // Wrist 3: z1 seen from frame 6 is (s5 c6, -s5 s6, c5).
-      double q6 = q6_seed;
+    const double s5_abs = std::sqrt(std::max(0.0, 1.0 - c5 * c5));
+    const double q5a = std::atan2(s5_abs, c5);
+    // z1 seen from frame 6 is (s5 c6, -s5 s6, c5).
+    const double wx = x6.x() * s1 - x6.y() * c1, wy = y6.x() * s1 - y6.y() * c1;
+    for (int wrist = 0; wrist < 2; ++wrist) {
+      const double s5 = wrist == 0 ? s5_abs : -s5_abs;
+      const double q5 = wrist == 0 ? q5a : -q5a;
+      double c6 = c6_seed, s6 = s6_seed, q6 = q6_seed;
       if (std::abs(s5) > kWristSingular) {
-        const Vec3 w = T06.linear().transpose() * z1;
-        q6 = std::atan2(-w.y() / s5, w.x() / s5);
+        c6 = wx / s5;
+        s6 = -wy / s5;
+        const double n = std::hypot(c6, s6);
+        c6 /= n;
+        s6 /= n;
+        q6 = std::atan2(s6, c6);
       }
-      // Planar 2R problem for joints 2-4 in frame 1.
-      const Pose T01 = dh_row(c1, s1, dh_.d[0], dh_.a[0], ca_[0], sa_[0]);
-      const Pose T45 = dh_row(std::cos(q5), s5, dh_.d[4], dh_.a[4], ca_[4], sa_[4]);
-      const Pose T56 = dh_row(std::cos(q6), std::sin(q6), dh_.d[5], dh_.a[5], ca_[5], sa_[5]);
-      const Pose T14 = T01.inverse(Eigen::Isometry) * T06 * (T45 * T56).inverse(Eigen::Isometry);
-      const double px = T14(0, 3), py = T14(1, 3);
-      const double q234 = std::atan2(T14(1, 0), T14(0, 0));
+      // Frame 4: z4 = -y5 = -(s6 x6 + c6 y6), x4 = c5 c6 x6 - c5 s6 y6 - s5 z6, and its
+      // origin p04 = p05 + d5 (s6 x6 + c6 y6). Joints 2-4 then form a planar 2R chain in
+      // frame 1, with q234 the angle of x4 in that plane.
+      const Vec3 y5 = s6 * x6 + c6 * y6;
+      const Vec3 p04 = p05 + d5 * y5;
+      const Vec3 x4 = c5 * (c6 * x6 - s6 * y6) - s5 * z6;
+      const double px = p04.x() * c1 + p04.y() * s1, py = p04.z() - d1;
+      const double q234 = std::atan2(x4.z(), x4.x() * c1 + x4.y() * s1);
       double c3 = (px * px + py * py - a2 * a2 - a3 * a3) / (2.0 * a2 * a3);
       if (!clamp_unit(&c3)) continue;
-      const double q3a = std::acos(c3);
-      for (double q3 : {q3a, -q3a}) {
-        const double s3 = std::sin(q3);
-        const double q2 = std::atan2(py, px) - std::atan2(a3 * s3, a2 + a3 * c3);
+      const double s3_abs = std::sqrt(std::max(0.0, 1.0 - c3 * c3));
+      const double q3a = std::atan2(s3_abs, c3);
+      const double base_angle = std::atan2(py, px);
+      for (int elbow = 0; elbow < 2; ++elbow) {
+        const double s3 = elbow == 0 ? s3_abs : -s3_abs;
+        const double q3 = elbow == 0 ? q3a : -q3a;
+        const double q2 = base_angle - std::atan2(a3 * s3, a2 + a3 * c3);
         const double q4 = q234 - q2 - q3;
         ArmConfig& q = out.q[static_cast<size_t>(out.count++)];
         q = {q1, wrap_angle(q2), q3, wrap_angle(q4), q5, wrap_angle(q6)};

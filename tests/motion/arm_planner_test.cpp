@@ -136,6 +136,15 @@ TEST_F(ArmPlannerTest, FailuresComeBackAsStatuses) {
   EXPECT_EQ(ArmPlanner(base_blocked, PlannerParams{}).plan_to_configs(base_, start, {start}).status,
             PlanStatus::kStartInCollision);
 
+  // A start a hair past a joint limit (servo overshoot) is clamped; further out it is invalid.
+  ArmConfig overshoot = start;
+  overshoot[5] = model().limits().upper[5] + 0.005;
+  const PlanResult clamped = planner.plan_to_configs(base_, overshoot, {start});
+  ASSERT_TRUE(clamped.ok()) << clamped.message;
+  EXPECT_EQ(clamped.path.front()[5], model().limits().upper[5]);
+  overshoot[5] = model().limits().upper[5] + 0.1;
+  EXPECT_EQ(planner.plan_to_configs(base_, overshoot, {start}).status, PlanStatus::kInvalidInput);
+
   // Timeout: a tiny budget and no straight-line shortcut.
   PlannerParams rushed;
   rushed.time_limit_s = 1e-5;

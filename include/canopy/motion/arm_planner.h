@@ -40,6 +40,9 @@ struct PlannerParams {
   bool try_direct_first = true;            ///< Try the straight joint-space line before OMPL.
   bool simplify = true;                    ///< Shortcut the path (deterministic, to convergence).
   int max_goal_configs = 8;                ///< IK solutions handed to the planner as goals.
+  /// A start up to this far outside the joint limits (servo overshoot at a limit) is
+  /// clamped into them; further out it is invalid input.
+  double start_limit_tolerance_rad = 0.01;
 
   static PlannerParams from_yaml(YamlReader& y, const PlannerParams& defaults);
   void validate() const;

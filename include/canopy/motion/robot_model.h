@@ -91,6 +91,7 @@ class RobotModel {
   ArmLimits limits_;
   Pose T_base_arm_ = Pose::Identity();
   Pose T_tool_camera_ = Pose::Identity();
+  Pose T_camera_tool_ = Pose::Identity();
   int base_link_ = -1;
   // Per link: which variable its parent joint reads (-1 fixed, 0..5 arm, 6..8 base x/y/yaw).
   std::vector<int> joint_variable_;
