@@ -139,33 +139,31 @@ IkResult RobotModel::camera_ik_in_arm(const Pose& T_arm_camera, const ArmConfig&
   const Pose T06 = T_arm_camera * T_camera_tool_;
   const UrIkSolutions raw = ur_.ik(T06, seed[5]);
   std::array<double, 8> dist{};
+  constexpr double kTwoPi = 2.0 * M_PI;
   for (int s = 0; s < raw.count; ++s) {
     ArmConfig q = raw.q[static_cast<size_t>(s)];
     bool ok = true;
     for (int i = 0; i < kArmDof && ok; ++i) {
-      // The 2*pi equivalent nearest the seed that is within limits.
-      const double k = std::round((seed[i] - q[i]) / (2.0 * M_PI));
-      double best = 0.0, best_d = 1e300;
-      for (double dk = -1; dk <= 1; ++dk) {
-        const double v = q[i] + 2.0 * M_PI * (k + dk);
-        if (v < limits_.lower[i] || v > limits_.upper[i]) continue;
-        if (std::abs(v - seed[i]) < best_d) {
-          best_d = std::abs(v - seed[i]);
-          best = v;
-        }
-      }
-      if (best_d == 1e300) ok = false;
-      q[i] = best;
+      // The 2*pi equivalent nearest the seed; if that is out of limits, the next one
+      // towards the allowed range (the nearest within limits).
+      double v = q[i] + kTwoPi * std::nearbyint((seed[i] - q[i]) / kTwoPi);
+      if (v < limits_.lower[i]) v += kTwoPi;
+      else if (v > limits_.upper[i]) v -= kTwoPi;
+      ok = v >= limits_.lower[i] && v <= limits_.upper[i];
+      q[i] = v;
     }
     if (!ok) continue;
+    double d2 = 0.0;
+    for (int i = 0; i < kArmDof; ++i) d2 += (q[i] - seed[i]) * (q[i] - seed[i]);
     bool duplicate = false;
     for (int t = 0; t < out.count && !duplicate; ++t) {
+      if (std::abs(dist[static_cast<size_t>(t)] - d2) > 1e-6) continue;  // cheap reject
       double m = 0.0;
       for (int i = 0; i < kArmDof; ++i) m = std::max(m, std::abs(out.q[static_cast<size_t>(t)][i] - q[i]));
       duplicate = m < 1e-9;
     }
     if (duplicate) continue;
-    dist[static_cast<size_t>(out.count)] = joint_distance(q, seed);
+    dist[static_cast<size_t>(out.count)] = d2;
     out.q[static_cast<size_t>(out.count++)] = q;
   }
   // Insertion sort by distance (at most 8 entries).
