@@ -27,6 +27,11 @@ constexpr std::uint64_t kInvalid = std::numeric_limits<std::uint64_t>::max();
 constexpr std::uint8_t kBeyond = 255;            // label byte of a point beyond max range
 constexpr std::uint64_t kBeyondFlag = 1ull << 63;  // on a ray target: no hit at its end
 constexpr std::size_t kMaxGridCells = std::size_t(1) << 26;
+// Below these sizes a phase runs on the calling thread (measured on 2 cores: waking a TBB
+// worker costs about as much as the work it would take over).
+constexpr std::size_t kParallelPoints = 100000;
+constexpr std::size_t kParallelRays = 8192;
+constexpr std::size_t kParallelCells = std::size_t(1) << 21;
 
 // Axis-aligned box of keys with a dense byte grid index.
 struct KeyBox {
@@ -43,9 +48,7 @@ struct KeyBox {
 
 // The ray's segment: OctoMap's arithmetic (float points), so the fast kernel and
 // computeRayKeys visit the same voxels.
-struct Segment {
-  octomap::point3d origin, end;
-};
+using Segment = RaySegment;
 
 Segment ray_segment(const SemanticOcTree& map, const octomap::point3d& origin, std::uint64_t target,
                     double ray_range, double max_range) {
@@ -112,7 +115,7 @@ inline bool fast_key(const Vec3f& p, double inv_res, octomap::OcTreeKey* key) {
 
 template <typename F>
 void run_in_arena(int threads, F&& f) {
-  if (threads > 0) {
+  if (threads > 1) {
     tbb::task_arena arena(threads);
     arena.execute(f);
   } else {
@@ -163,8 +166,7 @@ void ScanInserter::compute_updates(const perception::LabelledCloud& cloud, std::
   const double inv_res = 1.0 / map_.getResolution();
   constexpr std::uint64_t kLow56 = (1ull << 56) - 1;
   constexpr std::uint64_t kMaxRun = 254;  // so a value never equals kInvalid
-  run_in_arena(P.threads, [&] {
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const auto& r) {
+  auto point_chunk = [&](const tbb::blocked_range<std::size_t>& r) {
       std::size_t nb = 0, nl = 0, no = 0, nf = 0;
       std::size_t out = r.begin();  // write cursor within this chunk
       std::uint64_t run_value = kInvalid, run_length = 0;
@@ -207,8 +209,15 @@ void ScanInserter::compute_updates(const perception::LabelledCloud& cloud, std::
       bad_label += nl;
       outside += no;
       beyond += nf;
+  };
+  // Threads pay only for large clouds: waking a worker costs about what 20k points do.
+  if (n < kParallelPoints || P.threads == 1) {
+    point_chunk(tbb::blocked_range<std::size_t>(0, n));
+  } else {
+    run_in_arena(P.threads, [&] {
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 8192), point_chunk);
     });
-  });
+  }
   stats->bad_point = bad_point;
   stats->bad_label = bad_label;
   stats->outside_map = outside;
@@ -247,7 +256,8 @@ void ScanInserter::compute_updates(const perception::LabelledCloud& cloud, std::
   // 3. Free space: mark the cells of every ray in a byte grid over the rays' box
   //    (0 untouched, 1 free, 2 hit in this scan), then collect the free ones.
   const octomap::point3d origin(o.x(), o.y(), o.z());
-  std::vector<Segment> segments(ray_targets_.size());
+  std::vector<RaySegment>& segments = segments_;  // reused: large vectors would be mmap'ed anew
+  segments.resize(ray_targets_.size());
   KeyBox box;
   int lo[3] = {origin_key[0], origin_key[1], origin_key[2]}, hi[3] = {lo[0], lo[1], lo[2]};
   for (std::size_t r = 0; r < ray_targets_.size(); ++r) {
@@ -271,8 +281,9 @@ void ScanInserter::compute_updates(const perception::LabelledCloud& cloud, std::
       std::size_t idx;
       if (box.index(morton_key(h.code), &idx)) grid[idx] = 2;
     }
+    const std::size_t ray_grain = segments.size() < kParallelRays || P.threads == 1 ? segments.size() + 1 : 256;
     run_in_arena(P.threads, [&] {
-      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, segments.size(), 256), [&](const auto& r) {
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, segments.size(), ray_grain), [&](const auto& r) {
         for (std::size_t s = r.begin(); s != r.end(); ++s) {
           traverse(map_, segments[s], [&](const octomap::OcTreeKey& k) {
             std::size_t idx;
@@ -285,9 +296,12 @@ void ScanInserter::compute_updates(const perception::LabelledCloud& cloud, std::
       });
     });
     // Collect per z-slice (in order, so the result does not depend on threads) and clear.
-    std::vector<std::vector<std::uint64_t>> slices(static_cast<std::size_t>(box.n[2]));
+    std::vector<std::vector<std::uint64_t>>& slices = slices_;
+    if (slices.size() < static_cast<std::size_t>(box.n[2])) slices.resize(static_cast<std::size_t>(box.n[2]));
+    for (auto& sl : slices) sl.clear();
+    const int slice_grain = box.cells() < kParallelCells || P.threads == 1 ? box.n[2] + 1 : 4;
     run_in_arena(P.threads, [&] {
-      tbb::parallel_for(tbb::blocked_range<int>(0, box.n[2], 4), [&](const auto& r) {
+      tbb::parallel_for(tbb::blocked_range<int>(0, box.n[2], slice_grain), [&](const auto& r) {
         for (int z = r.begin(); z != r.end(); ++z) {
           auto& out = slices[static_cast<std::size_t>(z)];
           const std::size_t plane = std::size_t(box.n[0]) * box.n[1];

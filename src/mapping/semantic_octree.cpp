@@ -236,7 +236,7 @@ UpdateCounts SemanticOcTree::apply_sorted_updates(const std::vector<VoxelUpdate>
   const unsigned span_depth = common_depth(updates.front().code, updates.back().code);
   const unsigned split = span_depth + 2;  // up to 64 disjoint subtrees
   const int threads = params_.threads > 0 ? params_.threads : tbb::this_task_arena::max_concurrency();
-  if (n < 8192 || threads <= 1 || split >= kDepth) {
+  if (n < 32768 || threads <= 1 || split >= kDepth) {  // small batches: waking workers costs more
     apply_range(root, 0, updates.data(), updates.data() + n, false, false, counts);
   } else {
     // Groups of updates sharing their node at depth `split`; each group's subtree is edited by

@@ -105,7 +105,7 @@ TEST(SemanticOcTree, BatchEqualsSingleUpdatesAndIsThreadIndependent) {
   std::vector<std::vector<VoxelUpdate>> scans;
   for (int s = 0; s < 4; ++s) {
     std::vector<VoxelUpdate> batch;
-    for (int i = 0; i < 30000; ++i) {
+    for (int i = 0; i < 60000; ++i) {
       const octomap::OcTreeKey k(32700 + rng() % 60, 32700 + rng() % 60, 32760 + rng() % 30);
       const std::uint8_t label = rng() % 4 == 0 ? VoxelUpdate::kFree : static_cast<std::uint8_t>(rng() % 3);
       batch.push_back({morton_code(k), label});

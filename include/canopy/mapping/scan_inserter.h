@@ -44,6 +44,11 @@ struct InsertStats {
 bool ray_free_keys(const SemanticOcTree& map, const Vec3& origin, const Vec3& end,
                    std::vector<octomap::OcTreeKey>* keys);
 
+/// One ray's free-space segment (float, as OctoMap's ray casting).
+struct RaySegment {
+  octomap::point3d origin, end;
+};
+
 /// Inserts scans into one map, reusing its scratch buffers between scans.
 class ScanInserter {
  public:
@@ -64,6 +69,8 @@ class ScanInserter {
   std::vector<VoxelUpdate> hits_, updates_;
   std::vector<std::uint64_t> ray_targets_;       // endpoint voxel codes, bit 63: beyond range
   std::vector<std::uint8_t> grid_;               // free-space marks over the rays' box
+  std::vector<RaySegment> segments_;
+  std::vector<std::vector<std::uint64_t>> slices_;  // free codes per z-slice of the box
 };
 
 }  // namespace canopy::mapping
