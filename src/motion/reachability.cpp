@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <unordered_set>
 
+#include "canopy/common/camera.h"
 #include "canopy/common/error.h"
 #include "canopy/common/io.h"
 #include "canopy/world/world.h"
@@ -21,21 +22,6 @@ void ReachParams::validate() const {
     throw InputError("reach: max_target_distance_m must be > 0");
 }
 
-Pose look_at(const Vec3& camera, const Vec3& target) {
-  const Vec3 d = target - camera;
-  if (!d.allFinite() || d.norm() < 1e-9) throw InputError("look_at: camera and target coincide or are not finite");
-  const Vec3 z = d.normalized();
-  const Vec3 x_raw = z.cross(Vec3::UnitZ());  // image right; image up then has +z
-  if (x_raw.norm() < 1e-6) throw InputError("look_at: vertical viewing direction has no defined roll");
-  Pose T = Pose::Identity();
-  const Vec3 x = x_raw.normalized();
-  T.linear().col(0) = x;
-  T.linear().col(1) = z.cross(x);
-  T.linear().col(2) = z;
-  T.translation() = camera;
-  return T;
-}
-
 std::vector<Pose> sphere_views(const Vec3& target, const ReachParams& p) {
   p.validate();
   std::vector<Pose> views;
@@ -47,7 +33,7 @@ std::vector<Pose> sphere_views(const Vec3& target, const ReachParams& p) {
     for (int a = 0; a < p.azimuths; ++a) {
       const double ph = 2.0 * M_PI * a / p.azimuths;
       const Vec3 c = target + p.view_radius_m * Vec3(std::sin(th) * std::cos(ph), std::sin(th) * std::sin(ph), std::cos(th));
-      views.push_back(look_at(c, target));
+      views.push_back(canopy::look_at(c, target));
     }
   }
   return views;

@@ -33,10 +33,7 @@ struct ReachParams {
   void validate() const;
 };
 
-/// Camera pose at `camera` looking at `target` with zero roll (image up towards +z world).
-/// Throws InputError when the two points coincide or the view is vertical.
-Pose look_at(const Vec3& camera, const Vec3& target);
-/// The grid of views around one target.
+/// The grid of views around one target, each looking at it with zero roll (canopy::look_at).
 std::vector<Pose> sphere_views(const Vec3& target, const ReachParams& params);
 
 /// One evaluated view.
