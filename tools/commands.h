@@ -19,10 +19,15 @@ void add_map_command(CLI::App& app);
 /// `canopy reach`: reachable, collision-free and planned fractions of views from a base pose.
 void add_reach_command(CLI::App& app);
 
+/// `canopy ablate`: free-camera ablation of gains and ray sets (paper Fig. 5 and 6).
+void add_ablate_command(CLI::App& app);
+
 /// `canopy bench render`.
 void add_bench_render(CLI::App& bench);
 /// `canopy bench map`: semantic insertion vs OctoMap insertPointCloud.
 void add_bench_map(CLI::App& bench);
+/// `canopy bench gain`: information gain per view, fast traversal vs reference.
+void add_bench_gain(CLI::App& bench);
 /// `canopy bench motion`: IK, validity-check and planning timings.
 void add_bench_motion(CLI::App& bench);
 

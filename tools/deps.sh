@@ -12,6 +12,7 @@ PACKAGES=(
   libnanoflann-dev libtbb-dev libpng-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   ffmpeg
+  python3-matplotlib
 )
 
 missing=()

@@ -11,20 +11,20 @@ namespace {
 
 class Osamcep final : public GainFunction {
  public:
-  explicit Osamcep(const GainParams& p) : max_dist_(float(p.max_dist_m)) {}
+  explicit Osamcep(const GainParams& p) : max_dist2_(float(p.max_dist_m * p.max_dist_m)) {}
   std::string name() const override { return "osamcep"; }
   double ray_gain(const RayVoxel* v, std::size_t n) const override {
     double g = 0.0, visible = 1.0;
     for (std::size_t i = 0; i < n; ++i) {
       const VoxelInfo& x = *v[i].info;
-      if ((!x.known || x.is_target) && v[i].dist_m < max_dist_) g += visible * x.entropy;
+      if ((!x.known || x.is_target) && v[i].dist2_m2 < max_dist2_) g += visible * x.entropy;
       visible *= 1.0 - x.p_occ;
     }
     return g;
   }
 
  private:
-  float max_dist_;
+  float max_dist2_;
 };
 
 class AverageEntropy final : public GainFunction {
@@ -34,8 +34,8 @@ class AverageEntropy final : public GainFunction {
   double ray_gain(const RayVoxel* v, std::size_t n) const override {
     double g = 0.0;
     for (std::size_t i = 0; i < n; ++i) {
-      g += v[i].info->binary_entropy;
       if (v[i].info->known && v[i].info->p_occ >= stop_) break;
+      g += v[i].info->binary_entropy;
     }
     return g;
   }
@@ -49,7 +49,7 @@ class UnknownCount final : public GainFunction {
  public:
   UnknownCount(const GainParams& p, bool proximity)
       : low_(float(p.unknown_low)), high_(float(p.unknown_high)), max_dist_(float(p.max_dist_m)),
-        base_(p.uvpc_base_weight), proximity_(proximity) {}
+        max_dist2_(float(p.max_dist_m * p.max_dist_m)), base_(p.uvpc_base_weight), proximity_(proximity) {}
   std::string name() const override { return proximity_ ? "uvpc" : "uvc"; }
   double ray_gain(const RayVoxel* v, std::size_t n) const override {
     double g = 0.0;
@@ -60,15 +60,15 @@ class UnknownCount final : public GainFunction {
       if (!unknown) continue;
       if (!proximity_) {
         g += 1.0;
-      } else if (v[i].dist_m < max_dist_) {
-        g += base_ + (double(max_dist_) - v[i].dist_m) / max_dist_;
+      } else if (v[i].dist2_m2 < max_dist2_) {
+        g += base_ + (double(max_dist_) - std::sqrt(double(v[i].dist2_m2))) / max_dist_;
       }
     }
     return g;
   }
 
  private:
-  float low_, high_, max_dist_;
+  float low_, high_, max_dist_, max_dist2_;
   double base_;
   bool proximity_;
 };

@@ -150,7 +150,7 @@ ViewScore ViewEvaluator::evaluate_reference(const Pose& T, const Vec3& target, c
       const Vec3 c = map.center_of(ref_voxels_[i].key);
       buffer_[i].info = &ref_infos_[i];
       buffer_[i].id = id;
-      buffer_[i].dist_m = float((c - target).norm());
+      buffer_[i].dist2_m2 = float((c - target).squaredNorm());
     }
     sum += gain.ray_gain(buffer_.data(), n);
   }

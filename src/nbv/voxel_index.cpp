@@ -108,8 +108,10 @@ void VoxelIndex::grow() {
   table_keys_.assign(cap, kEmpty);
   table_values_.assign(cap, 0);
   table_mask_ = cap - 1;
+  table_shift_ = 64;
+  for (std::size_t c = cap; c > 1; c >>= 1) --table_shift_;
   for (std::size_t i = 0; i < brick_keys_.size(); ++i) {
-    std::uint64_t h = hash64(brick_keys_[i]) & table_mask_;
+    std::uint64_t h = slot(brick_keys_[i]);
     while (table_keys_[h] != kEmpty) h = (h + 1) & table_mask_;
     table_keys_[h] = brick_keys_[i];
     table_values_[h] = static_cast<std::uint32_t>(i);
@@ -118,7 +120,7 @@ void VoxelIndex::grow() {
 
 std::uint32_t* VoxelIndex::brick_for_insert(std::uint64_t bk) {
   if ((brick_keys_.size() + 1) * 2 > table_keys_.size()) grow();
-  std::uint64_t h = hash64(bk) & table_mask_;
+  std::uint64_t h = slot(bk);
   while (table_keys_[h] != kEmpty) {
     if (table_keys_[h] == bk) return &cells_[std::size_t(table_values_[h]) * kBrickCells];
     h = (h + 1) & table_mask_;
@@ -132,7 +134,7 @@ std::uint32_t* VoxelIndex::brick_for_insert(std::uint64_t bk) {
 
 const std::uint32_t* VoxelIndex::brick(std::uint64_t bk) const {
   if (table_keys_.empty()) return nullptr;
-  std::uint64_t h = hash64(bk) & table_mask_;
+  std::uint64_t h = slot(bk);
   for (;;) {
     const std::uint64_t k = table_keys_[h];
     if (k == bk) return &cells_[std::size_t(table_values_[h]) * kBrickCells];
@@ -249,7 +251,7 @@ std::size_t VoxelIndex::cast(const Vec3& origin_d, const Vec3& end_d, const Vec3
     if (keys) keys[n] = k;
     out[n].info = &palette_[id];
     out[n].id = id;
-    out[n].dist_m = float(std::sqrt(cx * cx + cy * cy + cz * cz));
+    out[n].dist2_m2 = float(cx * cx + cy * cy + cz * cz);
     ++n;
   };
   emit(key_origin);
@@ -273,9 +275,9 @@ std::size_t VoxelIndex::cast(const Vec3& origin_d, const Vec3& end_d, const Vec3
     }
   }
   while (n < capacity) {
-    unsigned dim;
-    if (t_max[0] < t_max[1]) dim = t_max[0] < t_max[2] ? 0 : 2;
-    else dim = t_max[1] < t_max[2] ? 1 : 2;
+    // The axis of the nearest boundary (ties as computeRayKeys: 2 over 1 over 0), as selects.
+    const bool a01 = t_max[0] < t_max[1], a02 = t_max[0] < t_max[2], a12 = t_max[1] < t_max[2];
+    const unsigned dim = a01 ? (a02 ? 0u : 2u) : (a12 ? 1u : 2u);
     current[dim] = static_cast<octomap::key_type>(current[dim] + step[dim]);
     t_max[dim] += t_delta[dim];
     if (current == key_end) break;

@@ -36,7 +36,7 @@ VoxelInfo known_voxel(float p, float h, bool target) {
 
 std::vector<RayVoxel> ray(const std::vector<const VoxelInfo*>& infos, const std::vector<float>& dist) {
   std::vector<RayVoxel> r;
-  for (std::size_t i = 0; i < infos.size(); ++i) r.push_back({infos[i], dist[i], std::uint32_t(i + 1)});
+  for (std::size_t i = 0; i < infos.size(); ++i) r.push_back({infos[i], dist[i] * dist[i], std::uint32_t(i + 1)});
   return r;
 }
 
@@ -75,8 +75,8 @@ TEST(Gains, OsamcepHandComputed) {
 
 TEST(Gains, AeHandComputed) {
   const VoxelInfo u = unknown_voxel(), free = known_voxel(0.2f, 0.5f, false), occ = known_voxel(0.95f, 0.2f, false);
-  // ln2 + H_b(0.2) + H_b(0.95), then stop (the unknown behind is not counted).
-  EXPECT_NEAR(gain("ae", ray({&u, &free, &occ, &u}, {0, 0, 0, 0})), std::log(2.0) + hb(0.2) + hb(0.95), 1e-6);
+  // ln2 + H_b(0.2), then stop at the occupied voxel (neither it nor the unknown behind count).
+  EXPECT_NEAR(gain("ae", ray({&u, &free, &occ, &u}, {0, 0, 0, 0})), std::log(2.0) + hb(0.2), 1e-6);
 }
 
 TEST(Gains, UvcAndUvpcHandComputed) {

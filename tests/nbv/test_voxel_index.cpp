@@ -77,7 +77,7 @@ TEST(VoxelIndex, FastTraversalEqualsReference) {
     for (std::size_t i = 0; i < n; ++i) {
       ASSERT_EQ(keys[i], ref[i].key) << "ray " << r << " voxel " << i;
       expect_same_info(*fast[i].info, make_voxel_info(map, ref[i].state));
-      EXPECT_NEAR(fast[i].dist_m, (map.center_of(ref[i].key) - target).norm(), 1e-6);
+      EXPECT_EQ(fast[i].dist2_m2, float((map.center_of(ref[i].key) - target).squaredNorm()));
       known += ref[i].state != nullptr;
     }
     voxels += n;

@@ -8,10 +8,12 @@
 //    voxels (occupied, most likely class = target), with centre distance to the target
 //    centroid < max_dist. P_v(x_n) = prod_{i<n} (1 - p_occ(x_i)), unknown p_occ = 0.5; H is the
 //    voxel's multi-class entropy (SSMI's unseen-prior entropy for unknown voxels).
-//  - ae: sum of H_b(p_occ) along the ray up to and including the first voxel with
+//  - ae: sum of H_b(p_occ) along the ray over the voxels before the first one with
 //    p_occ >= ae_stop_occupancy (the prototype sums; Delmerico divides by hitting rays).
 //  - uvc: count of unknown voxels (no leaf, or unknown_low < p_occ <= unknown_high) before the
-//    first voxel with p_occ > unknown_high, which blocks the ray (Zaenker's rule).
+//    first voxel with p_occ > unknown_high, which blocks the ray (Zaenker's rule). Known free
+//    voxels are passed through; the prototype stopped at the first known voxel of any kind,
+//    which makes the count vanish once the camera sits in observed free space.
 //  - uvpc: uvc restricted to voxels with d < max_dist, each weighted base + (max_dist - d) / max_dist.
 //  - oae: sum of H_b(p_occ) P_v over the whole ray (visibility as prod (1 - p_occ)).
 //  - mi: SSMI's Shannon mutual information between the map and the ray's measurement (range

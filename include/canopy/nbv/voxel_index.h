@@ -42,7 +42,7 @@ VoxelInfo make_voxel_info(const mapping::SemanticOcTree& map, const mapping::Sem
 /// One voxel visited by a ray, in order from the camera.
 struct RayVoxel {
   const VoxelInfo* info = nullptr;  ///< Never null: unknown voxels point at the unknown entry.
-  float dist_m = 0.f;               ///< Distance from the voxel centre to the view's target.
+  float dist2_m2 = 0.f;             ///< Squared distance from the voxel centre to the view's target.
   std::uint32_t id = 0;             ///< Palette id (0 = unknown); equal ids = identical states.
 };
 
@@ -88,6 +88,9 @@ class VoxelIndex {
   std::uint32_t* brick_for_insert(std::uint64_t brick_key);
   const std::uint32_t* brick(std::uint64_t brick_key) const;
   void grow();
+  std::uint64_t slot(std::uint64_t brick_key) const {
+    return (brick_key * 0x9E3779B97F4A7C15ULL) >> table_shift_;
+  }
 
   const mapping::SemanticOcTree* map_ = nullptr;
   std::uint64_t revision_ = ~std::uint64_t{0};
@@ -98,6 +101,7 @@ class VoxelIndex {
   std::vector<std::uint64_t> table_keys_;     // open addressing: brick key or kEmpty
   std::vector<std::uint32_t> table_values_;   // brick index
   std::uint64_t table_mask_ = 0;
+  int table_shift_ = 64;                      // Fibonacci hashing: slot = (key * phi) >> shift
   double build_ms_ = 0.0;
 };
 

@@ -1,0 +1,192 @@
+// canopy bench gain: time one view's information gain on a realistic map (a world mapped from
+// a ring of views) for each ray set, with the fast traversal (flat voxel index) and the slow
+// reference (computeRayKeys + a tree search per key) in the same run.
+
+#include <spdlog/spdlog.h>
+
+#include <chrono>
+#include <cstdio>
+
+#include "canopy/mapping/mapping_config.h"
+#include "canopy/mapping/scan_inserter.h"
+#include "canopy/mapping/views.h"
+#include "canopy/nbv/planner.h"
+#include "canopy/sim/renderer.h"
+#include "cli_util.h"
+#include "commands.h"
+
+namespace canopy::cli {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+
+struct Timed {
+  double ms_per_view = 0.0;
+  double voxels_per_view = 0.0;
+  double gain_sum = 0.0;
+};
+
+// Repeats `pass` (one pass over all views) until min_ms elapsed; ms per view.
+template <typename F>
+Timed time_views(std::size_t views, double min_ms, F&& pass) {
+  Timed t;
+  int reps = 0;
+  std::size_t voxels = 0;
+  const auto t0 = Clock::now();
+  double elapsed = 0.0;
+  do {
+    double g = 0.0;
+    voxels += pass(&g);
+    t.gain_sum = g;
+    ++reps;
+    elapsed = ms_since(t0);
+  } while (elapsed < min_ms);
+  t.ms_per_view = elapsed / (double(reps) * double(views));
+  t.voxels_per_view = double(voxels) / (double(reps) * double(views));
+  return t;
+}
+
+}  // namespace
+
+void add_bench_gain(CLI::App& bench) {
+  struct Options {
+    std::string world = default_world_path();
+    std::string config = find_data_file("configs/mapping.yaml");
+    std::string nbv_config = find_data_file("configs/nbv.yaml");
+    std::string views = "ring";
+    std::string gain = "osamcep";
+    int candidates = 200;
+    double min_ms = 400.0;
+  };
+  auto opt = std::make_shared<Options>();
+  CLI::App* sub = bench.add_subcommand("gain", "Information gain per view for each ray set: fast traversal vs reference");
+  sub->add_option("--world", opt->world, "World file (YAML)")->capture_default_str();
+  sub->add_option("--config", opt->config, "Mapping config (YAML)")->capture_default_str();
+  sub->add_option("--nbv-config", opt->nbv_config, "Next-best-view config (YAML)")->capture_default_str();
+  sub->add_option("--views", opt->views, "Views that build the map: 'ring', 'aisle' or a pose file")->capture_default_str();
+  sub->add_option("--gain", opt->gain, "Gain to time")->capture_default_str();
+  sub->add_option("--candidates", opt->candidates, "Candidate views timed (spread over all clusters)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 100000));
+  sub->add_option("--min-ms", opt->min_ms, "Minimum time per measurement [ms]")->capture_default_str()->check(CLI::Range(1.0, 1e6));
+  sub->callback([opt] {
+    const mapping::MappingConfig cfg = mapping::MappingConfig::load(opt->config);
+    const nbv::NbvParams np = nbv::NbvParams::load(opt->nbv_config);
+    const auto gain = nbv::make_gain(opt->gain, np.gain, "--gain");
+    const world::WorldSpec spec = load_world_spec(opt->world);
+    const world::World world = world::generate_world(spec);
+    const std::vector<Pose> views = mapping::views_from_spec(opt->views, world);
+
+    // The map.
+    sim::Simulator sim(world, default_robot_config());
+    sim::Renderer renderer(sim, spec.camera);
+    mapping::SemanticOcTree map(cfg.map, spec.classes);
+    mapping::ScanInserter inserter(map);
+    perception::SemanticExtractor extractor(cfg.extractor, spec.classes);
+    const auto tm = Clock::now();
+    for (const Pose& T : views) inserter.insert(extractor.extract(renderer.render_free_camera(T)));
+    spdlog::info("mapped {} views in {:.1f} s", views.size(), ms_since(tm) / 1000.0);
+    nbv::VoxelIndex index(map);
+    const mapping::VoxelCounts counts = map.counts();
+    const auto clusters = nbv::find_clusters(map, np.cluster);
+
+    // Candidates spread over all clusters.
+    std::vector<nbv::Candidate> all;
+    for (std::size_t c = 0; c < clusters.size(); ++c) {
+      const auto cs = nbv::sample_candidates(clusters[c].centroid, int(c), np.candidates);
+      all.insert(all.end(), cs.begin(), cs.end());
+    }
+    if (all.empty()) throw InputError("bench gain: the map of '" + opt->world + "' has no fruit clusters");
+    std::vector<nbv::Candidate> cands;
+    const std::size_t n = std::min<std::size_t>(all.size(), std::size_t(opt->candidates));
+    for (std::size_t i = 0; i < n; ++i) cands.push_back(all[i * all.size() / n]);
+
+    std::printf("bench gain: world '%s', map from %zu '%s' views: %zu leaves, %zu known voxels (%zu occupied); "
+                "index %zu bricks, %zu distinct states, %.1f MB, built in %.1f ms\n",
+                spec.name.c_str(), views.size(), opt->views.c_str(), counts.leaves, counts.voxels, counts.occupied,
+                index.brick_count(), index.palette_size(), index.memory_bytes() / 1e6, index.build_ms());
+    std::printf("  %zu clusters, %zu candidate views timed, gain '%s'\n", clusters.size(), cands.size(),
+                opt->gain.c_str());
+    std::printf("  %-7s %6s %9s | %12s %12s %8s | %12s %12s %8s\n", "rays", "rays", "voxels", "fast ms/view",
+                "ref ms/view", "speedup", "fast ns/vox", "ref ns/vox", "speedup");
+    std::printf("  %-7s %6s %9s | %-34s | %-34s\n", "", "/view", "/view", "  gain per view (traverse + gain)",
+                "  traversal only (DDA+lookup vs computeRayKeys+search)");
+    nbv::ViewEvaluator eval(index, spec.camera, np.rays);
+    for (const auto& rname : nbv::ray_set_names()) {
+      const nbv::RaySetEntry& rays = nbv::ray_set(rname);
+      const Timed fast = time_views(cands.size(), opt->min_ms, [&](double* g) {
+        std::size_t vox = 0;
+        for (std::size_t i = 0; i < cands.size(); ++i) {
+          const auto s = eval.evaluate(cands[i].T_world_camera, cands[i].target, *gain, rays, i);
+          *g += s.gain;
+          vox += s.voxels;
+        }
+        return vox;
+      });
+      const Timed ref = time_views(cands.size(), opt->min_ms, [&](double* g) {
+        std::size_t vox = 0;
+        for (std::size_t i = 0; i < cands.size(); ++i) {
+          const auto s = eval.evaluate_reference(cands[i].T_world_camera, cands[i].target, *gain, rays, i);
+          *g += s.gain;
+          vox += s.voxels;
+        }
+        return vox;
+      });
+      // Traversal only, on the same segments.
+      std::vector<std::vector<Vec3>> ends(cands.size());
+      std::size_t rays_total = 0;
+      for (std::size_t i = 0; i < cands.size(); ++i) {
+        nbv::ViewStatus st;
+        eval.ray_segments(cands[i].T_world_camera, cands[i].target, rays, &ends[i], &st);
+        rays_total += ends[i].size();
+      }
+      std::vector<nbv::RayVoxel> buf(index.max_voxels(2.0));
+      const Timed tfast = time_views(cands.size(), opt->min_ms, [&](double* g) {
+        std::size_t vox = 0;
+        for (std::size_t i = 0; i < cands.size(); ++i)
+          for (const Vec3& e : ends[i]) {
+            const std::size_t k = index.cast(cands[i].T_world_camera.translation(), e, cands[i].target, buf.data(), buf.size());
+            vox += k;
+            if (k) *g += buf[k - 1].info->p_occ;
+          }
+        return vox;
+      });
+      octomap::KeyRay key_ray;
+      std::vector<nbv::ReferenceVoxel> rv;
+      const Timed tref = time_views(cands.size(), opt->min_ms, [&](double* g) {
+        std::size_t vox = 0;
+        for (std::size_t i = 0; i < cands.size(); ++i)
+          for (const Vec3& e : ends[i]) {
+            rv.clear();
+            nbv::cast_reference(map, cands[i].T_world_camera.translation(), e, &key_ray, &rv);
+            vox += rv.size();
+            if (!rv.empty() && rv.back().state) *g += rv.back().state->occupancy_logodds();
+          }
+        return vox;
+      });
+      const double ns_fast = tfast.ms_per_view * 1e6 / std::max(1.0, tfast.voxels_per_view);
+      const double ns_ref = tref.ms_per_view * 1e6 / std::max(1.0, tref.voxels_per_view);
+      std::printf("  %-7s %6.0f %9.0f | %12.4f %12.4f %7.1fx | %12.1f %12.1f %7.1fx\n", rname.c_str(),
+                  double(rays_total) / double(cands.size()), fast.voxels_per_view, fast.ms_per_view, ref.ms_per_view,
+                  ref.ms_per_view / fast.ms_per_view, ns_fast, ns_ref, ns_ref / ns_fast);
+      if (std::fabs(fast.gain_sum - ref.gain_sum) > 1e-6 * std::max(1.0, std::fabs(ref.gain_sum)))
+        spdlog::warn("{}: fast and reference gains differ ({} vs {})", rname, fast.gain_sum, ref.gain_sum);
+    }
+    // Every gain with our ray set.
+    std::printf("  gains with 'ours' rays, ms/view:");
+    for (const auto& gname : nbv::gain_names()) {
+      const auto g = nbv::make_gain(gname, np.gain);
+      const Timed t = time_views(cands.size(), opt->min_ms / 4, [&](double* s) {
+        for (std::size_t i = 0; i < cands.size(); ++i)
+          *s += eval.evaluate(cands[i].T_world_camera, cands[i].target, *g, nbv::ray_set("ours"), i).gain;
+        return std::size_t(0);
+      });
+      std::printf(" %s %.4f", gname.c_str(), t.ms_per_view);
+    }
+    std::printf("\n");
+  });
+}
+
+}  // namespace canopy::cli
