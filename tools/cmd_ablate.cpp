@@ -294,15 +294,16 @@ void add_ablate_command(CLI::App& app) {
   sub->add_flag("--summarize-only", opt->summarize_only, "Run no job: summarize the finished ones in --out");
   sub->add_flag("--no-plots", opt->no_plots, "Skip the PNG plots");
   sub->add_option("--out", opt->out, "Output folder")->required();
-  sub->callback([opt] {
+  sub->callback([opt, sub] {
     Options o = *opt;
-    if (o.quick) {
-      o.plants = 1;
-      o.views = 6;
-      o.trials = 1;
-      o.gains = "osamcep,rs";
-      o.rays = "ours,sparse";
-      o.pgt = "1.0";
+    if (o.quick) {  // small defaults; options given explicitly still win
+      auto unset = [&](const char* name) { return sub->count(name) == 0; };
+      if (unset("--plants")) o.plants = 1;
+      if (unset("--views")) o.views = 6;
+      if (unset("--trials")) o.trials = 1;
+      if (unset("--gains")) o.gains = "osamcep,rs";
+      if (unset("--rays")) o.rays = "ours,sparse";
+      if (unset("--pgt")) o.pgt = "1.0";
     }
     // Validate everything before any work.
     mapping::MappingConfig mcfg = mapping::MappingConfig::load(o.config);
