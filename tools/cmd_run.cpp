@@ -10,6 +10,9 @@
 #include "canopy/common/frame_io.h"
 #include "canopy/common/io.h"
 #include "canopy/common/video.h"
+#include "canopy/mapping/map_io.h"
+#include "canopy/mapping/mapping_config.h"
+#include "canopy/mapping/scan_inserter.h"
 #include "canopy/mission/aisle_survey.h"
 #include "cli_util.h"
 #include "commands.h"
@@ -38,6 +41,7 @@ void add_run_command(CLI::App& app) {
     std::string world = default_world_path();
     std::string out = "results";
     std::string video;
+    std::string mapping_config = find_data_file("configs/mapping.yaml");
     double video_fps = 25.0;
     bool shadows = false;
   };
@@ -47,10 +51,13 @@ void add_run_command(CLI::App& app) {
   sub->add_option("--out", opt->out, "Results folder")->capture_default_str();
   sub->add_flag("--shadows", opt->shadows, "Shadows in RGB images");
   sub->add_option("--video", opt->video, "Also write an MP4 (H.264) of the run, seen from behind the robot, to this file");
+  sub->add_option("--mapping-config", opt->mapping_config, "Mapping config for the survey's semantic map")
+      ->capture_default_str();
   sub->add_option("--video-fps", opt->video_fps, "Video frames per simulated second")->capture_default_str();
   sub->callback([opt] {
     const auto wall0 = std::chrono::steady_clock::now();
     const world::WorldSpec spec = load_world_spec(opt->world);
+    const mapping::MappingConfig mapping_cfg = mapping::MappingConfig::load(opt->mapping_config);
     const world::World world = world::generate_world(spec);
     spdlog::info("generated {} plants, {} fruits, {} triangles", world.plants.size(), world.truth.fruits.size(),
                  world.triangle_count());
@@ -84,6 +91,18 @@ void add_run_command(CLI::App& app) {
       video->close();
       spdlog::info("wrote {} ({} frames)", opt->video, video->frames());
     }
+
+    // The survey's views, mapped into a semantic octree as the paper's predefined scan.
+    mapping::SemanticOcTree map(mapping_cfg.map, spec.classes);
+    mapping::ScanInserter inserter(map);
+    perception::SemanticExtractor extractor(mapping_cfg.extractor, spec.classes);
+    double insert_ms = 0.0;
+    for (const auto& o : survey.observations) insert_ms += inserter.insert(extractor.extract(o.frame)).ms_total;
+    const mapping::MapMetrics metrics = mapping::evaluate_map(map, world.truth, mapping_cfg.metrics);
+    mapping::save_map(map, out.path("map.csm"));
+    const std::size_t occupied = mapping::export_ply(map, out.path("map.ply"));
+    spdlog::info("semantic map of the survey: fruit surface coverage {:.3f}, fruit entropy {:.1f} nats, {} occupied voxels",
+                 metrics.coverage, metrics.total_entropy, occupied);
 
     nlohmann::json obs = nlohmann::json::array();
     for (const auto& o : survey.observations) {
@@ -119,9 +138,15 @@ void add_run_command(CLI::App& app) {
     summary["simulated_time_s"] = survey.sim_time_s;
     summary["wall_time_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
     summary["observations"] = obs;
+    summary["map"] = {{"files", {"map.csm", "map.ply"}},
+                      {"labels", perception::to_string(mapping_cfg.extractor.source)},
+                      {"p_gt", mapping_cfg.extractor.p_gt},
+                      {"occupied_voxels", occupied},
+                      {"ms_per_insertion", insert_ms / std::max<std::size_t>(1, survey.observations.size())},
+                      {"metrics", metrics.to_json()}};
     write_json_atomic(out.path("summary.json"), summary);
     out.commit();
-    spdlog::info("wrote {}/summary.json, overview.png and {} views ({:.1f} s simulated, {:.1f} s wall)", opt->out,
+    spdlog::info("wrote {}/summary.json, map.csm, map.ply, overview.png and {} views ({:.1f} s simulated, {:.1f} s wall)", opt->out,
                  survey.observations.size(), survey.sim_time_s, summary["wall_time_s"].get<double>());
     if (!survey.all_stops_reached) throw std::runtime_error("the base did not reach every stop (see summary.json)");
   });
