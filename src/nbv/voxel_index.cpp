@@ -238,23 +238,26 @@ std::size_t VoxelIndex::cast(const Vec3& origin_d, const Vec3& end_d, const Vec3
   const std::uint32_t* cached = nullptr;
   const double res = resolution_;
   const int tmv = 32768;  // tree_max_val of a 16-level tree
-  auto emit = [&](const octomap::OcTreeKey& k) {
-    const std::uint64_t bk = brick_key_of(k);
+  const double tx0 = target.x(), ty0 = target.y(), tz0 = target.z();
+  auto emit = [&](unsigned x, unsigned y, unsigned z) {
+    const std::uint64_t bk = std::uint64_t(x >> kBrickBits) | (std::uint64_t(y >> kBrickBits) << 13) |
+                             (std::uint64_t(z >> kBrickBits) << 26);
     if (bk != cached_bk) {
       cached_bk = bk;
       cached = brick(bk);
     }
-    const std::uint32_t id = cached ? cached[cell_of(k[0], k[1], k[2])] : 0u;
-    const double cx = (double(static_cast<int>(k[0]) - tmv) + 0.5) * res - target.x();
-    const double cy = (double(static_cast<int>(k[1]) - tmv) + 0.5) * res - target.y();
-    const double cz = (double(static_cast<int>(k[2]) - tmv) + 0.5) * res - target.z();
-    if (keys) keys[n] = k;
+    const std::uint32_t id = cached ? cached[cell_of(x, y, z)] : 0u;
+    const double cx = (double(static_cast<int>(x) - tmv) + 0.5) * res - tx0;
+    const double cy = (double(static_cast<int>(y) - tmv) + 0.5) * res - ty0;
+    const double cz = (double(static_cast<int>(z) - tmv) + 0.5) * res - tz0;
+    if (keys) keys[n] = octomap::OcTreeKey(static_cast<octomap::key_type>(x), static_cast<octomap::key_type>(y),
+                                           static_cast<octomap::key_type>(z));
     out[n].info = &palette_[id];
     out[n].id = id;
     out[n].dist2_m2 = float(cx * cx + cy * cy + cz * cz);
     ++n;
   };
-  emit(key_origin);
+  emit(key_origin[0], key_origin[1], key_origin[2]);
 
   octomap::point3d direction = end - origin;
   const float length = float(direction.norm());
@@ -274,15 +277,33 @@ std::size_t VoxelIndex::cast(const Vec3& origin_d, const Vec3& end_d, const Vec3
       t_delta[i] = std::numeric_limits<double>::max();
     }
   }
+  // The loop state in scalars (registers), not arrays indexed by the axis.
+  double tx = t_max[0], ty = t_max[1], tz = t_max[2];
+  const double dx = t_delta[0], dy = t_delta[1], dz = t_delta[2];
+  const unsigned sx = unsigned(step[0]), sy = unsigned(step[1]), sz = unsigned(step[2]);  // wrap = -1
+  unsigned kx = current[0], ky = current[1], kz = current[2];
+  const unsigned ex = key_end[0], ey = key_end[1], ez = key_end[2];
+  const double len = length;
   while (n < capacity) {
-    // The axis of the nearest boundary (ties as computeRayKeys: 2 over 1 over 0), as selects.
-    const bool a01 = t_max[0] < t_max[1], a02 = t_max[0] < t_max[2], a12 = t_max[1] < t_max[2];
-    const unsigned dim = a01 ? (a02 ? 0u : 2u) : (a12 ? 1u : 2u);
-    current[dim] = static_cast<octomap::key_type>(current[dim] + step[dim]);
-    t_max[dim] += t_delta[dim];
-    if (current == key_end) break;
-    if (std::min(std::min(t_max[0], t_max[1]), t_max[2]) > length) break;
-    emit(current);
+    // Step along the axis of the nearest boundary (ties as computeRayKeys: 2 over 1 over 0).
+    if (tx < ty) {
+      if (tx < tz) {
+        kx = (kx + sx) & 0xFFFFu;
+        tx += dx;
+      } else {
+        kz = (kz + sz) & 0xFFFFu;
+        tz += dz;
+      }
+    } else if (ty < tz) {
+      ky = (ky + sy) & 0xFFFFu;
+      ty += dy;
+    } else {
+      kz = (kz + sz) & 0xFFFFu;
+      tz += dz;
+    }
+    if (kx == ex && ky == ey && kz == ez) break;
+    if (std::min(std::min(tx, ty), tz) > len) break;
+    emit(kx, ky, kz);
   }
   return n;
 }
