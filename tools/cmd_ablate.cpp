@@ -5,6 +5,14 @@
 // clusters, render the best one with the free camera and insert it; after every view record
 // the plant's fruit entropy and surface coverage and the step's ray-casting time.
 //
+// Rules of a job: the map starts empty; `--initial-views` random views around the plant (the
+// same for every configuration of a trial) come first; then each step clusters the target
+// voxels in a box of +-0.25 m around the plant's axis, scores the candidates of every cluster,
+// and takes the best one that was not taken before; when the planner has no view (no
+// clusters, every cluster done) a random view around the plant is taken and the reason is
+// recorded. Coverage and entropy are the plant's fruits' (paper Experiments metrics); the
+// ray-casting time of a step is the sum over its candidates, and per view = that / candidates.
+//
 // Jobs (configuration, trial, plant) run on worker threads, each with its own Simulator and
 // Renderer; a job's result depends only on its seeds, not on the thread or the job order.
 // Every finished job is written at once (jobs/<config>/trial<t>_plant<p>.json; --resume

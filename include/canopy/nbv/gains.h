@@ -18,8 +18,14 @@
 //  - oae: sum of H_b(p_occ) P_v over the whole ray (visibility as prod (1 - p_occ)).
 //  - mi: SSMI's Shannon mutual information between the map and the ray's measurement (range
 //    cell n and class k, or no hit), in closed form over run-length segments of identical
-//    voxels; each segment's categorical distribution is normalised over its categories.
+//    voxels; each segment's categorical distribution is normalised over its categories. Plain
+//    SSMI: the prototype's extra log-odds offsets for fruit / non-fruit voxels are not applied;
+//    an unknown voxel is a fresh leaf (p_occ 0.5, classes equally likely).
 //  - rs: random score in (0, 1], seeded per view; casts no rays.
+// With unknown voxels at p_occ = 0.5, P_v halves per unknown 1.5 cm voxel, so the visibility
+// gains (osamcep, oae) favour views whose rays run through already observed free space; a
+// gain is positive whenever any counted voxel lies on a ray, so "done" (<= 0) means nothing
+// unknown or uncertain-target is left near the cluster, not "little is left".
 
 #include <cstdint>
 #include <functional>
