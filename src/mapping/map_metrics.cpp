@@ -1,25 +1,13 @@
 #include "canopy/mapping/map_metrics.h"
 
-#include <nanoflann.hpp>
-
 #include <cmath>
 
 #include "canopy/common/error.h"
+#include "canopy/common/point_kdtree.h"
 
 namespace canopy::mapping {
 
 namespace {
-
-// nanoflann adaptor over a vector of points.
-struct PointsAdaptor {
-  const std::vector<Vec3>& pts;
-  std::size_t kdtree_get_point_count() const { return pts.size(); }
-  double kdtree_get_pt(std::size_t i, std::size_t dim) const { return pts[i][static_cast<int>(dim)]; }
-  template <class BBox>
-  bool kdtree_get_bbox(BBox&) const { return false; }
-};
-using KdTree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, PointsAdaptor>,
-                                                    PointsAdaptor, 3, std::uint32_t>;
 
 constexpr unsigned kDepth = 16;
 
@@ -99,8 +87,7 @@ MapMetrics evaluate_map(const SemanticOcTree& map, const world::GroundTruth& tru
   m.counts = map.counts();
   const std::vector<Vec3> centers = class_voxel_centers(map, map.classes().target_index());
   m.target_voxels = centers.size();
-  PointsAdaptor adaptor{centers};
-  KdTree tree(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(10));
+  const PointKdTree tree(centers);
   const double r2 = params.coverage_distance_m * params.coverage_distance_m;
   const Vec3 half = Vec3::Constant(params.entropy_box_m / 2.0);
   for (const world::FruitTruth& f : truth.fruits) {
@@ -110,9 +97,9 @@ MapMetrics evaluate_map(const SemanticOcTree& map, const world::GroundTruth& tru
     fm.points = f.surface_points.size();
     if (!centers.empty()) {
       for (const Vec3& p : f.surface_points) {
-        std::uint32_t idx = 0;
+        std::size_t idx = 0;
         double d2 = 0.0;
-        if (tree.knnSearch(p.data(), 1, &idx, &d2) == 1 && d2 <= r2) ++fm.covered;
+        if (tree.nearest(p, &idx, &d2) && d2 <= r2) ++fm.covered;
       }
     }
     fm.coverage = fm.points ? double(fm.covered) / double(fm.points) : 0.0;

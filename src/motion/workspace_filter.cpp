@@ -1,6 +1,5 @@
 #include "canopy/motion/workspace_filter.h"
 
-#include <nanoflann.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -15,17 +14,6 @@ namespace canopy::motion {
 
 namespace {
 
-struct PointCloud {
-  const std::vector<Vec3>* points;
-  size_t kdtree_get_point_count() const { return points->size(); }
-  double kdtree_get_pt(size_t i, size_t dim) const { return (*points)[i][static_cast<int>(dim)]; }
-  template <class Box>
-  bool kdtree_get_bbox(Box&) const {
-    return false;
-  }
-};
-
-using KdTree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, PointCloud>, PointCloud, 3>;
 
 }  // namespace
 
@@ -70,16 +58,11 @@ void WorkspaceParams::validate() const {
   if (!std::isfinite(min_camera_height_m)) throw InputError("workspace: min_camera_height_m must be finite");
 }
 
-struct WorkspaceFilter::Index {
-  PointCloud cloud;
-  std::unique_ptr<KdTree> tree;
-};
-
 WorkspaceFilter::~WorkspaceFilter() = default;
 WorkspaceFilter::WorkspaceFilter(WorkspaceFilter&&) noexcept = default;
 
 WorkspaceFilter::WorkspaceFilter(const RobotModel& model, const WorkspaceParams& params)
-    : model_(&model), params_(params), index_(std::make_unique<Index>()) {
+    : model_(&model), params_(params) {
   params_.validate();
   // Joint combinations drawn uniformly within one turn of each joint (wider ranges only
   // repeat positions) and the planning limits.
@@ -90,18 +73,18 @@ WorkspaceFilter::WorkspaceFilter(const RobotModel& model, const WorkspaceParams&
     u[static_cast<size_t>(i)] =
         std::uniform_real_distribution<double>(std::max(lim.lower[i], -M_PI), std::min(lim.upper[i], M_PI));
   const double arm_height = model.T_base_arm().translation().z();
-  points_.reserve(static_cast<size_t>(params_.samples));
+  std::vector<Vec3> points;
+  points.reserve(static_cast<size_t>(params_.samples));
   for (int s = 0; s < params_.samples; ++s) {
     ArmConfig q;
     for (int i = 0; i < kArmDof; ++i) q[i] = u[static_cast<size_t>(i)](rng);
     const Vec3 p = model.camera_in_arm(q).translation();
     // The base is planar, so height above the ground is the same in every base pose.
     if (p.z() + arm_height < params_.min_camera_height_m) continue;
-    points_.push_back(p);
+    points.push_back(p);
   }
-  CANOPY_CHECK(!points_.empty(), "workspace filter: no sample above the ground");
-  index_->cloud.points = &points_;
-  index_->tree = std::make_unique<KdTree>(3, index_->cloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));
+  CANOPY_CHECK(!points.empty(), "workspace filter: no sample above the ground");
+  tree_ = std::make_unique<PointKdTree>(std::move(points), 16);
 }
 
 double WorkspaceFilter::distance_to_workspace(const BasePose& base, const Vec3& p_world) const {
@@ -109,9 +92,9 @@ double WorkspaceFilter::distance_to_workspace(const BasePose& base, const Vec3& 
     return std::numeric_limits<double>::infinity();
   const Pose T_arm_world = (RobotModel::T_world_base(base) * model_->T_base_arm()).inverse(Eigen::Isometry);
   const Vec3 p = T_arm_world * p_world;
-  unsigned index = 0;
+  std::size_t index = 0;
   double d2 = 0.0;
-  index_->tree->knnSearch(p.data(), 1, &index, &d2);
+  tree_->nearest(p, &index, &d2);
   return std::sqrt(d2);
 }
 

@@ -10,6 +10,7 @@
 #include <memory>
 #include <vector>
 
+#include "canopy/common/point_kdtree.h"
 #include "canopy/common/types.h"
 #include "canopy/motion/robot_model.h"
 
@@ -74,16 +75,14 @@ class WorkspaceFilter {
                       const CollisionChecker* checker = nullptr) const;
 
   /// Workspace samples (camera positions) in the arm-base (DH frame 0) frame.
-  const std::vector<Vec3>& points_in_arm() const { return points_; }
+  const std::vector<Vec3>& points_in_arm() const { return tree_->points(); }
   const WorkspaceParams& params() const { return params_; }
   const RobotModel& model() const { return *model_; }
 
  private:
-  struct Index;
   const RobotModel* model_;
   WorkspaceParams params_;
-  std::vector<Vec3> points_;
-  std::unique_ptr<Index> index_;
+  std::unique_ptr<PointKdTree> tree_;  ///< Workspace points in the arm base frame.
 };
 
 }  // namespace canopy::motion
