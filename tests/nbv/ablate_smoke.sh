@@ -5,6 +5,16 @@ set -euo pipefail
 canopy="$1"
 dir="$2"
 rm -rf "$dir"
+# Bad input: exit code 2, a message naming the option, no output folder.
+for bad in "--gains osamcep,entropy" "--rays ours,all" "--pgt 1.5" "--plants 99"; do
+  set +e
+  msg=$("$canopy" ablate --quick $bad --out "$dir/bad" 2>&1 >/dev/null)
+  code=$?
+  set -e
+  [[ $code -eq 2 ]] || { echo "ablate $bad: exit $code, expected 2"; exit 1; }
+  [[ "$msg" == *"${bad%% *}"* ]] || { echo "ablate $bad: message does not name the option: $msg"; exit 1; }
+  [[ ! -e "$dir/bad" ]] || { echo "ablate $bad: left an output folder"; exit 1; }
+done
 "$canopy" ablate --quick --views 4 --no-plots --threads 1 --out "$dir/t1" > /dev/null 2>&1
 "$canopy" ablate --quick --views 4 --no-plots --threads 2 --out "$dir/t2" > /dev/null 2>&1
 for f in summary.csv table.csv settings.json; do
