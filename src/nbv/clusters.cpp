@@ -1,24 +1,10 @@
 #include "canopy/nbv/clusters.h"
 
-#include <nanoflann.hpp>
-
 #include <algorithm>
 
+#include "canopy/common/point_kdtree.h"
+
 namespace canopy::nbv {
-
-namespace {
-
-struct PointsAdaptor {
-  const std::vector<Vec3>& pts;
-  std::size_t kdtree_get_point_count() const { return pts.size(); }
-  double kdtree_get_pt(std::size_t i, std::size_t dim) const { return pts[i][static_cast<int>(dim)]; }
-  template <class BBox>
-  bool kdtree_get_bbox(BBox&) const { return false; }
-};
-using KdTree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, PointsAdaptor>,
-                                                    PointsAdaptor, 3, std::uint32_t>;
-
-}  // namespace
 
 std::vector<int> dbscan(const std::vector<Vec3>& points, double epsilon_m, int min_points, int* cluster_count) {
   std::vector<int> label(points.size(), -2);  // -2 unvisited, -1 noise
@@ -27,16 +13,11 @@ std::vector<int> dbscan(const std::vector<Vec3>& points, double epsilon_m, int m
     if (cluster_count) *cluster_count = 0;
     return {};
   }
-  PointsAdaptor adaptor{points};
-  KdTree tree(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(10));
-  tree.buildIndex();
-  const double r2 = epsilon_m * epsilon_m;  // L2_Simple works in squared distances
-  const nanoflann::SearchParams sp(32, 0.f, true);
-  std::vector<std::pair<std::uint32_t, double>> nb;
-  std::vector<std::uint32_t> queue;
+  const PointKdTree tree(points);
+  std::vector<std::pair<std::size_t, double>> nb;
+  std::vector<std::size_t> queue;
   auto neighbours = [&](std::size_t i) {
-    nb.clear();
-    tree.radiusSearch(points[i].data(), r2, nb, sp);
+    tree.within(points[i], epsilon_m, &nb);  // nearest first: a deterministic order
     return nb.size();
   };
   for (std::size_t i = 0; i < points.size(); ++i) {
@@ -51,7 +32,7 @@ std::vector<int> dbscan(const std::vector<Vec3>& points, double epsilon_m, int m
     for (const auto& n : nb)
       if (n.first != i) queue.push_back(n.first);
     for (std::size_t q = 0; q < queue.size(); ++q) {
-      const std::uint32_t j = queue[q];
+      const std::size_t j = queue[q];
       if (label[j] == -1) label[j] = c;  // border point
       if (label[j] != -2) continue;
       label[j] = c;
