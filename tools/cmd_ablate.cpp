@@ -95,14 +95,6 @@ struct Settings {
 };
 
 // One (configuration, trial, plant) run; deterministic in its seeds.
-// Serialises rendering across worker threads: two OSMesa renderers drawing at the same time
-// crashed inside libOSMesa (general protection fault) after ~80 jobs; drawing is ~15 ms of a
-// ~70 ms step, so the workers still overlap everything else.
-std::mutex& render_mutex() {
-  static std::mutex m;
-  return m;
-}
-
 nlohmann::json run_job(const AblationConfig& cfg, int trial, int plant, const Settings& set,
                        const mapping::MappingConfig& mcfg, const nbv::NbvParams& np, const world::World& world,
                        sim::Renderer& renderer) {
@@ -165,11 +157,7 @@ nlohmann::json run_job(const AblationConfig& cfg, int trial, int plant, const Se
       }
     }
     taken.push_back(T.translation());
-    LabelledFrame frame;
-    {
-      std::lock_guard<std::mutex> lock(render_mutex());
-      frame = renderer.render_free_camera(T);
-    }
+    const LabelledFrame frame = renderer.render_free_camera(T);  // the renderer serialises draws
     inserter.insert(extractor.extract(frame));
     const mapping::MapMetrics m = mapping::evaluate_map(map, truth, mcfg.metrics);
     step["pose"] = pose_to_json(T);
@@ -411,14 +399,8 @@ void add_ablate_command(CLI::App& app) {
     const auto t0 = Clock::now();
     auto worker = [&] {
       try {
-        std::unique_ptr<sim::Simulator> sim;
-        std::unique_ptr<sim::Renderer> renderer_ptr;
-        {
-          std::lock_guard<std::mutex> lock(render_mutex());
-          sim = std::make_unique<sim::Simulator>(world, default_robot_config());
-          renderer_ptr = std::make_unique<sim::Renderer>(*sim, spec.camera);
-        }
-        sim::Renderer& renderer = *renderer_ptr;
+        sim::Simulator sim(world, default_robot_config());
+        sim::Renderer renderer(sim, spec.camera);
         for (;;) {
           const std::size_t i = next++;
           if (i >= jobs.size()) break;
@@ -437,9 +419,6 @@ void add_ablate_command(CLI::App& app) {
                        d, jobs.size(), configs[j.config].id().c_str(), j.trial, j.plant, cov, o.views,
                        seconds_since(tj), el, eta);
         }
-        std::lock_guard<std::mutex> lock(render_mutex());  // contexts go away one at a time too
-        renderer_ptr.reset();
-        sim.reset();
       } catch (...) {
         std::lock_guard<std::mutex> lock(log_mutex);
         if (!failure) failure = std::current_exception();

@@ -3,12 +3,24 @@
 #include <GL/osmesa.h>
 
 #include <cmath>
+#include <mutex>
 #include <stdexcept>
 #include <vector>
 
 #include "canopy/common/error.h"
 
 namespace canopy::sim {
+
+namespace {
+// OSMesa (llvmpipe) with MuJoCo's GL loader is not safe to drive from two threads at once:
+// concurrent draws crashed inside libOSMesa after ~80 ablation jobs. Every context creation,
+// draw and destruction in the process takes this lock; drawing is a small part of a
+// planning step, so worker threads still overlap everything else.
+std::mutex& gl_mutex() {
+  static std::mutex m;
+  return m;
+}
+}  // namespace
 
 struct Renderer::Impl {
   OSMesaContext gl = nullptr;
@@ -37,6 +49,7 @@ Renderer::Renderer(Simulator& sim, const CameraIntrinsics& intrinsics, const Ren
                      " exceeds the scene's off-screen buffer " + std::to_string(m->vis.global.offwidth) + "x" +
                      std::to_string(m->vis.global.offheight));
   install_mujoco_error_handler();
+  std::lock_guard<std::mutex> lock(gl_mutex());
   Impl& r = *impl_;
   r.gl = OSMesaCreateContextExt(OSMESA_RGBA, 24, 8, 0, nullptr);
   if (!r.gl) throw std::runtime_error("OSMesa: cannot create a context");
@@ -65,6 +78,7 @@ Renderer::Renderer(Simulator& sim, const CameraIntrinsics& intrinsics, const Ren
 }
 
 Renderer::~Renderer() {
+  std::lock_guard<std::mutex> lock(gl_mutex());
   Impl& r = *impl_;
   if (r.gl) r.make_current(intrinsics_.width_px, intrinsics_.height_px);
   if (r.context_made) mjr_freeContext(&r.context);
@@ -85,6 +99,7 @@ LabelledFrame Renderer::render(const Pose& T_world_camera, bool show_robot, bool
   Impl& r = *impl_;
   const mjModel* m = sim_.model();
   const int W = intrinsics_.width_px, H = intrinsics_.height_px;
+  std::unique_lock<std::mutex> lock(gl_mutex());
   r.make_current(W, H);
   sim_.update_kinematics();
   r.option.geomgroup[kGroupRobotVisual] = show_robot;
@@ -134,6 +149,8 @@ LabelledFrame Renderer::render(const Pose& T_world_camera, bool show_robot, bool
     mjr_render(viewport, &r.scene, &r.context);
     mjr_readPixels(r.seg.data(), nullptr, viewport, &r.context);
   }
+
+  lock.unlock();  // decoding below touches only this renderer's buffers
 
   LabelledFrame f;
   f.intrinsics = intrinsics_;

@@ -65,7 +65,12 @@ void Simulator::load(const std::string& mjcf) {
   const int idx = mj_findFileVFS(vfs.get(), name);
   std::memcpy(vfs->filedata[idx], mjcf.data(), mjcf.size());
   char error[1024] = "";
-  model_ = mj_loadXML(name, vfs.get(), error, sizeof(error));
+  {
+    // MuJoCo 2.2's XML loader keeps global state (the last loaded model); load one at a time.
+    static std::mutex load_mutex;
+    std::lock_guard<std::mutex> lock(load_mutex);
+    model_ = mj_loadXML(name, vfs.get(), error, sizeof(error));
+  }
   mj_deleteVFS(vfs.get());
   if (!model_) throw std::runtime_error(std::string("MuJoCo could not compile the scene: ") + error);
   data_ = mj_makeData(model_);

@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <thread>
+#include <vector>
 
 #include "canopy/sim/renderer.h"
 
@@ -137,6 +139,41 @@ TEST(Renderer, DepthNoiseIsSeededAndScalesWithDepthSquared) {
     }
   const double sigma = std::sqrt(sum2 / n - (sum / n) * (sum / n));
   EXPECT_NEAR(sigma, 0.01 * 0.8 * 0.8, 0.1 * 0.0064);
+}
+
+}  // namespace
+}  // namespace canopy::sim
+
+namespace canopy::sim {
+namespace {
+
+// Renderers on two threads (one Simulator each) must neither crash nor disturb each other:
+// every frame equals the same frame rendered alone.
+TEST(Renderer, TwoThreadsRenderTheSameFramesAsOne) {
+  world::WorldSpec spec;
+  spec.rows.rows = 1;
+  spec.rows.plants_per_row = 2;
+  const world::World w = world::generate_world(spec);
+  std::vector<Pose> views;
+  for (int i = 0; i < 24; ++i)
+    views.push_back(look_at(Vec3(0.02 * i, 0.3, 0.5 + 0.02 * i), Vec3(0.25, 0.75, 0.6)));
+  auto render_all = [&](std::vector<LabelledFrame>* out) {
+    Simulator sim(w, default_robot_config());
+    Renderer renderer(sim, spec.camera);
+    for (const Pose& T : views) out->push_back(renderer.render_free_camera(T));
+  };
+  std::vector<LabelledFrame> alone, a, b;
+  render_all(&alone);
+  std::thread ta(render_all, &a), tb(render_all, &b);
+  ta.join();
+  tb.join();
+  ASSERT_EQ(a.size(), views.size());
+  ASSERT_EQ(b.size(), views.size());
+  for (size_t i = 0; i < views.size(); ++i) {
+    EXPECT_EQ(a[i].depth_m.data, alone[i].depth_m.data) << i;
+    EXPECT_EQ(b[i].class_id.data, alone[i].class_id.data) << i;
+    EXPECT_EQ(b[i].rgb.data, alone[i].rgb.data) << i;
+  }
 }
 
 }  // namespace

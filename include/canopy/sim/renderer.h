@@ -16,8 +16,9 @@ struct RenderOptions {
   std::uint64_t noise_seed = 1; ///< Seed of the depth noise (CameraIntrinsics::depth_noise_k).
 };
 
-/// Renders frames of a Simulator's scene. One Renderer per thread; it owns an OSMesa
-/// context and a MuJoCo render context.
+/// Renders frames of a Simulator's scene. It owns an OSMesa context and a MuJoCo render
+/// context; use one Renderer per thread. Draws from different threads are serialised by a
+/// process-wide lock (OSMesa is not safe to draw from two threads at once).
 class Renderer {
  public:
   Renderer(Simulator& sim, const CameraIntrinsics& intrinsics, const RenderOptions& options = {});
