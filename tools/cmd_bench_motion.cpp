@@ -9,10 +9,10 @@
 #include <cmath>
 #include <cstdio>
 #include <map>
-#include <random>
 
 #include "canopy/common/error.h"
 #include "canopy/common/io.h"
+#include "canopy/common/random.h"
 #include "canopy/motion/motion_config.h"
 #include "canopy/motion/reachability.h"
 #include "canopy/world/world.h"
@@ -63,11 +63,10 @@ void add_bench_motion(CLI::App& bench) {
     const BasePose base = parse_base_pose(opt->base, "--base");
     const motion::RobotModel model = motion::RobotModel::load(robot);
     motion::seed_planner_rng(cfg.seed);
-    std::mt19937_64 rng(opt->seed);
-    std::uniform_real_distribution<double> u(-M_PI, M_PI);
+    Rng rng(opt->seed);
     auto random_q = [&] {
       ArmConfig q;
-      for (auto& v : q) v = u(rng);
+      for (auto& v : q) v = rng.uniform(-M_PI, M_PI);
       return q;
     };
     nlohmann::json j;

@@ -33,7 +33,9 @@ Rgb8 SemanticClasses::color(int index) const {
 void SemanticClasses::validate(const std::string& where) const {
   if (names.empty() || names.front() != "background")
     throw InputError(where + ": key 'classes': the class list must start with 'background'");
-  if (names.size() > 255) throw InputError(where + ": key 'classes': at most 255 classes");
+  if (names.size() > static_cast<size_t>(kMaxClasses))
+    throw InputError(where + ": key 'classes': " + std::to_string(names.size()) + " classes, at most " +
+                     std::to_string(kMaxClasses) + " are supported");
   std::set<std::string> seen;
   for (const auto& n : names) {
     if (n.empty()) throw InputError(where + ": key 'classes': empty class name");

@@ -44,6 +44,9 @@ void write_png_rows(const std::string& path, int width, int height, int bit_dept
   const std::string tmp = temp_name(path);
   std::unique_ptr<FILE, FileCloser> f(std::fopen(tmp.c_str(), "wb"));
   if (!f) throw std::runtime_error("cannot write " + path);
+  // Every C++ object lives outside the setjmp/longjmp region: libpng reports errors by
+  // longjmp, which must not skip destructors.
+  std::vector<png_byte> row;
   png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
   png_infop info = png ? png_create_info_struct(png) : nullptr;
   if (!png || !info) {
@@ -61,7 +64,6 @@ void write_png_rows(const std::string& path, int width, int height, int bit_dept
                color_type, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
   png_set_compression_level(png, 3);
   png_write_info(png, info);
-  std::vector<png_byte> row;
   for (int y = 0; y < height; ++y) {
     row_fn(y, row);
     png_write_row(png, row.data());
@@ -92,6 +94,7 @@ PngRead read_png_raw(const std::string& path) {
     throw std::runtime_error("libpng: out of memory reading " + path);
   }
   PngRead out;
+  std::vector<png_bytep> rows;  // declared before setjmp (see write_png_rows)
   if (setjmp(png_jmpbuf(png))) {
     png_destroy_read_struct(&png, &info, nullptr);
     throw InputError(path + ": corrupt PNG file");
@@ -109,7 +112,7 @@ PngRead read_png_raw(const std::string& path) {
   out.channels = png_get_channels(png, info);
   out.rowbytes = png_get_rowbytes(png, info);
   out.pixels.resize(out.rowbytes * static_cast<size_t>(out.height));
-  std::vector<png_bytep> rows(static_cast<size_t>(out.height));
+  rows.resize(static_cast<size_t>(out.height));
   for (int y = 0; y < out.height; ++y) rows[static_cast<size_t>(y)] = out.pixels.data() + out.rowbytes * y;
   png_read_image(png, rows.data());
   png_destroy_read_struct(&png, &info, nullptr);
@@ -243,14 +246,28 @@ Pose pose_from_json(const nlohmann::json& j) {
                    Quat(q.at(0).get<double>(), q.at(1).get<double>(), q.at(2).get<double>(), q.at(3).get<double>()));
 }
 
+namespace {
+// Marks a folder as canopy output, so that a later run may replace it.
+constexpr const char* kOutputMarker = ".canopy-output";
+}  // namespace
+
 StagedDir::StagedDir(std::string final_dir) : final_dir_(std::move(final_dir)) {
-  while (!final_dir_.empty() && final_dir_.back() == '/') final_dir_.pop_back();
+  while (final_dir_.size() > 1 && final_dir_.back() == '/') final_dir_.pop_back();
   if (final_dir_.empty()) throw InputError("--out: the output folder name is empty");
-  staging_dir_ = final_dir_ + ".partial";
+  // Replacing a folder deletes it: only ever replace an empty one or an earlier canopy output.
   std::error_code ec;
+  if (fs::exists(final_dir_, ec)) {
+    if (!fs::is_directory(final_dir_, ec))
+      throw InputError("--out: '" + final_dir_ + "' exists and is not a folder");
+    if (!fs::is_empty(final_dir_, ec) && !fs::exists(fs::path(final_dir_) / kOutputMarker, ec))
+      throw InputError("--out: folder '" + final_dir_ +
+                       "' is not empty and was not written by canopy; choose another folder (it would be replaced)");
+  }
+  staging_dir_ = final_dir_ + ".partial";
   fs::remove_all(staging_dir_, ec);
   fs::create_directories(staging_dir_, ec);
   if (ec) throw InputError("--out: cannot create folder " + staging_dir_ + ": " + ec.message());
+  write_file_atomic(path(kOutputMarker), "written by canopy; a later run may replace this folder\n");
 }
 
 StagedDir::~StagedDir() {

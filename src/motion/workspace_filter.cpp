@@ -4,9 +4,9 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <random>
 
 #include "canopy/common/error.h"
+#include "canopy/common/random.h"
 #include "canopy/common/yaml_reader.h"
 #include "canopy/motion/collision.h"
 
@@ -66,18 +66,19 @@ WorkspaceFilter::WorkspaceFilter(const RobotModel& model, const WorkspaceParams&
   params_.validate();
   // Joint combinations drawn uniformly within one turn of each joint (wider ranges only
   // repeat positions) and the planning limits.
-  std::mt19937_64 rng(params_.seed);
+  Rng rng(params_.seed);
   const ArmLimits& lim = model.limits();
-  std::array<std::uniform_real_distribution<double>, kArmDof> u;
-  for (int i = 0; i < kArmDof; ++i)
-    u[static_cast<size_t>(i)] =
-        std::uniform_real_distribution<double>(std::max(lim.lower[i], -M_PI), std::min(lim.upper[i], M_PI));
+  ArmConfig lo{}, hi{};
+  for (int i = 0; i < kArmDof; ++i) {
+    lo[static_cast<size_t>(i)] = std::max(lim.lower[i], -M_PI);
+    hi[static_cast<size_t>(i)] = std::min(lim.upper[i], M_PI);
+  }
   const double arm_height = model.T_base_arm().translation().z();
   std::vector<Vec3> points;
   points.reserve(static_cast<size_t>(params_.samples));
   for (int s = 0; s < params_.samples; ++s) {
     ArmConfig q;
-    for (int i = 0; i < kArmDof; ++i) q[i] = u[static_cast<size_t>(i)](rng);
+    for (int i = 0; i < kArmDof; ++i) q[i] = rng.uniform(lo[static_cast<size_t>(i)], hi[static_cast<size_t>(i)]);
     const Vec3 p = model.camera_in_arm(q).translation();
     // The base is planar, so height above the ground is the same in every base pose.
     if (p.z() + arm_height < params_.min_camera_height_m) continue;

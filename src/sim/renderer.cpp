@@ -32,10 +32,19 @@ struct Renderer::Impl {
   std::vector<unsigned char> rgb, seg;
   std::vector<float> depth;
   bool scene_made = false, context_made = false;
+  int width = 0, height = 0;
 
-  void make_current(int w, int h) {
-    if (!OSMesaMakeCurrent(gl, gl_buffer.data(), GL_UNSIGNED_BYTE, w, h))
+  void make_current() {
+    if (!OSMesaMakeCurrent(gl, gl_buffer.data(), GL_UNSIGNED_BYTE, width, height))
       throw std::runtime_error("OSMesa: cannot make the context current");
+  }
+  // Frees whatever was created, also when the Renderer constructor threw half-way.
+  ~Impl() {
+    std::lock_guard<std::mutex> lock(gl_mutex());
+    if (gl) OSMesaMakeCurrent(gl, gl_buffer.data(), GL_UNSIGNED_BYTE, width, height);
+    if (context_made) mjr_freeContext(&context);
+    if (scene_made) mjv_freeScene(&scene);
+    if (gl) OSMesaDestroyContext(gl);
   }
 };
 
@@ -54,8 +63,10 @@ Renderer::Renderer(Simulator& sim, const CameraIntrinsics& intrinsics, const Ren
   r.gl = OSMesaCreateContextExt(OSMESA_RGBA, 24, 8, 0, nullptr);
   if (!r.gl) throw std::runtime_error("OSMesa: cannot create a context");
   // The window-system buffer is unused (MuJoCo renders into its own offscreen FBO).
-  r.gl_buffer.assign(static_cast<size_t>(4 * intrinsics_.width_px * intrinsics_.height_px), 0);
-  r.make_current(intrinsics_.width_px, intrinsics_.height_px);
+  r.width = intrinsics_.width_px;
+  r.height = intrinsics_.height_px;
+  r.gl_buffer.assign(static_cast<size_t>(4 * r.width * r.height), 0);
+  r.make_current();
   mjv_defaultScene(&r.scene);
   mjv_defaultOption(&r.option);
   mjv_defaultCamera(&r.camera);
@@ -77,14 +88,7 @@ Renderer::Renderer(Simulator& sim, const CameraIntrinsics& intrinsics, const Ren
   r.depth.resize(n);
 }
 
-Renderer::~Renderer() {
-  std::lock_guard<std::mutex> lock(gl_mutex());
-  Impl& r = *impl_;
-  if (r.gl) r.make_current(intrinsics_.width_px, intrinsics_.height_px);
-  if (r.context_made) mjr_freeContext(&r.context);
-  if (r.scene_made) mjv_freeScene(&r.scene);
-  if (r.gl) OSMesaDestroyContext(r.gl);
-}
+Renderer::~Renderer() = default;
 
 LabelledFrame Renderer::render_wrist_camera() {
   sim_.update_kinematics();
@@ -99,8 +103,9 @@ LabelledFrame Renderer::render(const Pose& T_world_camera, bool show_robot, bool
   Impl& r = *impl_;
   const mjModel* m = sim_.model();
   const int W = intrinsics_.width_px, H = intrinsics_.height_px;
+  if (!T_world_camera.matrix().allFinite()) throw InputError("camera pose: not finite (NaN or inf)");
   std::unique_lock<std::mutex> lock(gl_mutex());
-  r.make_current(W, H);
+  r.make_current();
   sim_.update_kinematics();
   r.option.geomgroup[kGroupRobotVisual] = show_robot;
   mjv_updateScene(m, sim_.data(), &r.option, nullptr, &r.camera, mjCAT_ALL, &r.scene);

@@ -47,13 +47,10 @@ Simulator::Simulator(const world::World& world, const RobotConfig& robot_config,
 Simulator::Simulator(SceneDescription scene) : scene_(std::move(scene)) {
   scene_.has_robot = false;
   load(scene_.mjcf);
-  mj_forward(model_, data_);
+  mj_forward(model_.get(), data_.get());
 }
 
-Simulator::~Simulator() {
-  if (data_) mj_deleteData(data_);
-  if (model_) mj_deleteModel(model_);
-}
+Simulator::~Simulator() = default;
 
 void Simulator::load(const std::string& mjcf) {
   install_mujoco_error_handler();
@@ -69,21 +66,23 @@ void Simulator::load(const std::string& mjcf) {
     // MuJoCo 2.2's XML loader keeps global state (the last loaded model); load one at a time.
     static std::mutex load_mutex;
     std::lock_guard<std::mutex> lock(load_mutex);
-    model_ = mj_loadXML(name, vfs.get(), error, sizeof(error));
+    model_.reset(mj_loadXML(name, vfs.get(), error, sizeof(error)));
   }
   mj_deleteVFS(vfs.get());
   if (!model_) throw std::runtime_error(std::string("MuJoCo could not compile the scene: ") + error);
-  data_ = mj_makeData(model_);
+  data_.reset(mj_makeData(model_.get()));
   geom_labels_.assign(static_cast<size_t>(model_->ngeom), GeomLabel{});
   for (const auto& [geom_name, label] : scene_.labels) {
-    const int id = mj_name2id(model_, mjOBJ_GEOM, geom_name.c_str());
+    const int id = mj_name2id(model_.get(), mjOBJ_GEOM, geom_name.c_str());
     if (id >= 0) geom_labels_[static_cast<size_t>(id)] = label;
   }
 }
 
 int Simulator::require_id(int type, const std::string& name) const {
-  const int id = mj_name2id(model_, static_cast<mjtObj>(type), name.c_str());
-  CANOPY_CHECK(id >= 0, "scene has no object '" << name << "'");
+  const int id = mj_name2id(model_.get(), static_cast<mjtObj>(type), name.c_str());
+  if (id < 0)
+    throw InputError("robot config: the scene has no " + std::string(mju_type2Str(type)) + " '" + name +
+                     "' (check the joint and frame names in robot.yaml against the URDF)");
   return id;
 }
 
@@ -108,7 +107,7 @@ void Simulator::bind_robot() {
 
 void Simulator::reset_home() {
   CANOPY_CHECK(has_robot(), "reset_home on a scene without the robot");
-  mj_resetData(model_, data_);
+  mj_resetData(model_.get(), data_.get());
   set_robot_state(start_, robot_config_.home);
 }
 
@@ -125,7 +124,7 @@ void Simulator::set_robot_state(const BasePose& base, const ArmConfig& q) {
   }
   mju_zero(data_->qvel, model_->nv);
   mju_zero(data_->qacc_warmstart, model_->nv);
-  mj_forward(model_, data_);
+  mj_forward(model_.get(), data_.get());
 }
 
 BasePose Simulator::base_pose() const {
@@ -166,14 +165,14 @@ void Simulator::step(int n) {
         data_->qfrc_applied[dof] = data_->qfrc_bias[dof];
       }
     }
-    mj_step(model_, data_);
+    mj_step(model_.get(), data_.get());
   }
 }
 
 void Simulator::update_kinematics() {
-  mj_kinematics(model_, data_);
-  mj_comPos(model_, data_);
-  mj_camlight(model_, data_);
+  mj_kinematics(model_.get(), data_.get());
+  mj_comPos(model_.get(), data_.get());
+  mj_camlight(model_.get(), data_.get());
 }
 
 Pose Simulator::camera_pose() const {
@@ -194,8 +193,8 @@ std::vector<RobotContact> Simulator::robot_contacts() const {
   std::vector<RobotContact> out;
   for (int i = 0; i < data_->ncon; ++i) {
     const mjContact& c = data_->contact[i];
-    const char* n1 = mj_id2name(model_, mjOBJ_GEOM, c.geom1);
-    const char* n2 = mj_id2name(model_, mjOBJ_GEOM, c.geom2);
+    const char* n1 = mj_id2name(model_.get(), mjOBJ_GEOM, c.geom1);
+    const char* n2 = mj_id2name(model_.get(), mjOBJ_GEOM, c.geom2);
     const bool r1 = starts_with(n1, kRobotPrefix), r2 = starts_with(n2, kRobotPrefix);
     if (!r1 && !r2) continue;
     RobotContact rc;

@@ -34,6 +34,13 @@ expect_error "--base: value '1,x,0'" render --base 1,x,0
 expect_error "--joints" render --joints 1,2,3
 expect_error "excludes" render --joints 0,0,0,0,0,0 --camera-pose 0,0,1,1,0,0,0
 
+# An existing folder that canopy did not write is never replaced.
+mkdir -p "$tmp/foreign" && echo keep > "$tmp/foreign/precious.txt"
+msg=$("$canopy" world --out "$tmp/foreign" 2>&1 >/dev/null); code=$?
+if [[ $code -ne 2 || "$msg" != *"not written by canopy"* || ! -f "$tmp/foreign/precious.txt" ]]; then
+  echo "FAIL: a foreign --out folder was not protected ($code: $msg)"; failures=$((failures + 1))
+fi
+
 # A good call leaves a complete folder and no staging folder.
 if ! "$canopy" world --out "$tmp/good" >/dev/null 2>&1 || [[ ! -f "$tmp/good/scene.xml" || -e "$tmp/good.partial" ]]; then
   echo "FAIL: canopy world did not write a complete folder"; failures=$((failures + 1))

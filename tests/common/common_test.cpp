@@ -105,6 +105,20 @@ TEST(Io, StagedDirOnlyAppearsOnCommit) {
   write_file_atomic(d.path("x.txt"), "x");
   d.commit();
   EXPECT_TRUE(fs::exists(out + "/x.txt"));
+  // A second run may replace canopy's own output...
+  {
+    StagedDir again(out);
+    write_file_atomic(again.path("y.txt"), "y");
+    again.commit();
+  }
+  EXPECT_TRUE(fs::exists(out + "/y.txt"));
+  EXPECT_FALSE(fs::exists(out + "/x.txt"));
+  // ...but never a folder canopy did not write.
+  const std::string foreign = testing::TempDir() + "/foreign_folder";
+  fs::create_directories(foreign);
+  write_file_atomic(foreign + "/precious.txt", "keep me");
+  EXPECT_THROW(StagedDir{foreign}, InputError);
+  EXPECT_TRUE(fs::exists(foreign + "/precious.txt"));
 }
 
 TEST(Classes, ValidateAndColors) {
@@ -116,6 +130,11 @@ TEST(Classes, ValidateAndColors) {
   EXPECT_THROW(c.validate("w.yaml"), InputError);
   c.names = {"background", "fruit", "fruit"};
   EXPECT_THROW(c.validate("w.yaml"), InputError);
+  c.names = {"background", "a", "b", "c", "d", "e", "f", "fruit"};  // 8 > kMaxClasses
+  EXPECT_THROW(c.validate("w.yaml"), InputError);
+  c.names.pop_back();
+  c.names.back() = "fruit";
+  EXPECT_NO_THROW(c.validate("w.yaml"));
 }
 
 TEST(RobotConfig, DefaultsEqualTheShippedYaml) {

@@ -7,6 +7,7 @@
 #include <thread>
 #include <vector>
 
+#include "canopy/common/error.h"
 #include "canopy/sim/renderer.h"
 
 namespace canopy::sim {
@@ -114,6 +115,9 @@ TEST(Renderer, LabelsAreRightForEveryGeomAndDepthRangeIsApplied) {
   EXPECT_EQ(f.depth_m.at(static_cast<int>(u), static_cast<int>(v)), 0.f);  // beyond 1.0 m
   EXPECT_EQ(f.class_id.at(5, 5), 0);                                        // empty sky
   EXPECT_EQ(f.instance.at(5, 5), kNoInstance);
+  Pose bad = T;
+  bad.translation().x() = std::nan("");
+  EXPECT_THROW(renderer.render_free_camera(bad), InputError);
 }
 
 TEST(Renderer, DepthNoiseIsSeededAndScalesWithDepthSquared) {
@@ -169,11 +173,13 @@ TEST(Renderer, TwoThreadsRenderTheSameFramesAsOne) {
   tb.join();
   ASSERT_EQ(a.size(), views.size());
   ASSERT_EQ(b.size(), views.size());
-  for (size_t i = 0; i < views.size(); ++i) {
-    EXPECT_EQ(a[i].depth_m.data, alone[i].depth_m.data) << i;
-    EXPECT_EQ(b[i].class_id.data, alone[i].class_id.data) << i;
-    EXPECT_EQ(b[i].rgb.data, alone[i].rgb.data) << i;
-  }
+  for (size_t i = 0; i < views.size(); ++i)
+    for (const auto* f : {&a[i], &b[i]}) {
+      EXPECT_EQ(f->depth_m.data, alone[i].depth_m.data) << i;
+      EXPECT_EQ(f->class_id.data, alone[i].class_id.data) << i;
+      EXPECT_EQ(f->instance.data, alone[i].instance.data) << i;
+      EXPECT_EQ(f->rgb.data, alone[i].rgb.data) << i;
+    }
 }
 
 }  // namespace

@@ -11,6 +11,9 @@ namespace canopy {
 
 /// Semantic class names, the target class and the colours used to draw label images.
 struct SemanticClasses {
+  /// Most classes a world may have (the planner's per-voxel tables are fixed-size).
+  static constexpr int kMaxClasses = 7;
+
   std::vector<std::string> names = {"background", "leaf", "fruit"};
   std::string target = "fruit";
 
@@ -22,7 +25,7 @@ struct SemanticClasses {
   /// Drawing colour of class `index` (background black, leaf green, fruit red, then a palette).
   Rgb8 color(int index) const;
   /// Throws InputError naming `where` when the list is empty, has duplicates, does not start
-  /// with "background", has more than 255 entries or lacks the target.
+  /// with "background", has more than kMaxClasses entries or lacks the target.
   void validate(const std::string& where) const;
 };
 

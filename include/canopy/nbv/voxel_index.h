@@ -16,6 +16,7 @@
 #include <vector>
 
 
+#include "canopy/common/classes.h"
 #include "canopy/common/types.h"
 #include "canopy/mapping/semantic_octree.h"
 
@@ -23,7 +24,7 @@ namespace canopy::nbv {
 
 /// What the gains need about one voxel state, computed once per distinct state.
 struct VoxelInfo {
-  static constexpr int kMaxCategories = 8;  ///< free + at most 7 classes.
+  static constexpr int kMaxCategories = SemanticClasses::kMaxClasses + 1;  ///< free + the classes.
   bool known = false;          ///< False: never observed (no leaf in the tree).
   bool is_target = false;      ///< Occupied and the most likely class is the target.
   std::int8_t cls = -1;        ///< Most likely stored class; -1 when none (or unknown).

@@ -37,8 +37,8 @@ class Simulator {
   Simulator(const Simulator&) = delete;
   Simulator& operator=(const Simulator&) = delete;
 
-  const mjModel* model() const { return model_; }
-  mjData* data() const { return data_; }
+  const mjModel* model() const { return model_.get(); }
+  mjData* data() const { return data_.get(); }
   const SceneDescription& scene() const { return scene_; }
   /// Label of MuJoCo geom `geom_id` (background when unlabelled).
   const GeomLabel& geom_label(int geom_id) const { return geom_labels_[static_cast<size_t>(geom_id)]; }
@@ -77,8 +77,14 @@ class Simulator {
   SceneDescription scene_;
   RobotConfig robot_config_;
   BasePose start_;
-  mjModel* model_ = nullptr;
-  mjData* data_ = nullptr;
+  struct ModelDeleter {
+    void operator()(mjModel* m) const { mj_deleteModel(m); }
+  };
+  struct DataDeleter {
+    void operator()(mjData* d) const { mj_deleteData(d); }
+  };
+  std::unique_ptr<mjModel, ModelDeleter> model_;
+  std::unique_ptr<mjData, DataDeleter> data_;
   std::vector<GeomLabel> geom_labels_;
   // Robot bindings (indices into qpos / qvel / ctrl).
   std::array<int, 3> base_qpos_{}, base_dof_{}, base_act_{};
