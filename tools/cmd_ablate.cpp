@@ -82,7 +82,7 @@ Pose random_plant_view(const world::World& world, int plant, double radius_m, Rn
   const double a = rng.uniform(0.0, 2.0 * M_PI);
   const double h = p.height_m * rng.uniform(world.spec.plant.fruit_zone_min, world.spec.plant.fruit_zone_max);
   const Vec3 target = p.base_position + Vec3(0, 0, h);
-  return nbv::look_at_zero_roll(target + radius_m * Vec3(std::cos(a), std::sin(a), 0.0), target);
+  return look_at(target + radius_m * Vec3(std::cos(a), std::sin(a), 0.0), target);
 }
 
 struct Settings {

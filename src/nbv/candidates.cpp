@@ -4,20 +4,6 @@
 
 namespace canopy::nbv {
 
-Pose look_at_zero_roll(const Vec3& eye, const Vec3& target) {
-  const Vec3 z = (target - eye).normalized();
-  Vec3 up = Vec3::UnitZ() - Vec3::UnitZ().dot(z) * z;
-  if (up.norm() < 1e-9) up = Vec3::UnitY() - Vec3::UnitY().dot(z) * z;
-  const Vec3 y = -up.normalized();
-  const Vec3 x = y.cross(z);
-  Pose T = Pose::Identity();
-  T.linear().col(0) = x;
-  T.linear().col(1) = y;
-  T.linear().col(2) = z;
-  T.translation() = eye;
-  return T;
-}
-
 std::vector<Candidate> sample_candidates(const Vec3& centroid, int cluster, const CandidateParams& p) {
   std::vector<Candidate> out;
   out.reserve(std::size_t(p.polar_count) * std::size_t(p.azimuth_count));
@@ -33,7 +19,7 @@ std::vector<Candidate> sample_candidates(const Vec3& centroid, int cluster, cons
       const Vec3 eye = centroid + p.radius_m * dir;
       if (eye.z() < p.min_height_m) continue;
       Candidate c;
-      c.T_world_camera = look_at_zero_roll(eye, centroid);
+      c.T_world_camera = look_at(eye, centroid);
       c.target = centroid;
       c.cluster = cluster;
       c.polar_deg = polar;

@@ -38,7 +38,7 @@ int label_masks(const Image<std::uint8_t>& labels, const Image<std::int32_t>& in
 }
 
 MaskNoiseStats apply_mask_noise(Image<std::uint8_t>& labels, const Image<std::int32_t>& instance, int num_classes,
-                                double p_gt, std::mt19937_64& rng) {
+                                double p_gt, Rng& rng) {
   MaskNoiseStats stats;
   if (p_gt >= 1.0 || num_classes < 2) return stats;
   Image<std::int32_t> masks;
@@ -58,11 +58,11 @@ MaskNoiseStats apply_mask_noise(Image<std::uint8_t>& labels, const Image<std::in
       --stats.masks;
       continue;
     }
-    if (uniform01(rng) < p_gt) {
+    if (rng.uniform() < p_gt) {
       new_class[static_cast<std::size_t>(m)] = c;
       continue;
     }
-    int wrong = static_cast<int>(uniform01(rng) * (num_classes - 1));  // 0 .. K-2
+    int wrong = static_cast<int>(rng.uniform() * (num_classes - 1));  // 0 .. K-2
     if (wrong >= num_classes - 1) wrong = num_classes - 2;
     if (wrong >= c) ++wrong;  // skip the true class
     new_class[static_cast<std::size_t>(m)] = wrong;

@@ -37,9 +37,7 @@ LabelledCloud SemanticExtractor::extract(const LabelledFrame& frame) {
     Image<float> depth = frame.depth_m;
     for (float& z : depth.data) {
       if (!(std::isfinite(z) && z > 0.f)) continue;
-      // Box-Muller from two uniforms of the frame's generator.
-      const double u1 = 1.0 - uniform01(rng_), u2 = uniform01(rng_);
-      const double g = std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * M_PI * u2);
+      const double g = rng_.normal();
       z = static_cast<float>(z + g * params_.depth_noise_k * double(z) * double(z));
     }
     cloud = depth_to_cloud(frame.intrinsics, frame.T_world_camera, depth, labels, classes_.size());

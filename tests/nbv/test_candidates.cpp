@@ -40,7 +40,7 @@ TEST(Candidates, BelowTheFloorDropped) {
 }
 
 TEST(Candidates, StraightDownHasAnUpVector) {
-  const Pose T = look_at_zero_roll(Vec3(0, 0, 1), Vec3(0, 0, 0));
+  const Pose T = look_at(Vec3(0, 0, 1), Vec3(0, 0, 0));
   EXPECT_TRUE(T.linear().allFinite());
   EXPECT_NEAR(T.linear().determinant(), 1.0, 1e-12);
   EXPECT_NEAR(T.linear().col(2).z(), -1.0, 1e-12);

@@ -135,12 +135,12 @@ TEST(Planner, BadViewsScoreZeroWithAStatus) {
     }
   });
   ASSERT_TRUE(found);
-  ViewScore s = eval.evaluate(look_at_zero_roll(inside, inside + Vec3(0.3, 0, 0)), inside + Vec3(0.3, 0, 0), *gain,
+  ViewScore s = eval.evaluate(look_at(inside, inside + Vec3(0.3, 0, 0)), inside + Vec3(0.3, 0, 0), *gain,
                               ray_set("ours"), 0);
   EXPECT_EQ(s.status, ViewStatus::kInsideOccupied);
   EXPECT_EQ(s.gain, 0.0);
   // target behind the camera
-  const Pose T = look_at_zero_roll(Vec3(0, 0, 1), Vec3(1, 0, 1));
+  const Pose T = look_at(Vec3(0, 0, 1), Vec3(1, 0, 1));
   s = eval.evaluate(T, Vec3(-1, 0, 1), *gain, ray_set("ours"), 0);
   EXPECT_EQ(s.status, ViewStatus::kTargetBehind);
   EXPECT_EQ(s.gain, 0.0);
@@ -149,7 +149,7 @@ TEST(Planner, BadViewsScoreZeroWithAStatus) {
   EXPECT_EQ(s.status, ViewStatus::kNoRays);
   EXPECT_EQ(s.gain, 0.0);
   // camera outside the map
-  s = eval.evaluate(look_at_zero_roll(Vec3(1e4, 0, 0), Vec3(0, 0, 0)), Vec3(0, 0, 0), *gain, ray_set("ours"), 0);
+  s = eval.evaluate(look_at(Vec3(1e4, 0, 0), Vec3(0, 0, 0)), Vec3(0, 0, 0), *gain, ray_set("ours"), 0);
   EXPECT_EQ(s.status, ViewStatus::kOutsideMap);
   EXPECT_STREQ(to_string(s.status), "camera outside the map");
   // a centroid at the edge of the map: rays run into unknown space, the gain stays finite

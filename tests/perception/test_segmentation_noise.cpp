@@ -40,7 +40,7 @@ TEST(SegmentationNoise, PgtOneIsNoNoise) {
   int n = 0;
   const Image<std::uint8_t> img = masks_image(&n);
   Image<std::uint8_t> noisy = img;
-  std::mt19937_64 rng(5);
+  Rng rng(5);
   const MaskNoiseStats s = apply_mask_noise(noisy, Image<std::int32_t>(), 3, 1.0, rng);
   EXPECT_EQ(noisy.data, img.data);
   EXPECT_EQ(s.flipped, 0u);
@@ -51,7 +51,7 @@ TEST(SegmentationNoise, PgtOneIsNoNoise) {
 TEST(SegmentationNoise, PgtPointSevenFlipsTheExpectedShare) {
   int n = 0;
   const Image<std::uint8_t> img = masks_image(&n);
-  std::mt19937_64 rng(12345);
+  Rng rng(12345);
   std::size_t masks = 0, flipped = 0, to_background = 0, fruit_to_leaf = 0, fruit_masks = 0;
   for (int image = 0; image < 200; ++image) {
     Image<std::uint8_t> noisy = img;

@@ -1,6 +1,7 @@
 #pragma once
 // Minimal row-major image container (row 0 at the top).
 
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -20,9 +21,9 @@ struct Image {
   std::vector<T> data;
 
   Image() = default;
-  Image(int w, int h, const T& fill = T()) : width(w), height(h), data(static_cast<size_t>(w) * h, fill) {}
-  T& at(int x, int y) { return data[static_cast<size_t>(y) * width + x]; }
-  const T& at(int x, int y) const { return data[static_cast<size_t>(y) * width + x]; }
+  Image(int w, int h, const T& fill = T()) : width(w), height(h), data(static_cast<std::size_t>(w) * h, fill) {}
+  T& at(int x, int y) { return data[static_cast<std::size_t>(y) * width + x]; }
+  const T& at(int x, int y) const { return data[static_cast<std::size_t>(y) * width + x]; }
   bool empty() const { return data.empty(); }
 };
 

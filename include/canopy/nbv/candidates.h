@@ -4,15 +4,11 @@
 
 #include <vector>
 
+#include "canopy/common/camera.h"
 #include "canopy/common/types.h"
 #include "canopy/nbv/nbv_params.h"
 
 namespace canopy::nbv {
-
-/// Optical-frame camera (x right, y down, z forward) at `eye` looking at `target` with zero
-/// roll: the image's up direction (-y) has positive world z; looking straight up or down it
-/// falls back to world +y as up. `eye` must differ from `target`.
-Pose look_at_zero_roll(const Vec3& eye, const Vec3& target);
 
 /// One candidate view of a cluster.
 struct Candidate {

@@ -7,9 +7,9 @@
 // background with 0.15, as in the prototype.
 
 #include <cstdint>
-#include <random>
 
 #include "canopy/common/image.h"
+#include "canopy/common/random.h"
 
 namespace canopy::perception {
 
@@ -20,7 +20,6 @@ struct MaskNoiseStats {
 };
 
 /// Uniform double in [0, 1) from a 64-bit generator (same on every platform).
-inline double uniform01(std::mt19937_64& rng) { return double(rng() >> 11) * 0x1.0p-53; }
 
 /// Labels masks of `labels` (class indices < num_classes) and returns them as a mask id
 /// image (-1 on background); `instance` may be empty. Returns the number of masks.
@@ -28,6 +27,6 @@ int label_masks(const Image<std::uint8_t>& labels, const Image<std::int32_t>& in
 
 /// Applies the noise in place. p_gt = 1 leaves `labels` untouched and draws nothing.
 MaskNoiseStats apply_mask_noise(Image<std::uint8_t>& labels, const Image<std::int32_t>& instance, int num_classes,
-                                double p_gt, std::mt19937_64& rng);
+                                double p_gt, Rng& rng);
 
 }  // namespace canopy::perception

@@ -4,11 +4,11 @@
 // noise, and turns depth + labels into a labelled point cloud in the world frame.
 
 #include <cstdint>
-#include <random>
 #include <string>
 
 #include "canopy/common/classes.h"
 #include "canopy/common/frame.h"
+#include "canopy/common/random.h"
 #include "canopy/common/yaml_reader.h"
 #include "canopy/perception/color_segmentation.h"
 #include "canopy/perception/labelled_cloud.h"
@@ -52,7 +52,7 @@ class SemanticExtractor {
  private:
   ExtractorParams params_;
   SemanticClasses classes_;
-  std::mt19937_64 rng_;
+  Rng rng_;
 };
 
 /// Unprojects valid pixels of `depth_m` with `labels` into the world frame: the cloud part of
