@@ -66,13 +66,14 @@ struct Job {
   int plant = 0;
 };
 
-// Splits "a,b,c".
+// Splits "a,b,c", dropping empty items and repeats (a repeated configuration would have two
+// workers write the same job file).
 std::vector<std::string> split(const std::string& s) {
   std::vector<std::string> out;
   std::stringstream ss(s);
   std::string item;
   while (std::getline(ss, item, ','))
-    if (!item.empty()) out.push_back(item);
+    if (!item.empty() && std::find(out.begin(), out.end(), item) == out.end()) out.push_back(item);
   return out;
 }
 
@@ -324,7 +325,7 @@ void add_ablate_command(CLI::App& app) {
       const double v = std::strtod(s.c_str(), &end);
       if (end == s.c_str() || *end != '\0' || !(v >= 0.0 && v <= 1.0))
         throw InputError("--pgt: value '" + s + "' is not a probability in [0, 1]");
-      pgts.push_back(v);
+      if (std::find(pgts.begin(), pgts.end(), v) == pgts.end()) pgts.push_back(v);
     }
     if (gains.empty() || rays.empty() || pgts.empty()) throw InputError("--gains, --rays and --pgt need a value each");
     for (const auto& g : gains) nbv::make_gain(g, np.gain, "--gains");
@@ -365,6 +366,24 @@ void add_ablate_command(CLI::App& app) {
     e2 << np.to_yaml();
     settings["mapping_config"] = std::string(e1.c_str());
     settings["nbv_config"] = std::string(e2.c_str());
+    if (o.resume || o.summarize_only) {
+      // Finished jobs are only reused from a run with the same settings (threads aside).
+      std::ifstream previous_file(o.out + "/settings.json");
+      if (previous_file) {
+        nlohmann::json previous;
+        try {
+          previous = nlohmann::json::parse(previous_file);
+        } catch (const std::exception&) {
+          throw InputError("--resume: " + o.out + "/settings.json is not valid JSON");
+        }
+        nlohmann::json a = settings, b = previous;
+        a.erase("threads");
+        b.erase("threads");
+        if (a != b)
+          throw InputError("--resume: the settings differ from those of the run in " + o.out +
+                           " (world, plants, views, trials, seed, labels or configs); use another --out");
+      }
+    }
     write_json_atomic(o.out + "/settings.json", settings);
 
     Settings set;

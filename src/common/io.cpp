@@ -3,6 +3,7 @@
 #include <png.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -18,8 +19,10 @@ namespace canopy {
 
 namespace {
 
+// Unique per process and per call, so concurrent writers never share a temporary file.
 std::string temp_name(const std::string& path) {
-  return path + ".tmp" + std::to_string(::getpid());
+  static std::atomic<unsigned long> counter{0};
+  return path + ".tmp" + std::to_string(::getpid()) + "_" + std::to_string(counter++);
 }
 
 void rename_or_throw(const std::string& from, const std::string& to) {
