@@ -5,9 +5,11 @@
 #include <limits>
 #include <random>
 #include <set>
+#include <tuple>
 
 #include "canopy/mapping/scan_inserter.h"
 #include "canopy/perception/semantic_extractor.h"
+#include "canopy/common/random.h"
 #include "synthetic.h"
 
 using namespace canopy;
@@ -69,7 +71,7 @@ TEST(ScanInserter, FreeSpaceRayCarvesOnlyItsCells) {
     const Vec3 origin(u(rng) * 0.3, u(rng) * 0.3, 1.0 + u(rng) * 0.3);
     Vec3 dir(u(rng), u(rng), u(rng));
     dir.normalize();
-    const double len = 0.05 + 0.9 * (0.5 + 0.5 * u(rng));
+    const double len = 0.05 + 1.25 * (0.5 + 0.5 * u(rng));  // some beyond the 1.0 m max range
     const Vec3 p = origin + dir * len;
     std::vector<VoxelUpdate> updates;
     InsertStats st;
@@ -92,7 +94,7 @@ TEST(ScanInserter, FreeSpaceRayCarvesOnlyItsCells) {
     for (const auto& up : updates)
       if (up.label == VoxelUpdate::kFree) got.insert(up.code);
     EXPECT_EQ(got, expected) << "trial " << trial;
-    const bool is_hit = len <= 1.0;
+    const bool is_hit = len <= map.params().max_range_m;
     EXPECT_EQ(st.hit_voxels, is_hit ? 1u : 0u);
   }
 }
@@ -156,31 +158,52 @@ TEST(ScanInserter, BadPointsAndLabelsAreSkippedAndCounted) {
   EXPECT_EQ(map.find(Vec3(0.3, 0.0, 1.0)), nullptr);  // the bad-label point left no hit
 }
 
-// A real image-sized cloud: one or two threads give the identical map.
+// One or two threads give the identical map, on scans big enough to take every parallel
+// path (points, rays, free-space grid cells and the tree update all above their thresholds).
 TEST(ScanInserter, ThreadCountDoesNotChangeTheMap) {
-  CameraIntrinsics K;
-  std::vector<synth::Sphere> scene = {{Vec3(0.5, 0, 1.0), 0.045, 2, 0}, {Vec3(0.55, 0.1, 1.05), 0.06, 1},
-                                        {Vec3(0.6, -0.1, 0.95), 0.07, 1}};
-  SemanticOcTree a = make_map(1), b = make_map(2);
+  auto params = [](int threads) {
+    SemanticMapParams p;
+    p.threads = threads;
+    p.max_range_m = 3.0;
+    p.ray_range_m = 3.0;
+    return p;
+  };
+  SemanticOcTree a(params(1), SemanticClasses{}), b(params(2), SemanticClasses{});
   ScanInserter ia(a), ib(b);
-  for (int v = 0; v < 3; ++v) {
-    const Vec3 eye(0.0, -0.2 + 0.2 * v, 1.0);
-    const LabelledFrame f = synth::render_spheres(K, synth::look_at(eye, Vec3(0.5, 0, 1.0)), scene);
-    const LabelledCloud cloud = perception::depth_to_cloud(K, f.T_world_camera, f.depth_m, f.class_id, 3);
+  Rng rng(21);
+  for (int scan = 0; scan < 2; ++scan) {
+    LabelledCloud cloud;
+    cloud.origin_world = Vec3(0.0, 0.1 * scan, 0.0);
+    for (int i = 0; i < 150000; ++i) {
+      cloud.points_world.push_back(
+          Vec3f(float(rng.uniform(-1.25, 1.25)), float(rng.uniform(-1.25, 1.25)), float(rng.uniform(0.3, 1.4))));
+      cloud.labels.push_back(static_cast<std::uint8_t>(rng.integer(0, 2)));
+    }
     const InsertStats sa = ia.insert(cloud);
     const InsertStats sb = ib.insert(cloud);
+    EXPECT_GE(sa.points, 100000u);
+    EXPECT_GE(sa.rays, 8192u);
+    EXPECT_GE(sa.hit_voxels + sa.free_voxels, 32768u);
     EXPECT_EQ(sa.free_voxels, sb.free_voxels);
-    EXPECT_GT(sa.free_voxels, 1000u);
+    EXPECT_EQ(sa.hit_voxels, sb.hit_voxels);
   }
+  // Same leaves (pruned blocks included) with the same states; params differ in `threads`.
+  auto leaves = [](const SemanticOcTree& m) {
+    std::vector<std::tuple<std::uint64_t, unsigned, SemanticState>> out;
+    m.for_each_leaf([&](const octomap::OcTreeKey& key, unsigned depth, const SemanticState& st) {
+      out.emplace_back(morton_code(key), depth, st);
+    });
+    return out;
+  };
+  const auto la = leaves(a), lb = leaves(b);
   EXPECT_EQ(a.size(), b.size());
-  std::size_t n = 0;
-  a.for_each_leaf([&](const octomap::OcTreeKey& key, unsigned depth, const SemanticState& s) {
-    if (depth != 16) return;
-    ASSERT_NE(b.find(key), nullptr);
-    EXPECT_EQ(*b.find(key), s);
-    ++n;
-  });
-  EXPECT_GT(n, 1000u);
+  ASSERT_EQ(la.size(), lb.size());
+  for (std::size_t i = 0; i < la.size(); ++i) {
+    EXPECT_EQ(std::get<0>(la[i]), std::get<0>(lb[i]));
+    EXPECT_EQ(std::get<1>(la[i]), std::get<1>(lb[i]));
+    EXPECT_TRUE(std::get<2>(la[i]) == std::get<2>(lb[i]));
+  }
+  EXPECT_GT(la.size(), 10000u);
 }
 
 // Rays too long for the dense grid take the sort-and-deduplicate path: same cells.
