@@ -55,6 +55,10 @@ double box_entropy(const SemanticOcTree& map, const Vec3& lo, const Vec3& hi, st
   // Keys whose centres (k - 32768 + 0.5) * res lie in [lo, hi].
   const double res = map.getResolution();
   const int offset = 1 << (kDepth - 1);
+  const double half_range = offset * res;
+  if (!lo.allFinite() || !hi.allFinite() || (lo.cwiseAbs().array() > half_range).any() ||
+      (hi.cwiseAbs().array() > half_range).any())
+    throw InputError("entropy box outside the map's range (or not finite)");
   int kmin[3], kmax[3];
   for (int a = 0; a < 3; ++a) {
     kmin[a] = static_cast<int>(std::ceil(lo[a] / res - 0.5)) + offset;

@@ -30,6 +30,10 @@ SemanticMapParams SemanticMapParams::from_yaml(YamlReader& y) {
   y.check(p.clamp_max_logodds > 0.f, "clamp_max_logodds", "must be > 0");
   y.check(p.max_range_m > 0.0, "max_range_m", "must be > 0");
   y.check(p.ray_range_m > 0.0, "ray_range_m", "must be > 0");
+  y.check(p.unseen_logodds >= p.clamp_min_logodds && p.unseen_logodds <= p.clamp_max_logodds, "unseen_logodds",
+          "must lie within [clamp_min_logodds, clamp_max_logodds]");
+  y.check(p.hit_logodds < p.clamp_max_logodds, "hit_logodds", "must be below clamp_max_logodds");
+  y.check(p.pass_logodds > p.clamp_min_logodds, "pass_logodds", "must be above clamp_min_logodds");
   y.check(p.threads >= 0 && p.threads <= 256, "threads", "must be in [0, 256]");
   return p;
 }

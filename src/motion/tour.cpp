@@ -159,6 +159,9 @@ CostMatrix cartesian_cost_matrix(const Vec3& start, const std::vector<Vec3>& vie
 std::vector<int> order_views(const TourParams& params, const ArmConfig& start_q, const Vec3& start_camera,
                              const std::vector<ArmConfig>& view_q, const std::vector<Vec3>& view_camera) {
   params.validate();
+  if (view_q.size() != view_camera.size())
+    throw InputError("order_views: " + std::to_string(view_q.size()) + " joint configurations but " +
+                     std::to_string(view_camera.size()) + " camera positions");
   if (params.cost == "joint") return solve_tour(joint_cost_matrix(start_q, view_q), params.exact_max_views);
   return solve_tour(cartesian_cost_matrix(start_camera, view_camera), params.exact_max_views);
 }

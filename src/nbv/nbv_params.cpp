@@ -60,6 +60,8 @@ NbvParams NbvParams::from_yaml(YamlReader& y) {
     q.sparse_grid = count(c, "sparse_grid", q.sparse_grid, 1, 4096);
     q.depth_margin_m = real(c, "depth_margin_m", q.depth_margin_m);
     c.check(q.depth_margin_m >= 0.0, "depth_margin_m", "must be >= 0");
+    // The window grid has (cluster_size / step)^2 rays: keep it a grid, not a flood.
+    c.check(q.cluster_size_m / q.step_m <= 512.0, "step_m", "is too small for cluster_size_m (more than 512 x 512 rays)");
     c.finish();
   }
   {
