@@ -83,7 +83,7 @@ void put_state(Writer& w, const SemanticState& s) {
   w.put(s.count);
 }
 
-SemanticState get_state(Reader& r, int num_classes) {
+SemanticState get_state(Reader& r, int num_classes, const UpdateRule& rule) {
   SemanticState s;
   for (float& l : s.logodds) l = r.get<float>();
   s.others = r.get<float>();
@@ -96,6 +96,17 @@ SemanticState get_state(Reader& r, int num_classes) {
     const bool used = i < s.count;
     if (used && s.class_id[i] >= num_classes) r.fail("class index " + std::to_string(s.class_id[i]) + " out of range");
     if (!used && s.class_id[i] != SemanticState::kNoClass) r.fail("a stray class index");
+    if (!used && s.logodds[i] != 0.f) r.fail("a log-odds in an empty slot");
+  }
+  // The invariants the update rules keep: log-odds within the clamps, stored classes
+  // distinct and sorted strongest first.
+  auto in_clamps = [&](float l) { return l >= rule.min && l <= rule.max; };
+  if (!in_clamps(s.others)) r.fail("a log-odds outside the clamps");
+  for (int i = 0; i < s.count; ++i) {
+    if (!in_clamps(s.logodds[i])) r.fail("a log-odds outside the clamps");
+    for (int j = 0; j < i; ++j)
+      if (s.class_id[j] == s.class_id[i]) r.fail("a class stored twice in one voxel");
+    if (i > 0 && s.logodds[i] > s.logodds[i - 1]) r.fail("a voxel whose classes are not sorted");
   }
   return s;
 }
@@ -113,17 +124,18 @@ void write_node(Writer& w, const SemanticNode* node) {
     if (node->child(i)) write_node(w, node->child(i));
 }
 
-void read_node(Reader& r, SemanticNode* node, unsigned depth, int num_classes, std::size_t* nodes) {
+void read_node(Reader& r, SemanticNode* node, unsigned depth, int num_classes, const UpdateRule& rule,
+               std::size_t* nodes) {
   const auto mask = r.get<std::uint8_t>();
   if (mask == 0) {
-    node->state() = get_state(r, num_classes);
+    node->state() = get_state(r, num_classes, rule);
     return;
   }
   if (depth == kDepth) r.fail("a voxel with children");
   for (unsigned i = 0; i < 8; ++i) {
     if (!(mask & (1u << i))) continue;
     ++*nodes;
-    read_node(r, node->make_child(i), depth + 1, num_classes, nodes);
+    read_node(r, node->make_child(i), depth + 1, num_classes, rule, nodes);
   }
 }
 
@@ -183,7 +195,9 @@ SemanticOcTree deserialize_map(const std::string& bytes, const std::string& name
   p.max_range_m = r.get<double>();
   p.ray_range_m = r.get<double>();
   p.unseen_logodds = r.get<float>();
-  p.prune = r.get<std::uint8_t>() != 0;
+  const auto prune = r.get<std::uint8_t>();
+  if (prune > 1) r.fail("a bad prune flag");
+  p.prune = prune != 0;
   p.threads = r.get<std::int32_t>();
   p.validate(name);
   SemanticClasses c;
@@ -201,7 +215,7 @@ SemanticOcTree deserialize_map(const std::string& bytes, const std::string& name
   std::size_t nodes = 0;
   if (has_root) {
     nodes = 1;
-    read_node(r, map.create_root(), 0, c.size(), &nodes);
+    read_node(r, map.create_root(), 0, c.size(), map.rule(), &nodes);
     if (!map.getRoot()->has_children()) r.fail("a root without children");
   }
   if (nodes != size) r.fail("node count " + std::to_string(nodes) + " but header says " + std::to_string(size));

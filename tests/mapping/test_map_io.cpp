@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <cstring>
+
 #include <octomap/OcTree.h>
 
 #include <filesystem>
@@ -65,6 +67,33 @@ TEST(MapIo, TruncatedOrCorruptFilesThrowInputError) {
     EXPECT_THROW(deserialize_map(bad, "flipped"), InputError) << i;
   }
   EXPECT_THROW(load_map("/nonexistent/map.csm"), InputError);
+  // Corruption that keeps a valid checksum (re-signed after the flip) reaches the structural
+  // checks: every such file is either rejected with InputError or loads as a map that
+  // writes back the very same bytes (nothing half-read, nothing silently altered).
+  auto fnv1a = [](const std::string& b, std::size_t n) {
+    std::uint64_t h = 1469598103934665603ull;
+    for (std::size_t i = 0; i < n; ++i) h = (h ^ static_cast<unsigned char>(b[i])) * 1099511628211ull;
+    return h;
+  };
+  const std::size_t body = bytes.size() - sizeof(std::uint64_t);
+  std::size_t rejected = 0, accepted = 0;
+  for (std::size_t i = 12; i < body; i += 1 + body / 211) {
+    for (const unsigned char flip : {0x01, 0x5a, 0x80}) {
+      std::string bad = bytes;
+      bad[i] = static_cast<char>(bad[i] ^ flip);
+      const std::uint64_t h = fnv1a(bad, body);
+      std::memcpy(&bad[body], &h, sizeof(h));
+      try {
+        const SemanticOcTree m = deserialize_map(bad, "resigned");
+        EXPECT_EQ(serialize_map(m), bad) << "byte " << i;
+        ++accepted;
+      } catch (const InputError&) {
+        ++rejected;
+      }
+    }
+  }
+  EXPECT_GT(rejected, 0u);
+  EXPECT_GT(rejected + accepted, 300u);
   try {
     deserialize_map(bytes.substr(0, bytes.size() - 3), "my.csm");
     FAIL();
