@@ -242,21 +242,8 @@ std::size_t export_ply(const SemanticOcTree& map, const std::string& path) {
     body.append(reinterpret_cast<const char*>(&occ), sizeof(occ));
     ++count;
   };
-  map.for_each_leaf([&](const octomap::OcTreeKey& key, unsigned depth, const SemanticState& s) {
-    if (s.occupancy_logodds() <= 0.f) return;
-    if (depth == kDepth) {
-      add(map.center_of(key), s);
-      return;
-    }
-    const int half = 1 << (kDepth - 1 - depth);
-    for (int z = -half; z < half; ++z)
-      for (int y = -half; y < half; ++y)
-        for (int x = -half; x < half; ++x)
-          add(map.center_of(octomap::OcTreeKey(static_cast<octomap::key_type>(key[0] + x),
-                                               static_cast<octomap::key_type>(key[1] + y),
-                                               static_cast<octomap::key_type>(key[2] + z))),
-              s);
-  });
+  map.for_each_voxel_if([](const SemanticState& s) { return s.occupancy_logodds() > 0.f; },
+                         [&](const octomap::OcTreeKey& key, const SemanticState& s) { add(map.center_of(key), s); });
   std::ostringstream header;
   header << "ply\nformat binary_little_endian 1.0\ncomment canopy semantic map, voxel centres, resolution "
          << map.getResolution() << " m\n";

@@ -32,21 +32,8 @@ YAML::Node MetricsParams::to_yaml() const {
 
 std::vector<Vec3> class_voxel_centers(const SemanticOcTree& map, int class_index) {
   std::vector<Vec3> out;
-  map.for_each_leaf([&](const octomap::OcTreeKey& key, unsigned depth, const SemanticState& s) {
-    if (!SemanticOcTree::is_class_voxel(s, class_index)) return;
-    if (depth == kDepth) {
-      out.push_back(map.center_of(key));
-      return;
-    }
-    // A pruned block: every voxel in it (its key is the block's centre key).
-    const int half = 1 << (kDepth - 1 - depth);
-    for (int z = -half; z < half; ++z)
-      for (int y = -half; y < half; ++y)
-        for (int x = -half; x < half; ++x)
-          out.push_back(map.center_of(octomap::OcTreeKey(static_cast<octomap::key_type>(key[0] + x),
-                                                         static_cast<octomap::key_type>(key[1] + y),
-                                                         static_cast<octomap::key_type>(key[2] + z))));
-  });
+  map.for_each_voxel_if([&](const SemanticState& s) { return SemanticOcTree::is_class_voxel(s, class_index); },
+                         [&](const octomap::OcTreeKey& key, const SemanticState&) { out.push_back(map.center_of(key)); });
   return out;
 }
 

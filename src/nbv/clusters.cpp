@@ -49,21 +49,14 @@ std::vector<Vec3> cluster_points(const mapping::SemanticOcTree& map, const Clust
                                  const Eigen::AlignedBox3d* region) {
   std::vector<Vec3> pts;
   const int target = map.classes().target_index();
-  map.for_each_leaf([&](const octomap::OcTreeKey& key, unsigned depth, const mapping::SemanticState& s) {
-    if (s.most_likely_class() != target || !(double(s.top_logodds()) > params.min_logodds)) return;
-    const int side = 1 << (16 - depth);
-    const int half = side / 2;
-    for (int z = 0; z < side; ++z)
-      for (int y = 0; y < side; ++y)
-        for (int x = 0; x < side; ++x) {
-          const octomap::OcTreeKey k(static_cast<octomap::key_type>(key[0] - half + x),
-                                     static_cast<octomap::key_type>(key[1] - half + y),
-                                     static_cast<octomap::key_type>(key[2] - half + z));
-          const Vec3 c = map.center_of(k);
-          if (region && !region->contains(c)) continue;
-          pts.push_back(c);
-        }
-  });
+  map.for_each_voxel_if(
+      [&](const mapping::SemanticState& s) {
+        return s.most_likely_class() == target && double(s.top_logodds()) > params.min_logodds;
+      },
+      [&](const octomap::OcTreeKey& key, const mapping::SemanticState&) {
+        const Vec3 c = map.center_of(key);
+        if (!region || region->contains(c)) pts.push_back(c);
+      });
   return pts;
 }
 

@@ -131,6 +131,27 @@ class SemanticOcTree : public octomap::OcTreeBaseImpl<SemanticNode, octomap::Abs
   void for_each_leaf(F&& f) const {
     if (root) for_each_leaf_recurs(root, octomap::OcTreeKey(tree_max_val, tree_max_val, tree_max_val), 0, f);
   }
+  /// Calls f(key, state) for every finest-level voxel of every leaf whose state passes
+  /// keep(state); pruned blocks are expanded into their voxels (only when kept, so large free
+  /// blocks cost nothing when the predicate rejects them).
+  template <typename Keep, typename F>
+  void for_each_voxel_if(Keep&& keep, F&& f) const {
+    for_each_leaf([&](const octomap::OcTreeKey& key, unsigned depth, const SemanticState& s) {
+      if (!keep(s)) return;
+      if (depth == tree_depth) {
+        f(key, s);
+        return;
+      }
+      // A pruned block; its key is the block's centre key.
+      const int half = 1 << (tree_depth - 1 - depth);
+      for (int z = -half; z < half; ++z)
+        for (int y = -half; y < half; ++y)
+          for (int x = -half; x < half; ++x)
+            f(octomap::OcTreeKey(static_cast<octomap::key_type>(key[0] + x), static_cast<octomap::key_type>(key[1] + y),
+                                 static_cast<octomap::key_type>(key[2] + z)),
+              s);
+    });
+  }
   /// Leaf and voxel counts (target = classes().target_index()).
   VoxelCounts counts() const;
 
