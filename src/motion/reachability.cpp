@@ -8,6 +8,7 @@
 #include "canopy/common/camera.h"
 #include "canopy/common/error.h"
 #include "canopy/common/io.h"
+#include "canopy/common/view_sphere.h"
 #include "canopy/world/world.h"
 
 namespace canopy::motion {
@@ -25,17 +26,9 @@ void ReachParams::validate() const {
 std::vector<Pose> sphere_views(const Vec3& target, const ReachParams& p) {
   p.validate();
   std::vector<Pose> views;
-  for (int k = 0; k < p.polar_angles; ++k) {
-    const double polar_deg =
-        p.polar_angles == 1 ? 0.5 * (p.polar_min_deg + p.polar_max_deg)
-                            : p.polar_min_deg + (p.polar_max_deg - p.polar_min_deg) * k / (p.polar_angles - 1);
-    const double th = polar_deg * M_PI / 180.0;
-    for (int a = 0; a < p.azimuths; ++a) {
-      const double ph = 2.0 * M_PI * a / p.azimuths;
-      const Vec3 c = target + p.view_radius_m * Vec3(std::sin(th) * std::cos(ph), std::sin(th) * std::sin(ph), std::cos(th));
-      views.push_back(canopy::look_at(c, target));
-    }
-  }
+  for (const SphereView& v : canopy::sphere_views(
+           target, ViewSphere{p.view_radius_m, p.polar_angles, p.polar_min_deg, p.polar_max_deg, p.azimuths}))
+    views.push_back(v.T_world_camera);
   return views;
 }
 
