@@ -32,8 +32,10 @@ TEST(MotionConfig, PartialFilesAndErrors) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("motion.yaml"), std::string::npos) << e.what();
   }
-  // Round trip through JSON keeps every value.
+  // Round trip: the saved settings (JSON is YAML) load back to the same settings.
   EXPECT_EQ(c.to_json()["planner"]["time_limit_s"], 3.0);
+  const MotionConfig back = MotionConfig::load_string(c.to_json().dump(), "roundtrip", robot);
+  EXPECT_EQ(back.to_json(), c.to_json());
 }
 
 }  // namespace
