@@ -121,24 +121,21 @@ void add_bench_gain(CLI::App& bench) {
     nbv::ViewEvaluator eval(index, spec.camera, np.rays);
     for (const auto& rname : nbv::ray_set_names()) {
       const nbv::RaySetEntry& rays = nbv::ray_set(rname);
-      const Timed fast = time_views(cands.size(), opt->min_ms, [&](double* g) {
-        std::size_t vox = 0;
-        for (std::size_t i = 0; i < cands.size(); ++i) {
-          const auto s = eval.evaluate(cands[i].T_world_camera, cands[i].target, *gain, rays, i);
-          *g += s.gain;
-          vox += s.voxels;
-        }
-        return vox;
-      });
-      const Timed ref = time_views(cands.size(), opt->min_ms, [&](double* g) {
-        std::size_t vox = 0;
-        for (std::size_t i = 0; i < cands.size(); ++i) {
-          const auto s = eval.evaluate_reference(cands[i].T_world_camera, cands[i].target, *gain, rays, i);
-          *g += s.gain;
-          vox += s.voxels;
-        }
-        return vox;
-      });
+      // (a) The same candidates through the fast evaluator and through the reference.
+      auto time_gain = [&](bool reference) {
+        return time_views(cands.size(), opt->min_ms, [&](double* g) {
+          std::size_t vox = 0;
+          for (std::size_t i = 0; i < cands.size(); ++i) {
+            const auto s = reference ? eval.evaluate_reference(cands[i].T_world_camera, cands[i].target, *gain, rays, i)
+                                     : eval.evaluate(cands[i].T_world_camera, cands[i].target, *gain, rays, i);
+            *g += s.gain;
+            vox += s.voxels;
+          }
+          return vox;
+        });
+      };
+      const Timed fast = time_gain(false);
+      const Timed ref = time_gain(true);
       // Traversal only, on the same segments.
       std::vector<std::vector<Vec3>> ends(cands.size());
       std::size_t rays_total = 0;

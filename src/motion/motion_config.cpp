@@ -1,6 +1,7 @@
 #include "canopy/motion/motion_config.h"
 
 #include <cmath>
+#include <type_traits>
 
 #include "canopy/common/error.h"
 #include "canopy/common/yaml_reader.h"
@@ -42,41 +43,19 @@ namespace {
 MotionConfig read(YamlReader y, const RobotConfig& robot) {
   MotionConfig c = MotionConfig::defaults(robot);
   c.seed = y.get("seed", c.seed);
-  {
-    YamlReader s = y.child("base");
-    c.base = BaseFollowerParams::from_yaml(s, c.base);
+  // Each section is read by its component's from_yaml, which rejects unknown keys.
+  auto section = [&y](const char* name, auto& value) {
+    YamlReader s = y.child(name);
+    value = std::decay_t<decltype(value)>::from_yaml(s, value);
     s.finish();
-  }
-  {
-    YamlReader s = y.child("collision");
-    c.collision = CollisionParams::from_yaml(s, c.collision);
-    s.finish();
-  }
-  {
-    YamlReader s = y.child("planner");
-    c.planner = PlannerParams::from_yaml(s, c.planner);
-    s.finish();
-  }
-  {
-    YamlReader s = y.child("trajectory");
-    c.trajectory = TrajectoryParams::from_yaml(s, c.trajectory);
-    s.finish();
-  }
-  {
-    YamlReader s = y.child("workspace");
-    c.workspace = WorkspaceParams::from_yaml(s, c.workspace);
-    s.finish();
-  }
-  {
-    YamlReader s = y.child("tour");
-    c.tour = TourParams::from_yaml(s, c.tour);
-    s.finish();
-  }
-  {
-    YamlReader s = y.child("execution");
-    c.execution = ExecutionParams::from_yaml(s, c.execution);
-    s.finish();
-  }
+  };
+  section("base", c.base);
+  section("collision", c.collision);
+  section("planner", c.planner);
+  section("trajectory", c.trajectory);
+  section("workspace", c.workspace);
+  section("tour", c.tour);
+  section("execution", c.execution);
   y.finish();
   return c;
 }

@@ -34,7 +34,6 @@ class Rng {
     return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * M_PI * u2);
   }
   bool bernoulli(double p) { return uniform() < p; }
-  std::uint64_t next() { return engine_(); }
 
  private:
   std::mt19937_64 engine_;
