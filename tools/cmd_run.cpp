@@ -69,8 +69,7 @@ void add_run_command(CLI::App& app) {
 
     // Overview of the scene with the robot at the start of the aisle.
     {
-      CameraIntrinsics wide = spec.camera;
-      sim::Renderer overview(sim, wide, sim::RenderOptions{true, 1});
+      sim::Renderer overview(sim, spec.camera, sim::RenderOptions{true, 1});
       write_png(out.path("overview.png"), overview.render(overview_pose(spec), true, false).rgb);
     }
     mission::SurveyCallbacks callbacks;

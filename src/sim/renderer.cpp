@@ -92,7 +92,7 @@ Renderer::~Renderer() = default;
 
 LabelledFrame Renderer::render_wrist_camera() {
   sim_.update_kinematics();
-  return render(sim_.camera_pose(), /*show_robot=*/true);
+  return draw(sim_.camera_pose(), /*show_robot=*/true, /*labels=*/true);
 }
 
 LabelledFrame Renderer::render_free_camera(const Pose& T_world_camera) {
@@ -100,13 +100,17 @@ LabelledFrame Renderer::render_free_camera(const Pose& T_world_camera) {
 }
 
 LabelledFrame Renderer::render(const Pose& T_world_camera, bool show_robot, bool labels) {
+  sim_.update_kinematics();
+  return draw(T_world_camera, show_robot, labels);
+}
+
+LabelledFrame Renderer::draw(const Pose& T_world_camera, bool show_robot, bool labels) {
   Impl& r = *impl_;
   const mjModel* m = sim_.model();
   const int W = intrinsics_.width_px, H = intrinsics_.height_px;
   if (!T_world_camera.matrix().allFinite()) throw InputError("camera pose: not finite (NaN or inf)");
   std::unique_lock<std::mutex> lock(gl_mutex());
   r.make_current();
-  sim_.update_kinematics();
   r.option.geomgroup[kGroupRobotVisual] = show_robot;
   mjv_updateScene(m, sim_.data(), &r.option, nullptr, &r.camera, mjCAT_ALL, &r.scene);
 

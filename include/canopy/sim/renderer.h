@@ -38,6 +38,9 @@ class Renderer {
   const CameraIntrinsics& intrinsics() const { return intrinsics_; }
 
  private:
+  /// Draws the simulator's current (already updated) kinematic state.
+  LabelledFrame draw(const Pose& T_world_camera, bool show_robot, bool labels);
+
   struct Impl;
   std::unique_ptr<Impl> impl_;
   Simulator& sim_;
