@@ -12,8 +12,10 @@ void add_world_command(CLI::App& app);
 /// `canopy render`: render one view of a world.
 void add_render_command(CLI::App& app);
 
-/// `canopy run`: the main job (tools/run.sh).
+/// `canopy run`: the main job (tools/run.sh), the default mission.
 void add_run_command(CLI::App& app);
+/// `canopy mission`: the closed-loop mission with a chosen method.
+void add_mission_command(CLI::App& app);
 /// `canopy map`: map a world from camera views (semantic map, PLY, .bt, metrics.json).
 void add_map_command(CLI::App& app);
 /// `canopy reach`: reachable, collision-free and planned fractions of views from a base pose.

@@ -19,6 +19,7 @@ int main(int argc, char** argv) {
   canopy::cli::add_world_command(app);
   canopy::cli::add_render_command(app);
   canopy::cli::add_run_command(app);
+  canopy::cli::add_mission_command(app);
   canopy::cli::add_map_command(app);
   canopy::cli::add_ablate_command(app);
   canopy::cli::add_reach_command(app);
@@ -34,6 +35,9 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     const int code = app.exit(e);
     return code == 0 ? 0 : 2;
+  } catch (const canopy::Interrupted& e) {
+    std::fprintf(stderr, "canopy: %s\n", e.what());
+    return 130;
   } catch (const canopy::InputError& e) {
     std::fprintf(stderr, "canopy: error: %s\n", e.what());
     return 2;

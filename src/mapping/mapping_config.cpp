@@ -4,6 +4,10 @@ namespace canopy::mapping {
 
 MappingConfig MappingConfig::load(const std::string& path) {
   YamlReader y = YamlReader::load_file(path);
+  return from_yaml(y);
+}
+
+MappingConfig MappingConfig::from_yaml(YamlReader& y) {
   MappingConfig c;
   YamlReader map = y.child("map");
   c.map = SemanticMapParams::from_yaml(map);

@@ -1,5 +1,7 @@
 #include "canopy/mapping/scan_inserter.h"
 
+#include "canopy/common/timer.h"
+
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
@@ -18,10 +20,6 @@ namespace canopy::mapping {
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-double ms_since(Clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
 
 constexpr std::uint64_t kInvalid = std::numeric_limits<std::uint64_t>::max();
 constexpr std::uint8_t kBeyond = 255;            // label byte of a point beyond max range
@@ -154,7 +152,7 @@ void ScanInserter::compute_updates(const perception::LabelledCloud& cloud, std::
     stats->outside_map = n;
     return;
   }
-  const Clock::time_point t0 = Clock::now();
+  const Stopwatch t0;
 
   // 1. Per point: key code and label, or kInvalid (bad input is counted). Neighbouring
   //    pixels mostly fall in the same voxel, so each chunk merges runs of equal (code, label)
@@ -250,8 +248,8 @@ void ScanInserter::compute_updates(const perception::LabelledCloud& cloud, std::
   }
   stats->rays = ray_targets_.size();
   stats->hit_voxels = hits_.size();
-  stats->ms_filter = ms_since(t0);
-  const Clock::time_point t1 = Clock::now();
+  stats->ms_filter = t0.ms();
+  const Stopwatch t1;
 
   // 3. Free space: mark the cells of every ray in a byte grid over the rays' box
   //    (0 untouched, 1 free, 2 hit in this scan), then collect the free ones.
@@ -354,17 +352,17 @@ void ScanInserter::compute_updates(const perception::LabelledCloud& cloud, std::
     updates->push_back({c, VoxelUpdate::kFree});
   }
   while (h < hits_.size()) updates->push_back(hits_[h++]);
-  stats->ms_raycast = ms_since(t1);
+  stats->ms_raycast = t1.ms();
 }
 
 InsertStats ScanInserter::insert(const perception::LabelledCloud& cloud) {
-  const Clock::time_point t0 = Clock::now();
+  const Stopwatch t0;
   InsertStats stats;
   compute_updates(cloud, &updates_, &stats);
-  const Clock::time_point t1 = Clock::now();
+  const Stopwatch t1;
   stats.tree = map_.apply_sorted_updates(updates_);
-  stats.ms_update = ms_since(t1);
-  stats.ms_total = ms_since(t0);
+  stats.ms_update = t1.ms();
+  stats.ms_total = t0.ms();
   return stats;
 }
 

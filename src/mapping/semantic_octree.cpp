@@ -62,19 +62,21 @@ SemanticOcTree::SemanticOcTree(const SemanticMapParams& params, const SemanticCl
 }
 
 namespace {
-void copy_children(SemanticOcTree& dst, SemanticNode* d, const SemanticOcTree& src, const SemanticNode* s) {
+void copy_children(SemanticNode* d, const SemanticNode* s) {
   d->state() = s->state();
-  for (unsigned i = 0; i < 8; ++i) {
-    if (!src.nodeChildExists(s, i)) continue;
-    copy_children(dst, dst.createNodeChild(d, i), src, src.getNodeChild(s, i));
-  }
+  for (unsigned i = 0; i < 8; ++i)
+    if (const SemanticNode* c = s->child(i)) copy_children(d->make_child(i), c);
 }
 }  // namespace
 
 SemanticOcTree::SemanticOcTree(const SemanticOcTree& other)
     : Base(other.params_.resolution_m), params_(other.params_), classes_(other.classes_), rule_(other.rule_),
       unseen_entropy_(other.unseen_entropy_), revision_(other.revision_) {
-  if (other.root) copy_children(*this, create_root(), other, other.root);
+  if (other.root) {
+    copy_children(create_root(), other.root);
+    tree_size = other.tree_size;
+    size_changed = true;
+  }
 }
 
 SemanticOcTree::SemanticOcTree(SemanticOcTree&& other) noexcept
@@ -352,7 +354,7 @@ bool same_subtree(const SemanticOcTree& a, const SemanticNode* x, const Semantic
   if (!(x->state() == y->state()) && !a.nodeHasChildren(x)) return false;
   if (a.nodeHasChildren(x) != b.nodeHasChildren(y)) return false;
   for (unsigned i = 0; i < 8; ++i) {
-    const bool ex = a.nodeChildExists(x, i), ey = b.nodeChildExists(y, i);
+    const bool ex = x->child(i) != nullptr, ey = y->child(i) != nullptr;
     if (ex != ey) return false;
     if (ex && !same_subtree(a, a.getNodeChild(x, i), b, b.getNodeChild(y, i))) return false;
   }

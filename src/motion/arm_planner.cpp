@@ -1,6 +1,7 @@
 #include "canopy/motion/arm_planner.h"
 
 #include <ompl/base/goals/GoalStates.h>
+#include <ompl/base/PlannerTerminationCondition.h>
 #include <ompl/base/spaces/RealVectorStateSpace.h>
 #include <ompl/geometric/PathSimplifier.h>
 #include <ompl/geometric/SimpleSetup.h>
@@ -28,6 +29,8 @@
 #include <mutex>
 
 #include "canopy/common/error.h"
+#include "canopy/common/random.h"
+#include "canopy/common/timer.h"
 #include "canopy/common/yaml_reader.h"
 
 namespace ob = ompl::base;
@@ -37,11 +40,52 @@ namespace canopy::motion {
 
 namespace {
 
-using PlannerFactory = std::function<ob::PlannerPtr(const ob::SpaceInformationPtr&, double range)>;
+// Per-plan determinism: every random stream a plan draws from is seeded from the request's
+// seed (OMPL's process-wide seed only decides streams we do not reach, see planner_registry).
+std::uint_fast32_t stream_seed(std::uint64_t seed, std::uint64_t stream) {
+  const std::uint64_t z = mix_seed(seed, stream);
+  return static_cast<std::uint_fast32_t>((z >> 32) ^ (z & 0xffffffffULL)) | 1u;  // OMPL rejects 0
+}
+
+// Uniform joint-space samples from a seeded stream.
+class SeededSampler : public ob::RealVectorStateSampler {
+ public:
+  SeededSampler(const ob::StateSpace* space, std::uint_fast32_t seed) : ob::RealVectorStateSampler(space) {
+    rng_.setLocalSeed(seed);
+  }
+};
+
+// A planner whose own random stream (goal bias, tree choices) is seeded.
+template <typename P>
+class Seeded : public P {
+ public:
+  Seeded(const ob::SpaceInformationPtr& si, std::uint_fast32_t seed) : P(si) { this->rng_.setLocalSeed(seed); }
+};
+
+// A path simplifier with a seeded shortcut stream.
+class SeededSimplifier : public og::PathSimplifier {
+ public:
+  SeededSimplifier(const ob::SpaceInformationPtr& si, std::uint_fast32_t seed) : og::PathSimplifier(si) {
+    rng_.setLocalSeed(seed);
+  }
+};
+
+using PlannerFactory = std::function<ob::PlannerPtr(const ob::SpaceInformationPtr&, double range, std::uint_fast32_t seed)>;
 
 template <typename P>
 PlannerFactory with_range() {
-  return [](const ob::SpaceInformationPtr& si, double range) {
+  return [](const ob::SpaceInformationPtr& si, double range, std::uint_fast32_t seed) {
+    auto p = std::make_shared<Seeded<P>>(si, seed);
+    if (range > 0.0) p->setRange(range);
+    return ob::PlannerPtr(p);
+  };
+}
+
+// Planners without a random stream of their own that we can reach (they sample through the
+// seeded state sampler; any other internal stream follows OMPL's process seed).
+template <typename P>
+PlannerFactory unseeded_with_range() {
+  return [](const ob::SpaceInformationPtr& si, double range, std::uint_fast32_t) {
     auto p = std::make_shared<P>(si);
     if (range > 0.0) p->setRange(range);
     return ob::PlannerPtr(p);
@@ -50,19 +94,26 @@ PlannerFactory with_range() {
 
 template <typename P>
 PlannerFactory plain() {
-  return [](const ob::SpaceInformationPtr& si, double) { return ob::PlannerPtr(std::make_shared<P>(si)); };
+  return [](const ob::SpaceInformationPtr& si, double, std::uint_fast32_t seed) {
+    return ob::PlannerPtr(std::make_shared<Seeded<P>>(si, seed));
+  };
+}
+
+template <typename P>
+PlannerFactory unseeded_plain() {
+  return [](const ob::SpaceInformationPtr& si, double, std::uint_fast32_t) { return ob::PlannerPtr(std::make_shared<P>(si)); };
 }
 
 // The planner registry: one place that maps names to OMPL planners (STYLE.md).
 const std::map<std::string, PlannerFactory>& planner_registry() {
   static const std::map<std::string, PlannerFactory> registry = {
       {"RRTConnect", with_range<og::RRTConnect>()}, {"RRT", with_range<og::RRT>()},
-      {"RRTstar", with_range<og::RRTstar>()},       {"BiTRRT", with_range<og::BiTRRT>()},
+      {"RRTstar", with_range<og::RRTstar>()},       {"BiTRRT", unseeded_with_range<og::BiTRRT>()},
       {"LazyRRT", with_range<og::LazyRRT>()},       {"KPIECE1", with_range<og::KPIECE1>()},
       {"BKPIECE1", with_range<og::BKPIECE1>()},     {"LBKPIECE1", with_range<og::LBKPIECE1>()},
       {"EST", with_range<og::EST>()},               {"BiEST", with_range<og::BiEST>()},
       {"SBL", with_range<og::SBL>()},               {"PRM", plain<og::PRM>()},
-      {"LazyPRM", with_range<og::LazyPRM>()},       {"BITstar", plain<og::BITstar>()},
+      {"LazyPRM", unseeded_with_range<og::LazyPRM>()}, {"BITstar", unseeded_plain<og::BITstar>()},
   };
   return registry;
 }
@@ -77,10 +128,6 @@ std::string config_text(const ArmConfig& q) {
   std::string s = "[";
   for (int i = 0; i < kArmDof; ++i) s += (i ? ", " : "") + std::to_string(q[i]);
   return s + "]";
-}
-
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
 }  // namespace
@@ -117,6 +164,7 @@ PlannerParams PlannerParams::from_yaml(YamlReader& y, const PlannerParams& d) {
   PlannerParams p;
   p.planner = y.get("planner", d.planner);
   p.time_limit_s = y.get("time_limit_s", d.time_limit_s);
+  p.max_iterations = y.get("max_iterations", d.max_iterations);
   p.motion_check_resolution_rad = y.get("motion_check_resolution_rad", d.motion_check_resolution_rad);
   p.range_rad = y.get("range_rad", d.range_rad);
   p.try_direct_first = y.get("try_direct_first", d.try_direct_first);
@@ -138,6 +186,7 @@ void PlannerParams::validate() const {
     throw InputError("planner: unknown planner '" + planner + "' (known: " + names + ")");
   }
   if (!(std::isfinite(time_limit_s) && time_limit_s > 0.0)) throw InputError("planner: time_limit_s must be > 0");
+  if (max_iterations < 1) throw InputError("planner: max_iterations must be >= 1");
   if (!(std::isfinite(motion_check_resolution_rad) && motion_check_resolution_rad > 0.0))
     throw InputError("planner: motion_check_resolution_rad must be > 0");
   if (!(std::isfinite(range_rad) && range_rad >= 0.0)) throw InputError("planner: range_rad must be >= 0");
@@ -165,8 +214,9 @@ bool ArmPlanner::motion_valid(const BasePose& base, const ArmConfig& a, const Ar
   return true;
 }
 
-PlanResult ArmPlanner::plan_to_camera_pose(const BasePose& base, const ArmConfig& start, const Pose& T_world_camera) const {
-  const auto t0 = std::chrono::steady_clock::now();
+PlanResult ArmPlanner::plan_to_camera_pose(const BasePose& base, const ArmConfig& start, const Pose& T_world_camera,
+                                           std::uint64_t seed) const {
+  const Stopwatch watch;
   PlanResult r;
   if (!T_world_camera.matrix().allFinite()) {
     r.status = PlanStatus::kInvalidInput;
@@ -184,23 +234,23 @@ PlanResult ArmPlanner::plan_to_camera_pose(const BasePose& base, const ArmConfig
     const Vec3 p = T_world_camera.translation();
     r.message = "no IK solution within the joint limits for the camera at (" + std::to_string(p.x()) + ", " +
                 std::to_string(p.y()) + ", " + std::to_string(p.z()) + ")";
-    r.planning_time_s = seconds_since(t0);
+    r.planning_time_s = watch.seconds();
     return r;
   }
   std::vector<ArmConfig> goals(ik.q.begin(), ik.q.begin() + ik.count);
-  r = plan_to_configs(base, start, goals);
-  r.planning_time_s = seconds_since(t0);
+  r = plan_to_configs(base, start, goals, seed);
+  r.planning_time_s = watch.seconds();
   return r;
 }
 
 PlanResult ArmPlanner::plan_to_configs(const BasePose& base, const ArmConfig& start_in,
-                                       const std::vector<ArmConfig>& goals_in) const {
-  const auto t0 = std::chrono::steady_clock::now();
+                                       const std::vector<ArmConfig>& goals_in, std::uint64_t seed) const {
+  const Stopwatch watch;
   PlanResult r;
   auto fail = [&](PlanStatus s, std::string msg) {
     r.status = s;
     r.message = std::move(msg);
-    r.planning_time_s = seconds_since(t0);
+    r.planning_time_s = watch.seconds();
     return r;
   };
   const RobotModel& model = checker_->model();
@@ -249,7 +299,7 @@ PlanResult ArmPlanner::plan_to_configs(const BasePose& base, const ArmConfig& st
     r.goal = r.path.back();
     r.direct = direct;
     r.trajectory = ArmTrajectory::time_parameterize(r.path, model.limits(), trajectory_params_);
-    r.planning_time_s = seconds_since(t0);
+    r.planning_time_s = watch.seconds();
     return r;
   };
 
@@ -261,6 +311,10 @@ PlanResult ArmPlanner::plan_to_configs(const BasePose& base, const ArmConfig& st
   // OMPL in the 6-D joint space bounded by the planning limits.
   const ArmLimits& lim = model.limits();
   auto space = std::make_shared<ob::RealVectorStateSpace>(kArmDof);
+  const std::uint_fast32_t sampler_seed = stream_seed(seed, 1);
+  space->setStateSamplerAllocator([sampler_seed](const ob::StateSpace* s) -> ob::StateSamplerPtr {
+    return std::make_shared<SeededSampler>(s, sampler_seed);
+  });
   ob::RealVectorBounds bounds(kArmDof);
   for (int i = 0; i < kArmDof; ++i) {
     bounds.setLow(static_cast<unsigned>(i), lim.lower[i]);
@@ -289,17 +343,33 @@ PlanResult ArmPlanner::plan_to_configs(const BasePose& base, const ArmConfig& st
     goal_states->addState(gs);
   }
   ss.setGoal(goal_states);
-  ss.setPlanner(planner_registry().at(params_.planner)(ss.getSpaceInformation(), params_.range_rad));
+  ss.setPlanner(planner_registry().at(params_.planner)(ss.getSpaceInformation(), params_.range_rad, stream_seed(seed, 2)));
   ss.setup();
 
-  const double remaining = params_.time_limit_s - seconds_since(t0);
+  // The budget is a count of planner iterations (the termination condition is polled once
+  // per iteration), so a seed gives the same path however loaded the machine is; the wall
+  // clock limit is only a safety net.
+  const double remaining = params_.time_limit_s - watch.seconds();
   if (remaining <= 0.0) return fail(PlanStatus::kTimeout, "time limit used up before planning started");
-  const ob::PlannerStatus solved = ss.solve(remaining);
+  int iterations = 0;
+  const int max_iterations = params_.max_iterations;
+  bool timed_out = false;
+  const ob::PlannerTerminationCondition budget([&iterations, max_iterations] { return ++iterations > max_iterations; });
+  const ob::PlannerTerminationCondition clock = ob::timedPlannerTerminationCondition(remaining);
+  const ob::PlannerTerminationCondition ptc([&] {
+    if (budget()) return true;
+    if (clock()) return timed_out = true;
+    return false;
+  });
+  const ob::PlannerStatus solved = ss.solve(ptc);
   if (solved != ob::PlannerStatus::EXACT_SOLUTION)
-    return fail(PlanStatus::kTimeout, std::string("no path within ") + std::to_string(params_.time_limit_s) + " s (" +
-                                          solved.asString() + ")");
+    return fail(PlanStatus::kTimeout,
+                timed_out ? "no path within the " + std::to_string(params_.time_limit_s) + " s safety limit (" +
+                                solved.asString() + ")"
+                          : "no path within " + std::to_string(max_iterations) + " planner iterations (" +
+                                solved.asString() + ")");
   if (params_.simplify) {
-    og::PathSimplifier simplifier(ss.getSpaceInformation());
+    SeededSimplifier simplifier(ss.getSpaceInformation(), stream_seed(seed, 3));
     simplifier.simplifyMax(ss.getSolutionPath());
   }
   og::PathGeometric& p = ss.getSolutionPath();

@@ -88,8 +88,10 @@ void CollisionParams::validate() const {
 
 // ----------------------------------------------------------------------------------------
 // A coarse occupancy grid beside the octree: FCL's octree traversal costs several
-// microseconds even far from any voxel, so shapes whose bounding box touches no occupied
-// coarse cell skip it (an exact, conservative test).
+// microseconds even far from any voxel, so shapes whose bounding box touches no marked
+// coarse cell skip it (an exact, conservative test). Cells are marked when a voxel is added
+// and never unmarked (a stale mark only costs an octree query); the grid grows to cover new
+// voxels.
 struct CoarseGrid {
   Vec3 origin = Vec3::Zero();
   double cell = 0.06;
@@ -107,65 +109,117 @@ struct CoarseGrid {
     for (int z = a.z(); z <= b.z(); ++z)
       for (int y = a.y(); y <= b.y(); ++y)
         for (int x = a.x(); x <= b.x(); ++x)
-          if (occupied[(static_cast<size_t>(z) * dims.y() + y) * dims.x() + x]) return true;
+          if (occupied[index(x, y, z)]) return true;
     return false;
+  }
+  std::size_t index(int x, int y, int z) const { return (static_cast<size_t>(z) * dims.y() + y) * dims.x() + x; }
+  bool covers(const Vec3& lo, const Vec3& hi) const {
+    if (occupied.empty()) return false;
+    for (int i = 0; i < 3; ++i)
+      if (lo[i] < origin[i] || hi[i] >= origin[i] + dims[i] * cell) return false;
+    return true;
+  }
+  // Re-lays the grid over [lo, hi] (which must contain the old extent), keeping the marks.
+  void grow(const Vec3& lo_in, const Vec3& hi_in) {
+    const double margin = 8 * cell;  // room for the next voxels without another copy
+    const Vec3 lo = ((lo_in - Vec3::Constant(margin)) / cell).array().floor() * cell;
+    const Vec3 hi = hi_in + Vec3::Constant(margin);
+    CoarseGrid g;
+    g.cell = cell;
+    g.origin = lo;
+    for (int i = 0; i < 3; ++i) g.dims[i] = std::max(1, static_cast<int>(std::ceil((hi[i] - lo[i]) / cell)));
+    g.occupied.assign(static_cast<size_t>(g.dims.x()) * g.dims.y() * g.dims.z(), 0);
+    for (int z = 0; z < dims.z(); ++z)
+      for (int y = 0; y < dims.y(); ++y)
+        for (int x = 0; x < dims.x(); ++x) {
+          if (!occupied[index(x, y, z)]) continue;
+          const Vec3 c = origin + (Vec3(x, y, z) + Vec3::Constant(0.5)) * cell;
+          const Eigen::Vector3i k = ((c - g.origin) / cell).array().floor().cast<int>();
+          g.occupied[g.index(k.x(), k.y(), k.z())] = 1;
+        }
+    *this = std::move(g);
+  }
+  void mark(const Vec3& lo, const Vec3& hi) {
+    if (!covers(lo, hi)) {
+      Vec3 l = lo, h = hi;
+      if (!occupied.empty()) {
+        l = l.cwiseMin(origin);
+        h = h.cwiseMax(origin + dims.cast<double>() * cell);
+      }
+      grow(l, h);
+    }
+    const Eigen::Vector3i a = ((lo - origin) / cell).array().floor().cast<int>();
+    const Eigen::Vector3i b = ((hi - origin) / cell).array().floor().cast<int>();
+    for (int z = std::max(0, a.z()); z <= std::min(dims.z() - 1, b.z()); ++z)
+      for (int y = std::max(0, a.y()); y <= std::min(dims.y() - 1, b.y()); ++y)
+        for (int x = std::max(0, a.x()); x <= std::min(dims.x() - 1, b.x()); ++x) occupied[index(x, y, z)] = 1;
   }
 };
 
 struct CollisionEnvironment::Impl {
-  std::shared_ptr<const octomap::OcTree> octomap;
+  std::shared_ptr<octomap::OcTree> octomap;
   std::shared_ptr<fcl::OcTreed> octree;
   CoarseGrid coarse;
 };
 
 CollisionEnvironment::~CollisionEnvironment() = default;
 
-std::shared_ptr<const CollisionEnvironment> CollisionEnvironment::from_voxels(const std::vector<Vec3>& centres,
-                                                                              double resolution_m) {
+std::shared_ptr<CollisionEnvironment> CollisionEnvironment::empty(double resolution_m) {
   if (!(std::isfinite(resolution_m) && resolution_m > 0.0))
     throw InputError("collision environment: resolution " + std::to_string(resolution_m) + " m must be > 0");
-  auto tree = std::make_shared<octomap::OcTree>(resolution_m);
-  const float occupied = tree->getClampingThresMaxLog();
-  for (const Vec3& c : centres) {
-    if (!c.allFinite()) continue;
-    octomap::OcTreeKey key;
-    if (!tree->coordToKeyChecked(c.x(), c.y(), c.z(), key)) continue;
-    tree->setNodeValue(key, occupied, /*lazy_eval=*/true);
-  }
-  tree->updateInnerOccupancy();
   std::shared_ptr<CollisionEnvironment> env(new CollisionEnvironment());
   env->impl_ = std::make_unique<Impl>();
-  env->impl_->octomap = tree;
-  // Coarse grid over the voxels' bounds; a cell is marked when a voxel cube overlaps it.
-  CoarseGrid& g = env->impl_->coarse;
-  g.cell = std::max(4.0 * resolution_m, 0.02);
-  Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
-  for (auto it = tree->begin_leafs(); it != tree->end_leafs(); ++it) {
-    const Vec3 c(it.getX(), it.getY(), it.getZ());
-    const double h = 0.5 * it.getSize();
-    lo = lo.cwiseMin(c - Vec3::Constant(h));
-    hi = hi.cwiseMax(c + Vec3::Constant(h));
-  }
-  if (lo.x() <= hi.x()) {
-    g.origin = lo;
-    for (int i = 0; i < 3; ++i) g.dims[i] = std::max(1, static_cast<int>(std::ceil((hi[i] - lo[i]) / g.cell)));
-    g.occupied.assign(static_cast<size_t>(g.dims.x()) * g.dims.y() * g.dims.z(), 0);
-    for (auto it = tree->begin_leafs(); it != tree->end_leafs(); ++it) {
-      const Vec3 c(it.getX(), it.getY(), it.getZ());
-      const double h = 0.5 * it.getSize();
-      const Vec3 a = ((c - Vec3::Constant(h) - g.origin) / g.cell).array().floor();
-      const Vec3 b = ((c + Vec3::Constant(h) - g.origin) / g.cell).array().floor();
-      for (int z = std::max(0, int(a.z())); z <= std::min(g.dims.z() - 1, int(b.z())); ++z)
-        for (int y = std::max(0, int(a.y())); y <= std::min(g.dims.y() - 1, int(b.y())); ++y)
-          for (int x = std::max(0, int(a.x())); x <= std::min(g.dims.x() - 1, int(b.x())); ++x)
-            g.occupied[(static_cast<size_t>(z) * g.dims.y() + y) * g.dims.x() + x] = 1;
-    }
-  }
-  env->impl_->octree = std::make_shared<fcl::OcTreed>(tree);
+  env->impl_->octomap = std::make_shared<octomap::OcTree>(resolution_m);
+  env->impl_->coarse.cell = std::max(4.0 * resolution_m, 0.02);
+  env->impl_->octree = std::make_shared<fcl::OcTreed>(env->impl_->octomap);
   env->impl_->octree->computeLocalAABB();
-  env->voxel_count_ = tree->getNumLeafNodes();
   env->resolution_m_ = resolution_m;
   return env;
+}
+
+std::shared_ptr<const CollisionEnvironment> CollisionEnvironment::from_voxels(const std::vector<Vec3>& centres,
+                                                                              double resolution_m) {
+  auto env = empty(resolution_m);
+  env->update(centres, {});
+  return env;
+}
+
+void CollisionEnvironment::update(const std::vector<Vec3>& occupied, const std::vector<Vec3>& freed) {
+  octomap::OcTree& tree = *impl_->octomap;
+  const float occ = tree.getClampingThresMaxLog(), free = tree.getClampingThresMinLog();
+  const double h = 0.5 * resolution_m_;
+  bool changed = false;
+  // Leaves are set without lazy evaluation, so the inner nodes FCL descends through (their
+  // maximum occupancy) stay right after every change.
+  for (const Vec3& c : freed) {
+    octomap::OcTreeKey key;
+    if (!c.allFinite() || !tree.coordToKeyChecked(c.x(), c.y(), c.z(), key)) continue;
+    const octomap::OcTreeNode* n = tree.search(key);
+    if (!n || !tree.isNodeOccupied(n)) continue;
+    tree.setNodeValue(key, free, /*lazy_eval=*/false);
+    --voxel_count_;
+    changed = true;
+  }
+  for (const Vec3& c : occupied) {
+    octomap::OcTreeKey key;
+    if (!c.allFinite() || !tree.coordToKeyChecked(c.x(), c.y(), c.z(), key)) continue;
+    const octomap::OcTreeNode* n = tree.search(key);
+    if (n && tree.isNodeOccupied(n)) continue;
+    tree.setNodeValue(key, occ, /*lazy_eval=*/false);
+    const Vec3 centre(tree.keyToCoord(key[0]), tree.keyToCoord(key[1]), tree.keyToCoord(key[2]));
+    impl_->coarse.mark(centre - Vec3::Constant(h), centre + Vec3::Constant(h));
+    ++voxel_count_;
+    changed = true;
+  }
+  if (changed) impl_->octree->computeLocalAABB();
+}
+
+bool CollisionEnvironment::occupied(const Vec3& p) const {
+  const octomap::OcTree& tree = *impl_->octomap;
+  octomap::OcTreeKey key;
+  if (!p.allFinite() || !tree.coordToKeyChecked(p.x(), p.y(), p.z(), key)) return false;
+  const octomap::OcTreeNode* n = tree.search(key);
+  return n && tree.isNodeOccupied(n);
 }
 
 // ----------------------------------------------------------------------------------------

@@ -40,7 +40,7 @@ MotionConfig MotionConfig::defaults(const RobotConfig& robot) {
 
 namespace {
 
-MotionConfig read(YamlReader y, const RobotConfig& robot) {
+MotionConfig read(YamlReader& y, const RobotConfig& robot) {
   MotionConfig c = MotionConfig::defaults(robot);
   c.seed = y.get("seed", c.seed);
   // Each section is read by its component's from_yaml, which rejects unknown keys.
@@ -62,12 +62,16 @@ MotionConfig read(YamlReader y, const RobotConfig& robot) {
 
 }  // namespace
 
+MotionConfig MotionConfig::from_yaml(YamlReader& y, const RobotConfig& robot) { return read(y, robot); }
+
 MotionConfig MotionConfig::load(const std::string& path, const RobotConfig& robot) {
-  return read(YamlReader::load_file(path), robot);
+  YamlReader y = YamlReader::load_file(path);
+  return read(y, robot);
 }
 
 MotionConfig MotionConfig::load_string(const std::string& text, const std::string& name, const RobotConfig& robot) {
-  return read(YamlReader::load_string(text, name), robot);
+  YamlReader y = YamlReader::load_string(text, name);
+  return read(y, robot);
 }
 
 nlohmann::json MotionConfig::to_json() const {
@@ -93,6 +97,7 @@ nlohmann::json MotionConfig::to_json() const {
                     {"check_ground", collision.check_ground},
                     {"ground_height_m", collision.ground_height_m}};
   j["planner"] = {{"planner", planner.planner},
+                  {"max_iterations", planner.max_iterations},
                   {"time_limit_s", planner.time_limit_s},
                   {"motion_check_resolution_rad", planner.motion_check_resolution_rad},
                   {"range_rad", planner.range_rad},

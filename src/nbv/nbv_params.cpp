@@ -82,6 +82,33 @@ NbvParams NbvParams::from_yaml(YamlReader& y) {
     p.planner.top_k = count(c, "top_k", p.planner.top_k, 1, 1000);
     c.finish();
   }
+  {
+    YamlReader c = y.child("views");
+    auto& q = p.views;
+    q.taken_position_m = positive(c, "taken_position_m", q.taken_position_m);
+    q.taken_angle_deg = positive(c, "taken_angle_deg", q.taken_angle_deg);
+    q.done_epsilon_m = positive(c, "done_epsilon_m", q.done_epsilon_m);
+    c.finish();
+  }
+  {
+    YamlReader c = y.child("frontier");
+    auto& q = p.frontier;
+    q.max_targets = count(c, "max_targets", q.max_targets, 1, 100000);
+    q.min_view_distance_m = positive(c, "min_view_distance_m", q.min_view_distance_m);
+    q.max_view_distance_m = positive(c, "max_view_distance_m", q.max_view_distance_m);
+    q.roi_inflation_radius_m = positive(c, "roi_inflation_radius_m", q.roi_inflation_radius_m);
+    q.roi_inflation_resolution_m = positive(c, "roi_inflation_resolution_m", q.roi_inflation_resolution_m);
+    q.unknown_low = real(c, "unknown_low", q.unknown_low);
+    q.unknown_high = real(c, "unknown_high", q.unknown_high);
+    q.unknown_weight = real(c, "unknown_weight", q.unknown_weight);
+    q.roi_weight = real(c, "roi_weight", q.roi_weight);
+    q.distance_cost_per_m = real(c, "distance_cost_per_m", q.distance_cost_per_m);
+    q.roi_utility_threshold = real(c, "roi_utility_threshold", q.roi_utility_threshold);
+    c.check(q.max_view_distance_m >= q.min_view_distance_m, "max_view_distance_m", "must be >= min_view_distance_m");
+    c.check(q.unknown_low >= 0.0 && q.unknown_low <= 1.0, "unknown_low", "must be in [0, 1]");
+    c.check(q.unknown_high >= q.unknown_low && q.unknown_high <= 1.0, "unknown_high", "must be in [unknown_low, 1]");
+    c.finish();
+  }
   return p;
 }
 
@@ -114,6 +141,20 @@ YAML::Node NbvParams::to_yaml() const {
   n["gain"]["unknown_high"] = gain.unknown_high;
   n["gain"]["uvpc_base_weight"] = gain.uvpc_base_weight;
   n["planner"]["top_k"] = planner.top_k;
+  n["views"]["taken_position_m"] = views.taken_position_m;
+  n["views"]["taken_angle_deg"] = views.taken_angle_deg;
+  n["views"]["done_epsilon_m"] = views.done_epsilon_m;
+  n["frontier"]["max_targets"] = frontier.max_targets;
+  n["frontier"]["min_view_distance_m"] = frontier.min_view_distance_m;
+  n["frontier"]["max_view_distance_m"] = frontier.max_view_distance_m;
+  n["frontier"]["roi_inflation_radius_m"] = frontier.roi_inflation_radius_m;
+  n["frontier"]["roi_inflation_resolution_m"] = frontier.roi_inflation_resolution_m;
+  n["frontier"]["unknown_low"] = frontier.unknown_low;
+  n["frontier"]["unknown_high"] = frontier.unknown_high;
+  n["frontier"]["unknown_weight"] = frontier.unknown_weight;
+  n["frontier"]["roi_weight"] = frontier.roi_weight;
+  n["frontier"]["distance_cost_per_m"] = frontier.distance_cost_per_m;
+  n["frontier"]["roi_utility_threshold"] = frontier.roi_utility_threshold;
   return n;
 }
 
@@ -130,7 +171,17 @@ bool NbvParams::operator==(const NbvParams& o) const {
          a.rays.sparse_grid == o.rays.sparse_grid && a.rays.depth_margin_m == o.rays.depth_margin_m &&
          a.gain.max_dist_m == o.gain.max_dist_m && a.gain.ae_stop_occupancy == o.gain.ae_stop_occupancy &&
          a.gain.unknown_low == o.gain.unknown_low && a.gain.unknown_high == o.gain.unknown_high &&
-         a.gain.uvpc_base_weight == o.gain.uvpc_base_weight && a.planner.top_k == o.planner.top_k;
+         a.gain.uvpc_base_weight == o.gain.uvpc_base_weight && a.planner.top_k == o.planner.top_k &&
+         a.views.taken_position_m == o.views.taken_position_m && a.views.taken_angle_deg == o.views.taken_angle_deg &&
+         a.views.done_epsilon_m == o.views.done_epsilon_m && a.frontier.max_targets == o.frontier.max_targets &&
+         a.frontier.min_view_distance_m == o.frontier.min_view_distance_m &&
+         a.frontier.max_view_distance_m == o.frontier.max_view_distance_m &&
+         a.frontier.roi_inflation_radius_m == o.frontier.roi_inflation_radius_m &&
+         a.frontier.roi_inflation_resolution_m == o.frontier.roi_inflation_resolution_m &&
+         a.frontier.unknown_low == o.frontier.unknown_low && a.frontier.unknown_high == o.frontier.unknown_high &&
+         a.frontier.unknown_weight == o.frontier.unknown_weight && a.frontier.roi_weight == o.frontier.roi_weight &&
+         a.frontier.distance_cost_per_m == o.frontier.distance_cost_per_m &&
+         a.frontier.roi_utility_threshold == o.frontier.roi_utility_threshold;
 }
 
 }  // namespace canopy::nbv

@@ -1,18 +1,13 @@
 #include "canopy/nbv/planner.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstring>
 
 #include "canopy/common/random.h"
+#include "canopy/common/timer.h"
 
 namespace canopy::nbv {
-
-namespace {
-using Clock = std::chrono::steady_clock;
-double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
-}  // namespace
 
 const char* to_string(ViewStatus s) {
   switch (s) {
@@ -74,17 +69,17 @@ bool ViewEvaluator::ray_segments(const Pose& T_world_camera, const Vec3& target,
 
 ViewScore ViewEvaluator::evaluate(const Pose& T, const Vec3& target, const GainFunction& gain, const RaySetEntry& rays,
                                   std::uint64_t view_seed) {
-  const auto t0 = Clock::now();
+  const Stopwatch watch;
   ViewScore s;
   if (!gain.uses_rays()) {
     s.gain = gain.view_gain(0.0, view_seed);
-    s.ms = ms_since(t0);
+    s.ms = watch.ms();
     return s;
   }
   ViewStatus status;
   if (!ray_segments(T, target, rays, &ends_, &status)) {
     s.status = status;
-    s.ms = ms_since(t0);
+    s.ms = watch.ms();
     return s;
   }
   const Vec3 eye = T.translation();
@@ -106,13 +101,13 @@ ViewScore ViewEvaluator::evaluate(const Pose& T, const Vec3& target, const GainF
   }
   s.gain = gain.view_gain(sum, view_seed);
   if (!std::isfinite(s.gain)) s.gain = 0.0;
-  s.ms = ms_since(t0);
+  s.ms = watch.ms();
   return s;
 }
 
 ViewScore ViewEvaluator::evaluate_reference(const Pose& T, const Vec3& target, const GainFunction& gain,
                                             const RaySetEntry& rays, std::uint64_t view_seed) {
-  const auto t0 = Clock::now();
+  const Stopwatch watch;
   ViewScore s;
   if (!gain.uses_rays()) {
     s.gain = gain.view_gain(0.0, view_seed);
@@ -156,7 +151,7 @@ ViewScore ViewEvaluator::evaluate_reference(const Pose& T, const Vec3& target, c
   }
   s.gain = gain.view_gain(sum, view_seed);
   if (!std::isfinite(s.gain)) s.gain = 0.0;
-  s.ms = ms_since(t0);
+  s.ms = watch.ms();
   return s;
 }
 
@@ -175,12 +170,19 @@ Plan ClusterPlanner::plan(const VoxelIndex& index, const std::vector<Cluster>& c
   for (std::size_t c = 0; c < clusters.size(); ++c) {
     ClusterResult cr;
     cr.cluster = int(c);
-    const std::vector<Candidate> cands = sample_candidates(clusters[c].centroid, int(c), params_.candidates);
+    const Stopwatch sampling;
+    std::vector<Candidate> cands = sample_candidates(clusters[c].centroid, int(c), params_.candidates);
+    plan.ms_candidates += sampling.ms();
     std::vector<ScoredView> scored;
     for (std::size_t i = 0; i < cands.size(); ++i) {
-      if (filter && !filter(cands[i])) {
-        ++filtered;
-        continue;
+      if (filter) {
+        const Stopwatch filtering;
+        const bool keep = filter(&cands[i]);
+        plan.ms_filter += filtering.ms();
+        if (!keep) {
+          ++filtered;
+          continue;
+        }
       }
       const std::uint64_t view_seed = mix_seed(seed, c * 100000 + i);
       ScoredView sv{cands[i], eval.evaluate(cands[i].T_world_camera, cands[i].target, gain, rays, view_seed)};
@@ -203,6 +205,7 @@ Plan ClusterPlanner::plan(const VoxelIndex& index, const std::vector<Cluster>& c
   }
   std::stable_sort(plan.views.begin(), plan.views.end(),
                    [](const ScoredView& a, const ScoredView& b) { return a.score.gain > b.score.gain; });
+  plan.filtered = filtered;
   if (plan.views.empty()) {
     if (plan.candidates == 0)
       plan.reason = filtered > 0 ? "every candidate was filtered out" : "no candidates";

@@ -1,5 +1,7 @@
 #include "canopy/nbv/voxel_index.h"
 
+#include "canopy/common/timer.h"
+
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -144,7 +146,7 @@ const std::uint32_t* VoxelIndex::brick(std::uint64_t bk) const {
 }
 
 void VoxelIndex::rebuild(const mapping::SemanticOcTree& map) {
-  const auto t0 = std::chrono::steady_clock::now();
+  const Stopwatch watch;
   map_ = &map;
   revision_ = map.revision();
   resolution_ = map.getResolution();
@@ -193,7 +195,7 @@ void VoxelIndex::rebuild(const mapping::SemanticOcTree& map) {
               for (unsigned x = x0; x <= x1; ++x) cells[cell_of(x, y, z)] = id;
         }
   });
-  build_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  build_ms_ = watch.ms();
 }
 
 bool VoxelIndex::refresh(const mapping::SemanticOcTree& map) {

@@ -52,7 +52,7 @@ Renderer::Renderer(Simulator& sim, const CameraIntrinsics& intrinsics, const Ren
     : impl_(std::make_unique<Impl>()), sim_(sim), intrinsics_(intrinsics), options_(options),
       noise_rng_(options.noise_seed) {
   intrinsics_.validate("camera");
-  const mjModel* m = sim_.model();
+  const mjModel* m = sim_.render_model();
   if (m->vis.global.offwidth < intrinsics_.width_px || m->vis.global.offheight < intrinsics_.height_px)
     throw InputError("camera: " + std::to_string(intrinsics_.width_px) + "x" + std::to_string(intrinsics_.height_px) +
                      " exceeds the scene's off-screen buffer " + std::to_string(m->vis.global.offwidth) + "x" +
@@ -104,15 +104,20 @@ LabelledFrame Renderer::render(const Pose& T_world_camera, bool show_robot, bool
   return draw(T_world_camera, show_robot, labels);
 }
 
-LabelledFrame Renderer::draw(const Pose& T_world_camera, bool show_robot, bool labels) {
+Image<Rgb8> Renderer::render_captioned(const Pose& T_world_camera, bool show_robot, const std::string& caption) {
+  sim_.update_kinematics();
+  return draw(T_world_camera, show_robot, false, caption).rgb;
+}
+
+LabelledFrame Renderer::draw(const Pose& T_world_camera, bool show_robot, bool labels, const std::string& caption) {
   Impl& r = *impl_;
-  const mjModel* m = sim_.model();
+  const mjModel* m = sim_.render_model();
   const int W = intrinsics_.width_px, H = intrinsics_.height_px;
   if (!T_world_camera.matrix().allFinite()) throw InputError("camera pose: not finite (NaN or inf)");
   std::unique_lock<std::mutex> lock(gl_mutex());
   r.make_current();
   r.option.geomgroup[kGroupRobotVisual] = show_robot;
-  mjv_updateScene(m, sim_.data(), &r.option, nullptr, &r.camera, mjCAT_ALL, &r.scene);
+  mjv_updateScene(m, sim_.render_data(), &r.option, nullptr, &r.camera, mjCAT_ALL, &r.scene);
 
   // Place the GL camera at the optical frame: forward = +z, up = -y.
   const double near_m = m->vis.map.znear * m->stat.extent;
@@ -149,6 +154,7 @@ LabelledFrame Renderer::draw(const Pose& T_world_camera, bool show_robot, bool l
   r.scene.flags[mjRND_SEGMENT] = 0;
   r.scene.flags[mjRND_IDCOLOR] = 0;
   mjr_render(viewport, &r.scene, &r.context);
+  if (!caption.empty()) mjr_overlay(mjFONT_NORMAL, mjGRID_TOPLEFT, viewport, caption.c_str(), nullptr, &r.context);
   mjr_readPixels(r.rgb.data(), r.depth.data(), viewport, &r.context);
   if (labels) {
     r.scene.flags[mjRND_SHADOW] = 0;

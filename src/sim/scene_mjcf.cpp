@@ -1,5 +1,6 @@
 #include "canopy/sim/scene_mjcf.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <functional>
 #include <set>
@@ -183,7 +184,8 @@ SceneDescription make_scene_mjcf(const world::World& world, const robot::RobotDe
      << "  <option timestep=\"" << num(options.timestep_s) << "\" integrator=\"implicit\"/>\n"
      << "  <statistic extent=\"" << num(extent) << "\" center=\"" << num(spec.rows.x_start_m) << " 0 0.6\"/>\n"
      << "  <visual>\n"
-     << "    <global offwidth=\"" << spec.camera.width_px << "\" offheight=\"" << spec.camera.height_px << "\"/>\n"
+     << "    <global offwidth=\"" << std::max(spec.camera.width_px, options.min_offscreen_width_px) << "\" offheight=\""
+     << std::max(spec.camera.height_px, options.min_offscreen_height_px) << "\"/>\n"
      << "    <quality shadowsize=\"2048\" offsamples=\"0\"/>\n"
      << "    <map znear=\"" << num(options.znear_m / extent) << "\" zfar=\"" << num(options.zfar_m / extent) << "\"/>\n"
      << "    <headlight ambient=\"0.35 0.35 0.35\" diffuse=\"0.45 0.45 0.45\" specular=\"0.05 0.05 0.05\"/>\n"
@@ -193,8 +195,9 @@ SceneDescription make_scene_mjcf(const world::World& world, const robot::RobotDe
      << "    <texture name=\"ground\" type=\"2d\" builtin=\"checker\" rgb1=\"0.42 0.36 0.30\" rgb2=\"0.46 0.40 0.33\" width=\"64\" height=\"64\"/>\n"
      << "    <material name=\"ground\" texture=\"ground\" texrepeat=\"20 20\" specular=\"0\"/>\n"
      << "    <material name=\"plant\" specular=\"0.08\" shininess=\"0.1\"/>\n";
-  for (const auto& plant : world.plants)
-    for (const auto& part : plant.parts) write_mesh_asset(os, part.name, part.mesh);
+  if (options.include_plants)
+    for (const auto& plant : world.plants)
+      for (const auto& part : plant.parts) write_mesh_asset(os, part.name, part.mesh);
   os << "  </asset>\n  <worldbody>\n"
      << "    <light name=\"sun\" directional=\"true\" pos=\"0 0 5\" dir=\"-0.3 0.2 -1\" diffuse=\"0.55 0.55 0.55\" specular=\"0.05 0.05 0.05\" castshadow=\"true\"/>\n"
      << "    <geom name=\"ground\" type=\"plane\" size=\"30 30 0.1\" material=\"ground\" group=\"" << kGroupGround
@@ -202,6 +205,7 @@ SceneDescription make_scene_mjcf(const world::World& world, const robot::RobotDe
   scene.labels["ground"] = GeomLabel{spec.class_of("ground"), kNoInstance};
   for (const auto& plant : world.plants)
     for (const auto& part : plant.parts) {
+      if (!options.include_plants) break;
       os << "    <geom name=\"" << part.name << "\" type=\"mesh\" mesh=\"" << part.name << "\" material=\"plant\" rgba=\""
          << part.rgba[0] << " " << part.rgba[1] << " " << part.rgba[2] << " 1\" group=\"" << kGroupPlants
          << "\" contype=\"0\" conaffinity=\"0\"/>\n";

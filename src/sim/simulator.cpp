@@ -2,6 +2,8 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <mutex>
 #include <stdexcept>
@@ -39,7 +41,17 @@ Simulator::Simulator(const world::World& world, const RobotConfig& robot_config,
     : robot_config_(robot_config), start_(world.spec.robot_start) {
   const robot::RobotDescription description = robot::RobotDescription::load_urdf(robot_config.urdf_path);
   scene_ = make_scene_mjcf(world, description, robot_config, options);
-  load(scene_.mjcf);
+  if (options.include_plants && !world.plants.empty()) {
+    SceneOptions physics = options;
+    physics.include_plants = false;
+    const SceneDescription stepped = make_scene_mjcf(world, description, robot_config, physics);
+    load(stepped.mjcf);
+    load_render(scene_.mjcf);
+    CANOPY_CHECK(render_model_->nq == model_->nq && render_model_->nv == model_->nv,
+                 "the rendered and the stepped scene differ in their joints");
+  } else {
+    load(scene_.mjcf);
+  }
   bind_robot();
   reset_home();
 }
@@ -76,6 +88,59 @@ void Simulator::load(const std::string& mjcf) {
     const int id = mj_name2id(model_.get(), mjOBJ_GEOM, geom_name.c_str());
     if (id >= 0) geom_labels_[static_cast<size_t>(id)] = label;
   }
+}
+
+void Simulator::load_render(const std::string& mjcf) {
+  // load() into the stepped slots, then move the result over.
+  auto stepped_model = std::move(model_);
+  auto stepped_data = std::move(data_);
+  load(mjcf);
+  render_model_ = std::move(model_);
+  render_data_ = std::move(data_);
+  model_ = std::move(stepped_model);
+  data_ = std::move(stepped_data);
+}
+
+void Simulator::sync_render() {
+  if (!render_model_) return;
+  mju_copy(render_data_->qpos, data_->qpos, model_->nq);
+  render_data_->time = data_->time;
+  mj_kinematics(render_model_.get(), render_data_.get());
+  mj_camlight(render_model_.get(), render_data_.get());
+}
+
+bool Simulator::state_ok() const {
+  for (int w : {mjWARN_BADQPOS, mjWARN_BADQVEL, mjWARN_BADQACC, mjWARN_BADCTRL})
+    if (data_->warning[w].number > 0) return false;
+  for (int i = 0; i < model_->nq; ++i)
+    if (!std::isfinite(data_->qpos[i])) return false;
+  for (int i = 0; i < model_->nv; ++i)
+    if (!std::isfinite(data_->qvel[i])) return false;
+  return true;
+}
+
+SimState Simulator::snapshot() const {
+  SimState s;
+  s.time = data_->time;
+  s.qpos.assign(data_->qpos, data_->qpos + model_->nq);
+  s.qvel.assign(data_->qvel, data_->qvel + model_->nv);
+  s.act.assign(data_->act, data_->act + model_->na);
+  s.ctrl.assign(data_->ctrl, data_->ctrl + model_->nu);
+  s.qacc_warmstart.assign(data_->qacc_warmstart, data_->qacc_warmstart + model_->nv);
+  return s;
+}
+
+void Simulator::restore(const SimState& s) {
+  CANOPY_CHECK(int(s.qpos.size()) == model_->nq && int(s.qvel.size()) == model_->nv, "snapshot of another model");
+  mj_resetData(model_.get(), data_.get());
+  data_->time = s.time;
+  std::copy(s.qpos.begin(), s.qpos.end(), data_->qpos);
+  std::copy(s.qvel.begin(), s.qvel.end(), data_->qvel);
+  std::copy(s.act.begin(), s.act.end(), data_->act);
+  std::copy(s.ctrl.begin(), s.ctrl.end(), data_->ctrl);
+  std::copy(s.qacc_warmstart.begin(), s.qacc_warmstart.end(), data_->qacc_warmstart);
+  for (int w = 0; w < mjNWARNING; ++w) data_->warning[w].number = 0;
+  mj_forward(model_.get(), data_.get());
 }
 
 int Simulator::require_id(int type, const std::string& name) const {
@@ -173,6 +238,7 @@ void Simulator::update_kinematics() {
   mj_kinematics(model_.get(), data_.get());
   mj_comPos(model_.get(), data_.get());
   mj_camlight(model_.get(), data_.get());
+  sync_render();
 }
 
 Pose Simulator::camera_pose() const {

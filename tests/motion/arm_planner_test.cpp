@@ -152,6 +152,33 @@ TEST_F(ArmPlannerTest, FailuresComeBackAsStatuses) {
   const ArmPlanner rushed_planner(checker_, rushed);
   const PlanResult to = rushed_planner.plan_to_configs(base_, start, {{-2.0, -1.0, 2.0, -1.0, 1.0, 0.0}});
   EXPECT_EQ(to.status, PlanStatus::kTimeout) << to.message;
+
+  // The iteration budget decides, not the clock: one iteration cannot connect this goal.
+  PlannerParams short_budget;
+  short_budget.max_iterations = 1;
+  short_budget.try_direct_first = false;
+  const PlanResult tb = ArmPlanner(checker_, short_budget).plan_to_configs(base_, start, {{-2.0, -1.0, 2.0, -1.0, 1.0, 0.0}});
+  EXPECT_EQ(tb.status, PlanStatus::kTimeout) << tb.message;
+  EXPECT_NE(tb.message.find("iterations"), std::string::npos) << tb.message;
+}
+
+// The same request and seed give the same path, whatever ran before it in the process.
+TEST_F(ArmPlannerTest, SeedDecidesThePath) {
+  const ArmConfig start = model().config().home;
+  const ArmConfig goal = {-1.2, -1.3, 1.2, -1.5, -1.4, 0.5};
+  PlannerParams p;
+  p.try_direct_first = false;
+  const ArmPlanner planner(checker_, p);
+  const PlanResult a = planner.plan_to_configs(base_, start, {goal}, 7);
+  const PlanResult other = planner.plan_to_configs(base_, start, {goal}, 8);
+  const PlanResult b = planner.plan_to_configs(base_, start, {goal}, 7);
+  ASSERT_TRUE(a.ok() && b.ok() && other.ok()) << a.message << b.message << other.message;
+  ASSERT_EQ(a.path.size(), b.path.size());
+  for (size_t k = 0; k < a.path.size(); ++k) EXPECT_EQ(a.path[k], b.path[k]) << "waypoint " << k;
+  // A different seed explores differently (same endpoints, another path).
+  bool differs = a.path.size() != other.path.size();
+  for (size_t k = 0; !differs && k < a.path.size(); ++k) differs = a.path[k] != other.path[k];
+  EXPECT_TRUE(differs);
 }
 
 TEST(ArmPlannerParams, YamlAndRegistry) {

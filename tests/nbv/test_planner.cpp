@@ -90,12 +90,41 @@ TEST(Planner, NoClustersGivesAnEmptyPlan) {
   }
 }
 
+// A filter that moves a candidate hands the moved pose (and its IK answer) to the scorer:
+// the plan's views are the moved ones, scored where the camera will really be.
+TEST(Planner, FilterMovesTheScoredPose) {
+  Fixture f;
+  const auto clusters = find_clusters(f.map, f.params.cluster);
+  ASSERT_FALSE(clusters.empty());
+  ClusterPlanner planner(f.params, f.K);
+  const auto gain = make_gain("osamcep", f.params.gain);
+  const double shift = 0.05;
+  const CandidateFilter move = [&](Candidate* c) {
+    c->T_world_camera.translation() += shift * c->T_world_camera.linear().col(2);
+    c->shift_m = shift;
+    c->has_q = true;
+    c->q = {1, 2, 3, 4, 5, 6};
+    return true;
+  };
+  const Plan moved = planner.plan(f.index, clusters, *gain, ray_set("ours"), 1, move);
+  ASSERT_FALSE(moved.views.empty());
+  ViewEvaluator eval(f.index, f.K, f.params.rays);
+  for (const ScoredView& v : moved.views) {
+    EXPECT_TRUE(v.candidate.has_q);
+    EXPECT_EQ(v.candidate.q[5], 6.0);
+    EXPECT_NEAR((v.candidate.T_world_camera.translation() - v.candidate.target).norm(),
+                f.params.candidates.radius_m - shift, 1e-9);
+    const ViewScore s = eval.evaluate(v.candidate.T_world_camera, v.candidate.target, *gain, ray_set("ours"), 0);
+    EXPECT_DOUBLE_EQ(s.gain, v.score.gain);
+  }
+}
+
 TEST(Planner, FilteredOrDoneClustersGiveAReason) {
   Fixture f;
   const auto clusters = find_clusters(f.map, f.params.cluster);
   ClusterPlanner planner(f.params, f.K);
   const auto gain = make_gain("osamcep", f.params.gain);
-  const Plan none = planner.plan(f.index, clusters, *gain, ray_set("ours"), 1, [](const Candidate&) { return false; });
+  const Plan none = planner.plan(f.index, clusters, *gain, ray_set("ours"), 1, [](Candidate*) { return false; });
   EXPECT_TRUE(none.views.empty());
   EXPECT_EQ(none.reason, "every candidate was filtered out");
   EXPECT_TRUE(none.clusters[0].done);

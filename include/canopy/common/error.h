@@ -16,6 +16,13 @@ class InputError : public std::runtime_error {
   explicit InputError(const std::string& what) : std::runtime_error(what) {}
 };
 
+/// The user stopped a run (Ctrl-C) after its partial results were saved; the CLI exits
+/// with code 130.
+class Interrupted : public std::runtime_error {
+ public:
+  Interrupted() : std::runtime_error("interrupted; partial results saved and marked incomplete") {}
+};
+
 /// A broken internal invariant (a bug, not bad input).
 class InternalError : public std::logic_error {
  public:

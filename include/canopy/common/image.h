@@ -27,4 +27,18 @@ struct Image {
   bool empty() const { return data.empty(); }
 };
 
+/// Copies `src` scaled (nearest neighbour) into the w x h rectangle of `dst` at (x0, y0),
+/// with a `border` pixel frame of `border_colour` around it; parts outside `dst` are clipped.
+template <typename T>
+void blit_scaled(const Image<T>& src, int x0, int y0, int w, int h, Image<T>* dst, int border = 0,
+                 const T& border_colour = T()) {
+  if (src.empty() || w <= 0 || h <= 0) return;
+  for (int y = y0 - border; y < y0 + h + border; ++y)
+    for (int x = x0 - border; x < x0 + w + border; ++x) {
+      if (x < 0 || y < 0 || x >= dst->width || y >= dst->height) continue;
+      const bool inside = x >= x0 && y >= y0 && x < x0 + w && y < y0 + h;
+      dst->at(x, y) = inside ? src.at((x - x0) * src.width / w, (y - y0) * src.height / h) : border_colour;
+    }
+}
+
 }  // namespace canopy

@@ -17,6 +17,8 @@ struct MappingConfig {
 
   /// Reads a config file; throws InputError naming the file and key (unknown keys too).
   static MappingConfig load(const std::string& path);
+  /// Reads one mapping with those sections (unknown keys rejected).
+  static MappingConfig from_yaml(YamlReader& y);
   YAML::Node to_yaml() const;
 };
 

@@ -62,6 +62,10 @@ class ScanInserter {
   void compute_updates(const perception::LabelledCloud& cloud, std::vector<VoxelUpdate>* updates,
                        InsertStats* stats);
 
+  /// The voxel updates the last insert() applied (hits and pass-throughs, sorted by code):
+  /// what caches beside the map (a collision environment) must look at again.
+  const std::vector<VoxelUpdate>& last_updates() const { return updates_; }
+
  private:
   SemanticOcTree& map_;
   std::vector<std::uint64_t> values_, scratch_;  // per-point (code << 8 | label), sort buffer

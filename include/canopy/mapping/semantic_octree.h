@@ -77,10 +77,36 @@ std::uint64_t morton_code(const octomap::OcTreeKey& key);
 octomap::OcTreeKey morton_key(std::uint64_t code);
 
 /// Probabilistic multi-class voxel map (SSMI rules) with OctoMap's addressing.
-class SemanticOcTree : public octomap::OcTreeBaseImpl<SemanticNode, octomap::AbstractOcTree> {
+///
+/// OctoMap's tree is a protected base: every change goes through the members below, which
+/// bump revision(), so caches beside the tree (the NBV voxel index, the planner's collision
+/// environment) cannot be left stale by a mutator that bypasses the counter.
+class SemanticOcTree : protected octomap::OcTreeBaseImpl<SemanticNode, octomap::AbstractOcTree> {
   using Base = octomap::OcTreeBaseImpl<SemanticNode, octomap::AbstractOcTree>;
 
  public:
+  // OctoMap's read-only queries.
+  using Base::calcNumNodes;
+  using Base::computeRayKeys;
+  using Base::coordToKey;
+  using Base::coordToKeyChecked;
+  using Base::getNumLeafNodes;
+  using Base::getResolution;
+  using Base::getTreeDepth;
+  using Base::keyToCoord;
+  using Base::memoryUsage;
+  using Base::search;
+  using Base::size;
+  /// Root node (read-only).
+  const SemanticNode* getRoot() const { return root; }
+  bool nodeHasChildren(const SemanticNode* node) const { return Base::nodeHasChildren(node); }
+  const SemanticNode* getNodeChild(const SemanticNode* node, unsigned int i) const { return Base::getNodeChild(node, i); }
+  /// Removes every voxel (the map becomes all unknown).
+  void clear() {
+    Base::clear();
+    ++revision_;
+  }
+
   SemanticOcTree(const SemanticMapParams& params, const SemanticClasses& classes);
   SemanticOcTree(const SemanticOcTree& other);  ///< Deep copy.
   SemanticOcTree(SemanticOcTree&& other) noexcept;

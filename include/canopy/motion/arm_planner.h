@@ -34,7 +34,9 @@ const char* to_string(PlanStatus status);
 /// Planner settings (configs/motion.yaml, section "planner").
 struct PlannerParams {
   std::string planner = "RRTConnect";      ///< A name from planner_names().
-  double time_limit_s = 1.0;               ///< Per request.
+  /// Planner iterations per request: the budget that decides, so results do not depend on load.
+  int max_iterations = 20000;
+  double time_limit_s = 10.0;              ///< Wall-clock safety net per request.
   double motion_check_resolution_rad = 0.02;  ///< Joint-space (Euclidean) step of motion checks.
   double range_rad = 0.0;                  ///< Tree extension step; 0: the planner's default.
   bool try_direct_first = true;            ///< Try the straight joint-space line before OMPL.
@@ -53,6 +55,8 @@ std::vector<std::string> planner_names();
 
 /// Sets OMPL's global seed; effective only before the first planner runs in the process
 /// (OMPL's rule). Returns false when it was already set (to any value) in this process.
+/// Plans are seeded per request (ArmPlanner's `seed` arguments); this covers only the
+/// streams that are out of reach (see plan_to_configs).
 bool seed_planner_rng(std::uint64_t seed);
 
 /// Result of a planning request.
@@ -75,9 +79,14 @@ class ArmPlanner {
              const TrajectoryParams& trajectory = TrajectoryParams{});
 
   /// Plans from `start` to one of `goals` (tried nearest first).
-  PlanResult plan_to_configs(const BasePose& base, const ArmConfig& start, const std::vector<ArmConfig>& goals) const;
+  /// `seed` seeds every random stream of this request: the same request and seed give the
+  /// same path (RRTConnect, RRT, RRTstar, LazyRRT, KPIECE1, BKPIECE1, LBKPIECE1, EST, BiEST,
+  /// SBL, PRM; BiTRRT, LazyPRM and BITstar sample through the seeded sampler only).
+  PlanResult plan_to_configs(const BasePose& base, const ArmConfig& start, const std::vector<ArmConfig>& goals,
+                             std::uint64_t seed = 1) const;
   /// Plans from `start` until the camera is at T_world_camera (IK solutions as goals).
-  PlanResult plan_to_camera_pose(const BasePose& base, const ArmConfig& start, const Pose& T_world_camera) const;
+  PlanResult plan_to_camera_pose(const BasePose& base, const ArmConfig& start, const Pose& T_world_camera,
+                                 std::uint64_t seed = 1) const;
   /// True when the straight joint-space line a -> b is collision-free at the resolution.
   bool motion_valid(const BasePose& base, const ArmConfig& a, const ArmConfig& b) const;
 

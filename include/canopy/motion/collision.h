@@ -31,7 +31,10 @@ struct CollisionParams {
   void validate() const;
 };
 
-/// The environment as occupied voxels (an FCL octree). Immutable once built; share it.
+/// The environment as occupied voxels (an FCL octree). Shared by checkers through a
+/// shared_ptr, so it lives as long as any checker that reads it. update() changes it in
+/// place (incremental, as a map grows view by view); do not update it while another thread
+/// runs queries on it.
 class CollisionEnvironment {
  public:
   /// Builds the octree from occupied voxel centres on a grid of `resolution_m` (voxel
@@ -39,7 +42,14 @@ class CollisionEnvironment {
   /// non-positive resolution; non-finite centres are skipped.
   static std::shared_ptr<const CollisionEnvironment> from_voxels(const std::vector<Vec3>& centres,
                                                                  double resolution_m);
+  /// An environment with no voxel yet, to be filled by update().
+  static std::shared_ptr<CollisionEnvironment> empty(double resolution_m);
   ~CollisionEnvironment();
+  /// Marks the voxels containing `occupied` as occupied and those containing `freed` as free
+  /// (freed first, so a voxel in both ends occupied). Points outside the tree are skipped.
+  void update(const std::vector<Vec3>& occupied, const std::vector<Vec3>& freed);
+  /// True when the voxel containing `p` is occupied.
+  bool occupied(const Vec3& p) const;
   size_t voxel_count() const { return voxel_count_; }
   double resolution_m() const { return resolution_m_; }
 

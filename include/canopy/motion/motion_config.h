@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "canopy/common/robot_config.h"
+#include "canopy/common/yaml_reader.h"
 #include "canopy/motion/arm_planner.h"
 #include "canopy/motion/base_follower.h"
 #include "canopy/motion/collision.h"
@@ -31,6 +32,8 @@ struct MotionConfig {
 
   /// Defaults, with the base limits taken from robot.yaml.
   static MotionConfig defaults(const RobotConfig& robot);
+  /// Reads one mapping (the keys of motion.yaml) over the defaults; rejects unknown keys.
+  static MotionConfig from_yaml(YamlReader& y, const RobotConfig& robot);
   /// Reads a motion.yaml over the defaults; throws InputError naming file and key.
   static MotionConfig load(const std::string& path, const RobotConfig& robot);
   /// Parses YAML text (tests); `name` stands in for the file name in errors.

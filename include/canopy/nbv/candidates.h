@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "canopy/common/camera.h"
+#include "canopy/common/robot_config.h"
 #include "canopy/common/types.h"
 #include "canopy/nbv/nbv_params.h"
 
@@ -17,6 +18,10 @@ struct Candidate {
   int cluster = -1;             ///< Index of the cluster.
   double polar_deg = 0.0;       ///< Angle from world +z at the centroid.
   double azimuth_deg = 0.0;     ///< Angle about world z from +x.
+  // What a reachability check (the arm's workspace filter) found, when one ran.
+  double shift_m = 0.0;         ///< Move along the viewing direction (+ towards the target).
+  bool has_q = false;           ///< q holds an IK solution of T_world_camera.
+  ArmConfig q{};
 };
 
 /// Candidates on the sphere around `centroid`: polar angles evenly in [min, max] (one angle:

@@ -51,6 +51,28 @@ struct PlannerParams {
   int top_k = 1;                 ///< Views kept per cluster (prototype: 1).
 };
 
+/// Bookkeeping rules of the view planners.
+struct ViewRules {
+  double taken_position_m = 0.01;  ///< A view within this and taken_angle_deg of a taken one is never taken again.
+  double taken_angle_deg = 2.0;
+  double done_epsilon_m = 0.05;    ///< A done cluster stays done while a later centroid lies this close.
+};
+
+/// Zaenker et al.'s ROI frontier planner as implemented (FACTS.md section 7).
+struct FrontierParams {
+  int max_targets = 100;                  ///< Targets drawn per kind (uniformly, with replacement).
+  double min_view_distance_m = 0.3;       ///< Camera origin at U(min, max) from its target.
+  double max_view_distance_m = 0.5;
+  double roi_inflation_radius_m = 0.3;    ///< Inflated ROI falls linearly from 1 to 0 at this radius.
+  double roi_inflation_resolution_m = 0.05;
+  double unknown_low = 0.4;               ///< Known voxels with p in (low, high] count as unknown.
+  double unknown_high = 0.6;              ///< The utility ray stops at the first voxel with p > high.
+  double unknown_weight = 0.5;            ///< An unknown voxel adds unknown_weight + roi_weight * inflated ROI.
+  double roi_weight = 0.5;
+  double distance_cost_per_m = 0.2;       ///< Utility -= this * distance from the current camera.
+  double roi_utility_threshold = 0.2;     ///< ROI views are used when the best ROI utility exceeds this.
+};
+
 /// All next-best-view settings (configs/nbv.yaml sections).
 struct NbvParams {
   ClusterParams cluster;
@@ -58,8 +80,11 @@ struct NbvParams {
   RayParams rays;
   GainParams gain;
   PlannerParams planner;
+  ViewRules views;
+  FrontierParams frontier;
 
-  /// Reads sections cluster, candidates, rays, gain, planner of one mapping (InputError on bad values).
+  /// Reads sections cluster, candidates, rays, gain, planner, views, frontier of one mapping
+  /// (InputError on bad values).
   static NbvParams from_yaml(YamlReader& y);
   /// Loads a file and rejects unknown keys.
   static NbvParams load(const std::string& path);

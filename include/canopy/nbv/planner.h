@@ -88,11 +88,16 @@ struct Plan {
   std::vector<ClusterResult> clusters;
   std::string reason;                   ///< Why `views` is empty ("no clusters", ...); empty otherwise.
   std::size_t candidates = 0;           ///< Candidates scored.
+  std::size_t filtered = 0;             ///< Candidates the filter dropped.
   double ms_raycast = 0.0;              ///< Sum of the views' ray-casting times.
+  double ms_candidates = 0.0;           ///< Sampling the candidates.
+  double ms_filter = 0.0;               ///< Running the filter.
 };
 
-/// Candidate filter (e.g. the arm's workspace); true keeps the candidate.
-using CandidateFilter = std::function<bool(const Candidate&)>;
+/// Candidate filter (e.g. the arm's workspace filter); true keeps the candidate. It may move
+/// the candidate (T_world_camera, shift_m) and attach its IK solution (has_q, q): the moved
+/// pose is the one scored, and the one the robot will visit.
+using CandidateFilter = std::function<bool(Candidate*)>;
 
 /// The cluster-centric next-best-view planner (ours).
 class ClusterPlanner {

@@ -3,6 +3,7 @@
 // per-pixel semantic class and fruit instance, from the wrist camera or a free camera.
 
 #include <memory>
+#include <string>
 
 #include "canopy/common/frame.h"
 #include "canopy/common/random.h"
@@ -33,13 +34,15 @@ class Renderer {
   /// Any camera pose; `show_robot` chooses whether robot geoms are drawn; `labels` adds the
   /// segmentation pass.
   LabelledFrame render(const Pose& T_world_camera, bool show_robot, bool labels = true);
+  /// RGB only, with `caption` drawn in the top-left corner (MuJoCo's overlay font), for videos.
+  Image<Rgb8> render_captioned(const Pose& T_world_camera, bool show_robot, const std::string& caption);
   /// Triangles drawn in the last frame (meshes exactly, primitives as tessellated).
   long last_triangle_count() const { return last_triangles_; }
   const CameraIntrinsics& intrinsics() const { return intrinsics_; }
 
  private:
   /// Draws the simulator's current (already updated) kinematic state.
-  LabelledFrame draw(const Pose& T_world_camera, bool show_robot, bool labels);
+  LabelledFrame draw(const Pose& T_world_camera, bool show_robot, bool labels, const std::string& caption = "");
 
   struct Impl;
   std::unique_ptr<Impl> impl_;

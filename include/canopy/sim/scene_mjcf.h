@@ -40,6 +40,12 @@ struct SceneOptions {
   double timestep_s = 0.002;
   double znear_m = 0.02;   ///< Near clipping plane (must be below the camera's min range).
   double zfar_m = 20.0;
+  /// Plant meshes in the scene. The simulator steps a model without them (they never
+  /// collide, yet MuJoCo 2.2.2 walks every geom in each step) and renders one with them.
+  bool include_plants = true;
+  /// Smallest off-screen buffer (for larger video frames than the camera's).
+  int min_offscreen_width_px = 640;
+  int min_offscreen_height_px = 480;
 };
 
 /// The full scene: ground, lights, plants, robot, actuators and the home keyframe.

@@ -1,0 +1,163 @@
+#pragma once
+// The closed-loop mission (the paper's "Overall performance" experiment) in MuJoCo: for each
+// base stop along the aisle the robot drives there, takes the stop's predefined initial scan,
+// then asks its view planner (ours, frontier or predefined; nbv::view_planner_registry) for
+// batches of views until the stop's budget is used up, nothing is left to plan, or a cap is
+// hit. Each view: IK -> OMPL plan against the current map (occupied voxels, the ground and
+// the robot itself) -> execution on the simulator's servos -> when the camera reached the
+// goal, the wrist camera renders from the pose actually reached, and the frame is segmented,
+// inserted into the map and evaluated.
+//
+// The controller is a state machine around library calls: mapping, nbv and motion hold the
+// algorithms (and stay MuJoCo-free); this file only sequences them, times them and records
+// what happened. Contacts with the true plant geometry are counted (geometrically, against
+// the world's voxelised meshes), never used for planning.
+
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "canopy/common/frame.h"
+#include "canopy/common/timer.h"
+#include "canopy/mapping/map_metrics.h"
+#include "canopy/mapping/semantic_octree.h"
+#include "canopy/mission/settings.h"
+#include "canopy/motion/robot_model.h"
+#include "canopy/nbv/view_planner.h"
+#include "canopy/sim/simulator.h"
+#include "canopy/world/world.h"
+
+namespace canopy::mission {
+
+/// Which part of a stop a view belongs to.
+enum class ViewPhase { kInitial, kNbv, kPredefined };
+const char* to_string(ViewPhase phase);
+
+/// Failure causes of an attempted view ("" = success), in the order they are checked.
+namespace failure {
+constexpr const char* kNoIk = "no_ik";                          ///< No IK solution within the joint limits.
+constexpr const char* kStartInCollision = "start_in_collision"; ///< The arm (or base) already touches the map.
+constexpr const char* kGoalInCollision = "goal_in_collision";   ///< Every IK solution touches the map or the robot.
+constexpr const char* kPlanTimeout = "plan_timeout";            ///< No path within the planner's budget.
+constexpr const char* kInvalid = "invalid_input";
+constexpr const char* kNotReached = "not_reached";              ///< Executed, camera outside the tolerance.
+constexpr const char* kUnstable = "unstable";                   ///< The simulation diverged (restored).
+}  // namespace failure
+
+/// One attempted view.
+struct ViewRecord {
+  int attempt = 0;               ///< Attempt number over the mission (0-based).
+  int stop = 0;
+  ViewPhase phase = ViewPhase::kInitial;
+  std::string source;            ///< "initial", "nbv", "roi", "exploration", "predefined".
+  bool success = false;
+  std::string failure;           ///< A failure:: cause, empty on success.
+  std::string message;           ///< Details of the failure.
+  Pose T_goal = Pose::Identity();
+  Pose T_reached = Pose::Identity();  ///< Camera pose the frame was rendered from (success).
+  double position_error_m = 0.0, angle_error_rad = 0.0;
+  double gain = 0.0;
+  int cluster = -1;
+  int successful_views = 0;      ///< Successful views so far (this one included).
+  double coverage = 0.0;         ///< Fruit surface coverage after this view.
+  double entropy = 0.0;          ///< Fruit entropy after this view [nats].
+  double sim_time_s = 0.0;       ///< Simulated time at the end of the attempt.
+  double move_time_s = 0.0;      ///< Simulated time of the move.
+  int truth_contacts = 0;        ///< Executed states in contact with the true plants.
+  int self_contacts = 0;         ///< Steps with a robot-robot contact in MuJoCo.
+  PhaseTimes times;              ///< Wall time by phase (kept out of views.csv).
+};
+
+/// One base stop.
+struct StopRecord {
+  int stop = 0;
+  BasePose goal, reached;
+  bool reached_goal = false;
+  int base_truth_contacts = 0;   ///< Base-vs-plant contacts seen while driving here.
+  int initial_attempted = 0, initial_ok = 0;
+  int nbv_attempted = 0, nbv_ok = 0;
+  int rounds = 0;
+  std::map<std::string, int> failures;
+  std::string end_reason;        ///< Why the stop's loop ended.
+  double sim_time_s = 0.0;       ///< Simulated time spent at (and driving to) this stop.
+};
+
+/// The whole run.
+struct MissionResult {
+  std::vector<ViewRecord> views;
+  std::vector<StopRecord> stops;
+  bool complete = true;          ///< False when interrupted (the views so far are valid).
+  std::string end_reason = "all stops done";
+  double sim_time_s = 0.0;
+  double wall_time_s = 0.0;
+  PhaseTimes times;              ///< mapping, nbv_planning, motion_planning, control, rendering, evaluation.
+  mapping::MapMetrics final_metrics;
+  int unstable_faults = 0;
+  std::map<std::string, int> failures;
+  int successful_views() const;
+};
+
+/// What the mission runs.
+struct MissionOptions {
+  std::string method = "ours";   ///< A view planner's registry name.
+  std::string gain = "osamcep";  ///< ours: gain by name.
+  std::string rays = "ours";     ///< ours: ray set by name.
+  std::uint64_t seed = 1;        ///< Seeds segmentation noise, planners and OMPL.
+};
+
+/// Hooks for the command line (progress, video, Ctrl-C) and for tests (fault injection).
+struct MissionCallbacks {
+  std::function<void(const std::string& message)> progress;
+  /// Called every video_period_s of simulated time with a caption (stop, view, coverage).
+  std::function<void(sim::Simulator& sim, const std::string& caption)> video_tick;
+  double video_period_s = 0.0;
+  /// Polled between steps; true ends the mission early (result marked incomplete).
+  std::function<bool()> stop_requested;
+  /// Called before every simulation step of a view's move (tests inject faults here).
+  std::function<void(sim::Simulator& sim, int attempt)> before_step;
+  /// Called after every successful view with its frame, while the simulator is in that state.
+  std::function<void(const ViewRecord& view, const LabelledFrame& frame, const sim::Simulator& sim)> on_view;
+};
+
+/// The mission controller.
+class Mission {
+ public:
+  Mission(const world::World& world, const Settings& settings, const MissionOptions& options,
+          MissionCallbacks callbacks = {});
+  ~Mission();
+  Mission(const Mission&) = delete;
+  Mission& operator=(const Mission&) = delete;
+
+  /// Runs every stop; returns what happened (also when interrupted).
+  MissionResult run();
+
+  // --- Pieces, for tests -----------------------------------------------------------------
+  /// Drives to stop k (0-based) and records it; false when the goal was not reached.
+  bool drive_to_stop(int k);
+  /// Attempts one view at the current stop.
+  ViewRecord attempt(const nbv::PlannedView& view, ViewPhase phase);
+  /// The predefined camera poses of stop k in the world (extra: predefined scanning's).
+  std::vector<Pose> scan_views(int k, bool extra) const;
+  int stop_count() const;
+  const MissionResult& result() const;
+  const mapping::SemanticOcTree& map() const;
+  sim::Simulator& simulator();
+  const motion::RobotModel& robot() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// views.csv (one row per attempted view, no wall times: byte-identical for a seed).
+std::string views_csv(const MissionResult& result, const std::string& method);
+/// timing.csv (wall time per attempted view and phase).
+std::string timing_csv(const MissionResult& result);
+/// summary.json body: per-stop counts, failures, final figures, time split.
+nlohmann::json summary_json(const MissionResult& result);
+
+}  // namespace canopy::mission

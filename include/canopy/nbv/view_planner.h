@@ -1,0 +1,173 @@
+#pragma once
+// One interface for the methods that choose the robot's next views, chosen by name from one
+// registry (view_planner_registry), and the bookkeeping they share:
+//  - ours: the paper's cluster-centric planner (fruit clusters in reach -> candidates on a
+//    sphere -> reachability filter -> gain by name -> top-k per cluster); a batch is executed
+//    in tour order;
+//  - frontier: Zaenker et al.'s ROI / exploration frontier planner as implemented (FACTS.md
+//    section 7); a batch is tried in utility order until one view succeeds;
+//  - predefined: dense predefined scanning, no planning: the mission's extra scripted views.
+// Planners see only the map, the robot's state and its budget (MuJoCo-free, so the same
+// planner could drive a real robot); reachability comes in as callbacks.
+
+#include <Eigen/Geometry>
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "canopy/common/timer.h"
+#include "canopy/nbv/planner.h"
+
+namespace canopy::nbv {
+
+/// A view the robot should take, with what the reachability check found.
+struct PlannedView {
+  Pose T_world_camera = Pose::Identity();  ///< Moved into the workspace when the filter moved it.
+  Vec3 target = Vec3::Zero();              ///< The point it looks at.
+  int cluster = -1;                        ///< Cluster served (ours), -1 otherwise.
+  double gain = 0.0;                       ///< The method's score of the view.
+  double shift_m = 0.0;                    ///< Move along the viewing direction by the filter.
+  bool has_q = false;                      ///< q: IK solution found by the reachability check.
+  ArmConfig q{};
+  std::string source;                      ///< "nbv", "roi", "exploration", "predefined".
+};
+
+/// How the mission executes a batch.
+enum class BatchOrder {
+  kTour,     ///< Every view, in the order of a tour from the current camera.
+  kUtility,  ///< In the given order until one view succeeds.
+};
+
+/// What a planner is asked.
+struct ViewRequest {
+  const mapping::SemanticOcTree* map = nullptr;
+  VoxelIndex* index = nullptr;             ///< Kept beside `map`; planners refresh it.
+  Pose T_world_camera = Pose::Identity();  ///< The camera now.
+  Eigen::AlignedBox3d region;              ///< Targets (fruit clusters, frontiers) must lie in it.
+  int budget = 1;                          ///< Successful views still wanted at this stop.
+  std::uint64_t seed = 1;                  ///< Seeds the planner's random draws for this request.
+  /// Full reachability check (workspace move + IK), as the paper's filter; may be null.
+  CandidateFilter reach;
+  /// Position-only reachability (the frontier planner's precomputed workspace); may be null.
+  std::function<bool(const Vec3& camera_position)> in_workspace;
+  /// Scripted views of this stop (predefined scanning), in world coordinates.
+  std::vector<Pose> scripted;
+};
+
+/// A planner's answer.
+struct ViewBatch {
+  std::vector<PlannedView> views;          ///< Best first.
+  BatchOrder order = BatchOrder::kTour;
+  bool finished = false;                   ///< Nothing left to plan at this stop (no positive gain).
+  std::string reason;                      ///< Why `views` is empty.
+  std::size_t clusters = 0;                ///< Clusters (ours) or targets (frontier) considered.
+  std::size_t candidates = 0;              ///< Candidates scored.
+  std::size_t filtered = 0;                ///< Candidates dropped by reachability.
+  PhaseTimes times;                        ///< clustering, candidates, filtering, scoring.
+};
+
+/// Views already taken: a candidate within the tolerances of one of them is never taken again.
+class TakenViews {
+ public:
+  explicit TakenViews(const ViewRules& rules = ViewRules{}) : rules_(rules) {}
+  void add(const Pose& T_world_camera) { poses_.push_back(T_world_camera); }
+  /// True when `T_world_camera` lies within taken_position_m and taken_angle_deg of a taken view.
+  bool contains(const Pose& T_world_camera) const;
+  std::size_t size() const { return poses_.size(); }
+
+ private:
+  ViewRules rules_;
+  std::vector<Pose> poses_;
+};
+
+/// Clusters found done: a later cluster whose centroid lies within done_epsilon_m of a done
+/// one stays done (centroids move a little when clusters are recomputed).
+class DoneClusters {
+ public:
+  explicit DoneClusters(const ViewRules& rules = ViewRules{}) : rules_(rules) {}
+  void mark(const Vec3& centroid) { done_.push_back(centroid); }
+  bool contains(const Vec3& centroid) const;
+  std::size_t size() const { return done_.size(); }
+  void clear() { done_.clear(); }
+
+ private:
+  ViewRules rules_;
+  std::vector<Vec3> done_;
+};
+
+/// A method that picks views. Stateful (taken views, done clusters), one per mission.
+class ViewPlanner {
+ public:
+  virtual ~ViewPlanner() = default;
+  /// Registry name.
+  virtual std::string name() const = 0;
+  /// The next batch of views for `request`.
+  virtual ViewBatch next(const ViewRequest& request) = 0;
+  /// Told after each view the robot took (reached and observed), so it is not taken again.
+  virtual void taken(const Pose& T_world_camera) { taken_.add(T_world_camera); }
+  /// A new base stop begins.
+  virtual void begin_stop() {}
+  const TakenViews& taken_views() const { return taken_; }
+
+ protected:
+  explicit ViewPlanner(const ViewRules& rules) : taken_(rules) {}
+  TakenViews taken_;
+};
+
+/// What a planner is built from.
+struct ViewPlannerSettings {
+  NbvParams params;
+  CameraIntrinsics intrinsics;
+  std::string gain = "osamcep";  ///< ours: the gain's registry name.
+  std::string rays = "ours";     ///< ours: the ray set's registry name.
+};
+
+/// One registry entry.
+struct ViewPlannerEntry {
+  std::string name;
+  std::string description;
+  std::function<std::unique_ptr<ViewPlanner>(const ViewPlannerSettings&)> make;
+};
+
+/// ours, frontier, predefined.
+const std::vector<ViewPlannerEntry>& view_planner_registry();
+std::vector<std::string> view_planner_names();
+/// The planner called `name`; throws InputError naming `where` and the valid names otherwise.
+std::unique_ptr<ViewPlanner> make_view_planner(const std::string& name, const ViewPlannerSettings& settings,
+                                               const std::string& where = "method");
+
+/// The frontier planner's pieces, for tests.
+namespace frontier {
+/// Voxel keys of the ROI (occupied, most likely class = target) and frontier targets in `region`.
+struct Targets {
+  std::vector<Vec3> roi_contour;   ///< Free non-ROI voxels 6-adjacent to ROI with an unknown 6-neighbour.
+  std::vector<Vec3> exploration;   ///< Free voxels with an unknown and an occupied 6-neighbour.
+  std::vector<Vec3> exploration_normals;  ///< Away from the occupied neighbours, unit.
+  std::vector<Vec3> roi;           ///< ROI voxel centres.
+};
+Targets find_targets(const VoxelIndex& index, const Eigen::AlignedBox3d& region);
+/// Inflated ROI value at `p`: 1 at an ROI voxel, falling linearly to 0 at `radius_m`.
+class InflatedRoi {
+ public:
+  InflatedRoi(const std::vector<Vec3>& roi, const Eigen::AlignedBox3d& region, double radius_m, double resolution_m);
+  double at(const Vec3& p) const;
+
+ private:
+  Vec3 origin_ = Vec3::Zero();
+  double resolution_ = 0.05;
+  Eigen::Vector3i dims_ = Eigen::Vector3i::Zero();
+  std::vector<float> values_;
+};
+/// Utility of the ray origin -> target: unknown voxels add unknown_weight + roi_weight *
+/// inflated ROI, free ones 0; stops at the first voxel with p > unknown_high; divided by the
+/// voxels on the ray.
+double ray_utility(const VoxelIndex& index, const InflatedRoi& roi, const FrontierParams& params, const Vec3& origin,
+                   const Vec3& target);
+/// The smallest rotation of `current` that points its optical axis (z) at `target` from `eye`.
+Pose point_at(const Pose& current, const Vec3& eye, const Vec3& target);
+}  // namespace frontier
+
+}  // namespace canopy::nbv

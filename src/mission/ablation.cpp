@@ -1,0 +1,204 @@
+#include "canopy/mission/ablation.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <map>
+
+#include "canopy/common/io.h"
+#include "canopy/common/random.h"
+#include "canopy/mapping/scan_inserter.h"
+#include "canopy/nbv/view_planner.h"
+
+namespace canopy::mission {
+
+std::string AblationConfig::id() const {
+  char b[64];
+  std::snprintf(b, sizeof b, "%s_%s_pgt%.2f", gain.c_str(), rays.c_str(), pgt);
+  return b;
+}
+
+namespace {
+
+// A view around the plant's axis: azimuth uniform, height in the plant's fruit zone.
+Pose random_plant_view(const world::World& world, int plant, double radius_m, Rng& rng) {
+  const world::Plant& p = world.plants[static_cast<std::size_t>(plant)];
+  const double a = rng.uniform(0.0, 2.0 * M_PI);
+  const double h = p.height_m * rng.uniform(world.spec.plant.fruit_zone_min, world.spec.plant.fruit_zone_max);
+  const Vec3 target = p.base_position + Vec3(0, 0, h);
+  return look_at(target + radius_m * Vec3(std::cos(a), std::sin(a), 0.0), target);
+}
+
+double mean(const std::vector<double>& v) {
+  double s = 0;
+  for (double x : v) s += x;
+  return v.empty() ? 0.0 : s / double(v.size());
+}
+double stddev(const std::vector<double>& v) {
+  if (v.size() < 2) return 0.0;
+  const double m = mean(v);
+  double s = 0;
+  for (double x : v) s += (x - m) * (x - m);
+  return std::sqrt(s / double(v.size() - 1));
+}
+
+}  // namespace
+
+nlohmann::json run_ablation_job(const AblationConfig& cfg, int trial, int plant, const AblationSettings& set,
+                                const mapping::MappingConfig& mcfg, const nbv::NbvParams& np, const world::World& world,
+                                sim::Renderer& renderer) {
+  const std::uint64_t job_seed = mix_seed(set.seed, std::uint64_t(trial) * 1000 + std::uint64_t(plant));
+  perception::ExtractorParams ep = mcfg.extractor;
+  ep.p_gt = cfg.pgt;
+  ep.seed = mix_seed(job_seed, 1);  // same noise stream for every configuration (paired trials)
+  perception::SemanticExtractor extractor(ep, world.spec.classes);
+  mapping::SemanticMapParams mp = mcfg.map;
+  mp.threads = 1;  // jobs run in parallel instead
+  mapping::SemanticOcTree map(mp, world.spec.classes);
+  mapping::ScanInserter inserter(map);
+  nbv::VoxelIndex index;
+  nbv::ViewPlannerSettings ps;
+  ps.params = np;
+  ps.intrinsics = renderer.intrinsics();
+  ps.gain = cfg.gain;
+  ps.rays = cfg.rays;
+  const std::unique_ptr<nbv::ViewPlanner> planner = nbv::make_view_planner("ours", ps);
+  Rng init_rng(mix_seed(job_seed, 2));      // initial views: shared by all configurations
+  Rng fallback_rng(mix_seed(job_seed, 3));  // views when the planner has none
+
+  world::GroundTruth truth;
+  for (const world::FruitTruth* f : world.truth.fruits_of_plant(plant)) truth.fruits.push_back(*f);
+  const world::Plant& pl = world.plants[static_cast<std::size_t>(plant)];
+  nbv::ViewRequest request;
+  request.map = &map;
+  request.index = &index;
+  request.region = Eigen::AlignedBox3d(pl.base_position - Vec3(set.plant_radius_m, set.plant_radius_m, 0.0),
+                                       pl.base_position + Vec3(set.plant_radius_m, set.plant_radius_m, pl.height_m + 0.1));
+  nlohmann::json steps = nlohmann::json::array();
+  for (int v = 0; v < set.views; ++v) {
+    nlohmann::json step = {{"view", v + 1}};
+    Pose T;
+    if (v < set.initial_views) {
+      T = random_plant_view(world, plant, set.view_radius_m, init_rng);
+      step["source"] = "initial";
+    } else {
+      request.seed = mix_seed(job_seed, 100 + std::uint64_t(v));
+      const nbv::ViewBatch batch = planner->next(request);
+      step["clusters"] = batch.clusters;
+      step["candidates"] = batch.candidates;
+      const double raycast_ms = 1e3 * batch.times.get("scoring");
+      step["ms_raycast_step"] = raycast_ms;
+      step["ms_raycast_per_view"] = batch.candidates ? raycast_ms / double(batch.candidates) : 0.0;
+      step["ms_index_build"] = index.build_ms();
+      if (!batch.views.empty()) {
+        T = batch.views.front().T_world_camera;
+        step["source"] = "nbv";
+        step["gain"] = batch.views.front().gain;
+      } else {
+        T = random_plant_view(world, plant, set.view_radius_m, fallback_rng);
+        step["source"] = "fallback";
+        step["reason"] = batch.reason;
+      }
+    }
+    planner->taken(T);
+    request.T_world_camera = T;
+    const LabelledFrame frame = renderer.render_free_camera(T);  // the renderer serialises draws
+    inserter.insert(extractor.extract(frame));
+    const mapping::MapMetrics m = mapping::evaluate_map(map, truth, mcfg.metrics);
+    step["pose"] = pose_to_json(T);
+    step["coverage"] = m.coverage;
+    step["entropy"] = m.total_entropy;
+    steps.push_back(step);
+  }
+  return {{"config", cfg.id()}, {"gain", cfg.gain},   {"rays", cfg.rays}, {"p_gt", cfg.pgt},
+          {"trial", trial},     {"plant", plant},     {"seed", job_seed}, {"fruits", truth.fruits.size()},
+          {"steps", steps}};
+}
+
+std::vector<AblationRow> summarize_ablation(const std::string& out, const std::vector<AblationConfig>& configs,
+                                            int plants, int views, const std::vector<nlohmann::json>& results,
+                                            const std::vector<AblationJobId>& jobs, double target_coverage) {
+  std::vector<AblationRow> rows;
+  std::string csv = "config,gain,rays,p_gt,view,trials,coverage_mean,coverage_std,entropy_mean,entropy_std\n";
+  std::string table =
+      "config,gain,rays,p_gt,trials,views_to_target_mean_curve,views_to_target_per_plant_mean,"
+      "plant_runs_reaching_target,plant_runs,raycast_ms_per_view_mean,final_coverage_mean,final_entropy_mean\n";
+  auto num = [](double x) {
+    char b[64];
+    std::snprintf(b, sizeof b, "%.17g", x);
+    return std::string(b);
+  };
+  for (std::size_t c = 0; c < configs.size(); ++c) {
+    std::map<int, std::map<int, const nlohmann::json*>> by_trial;  // [trial][plant]
+    for (std::size_t j = 0; j < jobs.size(); ++j)
+      if (jobs[j].config == c && !results[j].is_null()) by_trial[jobs[j].trial][jobs[j].plant] = &results[j];
+    std::vector<int> complete;  // trials with every plant done
+    for (const auto& [t, ps] : by_trial)
+      if (int(ps.size()) == plants) complete.push_back(t);
+    for (int t : complete) {
+      nlohmann::json tj = {{"config", configs[c].id()}, {"trial", t}, {"plants", nlohmann::json::array()}};
+      for (const auto& [p, r] : by_trial[t]) tj["plants"].push_back(*r);
+      write_json_atomic(out + "/trials/" + configs[c].id() + "_trial" + std::to_string(t) + ".json", tj);
+    }
+    if (complete.empty()) continue;
+    AblationRow row;
+    row.config = configs[c];
+    row.trials = complete.size();
+    std::vector<double> mean_cov_curve(static_cast<std::size_t>(views), 0.0);
+    std::vector<double> reach_views, ray_ms, final_cov, final_ent;
+    for (int v = 0; v < views; ++v) {
+      std::vector<double> cov_t, ent_t;
+      for (int t : complete) {
+        std::vector<double> cov_p, ent_p;
+        for (const auto& [p, r] : by_trial[t]) {
+          cov_p.push_back((*r)["steps"][v]["coverage"].get<double>());
+          ent_p.push_back((*r)["steps"][v]["entropy"].get<double>());
+        }
+        cov_t.push_back(mean(cov_p));
+        ent_t.push_back(mean(ent_p));
+      }
+      mean_cov_curve[std::size_t(v)] = mean(cov_t);
+      csv += configs[c].id() + "," + configs[c].gain + "," + configs[c].rays + "," + num(configs[c].pgt) + "," +
+             std::to_string(v + 1) + "," + std::to_string(complete.size()) + "," + num(mean(cov_t)) + "," +
+             num(stddev(cov_t)) + "," + num(mean(ent_t)) + "," + num(stddev(ent_t)) + "\n";
+      if (v == views - 1) {
+        final_cov = cov_t;
+        final_ent = ent_t;
+      }
+    }
+    for (int t : complete)
+      for (const auto& [p, r] : by_trial[t]) {
+        ++row.runs;
+        for (const auto& s : (*r)["steps"])
+          if (s.contains("ms_raycast_per_view") && s.value("candidates", 0) > 0)
+            ray_ms.push_back(s["ms_raycast_per_view"].get<double>());
+        for (const auto& s : (*r)["steps"])
+          if (s["coverage"].get<double>() >= target_coverage) {
+            reach_views.push_back(s["view"].get<double>());
+            break;
+          }
+      }
+    for (int v = 0; v < views; ++v)
+      if (mean_cov_curve[std::size_t(v)] >= target_coverage) {
+        row.views_to_target_curve = v + 1;
+        break;
+      }
+    row.views_to_target_per_plant = mean(reach_views);
+    row.runs_reaching = reach_views.size();
+    row.raycast_ms_per_view = mean(ray_ms);
+    row.final_coverage = mean(final_cov);
+    row.final_entropy = mean(final_ent);
+    table += configs[c].id() + "," + configs[c].gain + "," + configs[c].rays + "," + num(configs[c].pgt) + "," +
+             std::to_string(row.trials) + "," + std::to_string(row.views_to_target_curve) + "," +
+             num(row.views_to_target_per_plant) + "," + std::to_string(row.runs_reaching) + "," +
+             std::to_string(row.runs) + "," + num(row.raycast_ms_per_view) + "," + num(row.final_coverage) + "," +
+             num(row.final_entropy) + "\n";
+    rows.push_back(row);
+  }
+  write_file_atomic(out + "/summary.csv", csv);
+  write_file_atomic(out + "/table.csv", table);
+  return rows;
+}
+
+}  // namespace canopy::mission

@@ -1,0 +1,603 @@
+#include "canopy/mission/mission.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "canopy/common/error.h"
+#include "canopy/common/random.h"
+#include "canopy/mapping/scan_inserter.h"
+#include "canopy/mission/stepping.h"
+#include "canopy/motion/arm_planner.h"
+#include "canopy/motion/collision.h"
+#include "canopy/motion/execution.h"
+#include "canopy/motion/reachability.h"
+#include "canopy/motion/tour.h"
+#include "canopy/motion/workspace_filter.h"
+#include "canopy/perception/semantic_extractor.h"
+#include "canopy/sim/renderer.h"
+
+namespace canopy::mission {
+
+const char* to_string(ViewPhase p) {
+  switch (p) {
+    case ViewPhase::kInitial: return "initial";
+    case ViewPhase::kNbv: return "nbv";
+    case ViewPhase::kPredefined: return "predefined";
+  }
+  return "?";
+}
+
+int MissionResult::successful_views() const {
+  int n = 0;
+  for (const auto& v : views) n += v.success;
+  return n;
+}
+
+namespace {
+
+// Phases of the time split (paper Fig. 4 plus rendering and evaluation).
+constexpr const char* kMapping = "mapping";
+constexpr const char* kNbvPlanning = "nbv_planning";
+constexpr const char* kMotionPlanning = "motion_planning";
+constexpr const char* kControl = "control";
+constexpr const char* kRendering = "rendering";
+constexpr const char* kEvaluation = "evaluation";
+
+const char* failure_of(motion::PlanStatus s) {
+  switch (s) {
+    case motion::PlanStatus::kSuccess: return "";
+    case motion::PlanStatus::kNoIk: return failure::kNoIk;
+    case motion::PlanStatus::kStartInCollision: return failure::kStartInCollision;
+    case motion::PlanStatus::kGoalInCollision: return failure::kGoalInCollision;
+    case motion::PlanStatus::kTimeout: return failure::kPlanTimeout;
+    case motion::PlanStatus::kInvalidInput: return failure::kInvalid;
+  }
+  return failure::kInvalid;
+}
+
+}  // namespace
+
+struct Mission::Impl {
+  const world::World& world;
+  Settings settings;
+  MissionOptions options;
+  MissionCallbacks callbacks;
+
+  sim::Simulator sim;
+  sim::Renderer renderer;
+  motion::RobotModel model;
+  motion::WorkspaceFilter workspace;
+  // Planning knows only the map; the truth (voxelised plant meshes) only counts contacts.
+  std::shared_ptr<motion::CollisionEnvironment> map_env;
+  motion::CollisionChecker map_checker;
+  motion::ArmPlanner planner;
+  motion::CollisionChecker truth_checker;
+  mapping::SemanticOcTree map;
+  mapping::ScanInserter inserter;
+  perception::SemanticExtractor extractor;
+  nbv::VoxelIndex index;
+  std::unique_ptr<nbv::ViewPlanner> view_planner;
+  SimStepper stepper;
+  std::vector<double> stops_x;
+
+  MissionResult result;
+  int current_stop = 0;
+  int current_attempt = 0;
+  std::string caption_text;
+  mapping::MapMetrics last_metrics;
+
+  static mapping::SemanticMapParams map_params(const Settings& s) { return s.mapping.map; }
+  static perception::ExtractorParams extractor_params(const Settings& s, std::uint64_t seed) {
+    perception::ExtractorParams p = s.mapping.extractor;
+    p.seed = mix_seed(seed, 1);
+    return p;
+  }
+
+  Impl(const world::World& w, const Settings& s, const MissionOptions& o, MissionCallbacks cb)
+      : world(w), settings(s), options(o), callbacks(std::move(cb)), sim(w, default_robot_config()),
+        renderer(sim, w.spec.camera, sim::RenderOptions{false, mix_seed(o.seed, 2)}),
+        model(motion::RobotModel::load(sim.robot_config())), workspace(model, s.motion.workspace),
+        map_env(motion::CollisionEnvironment::empty(s.mapping.map.resolution_m)),
+        map_checker(model, s.motion.collision, map_env), planner(map_checker, s.motion.planner, s.motion.trajectory),
+        truth_checker(model, s.motion.collision,
+                      motion::CollisionEnvironment::from_voxels(
+                          motion::world_occupied_voxels(w, s.mission.record.truth_voxel_m), s.mission.record.truth_voxel_m)),
+        map(map_params(s), w.spec.classes), inserter(map), extractor(extractor_params(s, o.seed), w.spec.classes),
+        stepper(sim, callbacks.video_period_s, video_tick(), callbacks.stop_requested),
+        stops_x(stop_positions(s.mission.stops, w.spec)) {
+    nbv::ViewPlannerSettings ps;
+    ps.params = s.nbv;
+    ps.intrinsics = w.spec.camera;
+    ps.gain = o.gain;
+    ps.rays = o.rays;
+    view_planner = nbv::make_view_planner(o.method, ps, "--method");
+    if (callbacks.before_step) stepper.set_before_step([this] { callbacks.before_step(sim, current_attempt); });
+    update_caption();
+  }
+
+  std::function<void()> video_tick() {
+    if (!callbacks.video_tick) return nullptr;
+    return [this] { callbacks.video_tick(sim, caption_text); };
+  }
+
+  void progress(const std::string& m) const {
+    if (callbacks.progress) callbacks.progress(m);
+  }
+
+  void update_caption() {
+    char b[160];
+    std::snprintf(b, sizeof b, "%s | stop %d/%zu | views %d | fruit SC %.2f", options.method.c_str(), current_stop + 1,
+                  stops_x.size(), result.successful_views(), last_metrics.coverage);
+    caption_text = b;
+  }
+
+  BasePose stop_pose(int k) const {
+    const double arm_x = model.T_base_arm().translation().x();
+    return BasePose{stops_x[static_cast<std::size_t>(k)] - arm_x, settings.mission.stops.base_y_m, 0.0};
+  }
+
+  Eigen::AlignedBox3d stop_region(int k) const {
+    const LoopParams& l = settings.mission.loop;
+    const double x = stops_x[static_cast<std::size_t>(k)];
+    const double y = settings.mission.stops.base_y_m;
+    return Eigen::AlignedBox3d(Vec3(x - l.region_half_length_m, y - l.region_half_width_m, l.region_min_z_m),
+                               Vec3(x + l.region_half_length_m, y + l.region_half_width_m, l.region_max_z_m));
+  }
+
+  std::vector<Pose> scan_views(int k, bool extra) const {
+    const Pose T_world_base = motion::RobotModel::T_world_base(stop_pose(k));
+    std::vector<Pose> out;
+    for (const Pose& T : scan_views_in_base(settings.mission.scan, world.spec, model.T_base_arm(), extra))
+      out.push_back(T_world_base * T);
+    return out;
+  }
+
+  StopRecord& stop_record() { return result.stops.back(); }
+
+  bool drive_to_stop(int k) {
+    current_stop = k;
+    update_caption();
+    StopRecord rec;
+    rec.stop = k;
+    rec.goal = stop_pose(k);
+    const double t0 = sim.time();
+    progress("stop " + std::to_string(k + 1) + "/" + std::to_string(stops_x.size()) + ": driving to x = " +
+             std::to_string(rec.goal.x_m));
+    const Stopwatch watch;
+    const sim::SimState before = sim.snapshot();
+    DriveReport d;
+    try {
+      d = drive_base(stepper, settings.motion.base, rec.goal, settings.mission.stops.timeout_s,
+                     [this](const BasePose& b) { return truth_checker.base_in_collision(b); },
+                     settings.mission.record.base_check_period_s);
+    } catch (const SimulationDiverged& e) {
+      sim.restore(before);
+      ++result.unstable_faults;
+      progress(std::string("drive: ") + e.what() + "; restored the last good state");
+    }
+    result.times.add(kControl, watch.seconds());
+    rec.reached = sim.base_pose();
+    rec.reached_goal = d.reached;
+    rec.base_truth_contacts = d.contacts;
+    rec.sim_time_s = sim.time() - t0;
+    result.stops.push_back(rec);
+    view_planner->begin_stop();
+    return d.reached;
+  }
+
+  // The goal configurations of a view: the reachability check's IK answer first.
+  std::vector<ArmConfig> goal_configs(const nbv::PlannedView& view, const BasePose& base, const ArmConfig& q) const {
+    std::vector<ArmConfig> goals;
+    if (view.has_q) goals.push_back(view.q);
+    const motion::IkResult ik = model.camera_ik(base, view.T_world_camera, q);
+    for (int i = 0; i < ik.count; ++i) {
+      const ArmConfig& g = ik.q[static_cast<std::size_t>(i)];
+      if (!view.has_q || motion::joint_distance(g, view.q) > 1e-9) goals.push_back(g);
+    }
+    return goals;
+  }
+
+  void update_map_environment() {
+    std::vector<Vec3> occupied, freed;
+    for (const mapping::VoxelUpdate& u : inserter.last_updates()) {
+      const octomap::OcTreeKey key = mapping::morton_key(u.code);
+      const mapping::SemanticState* s = map.find(key);
+      const Vec3 c = map.center_of(key);
+      if (s && s->occupancy_logodds() > 0.f) occupied.push_back(c);
+      else if (u.label != mapping::VoxelUpdate::kFree || map_env->occupied(c)) freed.push_back(c);
+    }
+    map_env->update(occupied, freed);
+  }
+
+  ViewRecord attempt(const nbv::PlannedView& view, ViewPhase phase) {
+    ViewRecord rec;
+    rec.attempt = current_attempt;
+    rec.stop = current_stop;
+    rec.phase = phase;
+    rec.source = phase == ViewPhase::kInitial ? "initial" : view.source;
+    rec.T_goal = view.T_world_camera;
+    rec.gain = view.gain;
+    rec.cluster = view.cluster;
+    const BasePose base = sim.base_pose();
+    const ArmConfig q0 = sim.arm_positions();
+    auto finish = [&](const std::string& cause, const std::string& message) {
+      rec.failure = cause;
+      rec.message = message;
+      rec.success = cause.empty();
+      rec.successful_views = result.successful_views() + rec.success;
+      rec.coverage = last_metrics.coverage;
+      rec.entropy = last_metrics.total_entropy;
+      rec.sim_time_s = sim.time();
+      if (!rec.success) ++result.failures[cause];
+      result.times.merge(rec.times);
+      ++current_attempt;
+      return rec;
+    };
+
+    // Motion planning: IK, then OMPL against the map.
+    motion::PlanResult plan;
+    {
+      ScopedPhase phase_time(rec.times, kMotionPlanning);
+      const std::vector<ArmConfig> goals = goal_configs(view, base, q0);
+      if (goals.empty()) return finish(failure::kNoIk, "no IK solution within the joint limits");
+      plan = planner.plan_to_configs(base, q0, goals, mix_seed(options.seed, 1000000 + std::uint64_t(current_attempt)));
+    }
+    if (!plan.ok()) return finish(failure_of(plan.status), plan.message);
+
+    // Control: the move on the simulator's servos; a divergence restores the state before it.
+    motion::MoveReport move;
+    {
+      ScopedPhase phase_time(rec.times, kControl);
+      const sim::SimState before = sim.snapshot();
+      SteppedSim<motion::RobotModel> stepped(stepper, model);
+      const double t0 = sim.time();
+      try {
+        move = motion::execute_arm_move(stepped, plan.trajectory, view.T_world_camera, settings.motion.execution,
+                                        &truth_checker);
+      } catch (const SimulationDiverged& e) {
+        sim.restore(before);
+        ++result.unstable_faults;
+        rec.move_time_s = sim.time() - t0;
+        progress(std::string("view ") + std::to_string(current_attempt) + ": " + e.what() +
+                 "; restored the state before the move");
+        return finish(failure::kUnstable, e.what());
+      }
+      rec.move_time_s = move.duration_s;
+      rec.truth_contacts = move.truth_contact_checks;
+      rec.self_contacts = move.self_contact_steps;
+      rec.position_error_m = move.position_error_m;
+      rec.angle_error_rad = move.angle_error_rad;
+    }
+    if (!move.success) return finish(failure::kNotReached, move.message);
+
+    // Rendering from the pose actually reached.
+    LabelledFrame frame;
+    {
+      ScopedPhase phase_time(rec.times, kRendering);
+      frame = renderer.render_wrist_camera();
+    }
+    rec.T_reached = frame.T_world_camera;
+    // Mapping: segmentation, insertion, the planner's collision environment.
+    {
+      ScopedPhase phase_time(rec.times, kMapping);
+      inserter.insert(extractor.extract(frame));
+      update_map_environment();
+    }
+    view_planner->taken(frame.T_world_camera);
+    if (settings.mission.record.metrics_every_view) {
+      ScopedPhase phase_time(rec.times, kEvaluation);
+      last_metrics = mapping::evaluate_map(map, world.truth, settings.mapping.metrics);
+    }
+    finish("", "camera within tolerance");
+    if (callbacks.on_view) callbacks.on_view(rec, frame, sim);
+    update_caption();
+    return rec;
+  }
+
+  // Records an attempt in the mission and stop.
+  void record(const ViewRecord& v) {
+    result.views.push_back(v);
+    StopRecord& s = stop_record();
+    if (v.phase == ViewPhase::kInitial) {
+      ++s.initial_attempted;
+      s.initial_ok += v.success;
+    } else {
+      ++s.nbv_attempted;
+      s.nbv_ok += v.success;
+    }
+    if (!v.success) ++s.failures[v.failure];
+    char b[200];
+    std::snprintf(b, sizeof b, "stop %d/%zu: %s view %d %s%s (views %d, SC %.3f, elapsed %.1f s)", v.stop + 1,
+                  stops_x.size(), to_string(v.phase), v.attempt + 1, v.success ? "ok" : "failed: ",
+                  v.success ? "" : v.failure.c_str(), result.successful_views(), v.coverage, elapsed_.seconds());
+    progress(b);
+  }
+
+  // Orders views by an open tour from the current arm state (joint-space Held-Karp);
+  // views without IK are returned in `unreachable`.
+  std::vector<nbv::PlannedView> tour(std::vector<nbv::PlannedView> views, std::vector<nbv::PlannedView>* unreachable) {
+    const BasePose base = sim.base_pose();
+    const ArmConfig q0 = sim.arm_positions();
+    std::vector<nbv::PlannedView> reachable;
+    std::vector<ArmConfig> qs;
+    std::vector<Vec3> cams;
+    for (nbv::PlannedView& v : views) {
+      const std::vector<ArmConfig> goals = goal_configs(v, base, q0);
+      if (goals.empty()) {
+        if (unreachable) unreachable->push_back(v);
+        continue;
+      }
+      if (!v.has_q) {
+        v.has_q = true;
+        v.q = goals.front();
+      }
+      reachable.push_back(v);
+      qs.push_back(v.q);
+      cams.push_back(v.T_world_camera.translation());
+    }
+    if (reachable.size() < 2) return reachable;
+    const std::vector<int> order =
+        motion::order_views(settings.motion.tour, q0, model.camera_pose(base, q0).translation(), qs, cams);
+    std::vector<nbv::PlannedView> out;
+    for (int i : order) out.push_back(reachable[static_cast<std::size_t>(i)]);
+    return out;
+  }
+
+  // Executes views in order; stops once `wanted` succeeded (<0: all), returns the successes.
+  int execute(const std::vector<nbv::PlannedView>& views, ViewPhase phase, int wanted, int* attempts_left) {
+    int ok = 0;
+    for (const nbv::PlannedView& v : views) {
+      if (wanted >= 0 && ok >= wanted) break;
+      if (attempts_left && *attempts_left <= 0) break;
+      if (attempts_left) --*attempts_left;
+      const ViewRecord r = attempt(v, phase);
+      record(r);
+      ok += r.success;
+    }
+    return ok;
+  }
+
+  void record_unreachable(const std::vector<nbv::PlannedView>& views, ViewPhase phase) {
+    for (const nbv::PlannedView& v : views) {
+      ViewRecord r;
+      r.attempt = current_attempt++;
+      r.stop = current_stop;
+      r.phase = phase;
+      r.source = phase == ViewPhase::kInitial ? "initial" : v.source;
+      r.T_goal = v.T_world_camera;
+      r.gain = v.gain;
+      r.cluster = v.cluster;
+      r.failure = failure::kNoIk;
+      r.message = "no IK solution within the joint limits";
+      r.successful_views = result.successful_views();
+      r.coverage = last_metrics.coverage;
+      r.entropy = last_metrics.total_entropy;
+      r.sim_time_s = sim.time();
+      ++result.failures[r.failure];
+      record(r);
+    }
+  }
+
+  // The predefined views of a stop: unreachable ones are skipped and counted, the rest taken in tour order.
+  void scripted(const std::vector<Pose>& poses, ViewPhase phase) {
+    std::vector<nbv::PlannedView> views;
+    for (const Pose& T : poses) {
+      nbv::PlannedView v;
+      v.T_world_camera = T;
+      v.target = T * Vec3(0, 0, settings.mission.scan.distance_m);
+      v.source = phase == ViewPhase::kInitial ? "initial" : "predefined";
+      views.push_back(v);
+    }
+    std::vector<nbv::PlannedView> unreachable;
+    std::vector<nbv::PlannedView> ordered;
+    {
+      ScopedPhase t(result.times, kNbvPlanning);
+      ordered = tour(views, &unreachable);
+    }
+    record_unreachable(unreachable, phase);
+    execute(ordered, phase, -1, nullptr);
+  }
+
+  // The NBV loop of the current stop.
+  void nbv_loop(int k) {
+    const LoopParams& loop = settings.mission.loop;
+    StopRecord& s = stop_record();
+    int ok = 0, attempts_left = loop.max_attempts;
+    nbv::ViewRequest req;
+    req.map = &map;
+    req.index = &index;
+    req.region = stop_region(k);
+    const BasePose base = sim.base_pose();
+    req.reach = [this, base](nbv::Candidate* c) {
+      const motion::FilteredView f = workspace.filter(base, c->T_world_camera, sim.arm_positions(), &map_checker);
+      if (!f.kept()) return false;
+      c->T_world_camera = f.T_world_camera;
+      c->shift_m = f.shift_m;
+      c->has_q = true;
+      c->q = f.q;
+      return true;
+    };
+    req.in_workspace = [this, base](const Vec3& p) { return workspace.in_workspace(base, p); };
+    if (options.method == "predefined") req.scripted = scan_views(k, true);
+    std::string end = "view budget of the stop reached";
+    for (;;) {
+      if (ok >= loop.views_per_stop) break;
+      if (s.rounds >= loop.max_rounds) {
+        end = "round cap reached";
+        break;
+      }
+      if (attempts_left <= 0) {
+        end = "attempt cap reached";
+        break;
+      }
+      nbv::ViewBatch batch;
+      std::vector<nbv::PlannedView> ordered, unreachable;
+      {
+        const Stopwatch watch;
+        req.T_world_camera = sim.camera_pose();
+        req.budget = loop.views_per_stop - ok;
+        req.seed = mix_seed(options.seed, 5000 + std::uint64_t(k) * 1000 + std::uint64_t(s.rounds));
+        batch = view_planner->next(req);
+        result.times.merge(batch.times);
+        if (!batch.views.empty()) {
+          if (batch.order == nbv::BatchOrder::kTour) ordered = tour(batch.views, &unreachable);
+          else ordered = batch.views;
+        }
+        // The planner's own phases are in batch.times; the rest (tour, bookkeeping) here.
+        result.times.add(kNbvPlanning, std::max(0.0, watch.seconds() - batch.times.total()));
+      }
+      ++s.rounds;
+      if (batch.views.empty()) {
+        end = batch.reason.empty() ? "nothing left to plan" : batch.reason;
+        if (batch.finished) break;
+        continue;  // e.g. every frontier view rejected: sample anew next round
+      }
+      const ViewPhase phase = options.method == "predefined" ? ViewPhase::kPredefined : ViewPhase::kNbv;
+      record_unreachable(unreachable, phase);
+      attempts_left -= static_cast<int>(unreachable.size());
+      const int wanted = loop.views_per_stop - ok;
+      if (batch.order == nbv::BatchOrder::kTour) {
+        ok += execute(ordered, phase, options.method == "predefined" ? -1 : wanted, &attempts_left);
+      } else {
+        ok += execute(ordered, phase, 1, &attempts_left);  // frontier: the first view that succeeds
+      }
+      if (options.method == "predefined") {
+        end = "predefined views done";
+        break;
+      }
+    }
+    s.end_reason = end;
+  }
+
+  MissionResult run() {
+    elapsed_.restart();
+    try {
+      for (int k = 0; k < static_cast<int>(stops_x.size()); ++k) {
+        const double t0 = sim.time();
+        if (!drive_to_stop(k)) {
+          stop_record().end_reason = "base did not reach the stop";
+          progress("stop " + std::to_string(k + 1) + ": the base did not reach its goal; skipping the stop");
+          continue;
+        }
+        if (stop_record().base_truth_contacts > 0)
+          progress("stop " + std::to_string(k + 1) + ": the base touched the plants while driving");
+        scripted(scan_views(k, false), ViewPhase::kInitial);
+        nbv_loop(k);
+        stop_record().sim_time_s = sim.time() - t0;
+      }
+    } catch (const StopRequested&) {
+      result.complete = false;
+      result.end_reason = "interrupted";
+      if (!result.stops.empty() && result.stops.back().end_reason.empty()) result.stops.back().end_reason = "interrupted";
+    }
+    result.final_metrics = mapping::evaluate_map(map, world.truth, settings.mapping.metrics);
+    result.sim_time_s = sim.time();
+    result.wall_time_s = elapsed_.seconds();
+    return result;
+  }
+
+  Stopwatch elapsed_;
+};
+
+Mission::Mission(const world::World& world, const Settings& settings, const MissionOptions& options,
+                 MissionCallbacks callbacks)
+    : impl_(std::make_unique<Impl>(world, settings, options, std::move(callbacks))) {}
+Mission::~Mission() = default;
+MissionResult Mission::run() { return impl_->run(); }
+bool Mission::drive_to_stop(int k) { return impl_->drive_to_stop(k); }
+ViewRecord Mission::attempt(const nbv::PlannedView& view, ViewPhase phase) {
+  const ViewRecord r = impl_->attempt(view, phase);
+  impl_->record(r);
+  return r;
+}
+std::vector<Pose> Mission::scan_views(int k, bool extra) const { return impl_->scan_views(k, extra); }
+int Mission::stop_count() const { return static_cast<int>(impl_->stops_x.size()); }
+const MissionResult& Mission::result() const { return impl_->result; }
+const mapping::SemanticOcTree& Mission::map() const { return impl_->map; }
+sim::Simulator& Mission::simulator() { return impl_->sim; }
+const motion::RobotModel& Mission::robot() const { return impl_->model; }
+
+// ----------------------------------------------------------------------------------------
+namespace {
+std::string num(double x) {
+  char b[40];
+  std::snprintf(b, sizeof b, "%.9g", x);
+  return b;
+}
+}  // namespace
+
+std::string views_csv(const MissionResult& r, const std::string& method) {
+  std::string s =
+      "attempt,stop,method,phase,source,success,failure,goal_x,goal_y,goal_z,reached_x,reached_y,reached_z,"
+      "reached_qw,reached_qx,reached_qy,reached_qz,position_error_m,angle_error_deg,gain,cluster,successful_views,"
+      "coverage,entropy,sim_time_s,move_time_s,truth_contacts,self_contacts\n";
+  for (const ViewRecord& v : r.views) {
+    const Vec3 g = v.T_goal.translation(), p = v.T_reached.translation();
+    const Quat q(v.T_reached.linear());
+    s += std::to_string(v.attempt) + "," + std::to_string(v.stop) + "," + method + "," + to_string(v.phase) + "," +
+         v.source + "," + (v.success ? "1" : "0") + "," + v.failure + "," + num(g.x()) + "," + num(g.y()) + "," +
+         num(g.z()) + "," + (v.success ? num(p.x()) + "," + num(p.y()) + "," + num(p.z()) + "," + num(q.w()) + "," +
+                                             num(q.x()) + "," + num(q.y()) + "," + num(q.z())
+                                       : std::string(",,,,,,")) +
+         "," + num(v.position_error_m) + "," + num(v.angle_error_rad * 180.0 / M_PI) + "," + num(v.gain) + "," +
+         std::to_string(v.cluster) + "," + std::to_string(v.successful_views) + "," + num(v.coverage) + "," +
+         num(v.entropy) + "," + num(v.sim_time_s) + "," + num(v.move_time_s) + "," + std::to_string(v.truth_contacts) +
+         "," + std::to_string(v.self_contacts) + "\n";
+  }
+  return s;
+}
+
+std::string timing_csv(const MissionResult& r) {
+  const std::vector<std::string> phases = {kMotionPlanning, kControl, kRendering, kMapping, kEvaluation};
+  std::string s = "attempt";
+  for (const auto& p : phases) s += "," + p + "_s";
+  s += "\n";
+  for (const ViewRecord& v : r.views) {
+    s += std::to_string(v.attempt);
+    for (const auto& p : phases) s += "," + num(v.times.get(p));
+    s += "\n";
+  }
+  return s;
+}
+
+nlohmann::json summary_json(const MissionResult& r) {
+  nlohmann::json j;
+  j["complete"] = r.complete;
+  j["end_reason"] = r.end_reason;
+  j["views_attempted"] = r.views.size();
+  j["views_successful"] = r.successful_views();
+  j["failures"] = r.failures;
+  j["unstable_faults"] = r.unstable_faults;
+  int truth_contacts = 0, base_contacts = 0;
+  for (const auto& v : r.views) truth_contacts += v.truth_contacts;
+  nlohmann::json stops = nlohmann::json::array();
+  for (const StopRecord& s : r.stops) {
+    base_contacts += s.base_truth_contacts;
+    stops.push_back({{"stop", s.stop},
+                     {"goal", {s.goal.x_m, s.goal.y_m, s.goal.yaw_rad}},
+                     {"reached", {s.reached.x_m, s.reached.y_m, s.reached.yaw_rad}},
+                     {"reached_goal", s.reached_goal},
+                     {"base_truth_contacts", s.base_truth_contacts},
+                     {"initial_attempted", s.initial_attempted},
+                     {"initial_successful", s.initial_ok},
+                     {"nbv_attempted", s.nbv_attempted},
+                     {"nbv_successful", s.nbv_ok},
+                     {"rounds", s.rounds},
+                     {"failures", s.failures},
+                     {"end_reason", s.end_reason},
+                     {"sim_time_s", s.sim_time_s}});
+  }
+  j["stops"] = stops;
+  j["contacts"] = {{"arm_truth_contact_checks", truth_contacts}, {"base_truth_contact_checks", base_contacts}};
+  j["final"] = {{"fruit_coverage", r.final_metrics.coverage},
+                {"fruit_entropy", r.final_metrics.total_entropy},
+                {"fruit_points", r.final_metrics.points},
+                {"covered_points", r.final_metrics.covered}};
+  j["simulated_time_s"] = r.sim_time_s;
+  j["wall_time_s"] = r.wall_time_s;
+  j["wall_time_by_phase_s"] = r.times.totals();
+  return j;
+}
+
+}  // namespace canopy::mission

@@ -1,0 +1,236 @@
+// The closed-loop mission on a small world (one stop, two plants, a few views): the loop,
+// its methods, what a frame's pose is, determinism and the faults it must survive.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "canopy/mission/mission.h"
+#include "canopy/world/world_spec.h"
+
+namespace canopy::mission {
+namespace {
+
+struct SmallWorld {
+  world::World world;
+  Settings settings;
+  SmallWorld() : world(world::generate_world(world::WorldSpec::load(find_data_file("worlds/small.yaml")))),
+                 settings(Settings::defaults(default_robot_config())) {
+    settings.mapping.extractor.source = perception::LabelSource::kTruth;
+    settings.mapping.extractor.p_gt = 1.0;
+    settings.mission.stops.count = 1;
+    settings.mission.loop.views_per_stop = 3;
+  }
+};
+
+const SmallWorld& small() {
+  static const SmallWorld w;
+  return w;
+}
+
+double coverage_after_initial(const MissionResult& r) {
+  double c = 0.0;
+  for (const ViewRecord& v : r.views)
+    if (v.phase == ViewPhase::kInitial) c = v.coverage;
+  return c;
+}
+
+int successes(const MissionResult& r, ViewPhase phase) {
+  int n = 0;
+  for (const ViewRecord& v : r.views) n += v.success && v.phase == phase;
+  return n;
+}
+
+// ours: the requested views are taken; every frame is rendered from the forward kinematics of
+// the joints MuJoCo reports at that moment; with true labels and no noise, coverage never
+// decreases, and the NBV views add coverage to the initial scan.
+TEST(Mission, OursTakesTheRequestedViewsFromTheReachedPose) {
+  const SmallWorld& w = small();
+  MissionOptions o;
+  o.method = "ours";
+  MissionCallbacks cb;
+  const motion::RobotModel model = motion::RobotModel::load(default_robot_config());
+  int frames = 0;
+  double worst_m = 0.0, worst_rad = 0.0;
+  cb.on_view = [&](const ViewRecord& v, const LabelledFrame& f, const sim::Simulator& sim) {
+    ++frames;
+    const Pose fk = model.camera_pose(sim.base_pose(), sim.arm_positions());
+    worst_m = std::max(worst_m, (fk.translation() - f.T_world_camera.translation()).norm());
+    worst_rad = std::max(worst_rad, Eigen::AngleAxisd(fk.linear().transpose() * f.T_world_camera.linear()).angle());
+    EXPECT_TRUE(v.T_reached.isApprox(f.T_world_camera));
+  };
+  Mission mission(w.world, w.settings, o, cb);
+  const MissionResult r = mission.run();
+  ASSERT_TRUE(r.complete);
+  ASSERT_EQ(r.stops.size(), 1u);
+  EXPECT_TRUE(r.stops[0].reached_goal);
+  EXPECT_EQ(r.stops[0].initial_attempted, 12);
+  EXPECT_EQ(successes(r, ViewPhase::kNbv), 3) << r.stops[0].end_reason;
+  EXPECT_EQ(frames, r.successful_views());
+  EXPECT_LT(worst_m, 1e-6);
+  EXPECT_LT(worst_rad, 1e-6);
+  double last = 0.0;
+  for (const ViewRecord& v : r.views) {
+    if (!v.success) continue;
+    EXPECT_GE(v.coverage, last - 1e-12) << "view " << v.attempt;
+    last = v.coverage;
+  }
+  EXPECT_GT(r.final_metrics.coverage, coverage_after_initial(r));
+  EXPECT_EQ(r.final_metrics.coverage, last);
+  EXPECT_EQ(r.stops[0].base_truth_contacts, 0);
+}
+
+TEST(Mission, FrontierRunsThroughTheSameController) {
+  const SmallWorld& w = small();
+  MissionOptions o;
+  o.method = "frontier";
+  Mission mission(w.world, w.settings, o);
+  const MissionResult r = mission.run();
+  ASSERT_TRUE(r.complete);
+  EXPECT_EQ(successes(r, ViewPhase::kNbv), 3) << r.stops[0].end_reason;
+  for (const ViewRecord& v : r.views)
+    if (v.phase == ViewPhase::kNbv) EXPECT_TRUE(v.source == "roi" || v.source == "exploration") << v.source;
+  EXPECT_GT(r.final_metrics.coverage, coverage_after_initial(r));
+}
+
+TEST(Mission, PredefinedScansTwentyFourViewsPerStop) {
+  const SmallWorld& w = small();
+  MissionOptions o;
+  o.method = "predefined";
+  Mission mission(w.world, w.settings, o);
+  const MissionResult r = mission.run();
+  ASSERT_TRUE(r.complete);
+  EXPECT_EQ(r.stops[0].initial_attempted, 12);
+  EXPECT_EQ(r.stops[0].nbv_attempted, 12);
+  for (const ViewRecord& v : r.views)
+    if (v.phase != ViewPhase::kInitial) EXPECT_EQ(v.source, "predefined");
+  EXPECT_EQ(r.stops[0].end_reason, "predefined views done");
+}
+
+TEST(Mission, SameSeedSameViews) {
+  const SmallWorld& w = small();
+  Settings s = w.settings;
+  s.mapping.extractor.source = perception::LabelSource::kColor;
+  s.mapping.extractor.p_gt = 0.7;
+  MissionOptions o;
+  const std::string a = views_csv(Mission(w.world, s, o).run(), "ours");
+  const std::string b = views_csv(Mission(w.world, s, o).run(), "ours");
+  EXPECT_EQ(a, b);
+  o.seed = 2;
+  EXPECT_NE(a, views_csv(Mission(w.world, s, o).run(), "ours"));
+}
+
+// --- Faults ------------------------------------------------------------------------------
+
+TEST(MissionFaults, PlannerTimeoutIsCountedAndTheMissionGoesOn) {
+  const SmallWorld& w = small();
+  Settings s = w.settings;
+  s.motion.planner.try_direct_first = false;
+  s.motion.planner.max_iterations = 1;
+  Mission mission(w.world, s, MissionOptions{});
+  const MissionResult r = mission.run();
+  ASSERT_TRUE(r.complete);
+  ASSERT_TRUE(r.failures.count(failure::kPlanTimeout)) << "no planner timeout was recorded";
+  EXPECT_GT(r.failures.at(failure::kPlanTimeout), 0);
+  for (const ViewRecord& v : r.views)
+    if (v.failure == failure::kPlanTimeout) EXPECT_NE(v.message.find("iterations"), std::string::npos);
+}
+
+TEST(MissionFaults, UnreachableInitialViewsAreSkippedAndCounted) {
+  const SmallWorld& w = small();
+  Settings s = w.settings;
+  s.mission.scan.distance_m = 1.6;  // cameras far beyond the arm's reach
+  s.mission.loop.views_per_stop = 0;
+  Mission mission(w.world, s, MissionOptions{});
+  const MissionResult r = mission.run();
+  ASSERT_TRUE(r.complete);
+  EXPECT_EQ(r.stops[0].initial_attempted, 12);
+  EXPECT_EQ(r.stops[0].initial_ok, 0);
+  EXPECT_EQ(r.failures.at(failure::kNoIk), 12);
+}
+
+// A goal view whose camera sits inside a mapped plant voxel is refused before any motion.
+TEST(MissionFaults, GoalInsideAPlantIsRefused) {
+  const SmallWorld& w = small();
+  Mission mission(w.world, w.settings, MissionOptions{});
+  ASSERT_TRUE(mission.drive_to_stop(0));
+  for (const Pose& T : mission.scan_views(0, false)) {
+    nbv::PlannedView v;
+    v.T_world_camera = T;
+    mission.attempt(v, ViewPhase::kInitial);
+  }
+  ASSERT_GT(mission.result().successful_views(), 0);
+  const motion::RobotModel& model = mission.robot();
+  const BasePose base = mission.simulator().base_pose();
+  const ArmConfig q = mission.simulator().arm_positions();
+  // Occupied map voxels the camera could reach (an IK solution exists), camera inside them.
+  int tried = 0;
+  mission.map().for_each_voxel_if([](const mapping::SemanticState& s) { return s.occupancy_logodds() > 0.f; },
+                                  [&](const octomap::OcTreeKey& key, const mapping::SemanticState&) {
+                                    if (tried >= 3) return;
+                                    Pose T = look_at(mission.map().center_of(key),
+                                                     mission.map().center_of(key) + Vec3(0, 0.3, 0));
+                                    if (model.camera_ik(base, T, q).empty()) return;
+                                    ++tried;
+                                    nbv::PlannedView v;
+                                    v.T_world_camera = T;
+                                    const ViewRecord r = mission.attempt(v, ViewPhase::kNbv);
+                                    EXPECT_FALSE(r.success);
+                                    EXPECT_EQ(r.failure, failure::kGoalInCollision) << r.message;
+                                    EXPECT_EQ(r.move_time_s, 0.0);  // nothing moved
+                                  });
+  EXPECT_EQ(tried, 3) << "no reachable occupied voxel found";
+  const ArmConfig after = mission.simulator().arm_positions();
+  for (int i = 0; i < kArmDof; ++i) EXPECT_NEAR(after[i], q[i], 1e-9);
+}
+
+// A view that needs the arm through the base (camera low behind the arm base, looking down
+// at the chassis) is refused: every IK solution collides with the robot itself.
+TEST(MissionFaults, ViewThroughTheBaseIsRefused) {
+  const SmallWorld& w = small();
+  Mission mission(w.world, w.settings, MissionOptions{});
+  ASSERT_TRUE(mission.drive_to_stop(0));
+  const motion::RobotModel& model = mission.robot();
+  const BasePose base = mission.simulator().base_pose();
+  const Pose T_world_arm = motion::RobotModel::T_world_base(base) * model.T_base_arm();
+  const Vec3 eye = T_world_arm * Vec3(-0.2, 0.0, -0.15);
+  const Pose T = look_at(eye, eye - Vec3(0, 0, 1));
+  ASSERT_FALSE(model.camera_ik(base, T, mission.simulator().arm_positions()).empty()) << "pick a reachable pose";
+  nbv::PlannedView v;
+  v.T_world_camera = T;
+  const ViewRecord r = mission.attempt(v, ViewPhase::kNbv);
+  EXPECT_FALSE(r.success);
+  EXPECT_EQ(r.failure, failure::kGoalInCollision) << r.message;
+  EXPECT_EQ(r.truth_contacts + r.self_contacts, 0);
+}
+
+// A NaN injected into the arm's velocities mid-move: detected, the state before the move is
+// restored, the view counts as failed and the mission goes on to take its views.
+TEST(MissionFaults, DivergenceIsDetectedAndRestored) {
+  const SmallWorld& w = small();
+  MissionCallbacks cb;
+  int injected = 0;
+  int steps_in_attempt = 0, last_attempt = -1;
+  cb.before_step = [&](sim::Simulator& sim, int attempt) {
+    if (attempt != last_attempt) {
+      last_attempt = attempt;
+      steps_in_attempt = 0;
+    }
+    if (attempt == 2 && ++steps_in_attempt == 50 && injected == 0) {
+      sim.data()->qvel[sim.model()->nv - 1] = std::numeric_limits<double>::quiet_NaN();
+      ++injected;
+    }
+  };
+  Mission mission(w.world, w.settings, MissionOptions{}, cb);
+  const MissionResult r = mission.run();
+  ASSERT_EQ(injected, 1);
+  ASSERT_TRUE(r.complete);
+  EXPECT_EQ(r.unstable_faults, 1);
+  EXPECT_EQ(r.failures.at(failure::kUnstable), 1);
+  EXPECT_EQ(successes(r, ViewPhase::kNbv), 3);
+  EXPECT_TRUE(mission.simulator().state_ok());
+}
+
+}  // namespace
+}  // namespace canopy::mission
