@@ -12,4 +12,8 @@ world::WorldSpec load_world_spec(const std::string& path) {
   return spec;
 }
 
+mission::Settings load_settings(const std::string& path) {
+  return mission::Settings::load(path, default_robot_config());
+}
+
 }  // namespace canopy::cli

@@ -70,8 +70,7 @@ void print_table(const std::vector<mission::AblationRow>& rows, int views) {
 void add_ablate_command(CLI::App& app) {
   struct Options {
     std::string world = default_world_path();
-    std::string config = find_data_file("configs/mapping.yaml");
-    std::string nbv_config = find_data_file("configs/nbv.yaml");
+    std::string config = mission::default_settings_path();
     int plants = 6, views = 30, trials = 10, initial_views = 2, threads = 2;
     std::string gains = "osamcep,ae,uvc,uvpc,oae,mi,rs";
     std::string rays = "ours,dense,sparse";
@@ -85,8 +84,7 @@ void add_ablate_command(CLI::App& app) {
   auto opt = std::make_shared<Options>();
   CLI::App* sub = app.add_subcommand("ablate", "Free-camera ablation of gains and ray sets (paper Fig. 5 and 6)");
   sub->add_option("--world", opt->world, "World file (YAML)")->capture_default_str();
-  sub->add_option("--config", opt->config, "Mapping config (YAML)")->capture_default_str();
-  sub->add_option("--nbv-config", opt->nbv_config, "Next-best-view config (YAML)")->capture_default_str();
+  sub->add_option("--config", opt->config, kConfigHelp)->capture_default_str();
   sub->add_option("--plants", opt->plants, "Plants (the first N of the world)")->capture_default_str()->check(CLI::Range(1, 1000));
   sub->add_option("--views", opt->views, "Views per plant, initial ones included")->capture_default_str()->check(CLI::Range(1, 1000));
   sub->add_option("--trials", opt->trials, "Trials (seeded initial views)")->capture_default_str()->check(CLI::Range(1, 1000));
@@ -115,9 +113,10 @@ void add_ablate_command(CLI::App& app) {
       if (unset("--pgt")) o.pgt = "1.0";
     }
     // Validate everything before any work.
-    mapping::MappingConfig mcfg = mapping::MappingConfig::load(o.config);
+    const mission::Settings bundle = load_settings(o.config);
+    mapping::MappingConfig mcfg = bundle.mapping;
     if (!o.seg.empty()) mcfg.extractor.source = perception::label_source_from_string(o.seg, "--seg");
-    const nbv::NbvParams np = nbv::NbvParams::load(o.nbv_config);
+    const nbv::NbvParams np = bundle.nbv;
     const std::vector<std::string> gains = split(o.gains), rays = split(o.rays);
     std::vector<double> pgts;
     for (const auto& s : split(o.pgt)) {

@@ -53,8 +53,7 @@ Timed time_views(std::size_t views, double min_ms, F&& pass) {
 void add_bench_gain(CLI::App& bench) {
   struct Options {
     std::string world = default_world_path();
-    std::string config = find_data_file("configs/mapping.yaml");
-    std::string nbv_config = find_data_file("configs/nbv.yaml");
+    std::string config = mission::default_settings_path();
     std::string views = "ring";
     std::string gain = "osamcep";
     int candidates = 200;
@@ -63,8 +62,7 @@ void add_bench_gain(CLI::App& bench) {
   auto opt = std::make_shared<Options>();
   CLI::App* sub = bench.add_subcommand("gain", "Information gain per view for each ray set: fast traversal vs reference");
   sub->add_option("--world", opt->world, "World file (YAML)")->capture_default_str();
-  sub->add_option("--config", opt->config, "Mapping config (YAML)")->capture_default_str();
-  sub->add_option("--nbv-config", opt->nbv_config, "Next-best-view config (YAML)")->capture_default_str();
+  sub->add_option("--config", opt->config, kConfigHelp)->capture_default_str();
   sub->add_option("--views", opt->views, "Views that build the map: 'ring', 'aisle' or a pose file")->capture_default_str();
   sub->add_option("--gain", opt->gain, "Gain to time")->capture_default_str();
   sub->add_option("--candidates", opt->candidates, "Candidate views timed (spread over all clusters)")
@@ -72,8 +70,9 @@ void add_bench_gain(CLI::App& bench) {
       ->check(CLI::Range(1, 100000));
   sub->add_option("--min-ms", opt->min_ms, "Minimum time per measurement [ms]")->capture_default_str()->check(CLI::Range(1.0, 1e6));
   sub->callback([opt] {
-    const mapping::MappingConfig cfg = mapping::MappingConfig::load(opt->config);
-    const nbv::NbvParams np = nbv::NbvParams::load(opt->nbv_config);
+    const mission::Settings bundle = load_settings(opt->config);
+    const mapping::MappingConfig cfg = bundle.mapping;
+    const nbv::NbvParams np = bundle.nbv;
     const auto gain = nbv::make_gain(opt->gain, np.gain, "--gain");
     const world::WorldSpec spec = load_world_spec(opt->world);
     const world::World world = world::generate_world(spec);

@@ -72,7 +72,7 @@ Timing time_octomap(const std::vector<octomap::Pointcloud>& clouds, const std::v
 void add_bench_map(CLI::App& bench) {
   struct Options {
     std::string world = default_world_path();
-    std::string config = find_data_file("configs/mapping.yaml");
+    std::string config = mission::default_settings_path();
     std::string views = "ring";
     int frames = 32;
     int repeats = 3;
@@ -80,12 +80,12 @@ void add_bench_map(CLI::App& bench) {
   auto opt = std::make_shared<Options>();
   CLI::App* sub = bench.add_subcommand("map", "Semantic insertion vs OctoMap insertPointCloud, ms per frame");
   sub->add_option("--world", opt->world, "World file (YAML)")->capture_default_str();
-  sub->add_option("--config", opt->config, "Mapping config (YAML)")->capture_default_str();
+  sub->add_option("--config", opt->config, kConfigHelp)->capture_default_str();
   sub->add_option("--views", opt->views, "Camera poses: 'ring', 'aisle' or a file of poses")->capture_default_str();
   sub->add_option("--frames", opt->frames, "Frames to insert, spread over the views")->capture_default_str()->check(CLI::Range(1, 10000));
   sub->add_option("--repeats", opt->repeats, "Runs over all frames, averaged")->capture_default_str()->check(CLI::Range(1, 100));
   sub->callback([opt] {
-    const mapping::MappingConfig cfg = mapping::MappingConfig::load(opt->config);
+    const mapping::MappingConfig cfg = load_settings(opt->config).mapping;
     const world::WorldSpec spec = load_world_spec(opt->world);
     const world::World world = world::generate_world(spec);
     sim::Simulator sim(world, default_robot_config());

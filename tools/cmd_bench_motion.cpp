@@ -38,7 +38,7 @@ double percentile(std::vector<double> v, double p) {
 void add_bench_motion(CLI::App& bench) {
   struct Options {
     std::string world = default_world_path();
-    std::string config = find_data_file("configs/motion.yaml");
+    std::string config = mission::default_settings_path();
     std::string base = "0.75,0,0";
     std::string json;
     int ik_poses = 100000;
@@ -49,7 +49,7 @@ void add_bench_motion(CLI::App& bench) {
   auto opt = std::make_shared<Options>();
   CLI::App* sub = bench.add_subcommand("motion", "IK us/solve, validity check us/state, planning success and times");
   sub->add_option("--world", opt->world, "World file (YAML)")->capture_default_str();
-  sub->add_option("--config", opt->config, "Motion config (YAML)")->capture_default_str();
+  sub->add_option("--config", opt->config, kConfigHelp)->capture_default_str();
   sub->add_option("--base", opt->base, "Base pose x,y,yaw for the collision and planning parts")->capture_default_str();
   sub->add_option("--ik-poses", opt->ik_poses, "Random poses for the IK timing")->capture_default_str()->check(CLI::Range(100, 10000000));
   sub->add_option("--states", opt->states, "Random states for the validity timing")->capture_default_str()->check(CLI::Range(100, 10000000));
@@ -59,7 +59,7 @@ void add_bench_motion(CLI::App& bench) {
   sub->callback([opt] {
     const world::WorldSpec spec = load_world_spec(opt->world);
     const RobotConfig robot = default_robot_config();
-    const motion::MotionConfig cfg = motion::MotionConfig::load(opt->config, robot);
+    const motion::MotionConfig cfg = load_settings(opt->config).motion;
     const BasePose base = parse_base_pose(opt->base, "--base");
     const motion::RobotModel model = motion::RobotModel::load(robot);
     motion::seed_planner_rng(cfg.seed);

@@ -44,7 +44,7 @@ void add_map_command(CLI::App& app) {
   struct Options {
     std::string world = default_world_path();
     std::string views = "ring";
-    std::string config = find_data_file("configs/mapping.yaml");
+    std::string config = mission::default_settings_path();
     std::string seg;
     double pgt = -1.0;
     std::string out;
@@ -54,14 +54,14 @@ void add_map_command(CLI::App& app) {
   sub->add_option("--world", opt->world, "World file (YAML)")->capture_default_str();
   sub->add_option("--views", opt->views, "Camera poses: 'ring', 'aisle' or a file of 'x y z qw qx qy qz' lines")
       ->capture_default_str();
-  sub->add_option("--config", opt->config, "Mapping config (YAML)")->capture_default_str();
+  sub->add_option("--config", opt->config, kConfigHelp)->capture_default_str();
   sub->add_option("--seg", opt->seg, "Labels: color (HSV segmentation) or truth (renderer); default from config")
       ->check(CLI::IsMember({"color", "truth"}));
   sub->add_option("--pgt", opt->pgt, "Probability a mask keeps its class (1 = no noise); default from config")
       ->check(CLI::Range(0.0, 1.0));
   sub->add_option("--out", opt->out, "Output folder")->required();
   sub->callback([opt] {
-    mapping::MappingConfig cfg = mapping::MappingConfig::load(opt->config);
+    mapping::MappingConfig cfg = load_settings(opt->config).mapping;
     if (!opt->seg.empty()) cfg.extractor.source = perception::label_source_from_string(opt->seg, "--seg");
     if (opt->pgt >= 0.0) cfg.extractor.p_gt = opt->pgt;
     const world::WorldSpec spec = load_world_spec(opt->world);

@@ -43,8 +43,7 @@ struct MissionCliOptions {
 
 void add_options(CLI::App* sub, MissionCliOptions* o, bool out_required) {
   sub->add_option("--world", o->world, "World file (YAML)")->capture_default_str();
-  sub->add_option("--config", o->config, "Settings bundle (YAML: mapping, nbv, motion, mission sections)")
-      ->capture_default_str();
+  sub->add_option("--config", o->config, kConfigHelp)->capture_default_str();
   sub->add_option("--method", o->method, "View planner: " + [] {
         std::string s;
         for (const auto& n : nbv::view_planner_names()) s += (s.empty() ? "" : ", ") + n;
@@ -119,7 +118,7 @@ void run_mission(const MissionCliOptions& o, CLI::App* sub) {
   // Validate every input before any work.
   const world::WorldSpec spec = load_world_spec(o.world);
   const RobotConfig robot = default_robot_config();
-  mission::Settings settings = mission::Settings::load(o.config, robot);
+  mission::Settings settings = load_settings(o.config);
   if (sub->count("--pgt")) {
     if (!(std::isfinite(o.pgt) && o.pgt >= 0.0 && o.pgt <= 1.0))
       throw InputError("--pgt: " + std::to_string(o.pgt) + " is not a probability in [0, 1]");

@@ -60,7 +60,7 @@ nlohmann::json rgb_json(const Rgb8& c) { return {c.r, c.g, c.b}; }
 void add_reach_command(CLI::App& app) {
   struct Options {
     std::string world = default_world_path();
-    std::string config = find_data_file("configs/motion.yaml");
+    std::string config = mission::default_settings_path();
     std::string base, joints, out;
     motion::ReachParams grid;
     double voxel_m = 0.015;
@@ -70,7 +70,7 @@ void add_reach_command(CLI::App& app) {
   CLI::App* sub = app.add_subcommand(
       "reach", "Reachability of camera views around the plants from one base pose: reach.json, reach.png");
   sub->add_option("--world", opt->world, "World file (YAML)")->capture_default_str();
-  sub->add_option("--config", opt->config, "Motion config (YAML)")->capture_default_str();
+  sub->add_option("--config", opt->config, kConfigHelp)->capture_default_str();
   sub->add_option("--base", opt->base, "Base pose x,y,yaw [m, m, rad]")->required();
   sub->add_option("--joints", opt->joints, "Start arm joints q1,...,q6 [rad] (default: home)");
   sub->add_option("--out", opt->out, "Output folder")->required();
@@ -87,7 +87,7 @@ void add_reach_command(CLI::App& app) {
     // Validate every input before doing any work.
     const world::WorldSpec spec = load_world_spec(opt->world);
     const RobotConfig robot = default_robot_config();
-    const motion::MotionConfig cfg = motion::MotionConfig::load(opt->config, robot);
+    const motion::MotionConfig cfg = load_settings(opt->config).motion;
     const BasePose base = parse_base_pose(opt->base, "--base");
     ArmConfig start = robot.home;
     if (!opt->joints.empty()) {

@@ -131,6 +131,7 @@ std::vector<double> stop_positions(const StopParams& params, const world::WorldS
   const double first = world.rows.x_start_m;
   const double last = world.rows.x_start_m + (world.rows.plants_per_row - 1) * world.rows.plant_spacing_m;
   std::vector<double> out;
+  if (last - first < 1e-9) return {first};  // one plant per row: one stop
   for (int k = 0; k < params.count; ++k)
     out.push_back(params.count == 1 ? 0.5 * (first + last) : first + (last - first) * k / (params.count - 1));
   return out;

@@ -89,8 +89,11 @@ TEST(Mission, FrontierRunsThroughTheSameController) {
   const MissionResult r = mission.run();
   ASSERT_TRUE(r.complete);
   EXPECT_EQ(successes(r, ViewPhase::kNbv), 3) << r.stops[0].end_reason;
-  for (const ViewRecord& v : r.views)
-    if (v.phase == ViewPhase::kNbv) EXPECT_TRUE(v.source == "roi" || v.source == "exploration") << v.source;
+  for (const ViewRecord& v : r.views) {
+    if (v.phase == ViewPhase::kNbv) {
+      EXPECT_TRUE(v.source == "roi" || v.source == "exploration") << v.source;
+    }
+  }
   EXPECT_GT(r.final_metrics.coverage, coverage_after_initial(r));
 }
 
@@ -103,8 +106,11 @@ TEST(Mission, PredefinedScansTwentyFourViewsPerStop) {
   ASSERT_TRUE(r.complete);
   EXPECT_EQ(r.stops[0].initial_attempted, 12);
   EXPECT_EQ(r.stops[0].nbv_attempted, 12);
-  for (const ViewRecord& v : r.views)
-    if (v.phase != ViewPhase::kInitial) EXPECT_EQ(v.source, "predefined");
+  for (const ViewRecord& v : r.views) {
+    if (v.phase != ViewPhase::kInitial) {
+      EXPECT_EQ(v.source, "predefined");
+    }
+  }
   EXPECT_EQ(r.stops[0].end_reason, "predefined views done");
 }
 
@@ -133,8 +139,11 @@ TEST(MissionFaults, PlannerTimeoutIsCountedAndTheMissionGoesOn) {
   ASSERT_TRUE(r.complete);
   ASSERT_TRUE(r.failures.count(failure::kPlanTimeout)) << "no planner timeout was recorded";
   EXPECT_GT(r.failures.at(failure::kPlanTimeout), 0);
-  for (const ViewRecord& v : r.views)
-    if (v.failure == failure::kPlanTimeout) EXPECT_NE(v.message.find("iterations"), std::string::npos);
+  for (const ViewRecord& v : r.views) {
+    if (v.failure == failure::kPlanTimeout) {
+      EXPECT_NE(v.message.find("iterations"), std::string::npos);
+    }
+  }
 }
 
 TEST(MissionFaults, UnreachableInitialViewsAreSkippedAndCounted) {
@@ -185,18 +194,26 @@ TEST(MissionFaults, GoalInsideAPlantIsRefused) {
   for (int i = 0; i < kArmDof; ++i) EXPECT_NEAR(after[i], q[i], 1e-9);
 }
 
-// A view that needs the arm through the base (camera low behind the arm base, looking down
-// at the chassis) is refused: every IK solution collides with the robot itself.
+// A view that needs the arm through the base (the camera inside the chassis) is refused
+// before any motion: every IK solution collides with the robot itself.
 TEST(MissionFaults, ViewThroughTheBaseIsRefused) {
   const SmallWorld& w = small();
   Mission mission(w.world, w.settings, MissionOptions{});
   ASSERT_TRUE(mission.drive_to_stop(0));
   const motion::RobotModel& model = mission.robot();
   const BasePose base = mission.simulator().base_pose();
-  const Pose T_world_arm = motion::RobotModel::T_world_base(base) * model.T_base_arm();
-  const Vec3 eye = T_world_arm * Vec3(-0.2, 0.0, -0.15);
-  const Pose T = look_at(eye, eye - Vec3(0, 0, 1));
-  ASSERT_FALSE(model.camera_ik(base, T, mission.simulator().arm_positions()).empty()) << "pick a reachable pose";
+  // A camera inside the chassis (base frame z below its top), looking down: the first
+  // such pose with an IK solution.
+  const Pose T_world_base = motion::RobotModel::T_world_base(base);
+  Pose T = Pose::Identity();
+  bool found = false;
+  for (double z = 0.34; z >= 0.2 && !found; z -= 0.02)
+    for (double x = 0.1; x >= -0.3 && !found; x -= 0.02) {
+      const Vec3 eye = T_world_base * Vec3(x, 0.0, z);
+      T = look_at(eye, eye - Vec3(0, 0, 1));
+      found = !model.camera_ik(base, T, mission.simulator().arm_positions()).empty();
+    }
+  ASSERT_TRUE(found) << "no reachable camera pose inside the chassis";
   nbv::PlannedView v;
   v.T_world_camera = T;
   const ViewRecord r = mission.attempt(v, ViewPhase::kNbv);

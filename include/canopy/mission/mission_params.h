@@ -67,7 +67,8 @@ struct MissionParams {
   bool operator==(const MissionParams& o) const;
 };
 
-/// Arm-base x of each stop in `world` (positions_m, or count evenly spaced over the plants).
+/// Arm-base x of each stop in `world` (positions_m, or count evenly spaced over the plants;
+/// one stop when the rows hold one plant each).
 std::vector<double> stop_positions(const StopParams& params, const world::WorldSpec& world);
 
 /// The predefined camera poses of a stop, in the base frame: the initial scan's
