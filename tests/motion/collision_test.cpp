@@ -3,7 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <array>
 #include <random>
+#include <set>
 #include <thread>
 
 #include "canopy/common/error.h"
@@ -189,6 +191,59 @@ TEST(Collision, SelfPairsAreNonAdjacentAndQueriesAreThreadSafe) {
   // Random configurations of a UR3 on a mast: many fold into themselves or the base.
   EXPECT_GT(colliding, 100);
   EXPECT_LT(colliding, 1900);
+}
+
+}  // namespace
+}  // namespace canopy::motion
+
+namespace canopy::motion {
+namespace {
+
+// An environment grown and shrunk by update() answers every query as one built from
+// scratch from the final voxels, and a checker sharing it sees each change.
+TEST(Collision, IncrementalEnvironmentEqualsRebuilt) {
+  const double res = 0.015;
+  std::mt19937 rng(5);
+  // Voxels beside the robot (where the arm reaches), one point per voxel.
+  std::uniform_real_distribution<double> ux(-0.2, 0.9), uy(0.45, 0.9), uz(0.45, 1.3);
+  std::set<std::array<long, 3>> used;
+  auto fresh = [&](double dx) {
+    for (;;) {
+      const Vec3 p(ux(rng) + dx, uy(rng), uz(rng));
+      const std::array<long, 3> k = {std::lround(std::floor(p.x() / res)), std::lround(std::floor(p.y() / res)),
+                                     std::lround(std::floor(p.z() / res))};
+      if (used.insert(k).second) return p;
+    }
+  };
+  std::vector<Vec3> first, second, removed;
+  for (int i = 0; i < 400; ++i) first.push_back(fresh(0.0));
+  for (int i = 0; i < 400; ++i) second.push_back(fresh(1.5));  // beyond the first extent
+  for (int i = 0; i < 400; i += 2) removed.push_back(first[static_cast<size_t>(i)]);
+  auto env = CollisionEnvironment::empty(res);
+  CollisionParams no_ground;
+  no_ground.check_ground = false;
+  const CollisionChecker live(model(), no_ground, env);
+  env->update(first, {});
+  env->update(second, removed);
+  std::vector<Vec3> final_voxels;
+  for (size_t i = 1; i < first.size(); i += 2) final_voxels.push_back(first[i]);
+  final_voxels.insert(final_voxels.end(), second.begin(), second.end());
+  const CollisionChecker rebuilt(model(), no_ground, CollisionEnvironment::from_voxels(final_voxels, res));
+  for (const Vec3& p : removed) EXPECT_FALSE(env->occupied(p));
+  for (const Vec3& p : second) EXPECT_TRUE(env->occupied(p));
+  EXPECT_EQ(env->voxel_count(), rebuilt.environment()->voxel_count());
+  int collisions = 0;
+  std::uniform_real_distribution<double> dq(-1.2, 1.2);
+  for (int k = 0; k < 300; ++k) {
+    ArmConfig q = model().config().home;  // near home, so the arm reaches into the voxels now and then
+    for (double& v : q) v += dq(rng);
+    const BasePose base{0.3, 0.0, 0.0};
+    const bool a = live.in_collision(base, q), b = rebuilt.in_collision(base, q);
+    EXPECT_EQ(a, b) << "sample " << k;
+    collisions += a;
+  }
+  EXPECT_GT(collisions, 10);  // the comparison saw both outcomes
+  EXPECT_LT(collisions, 290);
 }
 
 }  // namespace

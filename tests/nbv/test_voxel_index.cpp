@@ -135,3 +135,21 @@ TEST(VoxelIndex, OutsideTheMapVisitsNothing) {
   // capacity bounds the output
   EXPECT_EQ(index.cast(Vec3(0.0, 0, 1), Vec3(0.5, 0, 1), Vec3::Zero(), buf.data(), 5, &outside), 5u);
 }
+
+namespace canopy::nbv {
+namespace {
+
+// clear() goes through the map's own mutator: the revision moves and the index follows.
+TEST(VoxelIndex, ClearingTheMapRefreshesTheIndex) {
+  mapping::SemanticOcTree map = nbv_test::scanned_map(1);
+  VoxelIndex index(map);
+  ASSERT_GT(index.brick_count(), 0u);
+  const std::uint64_t before = map.revision();
+  map.clear();
+  EXPECT_NE(map.revision(), before);
+  EXPECT_TRUE(index.refresh(map));
+  EXPECT_EQ(index.brick_count(), 0u);
+}
+
+}  // namespace
+}  // namespace canopy::nbv
