@@ -56,6 +56,7 @@ void add_run_command(CLI::App& app) {
   sub->add_option("--video-fps", opt->video_fps, "Video frames per simulated second")->capture_default_str();
   sub->callback([opt] {
     const auto wall0 = std::chrono::steady_clock::now();
+    if (!opt->video.empty()) VideoWriter::validate_output_path(opt->video);  // fail before the run
     const world::WorldSpec spec = load_world_spec(opt->world);
     const mapping::MappingConfig mapping_cfg = mapping::MappingConfig::load(opt->mapping_config);
     const world::World world = world::generate_world(spec);
@@ -86,9 +87,9 @@ void add_run_command(CLI::App& app) {
       };
     }
     const mission::SurveyResult survey = mission::run_aisle_survey(sim, renderer, spec, mission::SurveyParams{}, callbacks);
-    if (video) {
-      video->close();
-      spdlog::info("wrote {} ({} frames)", opt->video, video->frames());
+    if (video) {  // an encoder failure loses only the video, not the run
+      if (video->close()) spdlog::info("wrote {} ({} frames)", opt->video, video->frames());
+      else spdlog::error("the video {} is missing: {}", opt->video, video->error());
     }
 
     // The survey's views, mapped into a semantic octree as the paper's predefined scan.
@@ -148,6 +149,9 @@ void add_run_command(CLI::App& app) {
     spdlog::info("wrote {}/summary.json, map.csm, map.ply, overview.png and {} views ({:.1f} s simulated, {:.1f} s wall)", opt->out,
                  survey.observations.size(), survey.sim_time_s, summary["wall_time_s"].get<double>());
     if (!survey.all_stops_reached) throw std::runtime_error("the base did not reach every stop (see summary.json)");
+    if (video && !video->ok())
+      throw std::runtime_error("the video " + opt->video + " is missing (" + video->error() + "); the other results are in " +
+                               opt->out);
   });
 }
 
