@@ -2,18 +2,27 @@
 
 #include <spdlog/spdlog.h>
 
+#include "canopy/robot/robot_description.h"
+
 namespace canopy::cli {
 
 std::string default_world_path() { return find_data_file("worlds/default.yaml"); }
 
-world::WorldSpec load_world_spec(const std::string& path) {
+world::WorldSpec load_world_spec(const std::string& path, const RobotConfig& robot) {
   world::WorldSpec spec = world::WorldSpec::load(path);
+  const robot::RobotDescription description = robot::RobotDescription::load_urdf(robot.urdf_path);
+  const std::string base_link = description.joint(robot.base_joints.back()).child_link;
+  spec.check_aisle(description.collision_half_width_m(base_link), robot.aisle_clearance_m);
   spdlog::info("world '{}' from {}: {} plants, seed {}", spec.name, path, spec.plant_count(), spec.seed);
   return spec;
 }
 
 mission::Settings load_settings(const std::string& path) {
   return mission::Settings::load(path, default_robot_config());
+}
+
+nlohmann::json settings_json(const std::string& command, const world::WorldSpec& spec) {
+  return {{"command", command}, {"world_file", spec.source_file}, {"world", spec.to_json()}};
 }
 
 }  // namespace canopy::cli

@@ -1,6 +1,8 @@
 #pragma once
 // Helpers shared by the command implementations.
 
+#include <nlohmann/json.hpp>
+
 #include <string>
 
 #include "canopy/common/robot_config.h"
@@ -11,8 +13,12 @@ namespace canopy::cli {
 
 /// Default world file, found in the current directory or the source tree.
 std::string default_world_path();
-/// Loads a world file (InputError on problems) and logs what it is.
-world::WorldSpec load_world_spec(const std::string& path);
+/// Loads a world file, checks that the robot's base fits its aisle (robot.yaml
+/// aisle_clearance_m) and logs what it is. Throws InputError on problems.
+world::WorldSpec load_world_spec(const std::string& path, const RobotConfig& robot = default_robot_config());
+/// The start of every command's settings.json: the command, the world file and the world's
+/// resolved parameters (seed included). Commands add their own options.
+nlohmann::json settings_json(const std::string& command, const world::WorldSpec& spec);
 /// Loads the settings bundle every command's --config names (InputError on problems).
 mission::Settings load_settings(const std::string& path);
 /// Help text of --config.

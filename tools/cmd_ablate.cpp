@@ -23,6 +23,7 @@
 
 #include "canopy/common/error.h"
 #include "canopy/common/io.h"
+#include "canopy/common/process.h"
 #include "canopy/common/random.h"
 #include "canopy/mapping/mapping_config.h"
 #include "canopy/mission/ablation.h"
@@ -152,11 +153,10 @@ void add_ablate_command(CLI::App& app) {
       for (std::size_t c = 0; c < configs.size(); ++c)
         for (int p = 0; p < o.plants; ++p) jobs.push_back({c, t, p});
 
-    std::error_code ec;
-    std::filesystem::create_directories(o.out + "/jobs", ec);
-    std::filesystem::create_directories(o.out + "/trials", ec);
-    if (ec) throw InputError("--out: cannot create folder '" + o.out + "': " + ec.message());
-    for (const auto& c : configs) std::filesystem::create_directories(o.out + "/jobs/" + c.id());
+    // Only --resume (or --summarize-only) adds to an existing folder; a fresh run replaces it.
+    const bool reuse = o.resume || o.summarize_only;
+    StagedDir out_dir(o.out, reuse ? StagedDir::Mode::kResume : StagedDir::Mode::kReplace);
+    const std::string out = out_dir.working_dir();
     nlohmann::json settings = {{"world", spec.name},   {"plants", o.plants},         {"views", o.views},
                                {"trials", o.trials},   {"initial_views", o.initial_views},
                                {"seed", o.seed},       {"threads", o.threads},       {"labels", perception::to_string(mcfg.extractor.source)}};
@@ -165,9 +165,9 @@ void add_ablate_command(CLI::App& app) {
     e2 << np.to_yaml();
     settings["mapping_config"] = std::string(e1.c_str());
     settings["nbv_config"] = std::string(e2.c_str());
-    if (o.resume || o.summarize_only) {
+    if (reuse) {
       // Finished jobs are only reused from a run with the same settings (threads aside).
-      std::ifstream previous_file(o.out + "/settings.json");
+      std::ifstream previous_file(out + "/settings.json");
       if (previous_file) {
         nlohmann::json previous;
         try {
@@ -183,7 +183,6 @@ void add_ablate_command(CLI::App& app) {
                            " (world, plants, views, trials, seed, labels or configs); use another --out");
       }
     }
-    write_json_atomic(o.out + "/settings.json", settings);
 
     mission::AblationSettings set;
     set.views = o.views;
@@ -191,11 +190,11 @@ void add_ablate_command(CLI::App& app) {
     set.seed = o.seed;
     std::vector<nlohmann::json> results(jobs.size());
     auto job_path = [&](const Job& j) {
-      return o.out + "/jobs/" + configs[j.config].id() + "/trial" + std::to_string(j.trial) + "_plant" +
+      return out + "/jobs/" + configs[j.config].id() + "/trial" + std::to_string(j.trial) + "_plant" +
              std::to_string(j.plant) + ".json";
     };
     std::size_t reused = 0;
-    if (o.resume || o.summarize_only)
+    if (reuse)
       for (std::size_t i = 0; i < jobs.size(); ++i) {
         std::ifstream f(job_path(jobs[i]));
         if (!f) continue;
@@ -208,8 +207,15 @@ void add_ablate_command(CLI::App& app) {
         } catch (const std::exception&) {
         }
       }
-    spdlog::info("ablation: {} configurations x {} trials x {} plants = {} jobs ({} reused), {} views each, {} threads",
-                 configs.size(), o.trials, o.plants, jobs.size(), reused, o.views, o.threads);
+    if (o.summarize_only && reused == 0)
+      throw InputError("--summarize-only: no finished jobs with these settings in '" + o.out + "'");
+    write_json_atomic(out + "/settings.json", settings);
+    out_dir.make_subdir("trials");
+    for (const auto& c : configs) out_dir.make_subdir("jobs/" + c.id());
+    // Never more workers (each with its own Simulator and Renderer) than jobs to run.
+    const int workers = o.summarize_only ? 0 : static_cast<int>(std::min<std::size_t>(o.threads, jobs.size() - reused));
+    spdlog::info("ablation: {} configurations x {} trials x {} plants = {} jobs ({} reused), {} views each, {} workers",
+                 configs.size(), o.trials, o.plants, jobs.size(), reused, o.views, workers);
 
     std::atomic<std::size_t> next{0}, done{reused};
     std::mutex log_mutex;
@@ -245,16 +251,17 @@ void add_ablate_command(CLI::App& app) {
       }
     };
     std::vector<std::thread> pool;
-    for (int t = 0; t < (o.summarize_only ? 0 : o.threads); ++t) pool.emplace_back(worker);
+    for (int t = 0; t < workers; ++t) pool.emplace_back(worker);
     for (auto& t : pool) t.join();
     if (failure) std::rethrow_exception(failure);
 
-    print_table(mission::summarize_ablation(o.out, configs, o.plants, o.views, results, jobs, o.coverage_target), o.views);
+    print_table(mission::summarize_ablation(out, configs, o.plants, o.views, results, jobs, o.coverage_target), o.views);
     if (!o.no_plots) {
       const std::string script = find_data_file("tools/plot_ablation.py");
-      const std::string cmd = "/usr/bin/python3 '" + script + "' '" + o.out + "'";
-      if (std::system(cmd.c_str()) != 0) spdlog::warn("plots failed (needs python3-matplotlib): {}", cmd);
+      const ProcessStatus plot = run_process({"/usr/bin/python3", script, out});
+      if (!plot.ok()) spdlog::warn("plots failed (needs python3-matplotlib): {} {}: {}", script, out, plot.describe());
     }
+    out_dir.commit();
     std::printf("ablation done in %.0f s; wrote %s (summary.csv, table.csv, trials/, jobs/, *.png)\n", seconds_since(t0),
                 o.out.c_str());
   });

@@ -67,18 +67,22 @@ void add_map_command(CLI::App& app) {
     const world::WorldSpec spec = load_world_spec(opt->world);
     const world::World world = world::generate_world(spec);
     const std::vector<Pose> views = mapping::views_from_spec(opt->views, world);
-    std::error_code ec;
-    std::filesystem::create_directories(opt->out, ec);
-    if (ec) throw InputError("--out: cannot create folder '" + opt->out + "': " + ec.message());
+    StagedDir out(opt->out);
 
     sim::Simulator sim(world, default_robot_config());
     sim::Renderer renderer(sim, spec.camera);
     mapping::SemanticOcTree map(cfg.map, spec.classes);
     mapping::ScanInserter inserter(map);
     perception::SemanticExtractor extractor(cfg.extractor, spec.classes);
-    YAML::Emitter settings;
-    settings << cfg.to_yaml();
-    write_file_atomic(opt->out + "/settings.yaml", std::string(settings.c_str()) + "\n");
+    YAML::Emitter mapping_yaml;
+    mapping_yaml << cfg.to_yaml();
+    write_file_atomic(out.path("settings.yaml"), std::string(mapping_yaml.c_str()) + "\n");  // a loadable --config
+    nlohmann::json settings = settings_json("map", spec);
+    settings["views"] = opt->views;
+    settings["view_poses"] = nlohmann::json::array();
+    for (const Pose& T : views) settings["view_poses"].push_back(pose_to_json(T));
+    settings["mapping_config"] = mapping_yaml.c_str();
+    write_json_atomic(out.path("settings.json"), settings);
     spdlog::info("mapping {} views ({}), labels {}, P_gt {}", views.size(), opt->views,
                  perception::to_string(cfg.extractor.source), cfg.extractor.p_gt);
 
@@ -92,9 +96,9 @@ void add_map_command(CLI::App& app) {
       const mapping::InsertStats st = inserter.insert(cloud);
       insert_ms_sum += st.ms_total;
       const mapping::MapMetrics m = mapping::evaluate_map(map, world.truth, cfg.metrics);
-      mapping::save_map(map, opt->out + "/map.csm");
-      const std::size_t occupied = mapping::export_ply(map, opt->out + "/map.ply");
-      mapping::export_bt(map, opt->out + "/map.bt");
+      mapping::save_map(map, out.path("map.csm"));
+      const std::size_t occupied = mapping::export_ply(map, out.path("map.ply"));
+      mapping::export_bt(map, out.path("map.bt"));
 
       nlohmann::json step = {{"view", i},
                              {"pose", pose_to_json(views[i])},
@@ -112,12 +116,13 @@ void add_map_command(CLI::App& app) {
       j["p_gt"] = cfg.extractor.p_gt;
       j["ms_per_insertion"] = insert_ms_sum / double(i + 1);
       j["history"] = history;
-      write_json_atomic(opt->out + "/metrics.json", j);
+      write_json_atomic(out.path("metrics.json"), j);
       std::fprintf(stderr,
                    "view %zu/%zu: %zu points, insert %.1f ms, coverage %.3f, fruit entropy %.1f, %zu occupied "
                    "voxels\n",
                    i + 1, views.size(), cloud.size(), st.ms_total, m.coverage, m.total_entropy, occupied);
     }
+    out.commit();
     std::printf("mapped %zu views: coverage %.3f, fruit entropy %.1f, %.1f ms per insertion; wrote %s\n",
                 views.size(), history.back()["coverage"].get<double>(), history.back()["total_entropy"].get<double>(),
                 insert_ms_sum / double(views.size()), opt->out.c_str());

@@ -13,6 +13,7 @@
 
 #include "canopy/common/error.h"
 #include "canopy/common/io.h"
+#include "canopy/common/process.h"
 #include "canopy/common/video.h"
 #include "canopy/mapping/map_io.h"
 #include "canopy/mission/mission.h"
@@ -116,6 +117,7 @@ class MissionVideo {
 
 void run_mission(const MissionCliOptions& o, CLI::App* sub) {
   // Validate every input before any work.
+  if (!o.video.empty()) VideoWriter::validate_output_path(o.video);
   const world::WorldSpec spec = load_world_spec(o.world);
   const RobotConfig robot = default_robot_config();
   mission::Settings settings = load_settings(o.config);
@@ -201,22 +203,30 @@ void run_mission(const MissionCliOptions& o, CLI::App* sub) {
   summary["seed"] = o.seed;
   summary["p_gt"] = settings.mapping.extractor.p_gt;
   summary["labels"] = perception::to_string(settings.mapping.extractor.source);
-  summary["world"] = {{"file", o.world},        {"name", spec.name},
-                      {"seed", spec.seed},      {"plants", world.plants.size()},
-                      {"fruits", world.truth.fruits.size()}, {"triangles", world.triangle_count()}};
+  summary["world"] = {{"file", o.world},
+                      {"plants", world.plants.size()},
+                      {"fruits", world.truth.fruits.size()},
+                      {"triangles", world.triangle_count()},
+                      {"spec", spec.to_json()}};
   summary["settings_file"] = "settings.yaml";
   summary["files"] = {"views.csv", "timing.csv", "settings.yaml", "map.csm", "map.ply", "map.bt"};
-  if (video) {
-    try {
-      video->writer().close();
+  bool video_ok = true;
+  if (video) {  // an encoder failure loses only the video, not the run
+    video_ok = video->writer().close();
+    if (video_ok) {
       summary["video"] = {{"file", o.video}, {"frames", video->writer().frames()}};
       spdlog::info("wrote {} ({} frames)", o.video, video->writer().frames());
-    } catch (const std::exception& e) {
-      summary["video"] = {{"file", o.video}, {"error", e.what()}};
-      spdlog::error("the video is missing: {}", e.what());
+    } else {
+      summary["video"] = {{"file", o.video}, {"error", video->writer().error()}};
+      spdlog::error("the video {} is missing: {}", o.video, video->writer().error());
     }
   }
   write_json_atomic(out.path("summary.json"), summary);
+  if (!o.no_plots) {
+    const std::string script = find_data_file("tools/plot_mission.py");
+    const ProcessStatus plot = run_process({"/usr/bin/python3", script, out.working_dir()});
+    if (!plot.ok()) spdlog::warn("plots failed (needs python3-matplotlib): {}: {}", script, plot.describe());
+  }
   out.commit();
   spdlog::info("{}: {} of {} views successful, fruit SC {:.3f}, entropy {:.1f} nats, {:.1f} s simulated, {:.1f} s wall",
                result.complete ? "mission done" : "mission INTERRUPTED (partial results, marked incomplete)",
@@ -227,6 +237,9 @@ void run_mission(const MissionCliOptions& o, CLI::App* sub) {
   spdlog::info("wall time by phase:{}", split);
   spdlog::info("wrote {}/ (views.csv, timing.csv, summary.json, settings.yaml, map.csm, map.ply, map.bt)", o.out);
   if (!result.complete) throw Interrupted();
+  if (!video_ok)
+    throw std::runtime_error("the video " + o.video + " is missing (" + video->writer().error() + "); the other results are in " +
+                             o.out);
 }
 
 }  // namespace

@@ -36,6 +36,7 @@ void add_world_command(CLI::App& app) {
     summary["fruit_surface_points"] = world.truth.total_points();
     summary["plant_triangles"] = world.triangle_count();
     summary["classes"] = spec.classes.names;
+    summary["spec"] = spec.to_json();  // every resolved parameter: the world can be rebuilt from it
     nlohmann::json plants = nlohmann::json::array();
     for (const auto& p : world.plants) {
       int fruits = 0;

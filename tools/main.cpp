@@ -3,16 +3,65 @@
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <exception>
+#include <string>
 
 #include "canopy/common/error.h"
 #include "commands.h"
+
+namespace {
+
+std::vector<CLI::App*> subcommands(CLI::App& app) {
+  return app.get_subcommands([](CLI::App*) { return true; });
+}
+
+// CLI11 calls a mistyped command an unexpected argument; say it is an unknown command and
+// list the valid ones.
+void check_command_names(CLI::App& app, int argc, char** argv) {
+  CLI::App* current = &app;
+  std::string where = "canopy";
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    const std::vector<CLI::App*> subs = subcommands(*current);
+    if (subs.empty() || arg.empty() || arg[0] == '-') return;
+    CLI::App* next = nullptr;
+    std::string names;
+    for (CLI::App* s : subs) {
+      if (s->get_name() == arg) next = s;
+      names += (names.empty() ? "" : ", ") + s->get_name();
+    }
+    if (!next) throw canopy::InputError("unknown command '" + arg + "' for '" + where + "'; the commands are: " + names);
+    current = next;
+    where += " " + arg;
+  }
+}
+
+// Every floating-point option of every command rejects nan and inf (CLI11 parses them,
+// and a range check passes nan).
+void require_finite_numbers(CLI::App& app) {
+  const CLI::Validator finite(
+      [](std::string& text) -> std::string {
+        const double v = std::strtod(text.c_str(), nullptr);
+        return std::isfinite(v) ? std::string() : "value '" + text + "' is not a finite number";
+      },
+      "", "FINITE");
+  for (CLI::Option* o : app.get_options())
+    if (o->get_type_name().rfind("FLOAT", 0) == 0) o->check(finite);
+  for (CLI::App* s : subcommands(app)) require_finite_numbers(*s);
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{"canopy: simulator and planner for active semantic mapping in greenhouses"};
   app.require_subcommand(1);
   app.set_help_all_flag("--help-all", "Show help for every subcommand");
+  // Flag errors read like every other input error: one line, exit code 2.
+  app.failure_message(
+      [](const CLI::App*, const CLI::Error& e) { return "canopy: error: " + std::string(e.what()) + "\n"; });
   spdlog::set_pattern("[%H:%M:%S.%e] %^%l%$ %v");
   spdlog::set_default_logger(spdlog::stderr_color_mt("canopy"));
 
@@ -30,7 +79,10 @@ int main(int argc, char** argv) {
   canopy::cli::add_bench_gain(*bench);
   canopy::cli::add_bench_motion(*bench);
 
+  require_finite_numbers(app);
+
   try {
+    check_command_names(app, argc, argv);
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     const int code = app.exit(e);
@@ -41,8 +93,11 @@ int main(int argc, char** argv) {
   } catch (const canopy::InputError& e) {
     std::fprintf(stderr, "canopy: error: %s\n", e.what());
     return 2;
-  } catch (const std::exception& e) {
+  } catch (const canopy::InternalError& e) {
     std::fprintf(stderr, "canopy: internal error: %s\n", e.what());
+    return 1;
+  } catch (const std::exception& e) {  // a failed run: not bad input, not a bug
+    std::fprintf(stderr, "canopy: error: %s\n", e.what());
     return 1;
   }
   return 0;

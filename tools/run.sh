@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # canopy's main job: installs missing Debian packages, builds (Release, into build/) and runs
-# `canopy run` on the default world, writing images and a summary to results/.
-# Extra arguments go to `canopy run` (see ./build/canopy run --help).
+# `canopy run`, the default closed-loop mission (method ours) on the default world, writing
+# views.csv, summary.json, the map and the plots to results/. Extra arguments go to
+# `canopy run` (see ./build/canopy run --help), e.g. `./tools/run.sh --video results/run.mp4`.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ./tools/deps.sh

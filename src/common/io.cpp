@@ -25,12 +25,20 @@ std::string temp_name(const std::string& path) {
   return path + ".tmp" + std::to_string(::getpid()) + "_" + std::to_string(counter++);
 }
 
-void rename_or_throw(const std::string& from, const std::string& to) {
+void move_or_throw(const std::string& from, const std::string& to) {
   std::error_code ec;
   fs::rename(from, to, ec);
-  if (ec) {
+  if (ec) throw std::runtime_error("cannot move " + from + " to " + to + ": " + ec.message());
+}
+
+// Moves a temporary file into place; removes it when that fails.
+void rename_or_throw(const std::string& from, const std::string& to) {
+  try {
+    move_or_throw(from, to);
+  } catch (...) {
+    std::error_code ec;
     fs::remove(from, ec);
-    throw std::runtime_error("cannot move " + from + " to " + to + ": " + ec.message());
+    throw;
   }
 }
 
@@ -144,10 +152,14 @@ void write_json_atomic(const std::string& path, const nlohmann::json& j) {
 }
 
 std::string read_file(const std::string& path) {
+  std::error_code ec;
+  // A folder opens as an empty stream on Linux: it must not read as an empty file.
+  if (fs::is_directory(path, ec)) throw InputError(path + ": is a folder, not a file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path + ": cannot open file");
   std::stringstream ss;
   ss << in.rdbuf();
+  if (in.bad()) throw InputError(path + ": cannot read file");
   return ss.str();
 }
 
@@ -250,44 +262,88 @@ Pose pose_from_json(const nlohmann::json& j) {
 }
 
 namespace {
-// Marks a folder as canopy output, so that a later run may replace it.
-constexpr const char* kOutputMarker = ".canopy-output";
+std::string strip_slashes(std::string dir) {
+  while (dir.size() > 1 && dir.back() == '/') dir.pop_back();
+  return dir;
+}
+bool has_marker(const std::string& dir) {
+  std::error_code ec;
+  return fs::exists(fs::path(dir) / kOutputMarker, ec);
+}
+void write_marker(const std::string& dir) {
+  write_file_atomic(dir + "/" + kOutputMarker, "written by canopy; a later run may replace this folder\n");
+}
+void create_dir(const std::string& dir, const std::string& option) {
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec) throw InputError(option + ": cannot create folder '" + dir + "': " + ec.message());
+}
 }  // namespace
 
-StagedDir::StagedDir(std::string final_dir) : final_dir_(std::move(final_dir)) {
-  while (final_dir_.size() > 1 && final_dir_.back() == '/') final_dir_.pop_back();
-  if (final_dir_.empty()) throw InputError("--out: the output folder name is empty");
-  // Replacing a folder deletes it: only ever replace an empty one or an earlier canopy output.
+void StagedDir::check_writable(const std::string& dir, const std::string& option) {
   std::error_code ec;
-  if (fs::exists(final_dir_, ec)) {
-    if (!fs::is_directory(final_dir_, ec))
-      throw InputError("--out: '" + final_dir_ + "' exists and is not a folder");
-    if (!fs::is_empty(final_dir_, ec) && !fs::exists(fs::path(final_dir_) / kOutputMarker, ec))
-      throw InputError("--out: folder '" + final_dir_ +
-                       "' is not empty and was not written by canopy; choose another folder (it would be replaced)");
+  if (!fs::exists(dir, ec)) return;
+  if (!fs::is_directory(dir, ec)) throw InputError(option + ": '" + dir + "' exists and is not a folder");
+  if (!fs::is_empty(dir, ec) && !has_marker(dir))
+    throw InputError(option + ": folder '" + dir +
+                     "' is not empty and was not written by canopy; choose another folder (canopy never "
+                     "replaces or adds to it)");
+}
+
+StagedDir::StagedDir(std::string final_dir, Mode mode, std::string option)
+    : final_dir_(strip_slashes(std::move(final_dir))), option_(std::move(option)) {
+  if (final_dir_.empty()) throw InputError(option_ + ": the output folder name is empty");
+  const std::string staging = final_dir_ + ".partial";
+  check_writable(final_dir_, option_);
+  check_writable(staging, option_);
+  std::error_code ec;
+  if (mode == Mode::kResume && fs::exists(final_dir_, ec)) {
+    working_dir_ = final_dir_;
+  } else if (mode == Mode::kResume && fs::exists(staging, ec)) {
+    working_dir_ = staging;  // an interrupted run
+  } else {
+    working_dir_ = staging;
+    fs::remove_all(staging, ec);
+    create_dir(staging, option_);
+    created_ = true;
   }
-  staging_dir_ = final_dir_ + ".partial";
-  fs::remove_all(staging_dir_, ec);
-  fs::create_directories(staging_dir_, ec);
-  if (ec) throw InputError("--out: cannot create folder " + staging_dir_ + ": " + ec.message());
-  write_file_atomic(path(kOutputMarker), "written by canopy; a later run may replace this folder\n");
+  if (!has_marker(working_dir_)) write_marker(working_dir_);
 }
 
 StagedDir::~StagedDir() {
-  if (!committed_) {
+  if (!committed_ && created_) {
     std::error_code ec;
-    fs::remove_all(staging_dir_, ec);
+    fs::remove_all(working_dir_, ec);
   }
 }
 
-std::string StagedDir::path(const std::string& name) const { return staging_dir_ + "/" + name; }
+std::string StagedDir::path(const std::string& name) const { return working_dir_ + "/" + name; }
+
+std::string StagedDir::make_subdir(const std::string& name) const {
+  const std::string dir = path(name);
+  create_dir(dir, option_);
+  return dir;
+}
 
 void StagedDir::commit() {
+  if (working_dir_ == final_dir_) {
+    committed_ = true;
+    return;
+  }
+  // Move the previous output aside, move the new one in, then delete the old one: <dir>
+  // never holds a mix of both.
   std::error_code ec;
-  fs::remove_all(final_dir_, ec);
-  fs::rename(staging_dir_, final_dir_, ec);
-  if (ec) throw std::runtime_error("cannot move " + staging_dir_ + " to " + final_dir_ + ": " + ec.message());
+  const std::string old = temp_name(final_dir_ + ".old");
+  const bool had_previous = fs::exists(final_dir_, ec);
+  if (had_previous) move_or_throw(final_dir_, old);
+  try {
+    move_or_throw(working_dir_, final_dir_);
+  } catch (...) {
+    if (had_previous) fs::rename(old, final_dir_, ec);
+    throw;
+  }
   committed_ = true;
+  if (had_previous) fs::remove_all(old, ec);
 }
 
 }  // namespace canopy

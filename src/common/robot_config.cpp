@@ -60,6 +60,8 @@ RobotConfig RobotConfig::load(const std::string& yaml_path) {
     c.base_kv = {v[0], v[1], v[2]};
   }
   c.gravity_compensation = y.get("gravity_compensation", c.gravity_compensation);
+  c.aisle_clearance_m = y.get("aisle_clearance_m", c.aisle_clearance_m);
+  y.check(std::isfinite(c.aisle_clearance_m) && c.aisle_clearance_m >= 0.0, "aisle_clearance_m", "must be >= 0");
   y.finish();
   return c;
 }

@@ -1,7 +1,8 @@
 #include "canopy/common/yaml_reader.h"
 
-#include <fstream>
-#include <sstream>
+#include <map>
+
+#include "canopy/common/io.h"
 
 namespace canopy {
 
@@ -13,13 +14,28 @@ YamlReader::YamlReader(YAML::Node node, std::string file, std::string path)
   }
 }
 
-YamlReader YamlReader::load_file(const std::string& file) {
-  std::ifstream in(file);
-  if (!in) throw InputError(file + ": cannot open file");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return load_string(ss.str(), file);
+YamlReader YamlReader::load_file(const std::string& file) { return load_string(read_file(file), file); }
+
+namespace {
+// yaml-cpp keeps every pair of a mapping with a repeated key but looks up only the first:
+// a repeated key would silently lose its later value. Rejects them anywhere in the tree.
+void reject_duplicate_keys(const YAML::Node& node, const std::string& name) {
+  if (node.IsMap()) {
+    std::map<std::string, int> line_of;  // key -> 1-based line
+    for (const auto& kv : node) {
+      const int line = kv.first.Mark().line + 1;
+      const std::string key = kv.first.IsScalar() ? kv.first.Scalar() : std::string("<complex key>");
+      const auto [it, inserted] = line_of.emplace(key, line);
+      if (!inserted)
+        throw InputError(name + ": duplicate key '" + key + "' at lines " + std::to_string(it->second) + " and " +
+                         std::to_string(line));
+      reject_duplicate_keys(kv.second, name);
+    }
+  } else if (node.IsSequence()) {
+    for (const auto& item : node) reject_duplicate_keys(item, name);
+  }
 }
+}  // namespace
 
 YamlReader YamlReader::load_string(const std::string& text, const std::string& name) {
   YAML::Node root;
@@ -28,6 +44,7 @@ YamlReader YamlReader::load_string(const std::string& text, const std::string& n
   } catch (const YAML::Exception& e) {
     throw InputError(name + ": malformed YAML at line " + std::to_string(e.mark.line + 1) + ": " + e.msg);
   }
+  reject_duplicate_keys(root, name);
   return YamlReader(root, name, "");
 }
 

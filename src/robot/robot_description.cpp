@@ -180,6 +180,25 @@ int RobotDescription::parent_link(int i) const {
   return pj < 0 ? -1 : link_index(joints_[static_cast<size_t>(pj)].parent_link);
 }
 
+double RobotDescription::collision_half_width_m(const std::string& link_name) const {
+  double half_width = 0.0;
+  for (const Shape& s : link(link_name).collisions) {
+    Vec3 half = Vec3::Zero();  // half extents in the shape frame (axis along z)
+    switch (s.type) {
+      case ShapeType::kBox: half = 0.5 * s.box_size; break;
+      case ShapeType::kSphere: half = Vec3::Constant(s.radius); break;
+      case ShapeType::kCylinder: half = Vec3(s.radius, s.radius, 0.5 * s.length); break;
+      case ShapeType::kCapsule: half = Vec3(s.radius, s.radius, 0.5 * s.length + s.radius); break;
+      case ShapeType::kMesh: throw InputError("collision_half_width_m: link '" + link_name + "' has a mesh collision shape");
+    }
+    // The shape's axis-aligned bounds in the link frame.
+    const Vec3 extent = s.T_link_shape.linear().cwiseAbs() * half;
+    const double y = s.T_link_shape.translation().y();
+    half_width = std::max({half_width, std::abs(y + extent.y()), std::abs(y - extent.y())});
+  }
+  return half_width;
+}
+
 std::vector<int> RobotDescription::chain_to(const std::string& link) const {
   std::vector<int> chain;
   for (int li = link_index(link); links_[static_cast<size_t>(li)].parent_joint >= 0; li = parent_link(li))

@@ -1,7 +1,7 @@
 #include "canopy/sim/scene_mjcf.h"
 
 #include <algorithm>
-#include <cstdio>
+#include <charconv>
 #include <functional>
 #include <set>
 #include <sstream>
@@ -17,10 +17,18 @@ using robot::Link;
 using robot::Shape;
 using robot::ShapeType;
 
+// The shortest text that reads back as exactly `v` (std::to_chars): full precision, and the
+// buffer grows instead of truncating.
 std::string num(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof(buf), "%.12g", v);
-  return buf;
+  std::string text(24, '\0');
+  for (;;) {
+    const auto [end, ec] = std::to_chars(text.data(), text.data() + text.size(), v);
+    if (ec == std::errc()) {
+      text.resize(static_cast<std::size_t>(end - text.data()));
+      return text;
+    }
+    text.resize(2 * text.size());
+  }
 }
 std::string vec3(const Vec3& v) { return num(v.x()) + " " + num(v.y()) + " " + num(v.z()); }
 std::string quat(const Mat3& R) {
@@ -156,11 +164,7 @@ class RobotWriter {
 
 void write_mesh_asset(std::ostream& os, const std::string& name, const world::TriMesh& mesh) {
   os << "    <mesh name=\"" << name << "\" vertex=\"";
-  char buf[64];
-  for (const auto& v : mesh.vertices) {
-    std::snprintf(buf, sizeof(buf), "%.6f %.6f %.6f ", v.x(), v.y(), v.z());
-    os << buf;
-  }
+  for (const auto& v : mesh.vertices) os << vec3(v) << ' ';
   os << "\" face=\"";
   for (const auto& f : mesh.faces) os << f[0] << " " << f[1] << " " << f[2] << " ";
   os << "\"/>\n";

@@ -1,6 +1,7 @@
 #include "canopy/world/world_spec.h"
 
 #include <cmath>
+#include <sstream>
 
 #include "canopy/common/error.h"
 #include "canopy/common/yaml_reader.h"
@@ -154,8 +155,97 @@ void WorldSpec::validate() const {
     throw InputError(where + ": key 'plant.fruit_colors': the weights must not all be zero");
   if (plant.fruit_zone_max > 1.0)
     throw InputError(where + ": key 'plant.fruit_zone': must lie within (0, 1]");
+  // Sizes beyond any greenhouse are typos (1e30 for 1.3) and would make absurd meshes.
+  const std::pair<const char*, double> sizes[] = {
+      {"plant.height_m", plant.height_max_m},
+      {"plant.stem_diameter_m", plant.stem_diameter_max_m},
+      {"plant.leaf_length_m", plant.leaf_length_max_m},
+      {"plant.leaf_width_ratio", plant.leaf_width_ratio * plant.leaf_length_max_m},
+      {"plant.petiole_length_m", plant.petiole_length_max_m},
+      {"plant.blocky_width_m", plant.blocky_width_max_m},
+      {"plant.blocky_length_m", plant.blocky_length_max_m},
+      {"plant.conical_width_m", plant.conical_width_max_m},
+      {"plant.conical_length_m", plant.conical_length_max_m}};
+  for (const auto& [key, v] : sizes)
+    if (!(std::abs(v) <= kMaxPlantSizeM))
+      throw InputError(where + ": key '" + key + "': a size of " + std::to_string(v) + " m is larger than a plant (at most " +
+                       std::to_string(kMaxPlantSizeM) + " m)");
+  const double row_length_m = rows.plant_spacing_m * (rows.plants_per_row - 1);
+  const std::pair<const char*, double> extents[] = {{"rows.plant_spacing_m", row_length_m},
+                                                    {"rows.row_offset_m", rows.row_offset_m},
+                                                    {"rows.x_start_m", rows.x_start_m},
+                                                    {"rows.x_start_m", rows.x_start_m + row_length_m},
+                                                    {"robot_start", robot_start.x_m},
+                                                    {"robot_start", robot_start.y_m}};
+  for (const auto& [key, v] : extents)
+    if (!(std::abs(v) <= kMaxWorldExtentM))
+      throw InputError(where + ": key '" + key + "': the world would reach " + std::to_string(v) +
+                       " m from the origin (at most " + std::to_string(kMaxWorldExtentM) + " m)");
   if (2.0 * rows.row_offset_m < 0.5)
     throw InputError(where + ": key 'rows.row_offset_m': rows closer than 0.25 m to the aisle leave no room for the robot");
+}
+
+double WorldSpec::plant_reach_m() const {
+  return rows.position_jitter_m + plant.petiole_length_max_m + plant.leaf_length_max_m;
+}
+
+void WorldSpec::check_aisle(double base_half_width_m, double clearance_m) const {
+  const double free_half_width = rows.row_offset_m - plant_reach_m();
+  const double needed = base_half_width_m + clearance_m;
+  if (free_half_width < needed) {
+    std::ostringstream os;
+    os << (source_file.empty() ? std::string("world") : source_file) << ": key 'rows.row_offset_m': value '"
+       << rows.row_offset_m << "' leaves an aisle " << 2.0 * free_half_width
+       << " m wide (rows minus the plants' reach of " << plant_reach_m() << " m each side), narrower than the base ("
+       << 2.0 * base_half_width_m << " m) plus " << clearance_m
+       << " m clearance each side (robot.yaml aisle_clearance_m); row_offset_m must be >= "
+       << needed + plant_reach_m();
+    throw InputError(os.str());
+  }
+}
+
+nlohmann::json WorldSpec::to_json() const {
+  using nlohmann::json;
+  const PlantParams& p = plant;
+  json colors = json::object();
+  for (const auto& [name, w] : p.fruit_colors) colors[name] = w;
+  return {
+      {"name", name},
+      {"seed", seed},
+      {"classes", classes.names},
+      {"target_class", classes.target},
+      {"part_classes",
+       {{"ground", part_classes.ground}, {"robot", part_classes.robot}, {"stem", part_classes.stem},
+        {"petiole", part_classes.petiole}, {"leaf", part_classes.leaf}, {"peduncle", part_classes.peduncle},
+        {"fruit", part_classes.fruit}}},
+      {"rows",
+       {{"rows", rows.rows}, {"plants_per_row", rows.plants_per_row}, {"plant_spacing_m", rows.plant_spacing_m},
+        {"row_offset_m", rows.row_offset_m}, {"x_start_m", rows.x_start_m},
+        {"position_jitter_m", rows.position_jitter_m}}},
+      {"plant",
+       {{"height_m", {p.height_min_m, p.height_max_m}},
+        {"stem_diameter_m", {p.stem_diameter_min_m, p.stem_diameter_max_m}},
+        {"v_angle_deg", {p.v_angle_min_deg, p.v_angle_max_deg}},
+        {"leaves_per_stem", {p.leaves_per_stem_min, p.leaves_per_stem_max}},
+        {"leaf_length_m", {p.leaf_length_min_m, p.leaf_length_max_m}},
+        {"leaf_width_ratio", p.leaf_width_ratio},
+        {"petiole_length_m", {p.petiole_length_min_m, p.petiole_length_max_m}},
+        {"fruits", {p.fruits_min, p.fruits_max}},
+        {"fruit_zone", {p.fruit_zone_min, p.fruit_zone_max}},
+        {"blocky_fraction", p.blocky_fraction},
+        {"blocky_width_m", {p.blocky_width_min_m, p.blocky_width_max_m}},
+        {"blocky_length_m", {p.blocky_length_min_m, p.blocky_length_max_m}},
+        {"conical_width_m", {p.conical_width_min_m, p.conical_width_max_m}},
+        {"conical_length_m", {p.conical_length_min_m, p.conical_length_max_m}},
+        {"fruit_colors", colors}}},
+      {"camera",
+       {{"width_px", camera.width_px}, {"height_px", camera.height_px}, {"fx_px", camera.fx_px},
+        {"fy_px", camera.fy_px}, {"cx_px", camera.cx_px}, {"cy_px", camera.cy_px},
+        {"min_range_m", camera.min_range_m}, {"max_range_m", camera.max_range_m},
+        {"depth_noise_k", camera.depth_noise_k}}},
+      {"robot_start", {robot_start.x_m, robot_start.y_m, robot_start.yaw_rad}},
+      {"gt_point_spacing_m", gt_point_spacing_m},
+  };
 }
 
 int WorldSpec::class_of(const std::string& part) const {

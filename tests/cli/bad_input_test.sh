@@ -34,6 +34,51 @@ expect_error "--base: value '1,x,0'" render --base 1,x,0
 expect_error "--joints" render --joints 1,2,3
 expect_error "excludes" render --joints 0,0,0,0,0,0 --camera-pose 0,0,1,1,0,0,0
 
+# Configs cannot be silently wrong.
+printf 'seed: 1\nname: twice\nseed: 2\n' > "$tmp/duplicate.yaml"
+printf 'rows: {row_offset_m: 0.3}\n' > "$tmp/narrow.yaml"
+printf 'plant: {height_m: [1.0e30, 1.0e30]}\n' > "$tmp/huge.yaml"
+mkdir -p "$tmp/a_folder"
+expect_error "$tmp/a_folder: is a folder" world --world "$tmp/a_folder"
+expect_error "$tmp/a_folder: is a folder" map --config "$tmp/a_folder"
+expect_error "$tmp/a_folder: is a folder" ablate --quick --nbv-config "$tmp/a_folder"
+expect_error "duplicate key 'seed' at lines 1 and 3" world --world "$tmp/duplicate.yaml"
+expect_error "key 'rows.row_offset_m': value '0.3' leaves an aisle" world --world "$tmp/narrow.yaml"
+expect_error "key 'plant.height_m'" world --world "$tmp/huge.yaml"
+expect_error "--pgt: value 'nan' is not a finite number" map --pgt nan
+expect_error "--pgt" map --pgt inf
+expect_error "--video-fps: value 'nan' is not a finite number" run --video-fps nan
+expect_error "--coverage-target: value 'nan' is not a finite number" ablate --coverage-target nan
+expect_error "excludes" render --base 0,0,0 --camera-pose 0,0,1,1,0,0,0
+expect_error "--joints: value '7,0,0,0,0,0' is outside the joint limits" render --joints 7,0,0,0,0,0
+
+# Messages tell the truth.
+expect_error "unknown command 'frobnicate' for 'canopy'; the commands are: world, render, run, map, ablate, reach, bench" frobnicate
+expect_error "unknown command 'frobnicate' for 'canopy bench'; the commands are: render, map, gain, motion" bench frobnicate
+expect_error "--summarize-only: no finished jobs" ablate --quick --summarize-only
+
+# Video paths are checked before the run starts.
+expect_error "--video: cannot write '$tmp/no_such_folder/v.mp4': folder '$tmp/no_such_folder' does not exist" \
+  run --video "$tmp/no_such_folder/v.mp4"
+expect_error "--video: '$tmp/a_folder' is a folder" run --video "$tmp/a_folder"
+expect_error "--video: cannot write '/proc/canopy.mp4'" run --video /proc/canopy.mp4
+
+# Every command protects a folder it did not write: map and ablate (with or without
+# --resume) refuse it and leave the user's files as they were.
+for cmd in "map --views $tmp/one_view.txt" "ablate --quick --views 2 --no-plots" "ablate --quick --views 2 --no-plots --resume" \
+  "ablate --quick --summarize-only" "world" "render"; do
+  rm -rf "$tmp/user" && mkdir -p "$tmp/user" && echo mine > "$tmp/user/metrics.json" && echo mine > "$tmp/user/settings.json"
+  printf '0.0 0.3 0.7 0.5 -0.5 0.5 -0.5\n' > "$tmp/one_view.txt"
+  msg=$("$canopy" $cmd --out "$tmp/user" 2>&1 >/dev/null); code=$?
+  if [[ $code -ne 2 || "$msg" != *"'$tmp/user' is not empty and was not written by canopy"* ]]; then
+    echo "FAIL: $cmd --out <user folder>: exit $code: $msg"; failures=$((failures + 1))
+  fi
+  if [[ "$(cat "$tmp/user/metrics.json" "$tmp/user/settings.json")" != $'mine\nmine' || $(ls -A "$tmp/user" | wc -l) -ne 2 \
+        || -e "$tmp/user.partial" ]]; then
+    echo "FAIL: $cmd changed the user's folder"; failures=$((failures + 1))
+  fi
+done
+
 # An existing folder that canopy did not write is never replaced.
 mkdir -p "$tmp/foreign" && echo keep > "$tmp/foreign/precious.txt"
 msg=$("$canopy" world --out "$tmp/foreign" 2>&1 >/dev/null); code=$?

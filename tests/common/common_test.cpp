@@ -121,6 +121,114 @@ TEST(Io, StagedDirOnlyAppearsOnCommit) {
   EXPECT_TRUE(fs::exists(foreign + "/precious.txt"));
 }
 
+TEST(Io, StagedDirResumeAddsToCanopyFoldersOnly) {
+  namespace fs = std::filesystem;
+  const std::string out = testing::TempDir() + "/staged_resume";
+  fs::remove_all(out);
+  fs::remove_all(out + ".partial");
+  using Mode = StagedDir::Mode;
+  {  // a fresh resume run that fails leaves nothing behind
+    StagedDir d(out, Mode::kResume);
+    write_file_atomic(d.path("a.txt"), "a");
+  }
+  EXPECT_FALSE(fs::exists(out));
+  EXPECT_FALSE(fs::exists(out + ".partial"));
+  {
+    StagedDir d(out, Mode::kResume);
+    EXPECT_EQ(d.working_dir(), out + ".partial");
+    write_file_atomic(d.path("a.txt"), "a");
+    d.commit();
+  }
+  {  // resuming writes into the folder itself and keeps what is there, even on failure
+    StagedDir d(out, Mode::kResume);
+    EXPECT_EQ(d.working_dir(), out);
+    write_file_atomic(d.make_subdir("jobs/x") + "/b.txt", "b");
+  }
+  EXPECT_EQ(read_file(out + "/a.txt"), "a");
+  EXPECT_EQ(read_file(out + "/jobs/x/b.txt"), "b");
+  // An interrupted run's .partial is picked up and published by commit().
+  fs::remove_all(out);
+  fs::create_directories(out + ".partial");
+  write_file_atomic(out + ".partial/" + kOutputMarker, "x");
+  write_file_atomic(out + ".partial/c.txt", "c");
+  {
+    StagedDir d(out, Mode::kResume);
+    EXPECT_EQ(d.working_dir(), out + ".partial");
+    d.commit();
+  }
+  EXPECT_EQ(read_file(out + "/c.txt"), "c");
+  EXPECT_FALSE(fs::exists(out + ".partial"));
+  // A folder canopy did not write is refused in both modes, and stays as it was.
+  const std::string foreign = testing::TempDir() + "/foreign_resume";
+  fs::remove_all(foreign);
+  fs::create_directories(foreign);
+  write_file_atomic(foreign + "/metrics.json", "mine");
+  EXPECT_THROW(StagedDir(foreign, Mode::kResume), InputError);
+  EXPECT_THROW(StagedDir(foreign, Mode::kReplace), InputError);
+  EXPECT_EQ(read_file(foreign + "/metrics.json"), "mine");
+  EXPECT_EQ(fs::directory_iterator(foreign)->path().filename(), "metrics.json");
+  EXPECT_FALSE(fs::exists(foreign + ".partial"));
+  // An empty folder is fine (and becomes canopy's).
+  const std::string empty = testing::TempDir() + "/empty_resume";
+  fs::remove_all(empty);
+  fs::create_directories(empty);
+  {
+    StagedDir d(empty, Mode::kResume);
+    EXPECT_EQ(d.working_dir(), empty);
+  }
+  EXPECT_TRUE(fs::exists(empty + "/" + kOutputMarker));
+  // A file is not a folder.
+  write_file_atomic(testing::TempDir() + "/a_file", "f");
+  EXPECT_THROW(StagedDir(testing::TempDir() + "/a_file"), InputError);
+}
+
+TEST(Io, FailedRenameReportsTheRealError) {
+  namespace fs = std::filesystem;
+  // Writing a file over a non-empty folder fails in rename(): the message must carry that
+  // error, not "Success".
+  const std::string target = testing::TempDir() + "/rename_target";
+  fs::remove_all(target);
+  fs::create_directories(target + "/inside");
+  try {
+    write_file_atomic(target, "x");
+    FAIL() << "no error";
+  } catch (const std::runtime_error& e) {
+    const std::string msg = e.what();
+    EXPECT_EQ(msg.find("Success"), std::string::npos) << msg;
+    EXPECT_NE(msg.find(std::error_code(EISDIR, std::generic_category()).message()), std::string::npos) << msg;
+  }
+  EXPECT_TRUE(fs::is_directory(target + "/inside"));
+  // The temporary file was removed.
+  for (const auto& e : fs::directory_iterator(testing::TempDir()))
+    EXPECT_EQ(e.path().filename().string().find("rename_target.tmp"), std::string::npos) << e.path();
+}
+
+TEST(YamlReader, RepeatedKeysAreErrorsNamingBothLines) {
+  auto message = [](const std::string& text) {
+    try {
+      YamlReader::load_string(text, "w.yaml");
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_EQ(message("seed: 1\nname: a\nseed: 2\n"), "w.yaml: duplicate key 'seed' at lines 1 and 3");
+  EXPECT_EQ(message("rows:\n  rows: 2\n  plants_per_row: 3\n  rows: 1\n"),
+            "w.yaml: duplicate key 'rows' at lines 2 and 4");
+  EXPECT_EQ(message("a: [{x: 1, x: 2}]\n"), "w.yaml: duplicate key 'x' at lines 1 and 1");
+  EXPECT_EQ(message("a: {x: 1}\nb: {x: 2}\n"), "no error");  // same key in two mappings is fine
+}
+
+TEST(YamlReader, AFolderIsNotAnEmptyFile) {
+  try {
+    YamlReader::load_file(testing::TempDir());
+    FAIL() << "a folder loaded as a YAML file";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("is a folder"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(read_file(testing::TempDir()), InputError);
+}
+
 TEST(Classes, ValidateAndColors) {
   SemanticClasses c;
   EXPECT_NO_THROW(c.validate("w.yaml"));
@@ -145,6 +253,7 @@ TEST(RobotConfig, DefaultsEqualTheShippedYaml) {
   EXPECT_EQ(file.arm_joints, defaults.arm_joints);
   EXPECT_EQ(file.base_kv, defaults.base_kv);
   EXPECT_EQ(file.arm_max_velocity, defaults.arm_max_velocity);
+  EXPECT_EQ(file.aisle_clearance_m, defaults.aisle_clearance_m);
 }
 
 }  // namespace

@@ -10,6 +10,8 @@
 
 #include "canopy/common/error.h"
 #include "canopy/common/robot_config.h"
+#include "canopy/motion/reachability.h"
+#include "canopy/world/world.h"
 
 namespace canopy::motion {
 namespace {
@@ -168,6 +170,27 @@ TEST(Collision, GroundAndMap) {
   EXPECT_TRUE(under.base_in_collision(base));
   EXPECT_TRUE(under.in_collision(base, q));
   EXPECT_FALSE(under.in_collision(base, q, BodySet::kArmOnly));
+}
+
+TEST(Collision, BaseInAPlantRowCollidesWithTheTruePlants) {
+  // Ground-truth plant voxels of the default world: the base footprint placed on a plant
+  // collides; anywhere on the aisle's centre line, along the whole row and beyond, it does not.
+  const world::WorldSpec spec = world::WorldSpec::load(find_data_file("worlds/default.yaml"));
+  const world::World w = world::generate_world(spec);
+  const double voxel_m = 0.02;
+  const CollisionChecker checker(model(), CollisionParams{},
+                                 CollisionEnvironment::from_voxels(motion::world_occupied_voxels(w, voxel_m), voxel_m));
+  ASSERT_GT(checker.environment()->voxel_count(), 1000u);
+  for (const world::Plant& p : w.plants) {
+    EXPECT_TRUE(checker.base_in_collision({p.base_position.x(), p.base_position.y(), 0.0})) << "plant " << p.index;
+    // Half-way into the row from the aisle centre the chassis side reaches the plant too.
+    EXPECT_TRUE(checker.base_in_collision({p.base_position.x(), 0.6 * p.base_position.y(), 0.0})) << "plant " << p.index;
+  }
+  const double x_end = spec.rows.x_start_m + (spec.rows.plants_per_row - 1) * spec.rows.plant_spacing_m;
+  int poses = 0;
+  for (double x = spec.robot_start.x_m; x <= x_end + 0.8; x += 0.05, ++poses)
+    EXPECT_FALSE(checker.base_in_collision({x, 0.0, 0.0})) << "aisle centre x = " << x;
+  EXPECT_GT(poses, 40);
 }
 
 TEST(Collision, SelfPairsAreNonAdjacentAndQueriesAreThreadSafe) {

@@ -40,6 +40,13 @@ TEST(RobotDescription, LoadsTheRobotAndKeepsTopologicalOrder) {
   EXPECT_GE(capsules, 6);
 }
 
+TEST(RobotDescription, BaseFootprintHalfWidthIsTheChassisBox) {
+  const RobotDescription d = RobotDescription::load_urdf(default_robot_config().urdf_path);
+  // Husky A200 chassis collision box: 0.99 x 0.67 m.
+  EXPECT_NEAR(d.collision_half_width_m("base_link"), 0.335, 1e-12);
+  EXPECT_EQ(d.collision_half_width_m("world"), 0.0);
+}
+
 TEST(RobotDescription, ArmChainEqualsStandardDh) {
   const RobotConfig cfg = default_robot_config();
   const RobotDescription d = RobotDescription::load_urdf(cfg.urdf_path);

@@ -148,5 +148,60 @@ TEST(WorldSpec, BadInputNamesFileKeyAndValue) {
   EXPECT_THROW(WorldSpec::load("/nonexistent/world.yaml"), InputError);
 }
 
+TEST(WorldSpec, ImplausibleSizesAreRejected) {
+  // Sizes this large once overflowed the scene writer's number buffers.
+  expect_error("plant: {height_m: [1.0e30, 1.0e30]}\n", "key 'plant.height_m'");
+  expect_error("plant: {leaf_length_m: [0.1, 1.0e20]}\n", "key 'plant.leaf_length_m'");
+  expect_error("rows: {x_start_m: 1.0e15}\n", "key 'rows.x_start_m'");
+  expect_error("rows: {plant_spacing_m: 1.0e12}\n", "key 'rows.plant_spacing_m'");
+}
+
+TEST(WorldSpec, SavedJsonLoadsBackToTheSameSpec) {
+  WorldSpec spec = WorldSpec::load(find_data_file("worlds/default.yaml"));
+  // Values that do not survive a short decimal form, and non-default choices everywhere.
+  spec.seed = 1234567890123ull;
+  spec.name = "odd";
+  spec.rows.row_offset_m = 0.1 + 0.2 + 0.45;
+  spec.rows.plants_per_row = 3;
+  spec.plant.height_min_m = 1.0 / 3.0;
+  spec.plant.leaves_per_stem_min = 11;
+  spec.plant.fruit_colors = {{"orange", 0.25}, {"red", 0.75}};
+  spec.camera.fx_px = spec.camera.fy_px = 400.0 / 7.0;
+  spec.robot_start = BasePose{-1.0 / 7.0, 0.01, 0.3};
+  spec.part_classes.stem = "background";
+  const std::string path = write_temp("saved_world.json", spec.to_json().dump(2));
+  const WorldSpec back = WorldSpec::load(path);
+  EXPECT_EQ(back.to_json(), spec.to_json());
+  EXPECT_EQ(back.rows.row_offset_m, spec.rows.row_offset_m);
+  EXPECT_EQ(back.seed, spec.seed);
+  // Every key of the JSON is a key the loader reads (no unknown keys), so it also holds every
+  // parameter the loader knows: the defaults' JSON has the same keys as the shipped file.
+  const WorldSpec defaults;
+  EXPECT_EQ(defaults.to_json().size(), back.to_json().size());
+}
+
+TEST(WorldSpec, AisleMustFitTheBasePlusClearance) {
+  const WorldSpec d;
+  const double half_width = 0.335, clearance = 0.05;  // the Husky base, robot.yaml
+  EXPECT_NO_THROW(d.check_aisle(half_width, clearance));
+  WorldSpec narrow = d;
+  narrow.rows.row_offset_m = 0.3;  // rows at +-0.3 m: plants inside the base's footprint
+  narrow.source_file = "narrow.yaml";
+  try {
+    narrow.check_aisle(half_width, clearance);
+    FAIL() << "rows at +-0.3 m accepted";
+  } catch (const InputError& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("narrow.yaml: key 'rows.row_offset_m': value '0.3'"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("aisle_clearance_m"), std::string::npos) << msg;
+  }
+  // The boundary: exactly the base, the clearance and the plants' reach fits.
+  WorldSpec tight = d;
+  tight.rows.row_offset_m = half_width + clearance + d.plant_reach_m() + 1e-9;
+  EXPECT_NO_THROW(tight.check_aisle(half_width, clearance));
+  tight.rows.row_offset_m -= 2e-9;
+  EXPECT_THROW(tight.check_aisle(half_width, clearance), InputError);
+}
+
 }  // namespace
 }  // namespace canopy::world

@@ -16,7 +16,7 @@ namespace canopy {
 void write_file_atomic(const std::string& path, const std::string& content);
 /// Writes pretty-printed JSON atomically.
 void write_json_atomic(const std::string& path, const nlohmann::json& j);
-/// Reads a whole file; throws InputError when it cannot be opened.
+/// Reads a whole file; throws InputError when it is a folder or cannot be opened or read.
 std::string read_file(const std::string& path);
 
 /// PNG writers (atomic). 16-bit images are stored big-endian as PNG requires.
@@ -39,22 +39,50 @@ BasePose parse_base_pose(const std::string& text, const std::string& what);
 nlohmann::json pose_to_json(const Pose& T);
 Pose pose_from_json(const nlohmann::json& j);
 
-/// Creates a results folder. Output that must not look complete when a run fails is
-/// written into `<dir>.partial` and moved to `<dir>` by commit().
+/// Name of the marker file canopy puts in every output folder it writes.
+constexpr const char* kOutputMarker = ".canopy-output";
+
+/// A command's output folder, guarded the same way by every command (world, render, run,
+/// map, reach, ablate, mission):
+///  - canopy marks each folder it writes with kOutputMarker and never replaces or adds to a
+///    non-empty folder without it (InputError: the folder is the user's);
+///  - Mode::kReplace (the default): files go to `<dir>.partial`; commit() swaps it in for
+///    `<dir>` by renames, so `<dir>` holds either the previous complete output or the new one;
+///  - Mode::kResume (--resume): files go into the existing canopy folder `<dir>` itself, or
+///    into the `<dir>.partial` an interrupted run left (renamed to `<dir>` by commit()), or,
+///    when neither exists, into a new `<dir>.partial`.
+/// Write every file with write_file_atomic (or the write_*_atomic helpers), so an
+/// interrupted run leaves only whole files. A folder this object created is removed when
+/// commit() is not reached (the command failed); an existing folder being resumed is kept.
 class StagedDir {
  public:
-  explicit StagedDir(std::string final_dir);
-  ~StagedDir();  ///< Removes the staging folder when commit() was not reached.
+  enum class Mode { kReplace, kResume };
+  /// Checks and prepares the folder; `option` names the flag in errors. Throws InputError
+  /// when `final_dir` is a file, a non-empty folder canopy did not write, or cannot be made.
+  explicit StagedDir(std::string final_dir, Mode mode = Mode::kReplace, std::string option = "--out");
+  ~StagedDir();  ///< Removes a folder it created when commit() was not reached.
   StagedDir(const StagedDir&) = delete;
   StagedDir& operator=(const StagedDir&) = delete;
-  /// Path of a file inside the staging folder.
+
+  /// Throws InputError (naming `option`) unless canopy may write `dir`: absent, an empty
+  /// folder, or a folder with kOutputMarker.
+  static void check_writable(const std::string& dir, const std::string& option = "--out");
+
+  /// Path of a file inside the working folder ("" gives the folder with a trailing '/').
   std::string path(const std::string& name) const;
-  /// Replaces `<dir>` by the staging folder.
+  /// Creates a sub-folder (and its parents) of the working folder; returns its path.
+  std::string make_subdir(const std::string& name) const;
+  /// The folder being written: `<dir>.partial`, or `<dir>` when resuming it in place.
+  const std::string& working_dir() const { return working_dir_; }
+  const std::string& final_dir() const { return final_dir_; }
+  /// Publishes the output as `<dir>` (a no-op when resuming `<dir>` in place).
   void commit();
 
  private:
   std::string final_dir_;
-  std::string staging_dir_;
+  std::string working_dir_;
+  std::string option_;
+  bool created_ = false;  ///< working_dir_ was made by this object
   bool committed_ = false;
 };
 

@@ -31,6 +31,10 @@ struct RobotConfig {
   ArmConfig arm_armature = {0.1, 0.1, 0.05, 0.02, 0.02, 0.02};
   std::array<double, 3> base_kv = {5000, 5000, 2000};
   bool gravity_compensation = true;
+  /// Free space required on each side of the base between the aisle's centre line and the
+  /// nearest reach of a plant (world validation: an aisle narrower than the base plus twice
+  /// this is rejected).
+  double aisle_clearance_m = 0.05;
 
   /// Loads robot.yaml; throws InputError naming the file and key on bad input.
   static RobotConfig load(const std::string& yaml_path);

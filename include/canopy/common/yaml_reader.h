@@ -18,7 +18,8 @@ class YamlReader {
  public:
   YamlReader(YAML::Node node, std::string file, std::string path);
 
-  /// Loads and parses `file`; throws InputError when it is missing or malformed.
+  /// Loads and parses `file`; throws InputError when it is missing, a folder, malformed or
+  /// has a repeated key in any mapping (the message names both lines).
   static YamlReader load_file(const std::string& file);
   /// Parses YAML text (for tests and embedded configs); `name` stands in for the file.
   static YamlReader load_string(const std::string& text, const std::string& name);

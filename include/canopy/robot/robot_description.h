@@ -84,6 +84,9 @@ class RobotDescription {
   std::vector<Pose> link_poses(const JointPositions& q) const;
   /// Pose of `child` in the frame of its ancestor `ancestor`; throws if not an ancestor.
   Pose relative_pose(const std::string& ancestor, const std::string& child, const JointPositions& q) const;
+  /// Largest |y| that the collision shapes of `link` reach in the link frame (for the base
+  /// link: half the width of its footprint). 0 for a link without collision shapes.
+  double collision_half_width_m(const std::string& link) const;
   /// Indices of the joints from the root down to `link`.
   std::vector<int> chain_to(const std::string& link) const;
 

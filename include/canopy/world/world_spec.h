@@ -2,6 +2,8 @@
 // A greenhouse world as written in worlds/<name>.yaml: rows of procedurally generated
 // sweet-pepper plants along an aisle, the semantic classes, the camera and the robot start.
 
+#include <nlohmann/json.hpp>
+
 #include <cstdint>
 #include <map>
 #include <string>
@@ -11,6 +13,11 @@
 #include "canopy/common/types.h"
 
 namespace canopy::world {
+
+/// Largest plant dimension a world may ask for (height or part size) [m].
+constexpr double kMaxPlantSizeM = 10.0;
+/// Largest distance from the origin that rows and the robot start may reach [m].
+constexpr double kMaxWorldExtentM = 1000.0;
 
 /// Plants in rows parallel to the world x axis, on both sides of an aisle along y = 0.
 struct RowLayout {
@@ -73,6 +80,15 @@ struct WorldSpec {
   /// Class index of a part kind ("stem", "leaf", "fruit", ...).
   int class_of(const std::string& part) const;
   int plant_count() const { return rows.rows * rows.plants_per_row; }
+  /// How far a plant may reach sideways from its nominal row position: position jitter plus
+  /// the longest petiole and leaf blade.
+  double plant_reach_m() const;
+  /// Throws InputError (naming source_file and rows.row_offset_m) unless a base of half width
+  /// `base_half_width_m` on the aisle's centre line keeps `clearance_m` from every plant's reach.
+  void check_aisle(double base_half_width_m, double clearance_m) const;
+  /// The resolved parameters as JSON, with the keys of a world file (JSON is YAML, so
+  /// load() reads a saved copy back to the same spec).
+  nlohmann::json to_json() const;
 };
 
 }  // namespace canopy::world

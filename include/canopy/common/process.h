@@ -1,0 +1,59 @@
+#pragma once
+// Running external programs (ffmpeg, the plot script) without a shell: the program and its
+// arguments are an argv vector handed to posix_spawnp, so no user-given text (a path with a
+// quote or a ';') is ever parsed as a command line. Writes to a child never raise SIGPIPE.
+
+#include <sys/types.h>
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+namespace canopy {
+
+/// How a child process ended.
+struct ProcessStatus {
+  bool started = false;  ///< False when the program could not be started (see `error`).
+  int exit_code = -1;    ///< Exit code when it exited normally, else -1.
+  int signal = 0;        ///< The signal that killed it, else 0.
+  std::string error;     ///< Why it could not be started ("" when it was).
+
+  /// Started and exited with code 0.
+  bool ok() const { return started && signal == 0 && exit_code == 0; }
+  /// One line for messages: "exited with code 1", "killed by signal 9", "cannot start: ...".
+  std::string describe() const;
+};
+
+/// Runs `argv` (argv[0] looked up on PATH when it holds no '/') with the caller's standard
+/// input, output and error, and waits for it. Never throws for a program that is missing
+/// or fails: the status says so. Throws InternalError on an empty argv.
+ProcessStatus run_process(const std::vector<std::string>& argv);
+
+/// A running child process whose standard input is fed by write() (e.g. raw video frames
+/// for ffmpeg). Its standard output and error are the caller's. The destructor closes the
+/// input and waits for the child.
+class PipedProcess {
+ public:
+  /// Starts `argv` (looked up on PATH like run_process). When it cannot start, started()
+  /// is false and wait() reports why; nothing throws.
+  explicit PipedProcess(const std::vector<std::string>& argv);
+  ~PipedProcess();
+  PipedProcess(const PipedProcess&) = delete;
+  PipedProcess& operator=(const PipedProcess&) = delete;
+
+  bool started() const { return pid_ > 0; }
+  /// Sends all `bytes` to the child's standard input. Returns false (and sends nothing
+  /// more, ever) when the child has stopped reading; never raises SIGPIPE.
+  bool write(const void* data, std::size_t bytes);
+  /// Closes the child's input, waits for it to exit and returns how it ended. Later calls
+  /// return the same status.
+  ProcessStatus wait();
+
+ private:
+  pid_t pid_ = -1;
+  int fd_ = -1;  ///< Our end of the child's standard input.
+  bool waited_ = false;
+  ProcessStatus status_;
+};
+
+}  // namespace canopy

@@ -1,0 +1,125 @@
+#include "canopy/common/process.h"
+
+#include <spawn.h>
+#include <sys/socket.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+
+#include "canopy/common/error.h"
+
+extern char** environ;
+
+namespace canopy {
+
+namespace {
+
+// posix_spawnp wants mutable char*; the strings outlive the call.
+std::vector<char*> c_argv(const std::vector<std::string>& argv) {
+  CANOPY_CHECK(!argv.empty() && !argv[0].empty(), "run_process: empty argv");
+  std::vector<char*> out;
+  for (const std::string& a : argv) out.push_back(const_cast<char*>(a.c_str()));
+  out.push_back(nullptr);
+  return out;
+}
+
+// Spawns argv with fd `stdin_fd` (or the caller's stdin when -1) as its standard input.
+// Returns the pid, or -1 with `error` set.
+pid_t spawn(const std::vector<std::string>& argv, int stdin_fd, std::string* error) {
+  std::vector<char*> args = c_argv(argv);
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  if (stdin_fd >= 0) posix_spawn_file_actions_adddup2(&actions, stdin_fd, STDIN_FILENO);
+  pid_t pid = -1;
+  const int rc = posix_spawnp(&pid, args[0], &actions, nullptr, args.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  if (rc != 0) {
+    *error = argv[0] + ": " + std::strerror(rc);
+    return -1;
+  }
+  return pid;
+}
+
+ProcessStatus wait_for(pid_t pid) {
+  ProcessStatus s;
+  s.started = true;
+  int status = 0;
+  pid_t r;
+  do {
+    r = ::waitpid(pid, &status, 0);
+  } while (r < 0 && errno == EINTR);
+  if (r < 0) {
+    s.error = std::string("waitpid: ") + std::strerror(errno);
+    return s;
+  }
+  if (WIFEXITED(status)) s.exit_code = WEXITSTATUS(status);
+  if (WIFSIGNALED(status)) s.signal = WTERMSIG(status);
+  return s;
+}
+
+}  // namespace
+
+std::string ProcessStatus::describe() const {
+  if (!started) return "cannot start " + error;
+  if (!error.empty()) return error;
+  if (signal != 0) return "killed by signal " + std::to_string(signal) + " (" + strsignal(signal) + ")";
+  return "exited with code " + std::to_string(exit_code);
+}
+
+ProcessStatus run_process(const std::vector<std::string>& argv) {
+  ProcessStatus s;
+  const pid_t pid = spawn(argv, -1, &s.error);
+  if (pid < 0) return s;
+  return wait_for(pid);
+}
+
+PipedProcess::PipedProcess(const std::vector<std::string>& argv) {
+  // A socket pair instead of a pipe: send(MSG_NOSIGNAL) reports a reader that went away as
+  // EPIPE without raising SIGPIPE, and needs no change to the process's signal handling.
+  int fds[2];
+  if (::socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, fds) != 0) {
+    status_.error = std::string("socketpair: ") + std::strerror(errno);
+    return;
+  }
+  pid_ = spawn(argv, fds[1], &status_.error);
+  ::close(fds[1]);
+  if (pid_ < 0) {
+    ::close(fds[0]);
+    return;
+  }
+  ::shutdown(fds[0], SHUT_RD);  // the child never writes back
+  fd_ = fds[0];
+}
+
+PipedProcess::~PipedProcess() { wait(); }
+
+bool PipedProcess::write(const void* data, std::size_t bytes) {
+  const char* p = static_cast<const char*>(data);
+  while (bytes > 0 && fd_ >= 0) {
+    const ssize_t n = ::send(fd_, p, bytes, MSG_NOSIGNAL);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {  // EPIPE / ECONNRESET: the child exited or closed its input
+      ::close(fd_);
+      fd_ = -1;
+      return false;
+    }
+    p += n;
+    bytes -= static_cast<std::size_t>(n);
+  }
+  return fd_ >= 0;
+}
+
+ProcessStatus PipedProcess::wait() {
+  if (waited_ || pid_ < 0) return status_;
+  if (fd_ >= 0) {
+    ::close(fd_);
+    fd_ = -1;
+  }
+  status_ = wait_for(pid_);
+  waited_ = true;
+  return status_;
+}
+
+}  // namespace canopy

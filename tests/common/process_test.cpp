@@ -1,0 +1,85 @@
+#include "canopy/common/process.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "canopy/common/error.h"
+
+namespace canopy {
+namespace {
+
+namespace fs = std::filesystem;
+
+TEST(Process, ReportsExitCodesAndMissingPrograms) {
+  EXPECT_TRUE(run_process({"true"}).ok());
+  const ProcessStatus f = run_process({"sh", "-c", "exit 3"});
+  EXPECT_TRUE(f.started);
+  EXPECT_EQ(f.exit_code, 3);
+  EXPECT_FALSE(f.ok());
+  EXPECT_EQ(f.describe(), "exited with code 3");
+  const ProcessStatus k = run_process({"sh", "-c", "kill -9 $$"});
+  EXPECT_EQ(k.signal, 9);
+  const ProcessStatus missing = run_process({"canopy-no-such-program"});
+  EXPECT_FALSE(missing.started);
+  EXPECT_NE(missing.describe().find("canopy-no-such-program"), std::string::npos);
+  EXPECT_THROW(run_process({}), InternalError);
+}
+
+TEST(Process, ArgumentsAreNeverParsedByAShell) {
+  // The very path of the issue: through a shell it would run `touch X`.
+  const fs::path dir = fs::path(testing::TempDir()) / "process_quotes";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string name = "a'; touch X #";
+  const ProcessStatus s = run_process({"touch", (dir / name).string()});
+  ASSERT_TRUE(s.ok()) << s.describe();
+  EXPECT_TRUE(fs::exists(dir / name));
+  EXPECT_FALSE(fs::exists(dir / "X"));
+  EXPECT_FALSE(fs::exists("X"));
+  // $(...) and backquotes stay text too.
+  const std::string dollar = (dir / "$(touch Y)`touch Z`").string();
+  ASSERT_TRUE(run_process({"touch", dollar}).ok());
+  EXPECT_TRUE(fs::exists(dollar));
+  EXPECT_FALSE(fs::exists(dir / "Y"));
+  EXPECT_FALSE(fs::exists("Y"));
+}
+
+TEST(Process, PipedChildReceivesAllBytes) {
+  const fs::path out = fs::path(testing::TempDir()) / "piped.bin";
+  fs::remove(out);
+  PipedProcess p({"sh", "-c", "cat > \"$0\"", out.string()});
+  ASSERT_TRUE(p.started());
+  std::string data(1 << 20, '\0');
+  for (std::size_t i = 0; i < data.size(); ++i) data[i] = static_cast<char>(i * 7 + 3);
+  EXPECT_TRUE(p.write(data.data(), data.size()));
+  EXPECT_TRUE(p.wait().ok());
+  ASSERT_EQ(fs::file_size(out), data.size());
+}
+
+TEST(Process, AChildThatStopsReadingIsReportedWithoutSigpipe) {
+  // The child reads 10 bytes and exits 4; the writer must see false, not die of SIGPIPE.
+  PipedProcess p({"sh", "-c", "head -c 10 > /dev/null; exit 4"});
+  ASSERT_TRUE(p.started());
+  const std::vector<char> chunk(1 << 16, 'x');
+  bool accepted = true;
+  for (int i = 0; i < 200 && accepted; ++i) accepted = p.write(chunk.data(), chunk.size());
+  EXPECT_FALSE(accepted);
+  EXPECT_FALSE(p.write(chunk.data(), chunk.size()));  // stays closed
+  const ProcessStatus s = p.wait();
+  EXPECT_EQ(s.exit_code, 4);
+  EXPECT_EQ(p.wait().exit_code, 4);  // same status again
+}
+
+TEST(Process, PipedProgramThatIsMissingDoesNotStart) {
+  PipedProcess p({"canopy-no-such-program"});
+  EXPECT_FALSE(p.started());
+  const char byte = 0;
+  EXPECT_FALSE(p.write(&byte, 1));
+  EXPECT_FALSE(p.wait().started);
+}
+
+}  // namespace
+}  // namespace canopy
