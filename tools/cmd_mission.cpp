@@ -90,6 +90,7 @@ class MissionVideo {
     renderer_ = std::make_unique<sim::Renderer>(sim, k, sim::RenderOptions{true, 1});
   }
   void tick(sim::Simulator& sim, const std::string& caption) {
+    if (!writer_.ok()) return;  // the encoder died: the run goes on without the video
     Image<Rgb8> frame = renderer_->render_captioned(chase_pose(sim.base_pose()), true, caption);
     if (!wrist_rgb_.empty()) {
       const int iw = frame.width / 4, ih = iw * wrist_rgb_.height / std::max(1, wrist_rgb_.width);

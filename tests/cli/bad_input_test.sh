@@ -41,7 +41,7 @@ printf 'plant: {height_m: [1.0e30, 1.0e30]}\n' > "$tmp/huge.yaml"
 mkdir -p "$tmp/a_folder"
 expect_error "$tmp/a_folder: is a folder" world --world "$tmp/a_folder"
 expect_error "$tmp/a_folder: is a folder" map --config "$tmp/a_folder"
-expect_error "$tmp/a_folder: is a folder" ablate --quick --nbv-config "$tmp/a_folder"
+expect_error "$tmp/a_folder: is a folder" ablate --quick --config "$tmp/a_folder"
 expect_error "duplicate key 'seed' at lines 1 and 3" world --world "$tmp/duplicate.yaml"
 expect_error "key 'rows.row_offset_m': value '0.3' leaves an aisle" world --world "$tmp/narrow.yaml"
 expect_error "key 'plant.height_m'" world --world "$tmp/huge.yaml"
@@ -53,7 +53,7 @@ expect_error "excludes" render --base 0,0,0 --camera-pose 0,0,1,1,0,0,0
 expect_error "--joints: value '7,0,0,0,0,0' is outside the joint limits" render --joints 7,0,0,0,0,0
 
 # Messages tell the truth.
-expect_error "unknown command 'frobnicate' for 'canopy'; the commands are: world, render, run, map, ablate, reach, bench" frobnicate
+expect_error "unknown command 'frobnicate' for 'canopy'; the commands are: world, render, run, mission, map, ablate, reach, bench" frobnicate
 expect_error "unknown command 'frobnicate' for 'canopy bench'; the commands are: render, map, gain, motion" bench frobnicate
 expect_error "--summarize-only: no finished jobs" ablate --quick --summarize-only
 

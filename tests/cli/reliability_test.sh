@@ -79,7 +79,7 @@ PY
 mkdir -p "$tmp/bin"
 printf '#!/bin/sh\nhead -c 100000 > /dev/null\nexit 1\n' > "$tmp/bin/ffmpeg"
 chmod +x "$tmp/bin/ffmpeg"
-msg=$(PATH="$tmp/bin:$PATH" "$canopy" run --video "$tmp/run.mp4" --out "$tmp/run" 2>&1 >/dev/null); code=$?
+msg=$(PATH="$tmp/bin:$PATH" "$canopy" run --world worlds/small.yaml --views-per-stop 1 --video "$tmp/run.mp4" --out "$tmp/run" 2>&1 >/dev/null); code=$?
 [[ $code -eq 1 ]] || fail "run with a dying encoder: exit $code (want 1; 141 is death by SIGPIPE)"
 [[ "$msg" == *"the video $tmp/run.mp4 is missing (ffmpeg stopped reading frames after"*"exited with code 1)"* ]] \
   || fail "run with a dying encoder does not say the video is missing: $(tail -2 <<<"$msg")"
