@@ -61,7 +61,8 @@ void add_map_command(CLI::App& app) {
       ->check(CLI::Range(0.0, 1.0));
   sub->add_option("--out", opt->out, "Output folder")->required();
   sub->callback([opt] {
-    mapping::MappingConfig cfg = load_settings(opt->config).mapping;
+    mission::Settings bundle = load_settings(opt->config);
+    mapping::MappingConfig& cfg = bundle.mapping;
     if (!opt->seg.empty()) cfg.extractor.source = perception::label_source_from_string(opt->seg, "--seg");
     if (opt->pgt >= 0.0) cfg.extractor.p_gt = opt->pgt;
     const world::WorldSpec spec = load_world_spec(opt->world);
@@ -76,7 +77,7 @@ void add_map_command(CLI::App& app) {
     perception::SemanticExtractor extractor(cfg.extractor, spec.classes);
     YAML::Emitter mapping_yaml;
     mapping_yaml << cfg.to_yaml();
-    write_file_atomic(out.path("settings.yaml"), std::string(mapping_yaml.c_str()) + "\n");  // a loadable --config
+    write_file_atomic(out.path("settings.yaml"), bundle.to_yaml_text());  // a loadable --config
     nlohmann::json settings = settings_json("map", spec);
     settings["views"] = opt->views;
     settings["view_poses"] = nlohmann::json::array();

@@ -87,7 +87,7 @@ class MissionVideo {
     k.fx_px = k.fy_px = 0.5 * h / std::tan(0.5 * 60.0 * M_PI / 180.0);  // 60 degree vertical field of view
     k.min_range_m = 0.01;
     k.max_range_m = 50.0;
-    renderer_ = std::make_unique<sim::Renderer>(sim, k, sim::RenderOptions{true, 1});
+    renderer_ = std::make_unique<sim::Renderer>(sim, k, sim::RenderOptions{true, 1, false});
   }
   void tick(sim::Simulator& sim, const std::string& caption) {
     if (!writer_.ok()) return;  // the encoder died: the run goes on without the video

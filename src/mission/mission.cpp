@@ -96,7 +96,7 @@ struct Mission::Impl {
 
   Impl(const world::World& w, const Settings& s, const MissionOptions& o, MissionCallbacks cb)
       : world(w), settings(s), options(o), callbacks(std::move(cb)), sim(w, default_robot_config()),
-        renderer(sim, w.spec.camera, sim::RenderOptions{false, mix_seed(o.seed, 2)}),
+        renderer(sim, w.spec.camera, sim::RenderOptions{false, mix_seed(o.seed, 2), /*self_filter=*/true}),
         model(motion::RobotModel::load(sim.robot_config())), workspace(model, s.motion.workspace),
         map_env(motion::CollisionEnvironment::empty(s.mapping.map.resolution_m)),
         map_checker(model, s.motion.collision, map_env), planner(map_checker, s.motion.planner, s.motion.trajectory),
@@ -210,7 +210,8 @@ struct Mission::Impl {
     map_env->update(occupied, freed);
   }
 
-  ViewRecord attempt(const nbv::PlannedView& view, ViewPhase phase) {
+  // A new attempt's record.
+  ViewRecord open_record(const nbv::PlannedView& view, ViewPhase phase) const {
     ViewRecord rec;
     rec.attempt = current_attempt;
     rec.stop = current_stop;
@@ -219,21 +220,29 @@ struct Mission::Impl {
     rec.T_goal = view.T_world_camera;
     rec.gain = view.gain;
     rec.cluster = view.cluster;
+    return rec;
+  }
+
+  // Ends an attempt: its outcome ("" = success), the figures after it, the counters.
+  ViewRecord& close_record(ViewRecord& rec, const std::string& cause, const std::string& message) {
+    rec.failure = cause;
+    rec.message = message;
+    rec.success = cause.empty();
+    rec.successful_views = result.successful_views() + rec.success;
+    rec.coverage = last_metrics.coverage;
+    rec.entropy = last_metrics.total_entropy;
+    rec.sim_time_s = sim.time();
+    if (!rec.success) ++result.failures[cause];
+    result.times.merge(rec.times);
+    ++current_attempt;
+    return rec;
+  }
+
+  ViewRecord attempt(const nbv::PlannedView& view, ViewPhase phase) {
+    ViewRecord rec = open_record(view, phase);
     const BasePose base = sim.base_pose();
     const ArmConfig q0 = sim.arm_positions();
-    auto finish = [&](const std::string& cause, const std::string& message) {
-      rec.failure = cause;
-      rec.message = message;
-      rec.success = cause.empty();
-      rec.successful_views = result.successful_views() + rec.success;
-      rec.coverage = last_metrics.coverage;
-      rec.entropy = last_metrics.total_entropy;
-      rec.sim_time_s = sim.time();
-      if (!rec.success) ++result.failures[cause];
-      result.times.merge(rec.times);
-      ++current_attempt;
-      return rec;
-    };
+    auto finish = [&](const std::string& cause, const std::string& message) { return close_record(rec, cause, message); };
 
     // Motion planning: IK, then OMPL against the map.
     motion::PlanResult plan;
@@ -289,7 +298,7 @@ struct Mission::Impl {
       ScopedPhase phase_time(rec.times, kEvaluation);
       last_metrics = mapping::evaluate_map(map, world.truth, settings.mapping.metrics);
     }
-    finish("", "camera within tolerance");
+    close_record(rec, "", "camera within tolerance");
     if (callbacks.on_view) callbacks.on_view(rec, frame, sim);
     update_caption();
     return rec;
@@ -360,22 +369,8 @@ struct Mission::Impl {
 
   void record_unreachable(const std::vector<nbv::PlannedView>& views, ViewPhase phase) {
     for (const nbv::PlannedView& v : views) {
-      ViewRecord r;
-      r.attempt = current_attempt++;
-      r.stop = current_stop;
-      r.phase = phase;
-      r.source = phase == ViewPhase::kInitial ? "initial" : v.source;
-      r.T_goal = v.T_world_camera;
-      r.gain = v.gain;
-      r.cluster = v.cluster;
-      r.failure = failure::kNoIk;
-      r.message = "no IK solution within the joint limits";
-      r.successful_views = result.successful_views();
-      r.coverage = last_metrics.coverage;
-      r.entropy = last_metrics.total_entropy;
-      r.sim_time_s = sim.time();
-      ++result.failures[r.failure];
-      record(r);
+      ViewRecord r = open_record(v, phase);
+      record(close_record(r, failure::kNoIk, "no IK solution within the joint limits"));
     }
   }
 

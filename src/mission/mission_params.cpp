@@ -10,21 +10,6 @@ namespace canopy::mission {
 
 namespace {
 
-double finite(YamlReader& y, const std::string& key, double fallback) {
-  const double v = y.get(key, fallback);
-  y.check(std::isfinite(v), key, "must be finite");
-  return v;
-}
-double positive(YamlReader& y, const std::string& key, double fallback) {
-  const double v = finite(y, key, fallback);
-  y.check(v > 0.0, key, "must be > 0");
-  return v;
-}
-int count(YamlReader& y, const std::string& key, int fallback, int lo, int hi) {
-  const int v = y.get(key, fallback);
-  y.check(v >= lo && v <= hi, key, "must be in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
-  return v;
-}
 std::vector<double> list(YamlReader& y, const std::string& key, const std::vector<double>& fallback) {
   const std::vector<double> v = y.get(key, fallback);
   for (double x : v) y.check(std::isfinite(x), key, "must hold finite numbers");
@@ -38,21 +23,21 @@ MissionParams MissionParams::from_yaml(YamlReader& y) {
   {
     YamlReader c = y.child("stops");
     auto& q = p.stops;
-    q.count = count(c, "count", q.count, 1, 1000);
+    q.count = get_count(c, "count", q.count, 1, 1000);
     q.positions_m = list(c, "positions_m", q.positions_m);
-    q.base_y_m = finite(c, "base_y_m", q.base_y_m);
-    q.timeout_s = positive(c, "timeout_s", q.timeout_s);
+    q.base_y_m = get_finite(c, "base_y_m", q.base_y_m);
+    q.timeout_s = get_positive(c, "timeout_s", q.timeout_s);
     c.finish();
   }
   {
     YamlReader c = y.child("scan");
     auto& q = p.scan;
-    q.distance_m = positive(c, "distance_m", q.distance_m);
+    q.distance_m = get_positive(c, "distance_m", q.distance_m);
     q.azimuths_deg = list(c, "azimuths_deg", q.azimuths_deg);
     q.heights_m = list(c, "heights_m", q.heights_m);
     q.extra_heights_m = list(c, "extra_heights_m", q.extra_heights_m);
     q.lateral_m = list(c, "lateral_m", q.lateral_m);
-    q.along_m = finite(c, "along_m", q.along_m);
+    q.along_m = get_finite(c, "along_m", q.along_m);
     c.check(!q.azimuths_deg.empty(), "azimuths_deg", "needs at least one azimuth");
     for (double a : q.azimuths_deg) c.check(std::abs(a) < 90.0, "azimuths_deg", "must lie in (-90, 90) degrees");
     c.finish();
@@ -60,22 +45,22 @@ MissionParams MissionParams::from_yaml(YamlReader& y) {
   {
     YamlReader c = y.child("loop");
     auto& q = p.loop;
-    q.views_per_stop = count(c, "views_per_stop", q.views_per_stop, 0, 10000);
-    q.max_rounds = count(c, "max_rounds", q.max_rounds, 0, 10000);
-    q.max_attempts = count(c, "max_attempts", q.max_attempts, 0, 100000);
-    q.region_half_length_m = positive(c, "region_half_length_m", q.region_half_length_m);
-    q.region_half_width_m = positive(c, "region_half_width_m", q.region_half_width_m);
-    q.region_min_z_m = finite(c, "region_min_z_m", q.region_min_z_m);
-    q.region_max_z_m = finite(c, "region_max_z_m", q.region_max_z_m);
+    q.views_per_stop = get_count(c, "views_per_stop", q.views_per_stop, 0, 10000);
+    q.max_rounds = get_count(c, "max_rounds", q.max_rounds, 0, 10000);
+    q.max_attempts = get_count(c, "max_attempts", q.max_attempts, 0, 100000);
+    q.region_half_length_m = get_positive(c, "region_half_length_m", q.region_half_length_m);
+    q.region_half_width_m = get_positive(c, "region_half_width_m", q.region_half_width_m);
+    q.region_min_z_m = get_finite(c, "region_min_z_m", q.region_min_z_m);
+    q.region_max_z_m = get_finite(c, "region_max_z_m", q.region_max_z_m);
     c.check(q.region_max_z_m > q.region_min_z_m, "region_max_z_m", "must be above region_min_z_m");
     c.finish();
   }
   {
     YamlReader c = y.child("record");
     auto& q = p.record;
-    q.truth_voxel_m = positive(c, "truth_voxel_m", q.truth_voxel_m);
+    q.truth_voxel_m = get_positive(c, "truth_voxel_m", q.truth_voxel_m);
     c.check(q.truth_voxel_m >= 0.002 && q.truth_voxel_m <= 0.2, "truth_voxel_m", "must be in [0.002, 0.2] m");
-    q.base_check_period_s = positive(c, "base_check_period_s", q.base_check_period_s);
+    q.base_check_period_s = get_positive(c, "base_check_period_s", q.base_check_period_s);
     q.metrics_every_view = c.get("metrics_every_view", q.metrics_every_view);
     c.finish();
   }

@@ -6,46 +6,25 @@
 
 namespace canopy::nbv {
 
-namespace {
-
-double real(YamlReader& y, const std::string& key, double fallback) {
-  const double v = y.get(key, fallback);
-  y.check(std::isfinite(v), key, "must be a finite number");
-  return v;
-}
-
-double positive(YamlReader& y, const std::string& key, double fallback) {
-  const double v = real(y, key, fallback);
-  y.check(v > 0.0, key, "must be > 0");
-  return v;
-}
-
-int count(YamlReader& y, const std::string& key, int fallback, int lo, int hi) {
-  const int v = y.get(key, fallback);
-  y.check(v >= lo && v <= hi, key, "must be in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
-  return v;
-}
-
-}  // namespace
 
 NbvParams NbvParams::from_yaml(YamlReader& y) {
   NbvParams p;
   {
     YamlReader c = y.child("cluster");
-    p.cluster.min_logodds = real(c, "min_logodds", p.cluster.min_logodds);
-    p.cluster.epsilon_m = positive(c, "epsilon_m", p.cluster.epsilon_m);
-    p.cluster.min_points = count(c, "min_points", p.cluster.min_points, 1, 1000000);
+    p.cluster.min_logodds = get_finite(c, "min_logodds", p.cluster.min_logodds);
+    p.cluster.epsilon_m = get_positive(c, "epsilon_m", p.cluster.epsilon_m);
+    p.cluster.min_points = get_count(c, "min_points", p.cluster.min_points, 1, 1000000);
     c.finish();
   }
   {
     YamlReader c = y.child("candidates");
     auto& q = p.candidates;
-    q.radius_m = positive(c, "radius_m", q.radius_m);
-    q.polar_count = count(c, "polar_count", q.polar_count, 1, 1000);
-    q.polar_min_deg = real(c, "polar_min_deg", q.polar_min_deg);
-    q.polar_max_deg = real(c, "polar_max_deg", q.polar_max_deg);
-    q.azimuth_count = count(c, "azimuth_count", q.azimuth_count, 1, 1000);
-    q.min_height_m = real(c, "min_height_m", q.min_height_m);
+    q.radius_m = get_positive(c, "radius_m", q.radius_m);
+    q.polar_count = get_count(c, "polar_count", q.polar_count, 1, 1000);
+    q.polar_min_deg = get_finite(c, "polar_min_deg", q.polar_min_deg);
+    q.polar_max_deg = get_finite(c, "polar_max_deg", q.polar_max_deg);
+    q.azimuth_count = get_count(c, "azimuth_count", q.azimuth_count, 1, 1000);
+    q.min_height_m = get_finite(c, "min_height_m", q.min_height_m);
     c.check(q.polar_min_deg >= 0.0 && q.polar_min_deg <= 180.0, "polar_min_deg", "must be in [0, 180]");
     c.check(q.polar_max_deg >= q.polar_min_deg && q.polar_max_deg <= 180.0, "polar_max_deg",
             "must be in [polar_min_deg, 180]");
@@ -54,11 +33,11 @@ NbvParams NbvParams::from_yaml(YamlReader& y) {
   {
     YamlReader c = y.child("rays");
     auto& q = p.rays;
-    q.cluster_size_m = positive(c, "cluster_size_m", q.cluster_size_m);
-    q.step_m = positive(c, "step_m", q.step_m);
-    q.dense_grid = count(c, "dense_grid", q.dense_grid, 1, 4096);
-    q.sparse_grid = count(c, "sparse_grid", q.sparse_grid, 1, 4096);
-    q.depth_margin_m = real(c, "depth_margin_m", q.depth_margin_m);
+    q.cluster_size_m = get_positive(c, "cluster_size_m", q.cluster_size_m);
+    q.step_m = get_positive(c, "step_m", q.step_m);
+    q.dense_grid = get_count(c, "dense_grid", q.dense_grid, 1, 4096);
+    q.sparse_grid = get_count(c, "sparse_grid", q.sparse_grid, 1, 4096);
+    q.depth_margin_m = get_finite(c, "depth_margin_m", q.depth_margin_m);
     c.check(q.depth_margin_m >= 0.0, "depth_margin_m", "must be >= 0");
     // The window grid has (cluster_size / step)^2 rays: keep it a grid, not a flood.
     c.check(q.cluster_size_m / q.step_m <= 512.0, "step_m", "is too small for cluster_size_m (more than 512 x 512 rays)");
@@ -67,11 +46,11 @@ NbvParams NbvParams::from_yaml(YamlReader& y) {
   {
     YamlReader c = y.child("gain");
     auto& q = p.gain;
-    q.max_dist_m = positive(c, "max_dist_m", q.max_dist_m);
-    q.ae_stop_occupancy = real(c, "ae_stop_occupancy", q.ae_stop_occupancy);
-    q.unknown_low = real(c, "unknown_low", q.unknown_low);
-    q.unknown_high = real(c, "unknown_high", q.unknown_high);
-    q.uvpc_base_weight = real(c, "uvpc_base_weight", q.uvpc_base_weight);
+    q.max_dist_m = get_positive(c, "max_dist_m", q.max_dist_m);
+    q.ae_stop_occupancy = get_finite(c, "ae_stop_occupancy", q.ae_stop_occupancy);
+    q.unknown_low = get_finite(c, "unknown_low", q.unknown_low);
+    q.unknown_high = get_finite(c, "unknown_high", q.unknown_high);
+    q.uvpc_base_weight = get_finite(c, "uvpc_base_weight", q.uvpc_base_weight);
     c.check(q.ae_stop_occupancy > 0.0 && q.ae_stop_occupancy <= 1.0, "ae_stop_occupancy", "must be in (0, 1]");
     c.check(q.unknown_low >= 0.0 && q.unknown_low <= 1.0, "unknown_low", "must be in [0, 1]");
     c.check(q.unknown_high >= q.unknown_low && q.unknown_high <= 1.0, "unknown_high", "must be in [unknown_low, 1]");
@@ -79,31 +58,31 @@ NbvParams NbvParams::from_yaml(YamlReader& y) {
   }
   {
     YamlReader c = y.child("planner");
-    p.planner.top_k = count(c, "top_k", p.planner.top_k, 1, 1000);
+    p.planner.top_k = get_count(c, "top_k", p.planner.top_k, 1, 1000);
     c.finish();
   }
   {
     YamlReader c = y.child("views");
     auto& q = p.views;
-    q.taken_position_m = positive(c, "taken_position_m", q.taken_position_m);
-    q.taken_angle_deg = positive(c, "taken_angle_deg", q.taken_angle_deg);
-    q.done_epsilon_m = positive(c, "done_epsilon_m", q.done_epsilon_m);
+    q.taken_position_m = get_positive(c, "taken_position_m", q.taken_position_m);
+    q.taken_angle_deg = get_positive(c, "taken_angle_deg", q.taken_angle_deg);
+    q.done_epsilon_m = get_positive(c, "done_epsilon_m", q.done_epsilon_m);
     c.finish();
   }
   {
     YamlReader c = y.child("frontier");
     auto& q = p.frontier;
-    q.max_targets = count(c, "max_targets", q.max_targets, 1, 100000);
-    q.min_view_distance_m = positive(c, "min_view_distance_m", q.min_view_distance_m);
-    q.max_view_distance_m = positive(c, "max_view_distance_m", q.max_view_distance_m);
-    q.roi_inflation_radius_m = positive(c, "roi_inflation_radius_m", q.roi_inflation_radius_m);
-    q.roi_inflation_resolution_m = positive(c, "roi_inflation_resolution_m", q.roi_inflation_resolution_m);
-    q.unknown_low = real(c, "unknown_low", q.unknown_low);
-    q.unknown_high = real(c, "unknown_high", q.unknown_high);
-    q.unknown_weight = real(c, "unknown_weight", q.unknown_weight);
-    q.roi_weight = real(c, "roi_weight", q.roi_weight);
-    q.distance_cost_per_m = real(c, "distance_cost_per_m", q.distance_cost_per_m);
-    q.roi_utility_threshold = real(c, "roi_utility_threshold", q.roi_utility_threshold);
+    q.max_targets = get_count(c, "max_targets", q.max_targets, 1, 100000);
+    q.min_view_distance_m = get_positive(c, "min_view_distance_m", q.min_view_distance_m);
+    q.max_view_distance_m = get_positive(c, "max_view_distance_m", q.max_view_distance_m);
+    q.roi_inflation_radius_m = get_positive(c, "roi_inflation_radius_m", q.roi_inflation_radius_m);
+    q.roi_inflation_resolution_m = get_positive(c, "roi_inflation_resolution_m", q.roi_inflation_resolution_m);
+    q.unknown_low = get_finite(c, "unknown_low", q.unknown_low);
+    q.unknown_high = get_finite(c, "unknown_high", q.unknown_high);
+    q.unknown_weight = get_finite(c, "unknown_weight", q.unknown_weight);
+    q.roi_weight = get_finite(c, "roi_weight", q.roi_weight);
+    q.distance_cost_per_m = get_finite(c, "distance_cost_per_m", q.distance_cost_per_m);
+    q.roi_utility_threshold = get_finite(c, "roi_utility_threshold", q.roi_utility_threshold);
     c.check(q.max_view_distance_m >= q.min_view_distance_m, "max_view_distance_m", "must be >= min_view_distance_m");
     c.check(q.unknown_low >= 0.0 && q.unknown_low <= 1.0, "unknown_low", "must be in [0, 1]");
     c.check(q.unknown_high >= q.unknown_low && q.unknown_high <= 1.0, "unknown_high", "must be in [unknown_low, 1]");

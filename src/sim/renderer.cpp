@@ -193,6 +193,7 @@ LabelledFrame Renderer::draw(const Pose& T_world_camera, bool show_robot, bool l
             const GeomLabel& label = sim_.geom_label(geom.objid);
             f.class_id.at(x, y) = static_cast<std::uint8_t>(label.class_id);
             f.instance.at(x, y) = label.instance_id;
+            if (label.robot && options_.self_filter) f.depth_m.at(x, y) = 0.f;
           }
         }
       }

@@ -111,14 +111,14 @@ class RobotWriter {
       if (is_world && li == body_link) continue;
       for (const auto& s : l.visuals) {
         const std::string name = kRobotPrefix + s.name;
-        scene_->labels[name] = GeomLabel{robot_class_, kNoInstance};
+        scene_->labels[name] = GeomLabel{robot_class_, kNoInstance, true};
         os << ind << "<geom name=\"" << name << "\" " << shape_geom(s, T * s.T_link_shape) << " group=\""
            << kGroupRobotVisual << "\" contype=\"0\" conaffinity=\"0\" rgba=\"" << s.rgba[0] << " " << s.rgba[1]
            << " " << s.rgba[2] << " " << s.rgba[3] << "\"/>\n";
       }
       for (const auto& s : l.collisions) {
         const std::string name = kRobotPrefix + s.name;
-        scene_->labels[name] = GeomLabel{robot_class_, kNoInstance};
+        scene_->labels[name] = GeomLabel{robot_class_, kNoInstance, true};
         os << ind << "<geom name=\"" << name << "\" " << shape_geom(s, T * s.T_link_shape) << " group=\""
            << kGroupRobotCollision << "\" contype=\"1\" conaffinity=\"1\" rgba=\"0.9 0.3 0.3 0.4\"/>\n";
       }
@@ -206,14 +206,14 @@ SceneDescription make_scene_mjcf(const world::World& world, const robot::RobotDe
      << "    <light name=\"sun\" directional=\"true\" pos=\"0 0 5\" dir=\"-0.3 0.2 -1\" diffuse=\"0.55 0.55 0.55\" specular=\"0.05 0.05 0.05\" castshadow=\"true\"/>\n"
      << "    <geom name=\"ground\" type=\"plane\" size=\"30 30 0.1\" material=\"ground\" group=\"" << kGroupGround
      << "\" contype=\"1\" conaffinity=\"1\"/>\n";
-  scene.labels["ground"] = GeomLabel{spec.class_of("ground"), kNoInstance};
+  scene.labels["ground"] = GeomLabel{spec.class_of("ground"), kNoInstance, false};
   for (const auto& plant : world.plants)
     for (const auto& part : plant.parts) {
       if (!options.include_plants) break;
       os << "    <geom name=\"" << part.name << "\" type=\"mesh\" mesh=\"" << part.name << "\" material=\"plant\" rgba=\""
          << part.rgba[0] << " " << part.rgba[1] << " " << part.rgba[2] << " 1\" group=\"" << kGroupPlants
          << "\" contype=\"0\" conaffinity=\"0\"/>\n";
-      scene.labels[part.name] = GeomLabel{part.class_id, part.instance_id};
+      scene.labels[part.name] = GeomLabel{part.class_id, part.instance_id, false};
     }
   RobotWriter(robot, cfg, spec.class_of("robot"), spec.camera.fovy_deg(), &scene).write(os);
   os << "  </worldbody>\n  <actuator>\n";

@@ -89,11 +89,11 @@ TEST(Renderer, LabelsAreRightForEveryGeomAndDepthRangeIsApplied) {
     const std::string name = "box" + std::to_string(i);
     body += "<geom name=\"" + name + "\" type=\"box\" size=\"0.03 0.03 0.03\" pos=\"" + std::to_string(-0.25 + 0.1 * i) +
             " 0.6 0\"/>";
-    scene.labels[name] = GeomLabel{1 + i % 2, i % 2 == 1 ? 100 + i : kNoInstance};
+    scene.labels[name] = GeomLabel{1 + i % 2, i % 2 == 1 ? 100 + i : kNoInstance, false};
   }
   // A far box beyond the max range: labelled but with invalid depth.
   body += "<geom name=\"far\" type=\"box\" size=\"0.2 0.01 0.2\" pos=\"0 1.8 0.3\"/>";
-  scene.labels["far"] = GeomLabel{1, kNoInstance};
+  scene.labels["far"] = GeomLabel{1, kNoInstance, false};
   scene.mjcf = scene_xml(body);
   Simulator sim(scene);
   CameraIntrinsics K;

@@ -74,4 +74,23 @@ T YamlReader::require(const std::string& key) {
   }
 }
 
+/// A finite number (or `fallback` when absent); fails naming the key otherwise.
+inline double get_finite(YamlReader& y, const std::string& key, double fallback) {
+  const double v = y.get(key, fallback);
+  y.check(v == v && v - v == 0.0, key, "must be a finite number");
+  return v;
+}
+/// A finite number > 0.
+inline double get_positive(YamlReader& y, const std::string& key, double fallback) {
+  const double v = get_finite(y, key, fallback);
+  y.check(v > 0.0, key, "must be > 0");
+  return v;
+}
+/// An integer in [lo, hi].
+inline int get_count(YamlReader& y, const std::string& key, int fallback, int lo, int hi) {
+  const int v = y.get(key, fallback);
+  y.check(v >= lo && v <= hi, key, "must be in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+  return v;
+}
+
 }  // namespace canopy

@@ -15,6 +15,10 @@ namespace canopy::sim {
 struct RenderOptions {
   bool shadows = false;         ///< Shadows in the RGB pass only (they cost 3-4x).
   std::uint64_t noise_seed = 1; ///< Seed of the depth noise (CameraIntrinsics::depth_noise_k).
+  /// Robot self-filter: pixels showing the robot itself get no depth (as a real RGB-D
+  /// pipeline masks the robot out), so a map built from the wrist camera never holds the
+  /// robot. Needs the segmentation pass (labels).
+  bool self_filter = false;
 };
 
 /// Renders frames of a Simulator's scene. It owns an OSMesa context and a MuJoCo render

@@ -17,6 +17,7 @@ namespace canopy::sim {
 struct GeomLabel {
   int class_id = 0;
   int instance_id = kNoInstance;
+  bool robot = false;  ///< A geom of the robot itself.
 };
 
 /// Geom groups used in generated scenes (mjvOption::geomgroup).
