@@ -76,8 +76,8 @@ void VideoWriter::write(const Image<Rgb8>& frame) {
   ++frames_;
 }
 
-bool VideoWriter::close() {
-  if (!encoder_) return ok();
+void VideoWriter::close() {
+  if (!encoder_) return;
   if (ok()) {
     const ProcessStatus status = encoder_->wait();
     if (!status.ok()) {
@@ -89,7 +89,7 @@ bool VideoWriter::close() {
     }
   }
   encoder_.reset();
-  return ok();
+  if (!ok()) throw std::runtime_error(error_);
 }
 
 }  // namespace canopy
