@@ -88,12 +88,8 @@ void add_run_command(CLI::App& app) {
     }
     const mission::SurveyResult survey = mission::run_aisle_survey(sim, renderer, spec, mission::SurveyParams{}, callbacks);
     if (video) {  // an encoder failure loses only the video, not the run
-      try {
-        video->close();
-        spdlog::info("wrote {} ({} frames)", opt->video, video->frames());
-      } catch (const std::runtime_error& e) {
-        spdlog::error("the video {} is missing: {}", opt->video, e.what());
-      }
+      if (video->close()) spdlog::info("wrote {} ({} frames)", opt->video, video->frames());
+      else spdlog::error("the video {} is missing: {}", opt->video, video->error());
     }
 
     // The survey's views, mapped into a semantic octree as the paper's predefined scan.

@@ -76,8 +76,8 @@ void VideoWriter::write(const Image<Rgb8>& frame) {
   ++frames_;
 }
 
-void VideoWriter::close() {
-  if (!encoder_) return;
+bool VideoWriter::close() {
+  if (!encoder_) return ok();
   if (ok()) {
     const ProcessStatus status = encoder_->wait();
     if (!status.ok()) {
@@ -89,7 +89,7 @@ void VideoWriter::close() {
     }
   }
   encoder_.reset();
-  if (!ok()) throw std::runtime_error(error_);
+  return ok();
 }
 
 }  // namespace canopy

@@ -79,8 +79,7 @@ TEST(VideoWriter, EncoderThatDiesIsReportedNotFatal) {
   EXPECT_FALSE(video.ok());
   EXPECT_NE(video.error().find("exited with code 7"), std::string::npos) << video.error();
   EXPECT_LT(video.frames(), 50);
-  EXPECT_THROW(video.close(), std::runtime_error);
-  EXPECT_NO_THROW(video.close());  // once
+  EXPECT_FALSE(video.close());
   EXPECT_FALSE(fs::exists(path));
   EXPECT_FALSE(fs::exists(path + ".partial.mp4"));
 }
@@ -92,15 +91,8 @@ TEST(VideoWriter, EncoderFailingAtTheEndIsReported) {
   VideoWriter video(path, 64, 48, 25.0);
   for (int i = 0; i < 5; ++i) video.write(frame(64, 48, 10));
   EXPECT_EQ(video.frames(), 5);
-  EXPECT_TRUE(video.ok());  // the failure shows when the encoder ends
-  try {
-    video.close();
-    ADD_FAILURE() << "close() did not report the encoder's failure";
-  } catch (const std::runtime_error& e) {
-    EXPECT_NE(std::string(e.what()).find("exited with code 1"), std::string::npos) << e.what();
-  }
-  EXPECT_FALSE(video.ok());
-  EXPECT_EQ(video.error().find("ffmpeg failed writing"), 0u) << video.error();
+  EXPECT_FALSE(video.close());
+  EXPECT_NE(video.error().find("exited with code 1"), std::string::npos) << video.error();
   EXPECT_FALSE(fs::exists(path));
 }
 
@@ -111,8 +103,7 @@ TEST(VideoWriter, WritesAPlayableFileWithRealFfmpeg) {
   {
     VideoWriter video(path, 64, 48, 25.0);
     for (int i = 0; i < 10; ++i) video.write(frame(64, 48, static_cast<std::uint8_t>(20 * i)));
-    EXPECT_NO_THROW(video.close());
-    EXPECT_TRUE(video.ok()) << video.error();
+    EXPECT_TRUE(video.close()) << video.error();
     EXPECT_EQ(video.frames(), 10);
   }
   ASSERT_TRUE(fs::exists(path));

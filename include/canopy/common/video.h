@@ -13,7 +13,7 @@ class PipedProcess;
 
 /// Streams same-sized RGB frames into an MP4 file. The file appears under its final name
 /// only after close() succeeds. An encoder that dies mid-run does not end the caller's
-/// run: write() then drops frames, ok() turns false, error() says why and close() throws it.
+/// run: write() then drops frames, ok() turns false and error() says why.
 class VideoWriter {
  public:
   /// Checks the output path (validate_output_path) and starts ffmpeg; throws InputError
@@ -31,9 +31,9 @@ class VideoWriter {
   /// Appends one frame (must match the size given at construction). After an encoder
   /// failure the frame is dropped; nothing throws.
   void write(const Image<Rgb8>& frame);
-  /// Finishes encoding and moves the file into place; throws std::runtime_error with
-  /// error() when the encoder failed (now or during the run). Later calls do nothing.
-  void close();
+  /// Finishes encoding and moves the file into place. Returns ok(); never throws for an
+  /// encoder failure.
+  bool close();
   /// Frames the encoder accepted.
   int frames() const { return frames_; }
   /// False once the encoder has failed (or publishing the file failed).
