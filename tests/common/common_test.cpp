@@ -136,12 +136,14 @@ TEST(Io, StagedDirResumeAddsToCanopyFoldersOnly) {
   {
     StagedDir d(out, Mode::kResume);
     EXPECT_EQ(d.working_dir(), out + ".partial");
+    EXPECT_FALSE(d.resuming());
     write_file_atomic(d.path("a.txt"), "a");
     d.commit();
   }
   {  // resuming writes into the folder itself and keeps what is there, even on failure
     StagedDir d(out, Mode::kResume);
     EXPECT_EQ(d.working_dir(), out);
+    EXPECT_TRUE(d.resuming());
     write_file_atomic(d.make_subdir("jobs/x") + "/b.txt", "b");
   }
   EXPECT_EQ(read_file(out + "/a.txt"), "a");

@@ -75,6 +75,8 @@ class StagedDir {
   /// The folder being written: `<dir>.partial`, or `<dir>` when resuming it in place.
   const std::string& working_dir() const { return working_dir_; }
   const std::string& final_dir() const { return final_dir_; }
+  /// True when the working folder existed already (resume mode): its files may be reused.
+  bool resuming() const { return !created_; }
   /// Publishes the output as `<dir>` (a no-op when resuming `<dir>` in place).
   void commit();
 
