@@ -250,6 +250,8 @@ struct Mission::Impl {
       ScopedPhase phase_time(rec.times, kMotionPlanning);
       const std::vector<ArmConfig> goals = goal_configs(view, base, q0);
       if (goals.empty()) return finish(failure::kNoIk, "no IK solution within the joint limits");
+      // Where the robot is cannot be an obstacle (leaves it brushed aside, seen up close).
+      map_env->clear_robot_volume(model, base, q0, settings.motion.collision.environment_padding_m);
       plan = planner.plan_to_configs(base, q0, goals, mix_seed(options.seed, 1000000 + std::uint64_t(current_attempt)));
     }
     if (!plan.ok()) return finish(failure_of(plan.status), plan.message);

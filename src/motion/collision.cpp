@@ -214,6 +214,64 @@ void CollisionEnvironment::update(const std::vector<Vec3>& occupied, const std::
   if (changed) impl_->octree->computeLocalAABB();
 }
 
+namespace {
+// Distance from a point to a shape (0 inside), in the shape's frame conventions.
+double point_shape_distance(const robot::Shape& s, const Pose& T_world_shape, const Vec3& p_world) {
+  const Vec3 p = T_world_shape.inverse(Eigen::Isometry) * p_world;
+  switch (s.type) {
+    case robot::ShapeType::kBox: return (p.cwiseAbs() - 0.5 * s.box_size).cwiseMax(0.0).norm();
+    case robot::ShapeType::kSphere: return std::max(0.0, p.norm() - s.radius);
+    case robot::ShapeType::kCapsule: {
+      const double z = std::clamp(p.z(), -0.5 * s.length, 0.5 * s.length);
+      return std::max(0.0, (p - Vec3(0, 0, z)).norm() - s.radius);
+    }
+    case robot::ShapeType::kCylinder: {
+      const double radial = std::max(0.0, std::hypot(p.x(), p.y()) - s.radius);
+      const double axial = std::max(0.0, std::abs(p.z()) - 0.5 * s.length);
+      return std::hypot(radial, axial);
+    }
+    case robot::ShapeType::kMesh: break;
+  }
+  return 1e9;
+}
+}  // namespace
+
+std::size_t CollisionEnvironment::clear_robot_volume(const RobotModel& model, const BasePose& base, const ArmConfig& q,
+                                                     double padding_m) {
+  octomap::OcTree& tree = *impl_->octomap;
+  std::vector<Pose> poses;
+  model.body_poses(base, q, &poses);
+  const double reach = padding_m + std::sqrt(3.0) * 0.5 * resolution_m_;  // a voxel cube touching the shape
+  std::vector<octomap::OcTreeKey> hits;
+  for (std::size_t b = 0; b < model.bodies().size(); ++b) {
+    const robot::Shape& shape = model.bodies()[b].shape;
+    Vec3 lo, hi;
+    shape_aabb(shape, poses[b], reach, &lo, &hi);
+    if (!impl_->coarse.any(lo, hi)) continue;  // no voxel near this shape
+    for (auto it = tree.begin_leafs_bbx(octomap::point3d(lo.x(), lo.y(), lo.z()), octomap::point3d(hi.x(), hi.y(), hi.z())),
+              end = tree.end_leafs_bbx();
+         it != end; ++it) {
+      if (!tree.isNodeOccupied(*it)) continue;
+      // A pruned block of occupied voxels is tested voxel by voxel.
+      const int n = static_cast<int>(std::lround(it.getSize() / resolution_m_));
+      const Vec3 corner = Vec3(it.getX(), it.getY(), it.getZ()) - Vec3::Constant(0.5 * it.getSize() - 0.5 * resolution_m_);
+      for (int z = 0; z < n; ++z)
+        for (int y = 0; y < n; ++y)
+          for (int x = 0; x < n; ++x) {
+            const Vec3 c = corner + resolution_m_ * Vec3(x, y, z);
+            octomap::OcTreeKey key;
+            if (point_shape_distance(shape, poses[b], c) <= reach && tree.coordToKeyChecked(c.x(), c.y(), c.z(), key))
+              hits.push_back(key);
+          }
+    }
+  }
+  std::vector<Vec3> freed;
+  for (const octomap::OcTreeKey& k : hits) freed.push_back(Vec3(tree.keyToCoord(k[0]), tree.keyToCoord(k[1]), tree.keyToCoord(k[2])));
+  const std::size_t before = voxel_count_;
+  update({}, freed);
+  return before - voxel_count_;
+}
+
 bool CollisionEnvironment::occupied(const Vec3& p) const {
   const octomap::OcTree& tree = *impl_->octomap;
   octomap::OcTreeKey key;

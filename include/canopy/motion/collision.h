@@ -50,6 +50,10 @@ class CollisionEnvironment {
   void update(const std::vector<Vec3>& occupied, const std::vector<Vec3>& freed);
   /// True when the voxel containing `p` is occupied.
   bool occupied(const Vec3& p) const;
+  /// Frees every occupied voxel whose cube overlaps the robot's shapes (inflated by
+  /// `padding_m`) at (base, q): the space the robot fills cannot hold an obstacle, whatever
+  /// the camera saw there (leaves brushed aside by the arm, sensor noise). Returns the count.
+  std::size_t clear_robot_volume(const RobotModel& model, const BasePose& base, const ArmConfig& q, double padding_m);
   size_t voxel_count() const { return voxel_count_; }
   double resolution_m() const { return resolution_m_; }
 
