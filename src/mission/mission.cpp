@@ -178,12 +178,13 @@ struct Mission::Impl {
     }
     result.times.add(kControl, watch.seconds());
     rec.reached = sim.base_pose();
-    rec.reached_goal = d.reached;
+    // A base that touched the true plants on the way failed its stop, wherever it ended.
+    rec.reached_goal = d.reached && d.contacts == 0;
     rec.base_truth_contacts = d.contacts;
     rec.sim_time_s = sim.time() - t0;
     result.stops.push_back(rec);
     view_planner->begin_stop();
-    return d.reached;
+    return rec.reached_goal;
   }
 
   // The goal configurations of a view: the reachability check's IK answer first.
@@ -473,12 +474,12 @@ struct Mission::Impl {
       for (int k = 0; k < static_cast<int>(stops_x.size()); ++k) {
         const double t0 = sim.time();
         if (!drive_to_stop(k)) {
-          stop_record().end_reason = "base did not reach the stop";
-          progress("stop " + std::to_string(k + 1) + ": the base did not reach its goal; skipping the stop");
+          StopRecord& s = stop_record();
+          s.end_reason = s.base_truth_contacts > 0 ? "the base touched the plants while driving (failed stop)"
+                                                   : "the base did not reach the stop";
+          progress("stop " + std::to_string(k + 1) + ": " + s.end_reason + "; skipping the stop");
           continue;
         }
-        if (stop_record().base_truth_contacts > 0)
-          progress("stop " + std::to_string(k + 1) + ": the base touched the plants while driving");
         scripted(scan_views(k, false), ViewPhase::kInitial);
         nbv_loop(k);
         stop_record().sim_time_s = sim.time() - t0;
@@ -586,6 +587,9 @@ nlohmann::json summary_json(const MissionResult& r) {
                      {"sim_time_s", s.sim_time_s}});
   }
   j["stops"] = stops;
+  bool all_reached = !r.stops.empty();
+  for (const StopRecord& s : r.stops) all_reached = all_reached && s.reached_goal;
+  j["all_stops_reached"] = all_reached;
   j["contacts"] = {{"arm_truth_contact_checks", truth_contacts}, {"base_truth_contact_checks", base_contacts}};
   j["final"] = {{"fruit_coverage", r.final_metrics.coverage},
                 {"fruit_entropy", r.final_metrics.total_entropy},

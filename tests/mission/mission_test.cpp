@@ -129,6 +129,22 @@ TEST(Mission, SameSeedSameViews) {
 
 // --- Faults ------------------------------------------------------------------------------
 
+// A stop whose base pose lies in a plant row: the base's contacts with the true plants are
+// detected while driving and the stop fails (no views are taken there).
+TEST(MissionFaults, BaseDrivingIntoThePlantsFailsTheStop) {
+  const SmallWorld& w = small();
+  Settings s = w.settings;
+  s.mission.stops.base_y_m = 0.55;  // the 0.67 m wide base would reach into the left row at 0.75 m
+  Mission mission(w.world, s, MissionOptions{});
+  const MissionResult r = mission.run();
+  ASSERT_EQ(r.stops.size(), 1u);
+  EXPECT_GT(r.stops[0].base_truth_contacts, 0);
+  EXPECT_FALSE(r.stops[0].reached_goal);
+  EXPECT_NE(r.stops[0].end_reason.find("touched the plants"), std::string::npos) << r.stops[0].end_reason;
+  EXPECT_TRUE(r.views.empty());
+  EXPECT_FALSE(summary_json(r)["all_stops_reached"].get<bool>());
+}
+
 TEST(MissionFaults, PlannerTimeoutIsCountedAndTheMissionGoesOn) {
   const SmallWorld& w = small();
   Settings s = w.settings;

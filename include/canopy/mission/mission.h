@@ -76,8 +76,8 @@ struct ViewRecord {
 struct StopRecord {
   int stop = 0;
   BasePose goal, reached;
-  bool reached_goal = false;
-  int base_truth_contacts = 0;   ///< Base-vs-plant contacts seen while driving here.
+  bool reached_goal = false;     ///< Reached within tolerance without touching the plants.
+  int base_truth_contacts = 0;   ///< Base-vs-plant contacts seen while driving here (geometric).
   int initial_attempted = 0, initial_ok = 0;
   int nbv_attempted = 0, nbv_ok = 0;
   int rounds = 0;
