@@ -214,8 +214,6 @@ void CollisionEnvironment::update(const std::vector<Vec3>& occupied, const std::
   if (changed) impl_->octree->computeLocalAABB();
 }
 
-namespace {
-// Distance from a point to a shape (0 inside), in the shape's frame conventions.
 double point_shape_distance(const robot::Shape& s, const Pose& T_world_shape, const Vec3& p_world) {
   const Vec3 p = T_world_shape.inverse(Eigen::Isometry) * p_world;
   switch (s.type) {
@@ -234,7 +232,6 @@ double point_shape_distance(const robot::Shape& s, const Pose& T_world_shape, co
   }
   return 1e9;
 }
-}  // namespace
 
 std::size_t CollisionEnvironment::clear_robot_volume(const RobotModel& model, const BasePose& base, const ArmConfig& q,
                                                      double padding_m) {

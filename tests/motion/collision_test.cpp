@@ -28,28 +28,6 @@ ArmConfig random_config(std::mt19937& rng) {
   return q;
 }
 
-// Slow reference: distance from a point to a shape (0 inside), from the shape's definition.
-double point_shape_distance(const robot::Shape& s, const Pose& T_world_shape, const Vec3& p_world) {
-  const Vec3 p = T_world_shape.inverse(Eigen::Isometry) * p_world;
-  switch (s.type) {
-    case robot::ShapeType::kBox: {
-      const Vec3 d = (p.cwiseAbs() - 0.5 * s.box_size).cwiseMax(0.0);
-      return d.norm();
-    }
-    case robot::ShapeType::kSphere: return std::max(0.0, p.norm() - s.radius);
-    case robot::ShapeType::kCapsule: {
-      const double z = std::clamp(p.z(), -0.5 * s.length, 0.5 * s.length);
-      return std::max(0.0, (p - Vec3(0, 0, z)).norm() - s.radius);
-    }
-    case robot::ShapeType::kCylinder: {
-      const double radial = std::max(0.0, std::hypot(p.x(), p.y()) - s.radius);
-      const double axial = std::max(0.0, std::abs(p.z()) - 0.5 * s.length);
-      return std::hypot(radial, axial);
-    }
-    case robot::ShapeType::kMesh: break;
-  }
-  return 1e9;
-}
 
 TEST(Collision, HomeIsFreeAndNanIsNot) {
   const CollisionChecker checker(model(), CollisionParams{});

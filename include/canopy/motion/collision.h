@@ -79,6 +79,10 @@ struct CollisionReport {
   std::vector<std::string> pairs;  ///< "shape_a | shape_b", "shape | map", "shape | ground".
 };
 
+/// Distance from a world point to a robot shape posed at T_world_shape (0 inside): the exact
+/// geometry FCL's shapes stand for.
+double point_shape_distance(const robot::Shape& shape, const Pose& T_world_shape, const Vec3& p_world);
+
 /// Collision checks for one robot model in one environment. All queries are const and
 /// thread-safe (no shared mutable state).
 class CollisionChecker {
