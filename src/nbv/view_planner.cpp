@@ -88,7 +88,6 @@ class OursPlanner : public ViewPlanner {
     return batch;
   }
 
-  void begin_stop() override {}
 
  private:
   ViewPlannerSettings settings_;

@@ -48,6 +48,17 @@ constexpr const char* kNotReached = "not_reached";              ///< Executed, c
 constexpr const char* kUnstable = "unstable";                   ///< The simulation diverged (restored).
 }  // namespace failure
 
+/// Phases of the wall-time split (the paper's Fig. 4 plus rendering and evaluation); the
+/// view planners add clustering, candidates, filtering and scoring.
+namespace phase {
+constexpr const char* kMapping = "mapping";
+constexpr const char* kNbvPlanning = "nbv_planning";
+constexpr const char* kMotionPlanning = "motion_planning";
+constexpr const char* kControl = "control";
+constexpr const char* kRendering = "rendering";
+constexpr const char* kEvaluation = "evaluation";
+}  // namespace phase
+
 /// One attempted view.
 struct ViewRecord {
   int attempt = 0;               ///< Attempt number over the mission (0-based).

@@ -1,0 +1,94 @@
+// The files a mission leaves: views.csv, timing.csv and the body of summary.json.
+
+#include "canopy/mission/mission.h"
+
+#include <cstdio>
+
+namespace canopy::mission {
+
+namespace {
+std::string num(double x) {
+  char b[40];
+  std::snprintf(b, sizeof b, "%.9g", x);
+  return b;
+}
+}  // namespace
+
+std::string views_csv(const MissionResult& r, const std::string& method) {
+  std::string s =
+      "attempt,stop,method,phase,source,success,failure,goal_x,goal_y,goal_z,reached_x,reached_y,reached_z,"
+      "reached_qw,reached_qx,reached_qy,reached_qz,position_error_m,angle_error_deg,gain,cluster,successful_views,"
+      "coverage,entropy,sim_time_s,move_time_s,truth_contacts,self_contacts\n";
+  for (const ViewRecord& v : r.views) {
+    const Vec3 g = v.T_goal.translation(), p = v.T_reached.translation();
+    const Quat q(v.T_reached.linear());
+    s += std::to_string(v.attempt) + "," + std::to_string(v.stop) + "," + method + "," + to_string(v.phase) + "," +
+         v.source + "," + (v.success ? "1" : "0") + "," + v.failure + "," + num(g.x()) + "," + num(g.y()) + "," +
+         num(g.z()) + "," + (v.success ? num(p.x()) + "," + num(p.y()) + "," + num(p.z()) + "," + num(q.w()) + "," +
+                                             num(q.x()) + "," + num(q.y()) + "," + num(q.z())
+                                       : std::string(",,,,,,")) +
+         "," + num(v.position_error_m) + "," + num(v.angle_error_rad * 180.0 / M_PI) + "," + num(v.gain) + "," +
+         std::to_string(v.cluster) + "," + std::to_string(v.successful_views) + "," + num(v.coverage) + "," +
+         num(v.entropy) + "," + num(v.sim_time_s) + "," + num(v.move_time_s) + "," + std::to_string(v.truth_contacts) +
+         "," + std::to_string(v.self_contacts) + "\n";
+  }
+  return s;
+}
+
+std::string timing_csv(const MissionResult& r) {
+  const std::vector<std::string> phases = {phase::kMotionPlanning, phase::kControl, phase::kRendering, phase::kMapping,
+                                          phase::kEvaluation};
+  std::string s = "attempt";
+  for (const auto& p : phases) s += "," + p + "_s";
+  s += "\n";
+  for (const ViewRecord& v : r.views) {
+    s += std::to_string(v.attempt);
+    for (const auto& p : phases) s += "," + num(v.times.get(p));
+    s += "\n";
+  }
+  return s;
+}
+
+nlohmann::json summary_json(const MissionResult& r) {
+  nlohmann::json j;
+  j["complete"] = r.complete;
+  j["end_reason"] = r.end_reason;
+  j["views_attempted"] = r.views.size();
+  j["views_successful"] = r.successful_views();
+  j["failures"] = r.failures;
+  j["unstable_faults"] = r.unstable_faults;
+  int truth_contacts = 0, base_contacts = 0;
+  for (const auto& v : r.views) truth_contacts += v.truth_contacts;
+  nlohmann::json stops = nlohmann::json::array();
+  for (const StopRecord& s : r.stops) {
+    base_contacts += s.base_truth_contacts;
+    stops.push_back({{"stop", s.stop},
+                     {"goal", {s.goal.x_m, s.goal.y_m, s.goal.yaw_rad}},
+                     {"reached", {s.reached.x_m, s.reached.y_m, s.reached.yaw_rad}},
+                     {"reached_goal", s.reached_goal},
+                     {"base_truth_contacts", s.base_truth_contacts},
+                     {"initial_attempted", s.initial_attempted},
+                     {"initial_successful", s.initial_ok},
+                     {"nbv_attempted", s.nbv_attempted},
+                     {"nbv_successful", s.nbv_ok},
+                     {"rounds", s.rounds},
+                     {"failures", s.failures},
+                     {"end_reason", s.end_reason},
+                     {"sim_time_s", s.sim_time_s}});
+  }
+  j["stops"] = stops;
+  bool all_reached = !r.stops.empty();
+  for (const StopRecord& s : r.stops) all_reached = all_reached && s.reached_goal;
+  j["all_stops_reached"] = all_reached;
+  j["contacts"] = {{"arm_truth_contact_checks", truth_contacts}, {"base_truth_contact_checks", base_contacts}};
+  j["final"] = {{"fruit_coverage", r.final_metrics.coverage},
+                {"fruit_entropy", r.final_metrics.total_entropy},
+                {"fruit_points", r.final_metrics.points},
+                {"covered_points", r.final_metrics.covered}};
+  j["simulated_time_s"] = r.sim_time_s;
+  j["wall_time_s"] = r.wall_time_s;
+  j["wall_time_by_phase_s"] = r.times.totals();
+  return j;
+}
+
+}  // namespace canopy::mission
