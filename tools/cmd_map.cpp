@@ -107,7 +107,10 @@ void add_map_command(CLI::App& app) {
                              {"insert", insert_json(st, cloud.stats)},
                              {"coverage", m.coverage},
                              {"total_entropy", m.total_entropy},
-                             {"target_voxels", m.target_voxels}};
+                             {"coverage_paper", m.paper.coverage},
+                             {"coverage_prototype", m.prototype.coverage},
+                             {"entropy_paper", m.paper.entropy},
+                             {"entropy_prototype", m.prototype.entropy}};
       history.push_back(step);
       nlohmann::json j = m.to_json();
       j["world"] = spec.name;
@@ -115,6 +118,7 @@ void add_map_command(CLI::App& app) {
       j["views_total"] = views.size();
       j["labels"] = perception::to_string(cfg.extractor.source);
       j["p_gt"] = cfg.extractor.p_gt;
+      j["noise"] = perception::to_string(cfg.extractor.noise);
       j["ms_per_insertion"] = insert_ms_sum / double(i + 1);
       j["history"] = history;
       write_json_atomic(out.path("metrics.json"), j);

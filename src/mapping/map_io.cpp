@@ -155,6 +155,7 @@ std::string serialize_map(const SemanticOcTree& map) {
   w.put(p.ray_range_m);
   w.put(p.unseen_logodds);
   w.put(static_cast<std::uint8_t>(p.prune));
+  w.put(static_cast<std::uint8_t>(p.entropy_categories == EntropyCategories::kPrototype));
   w.put(static_cast<std::int32_t>(p.threads));
   const SemanticClasses& c = map.classes();
   w.put(static_cast<std::uint32_t>(c.names.size()));
@@ -198,6 +199,9 @@ SemanticOcTree deserialize_map(const std::string& bytes, const std::string& name
   const auto prune = r.get<std::uint8_t>();
   if (prune > 1) r.fail("a bad prune flag");
   p.prune = prune != 0;
+  const auto categories = r.get<std::uint8_t>();
+  if (categories > 1) r.fail("a bad entropy categories flag");
+  p.entropy_categories = categories ? EntropyCategories::kPrototype : EntropyCategories::kPaper;
   p.threads = r.get<std::int32_t>();
   p.validate(name);
   SemanticClasses c;

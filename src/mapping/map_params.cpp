@@ -22,6 +22,11 @@ SemanticMapParams SemanticMapParams::from_yaml(YamlReader& y) {
   p.ray_range_m = real("ray_range_m", p.ray_range_m);
   p.unseen_logodds = static_cast<float>(real("unseen_logodds", p.unseen_logodds));
   p.prune = y.get("prune", p.prune);
+  if (y.has("entropy_categories")) {
+    const std::string s = y.require<std::string>("entropy_categories");
+    if (s != "paper" && s != "prototype") y.fail("entropy_categories", "must be 'paper' or 'prototype'");
+    p.entropy_categories = entropy_categories_from_string(s, y.file());
+  }
   p.threads = y.get("threads", p.threads);
   y.check(p.resolution_m >= 0.001 && p.resolution_m <= 1.0, "resolution_m", "must be in [0.001, 1] m");
   y.check(p.hit_logodds > 0.f, "hit_logodds", "must be > 0");
@@ -50,6 +55,7 @@ YAML::Node SemanticMapParams::to_yaml() const {
   n["ray_range_m"] = ray_range_m;
   n["unseen_logodds"] = double(unseen_logodds);
   n["prune"] = prune;
+  n["entropy_categories"] = to_string(entropy_categories);
   n["threads"] = threads;
   return n;
 }
@@ -65,7 +71,7 @@ bool SemanticMapParams::operator==(const SemanticMapParams& o) const {
   return resolution_m == o.resolution_m && hit_logodds == o.hit_logodds && pass_logodds == o.pass_logodds &&
          clamp_min_logodds == o.clamp_min_logodds && clamp_max_logodds == o.clamp_max_logodds &&
          max_range_m == o.max_range_m && ray_range_m == o.ray_range_m && unseen_logodds == o.unseen_logodds &&
-         prune == o.prune && threads == o.threads;
+         prune == o.prune && entropy_categories == o.entropy_categories && threads == o.threads;
 }
 
 }  // namespace canopy::mapping

@@ -57,7 +57,8 @@ octomap::OcTreeKey morton_key(std::uint64_t code) {
 
 SemanticOcTree::SemanticOcTree(const SemanticMapParams& params, const SemanticClasses& classes)
     : Base(params.resolution_m), params_(params), classes_(classes), rule_(params.rule()),
-      unseen_entropy_(mapping::unseen_entropy(params.unseen_logodds)) {
+      unseen_entropy_(
+          mapping::unseen_entropy(params.unseen_logodds, params.entropy_categories, static_cast<int>(classes.size()))) {
   CANOPY_CHECK(classes_.size() >= 1 && classes_.size() <= 255, "class count out of range");
 }
 
@@ -107,7 +108,7 @@ double SemanticOcTree::occupancy(const Vec3& p) const {
 
 double SemanticOcTree::entropy(const Vec3& p) const {
   const SemanticState* s = find(p);
-  return s ? s->entropy() : unseen_entropy_;
+  return s ? entropy_of(*s) : unseen_entropy_;
 }
 
 void SemanticOcTree::update_hit(const octomap::OcTreeKey& key, int c) {

@@ -4,6 +4,9 @@
 #include <cmath>
 #include <cstring>
 
+#include "canopy/common/classes.h"
+#include "canopy/common/error.h"
+
 namespace canopy::mapping {
 
 namespace {
@@ -124,11 +127,19 @@ void SemanticState::distribution(int num_classes, double* out) const {
   for (int c = 0; c < num_classes; ++c) out[c + 1] = class_probability(c, num_classes);
 }
 
-double SemanticState::entropy() const {
-  float l[kSlots + 1];
-  for (int i = 0; i < count; ++i) l[i] = logodds[i];
-  l[count] = others;
-  return logodds_entropy(l, count + 1);
+double SemanticState::entropy(EntropyCategories categories, int num_classes) const {
+  float l[SemanticClasses::kMaxClasses + 1];
+  int n = 0;
+  for (int i = 0; i < count; ++i) l[n++] = logodds[i];
+  if (categories == EntropyCategories::kPrototype) {
+    while (n < kSlots) l[n++] = others;  // empty slots hold l_others
+    l[n++] = others;
+  } else {
+    const int unstored = num_classes - count;
+    const float share = unstored > 0 ? others - float(std::log(double(unstored))) : 0.f;
+    for (int i = 0; i < unstored; ++i) l[n++] = share;
+  }
+  return logodds_entropy(l, n);
 }
 
 double logodds_entropy(const float* l, int n) {
@@ -144,9 +155,19 @@ double logodds_entropy(const float* l, int n) {
   return m + std::log(z) - zx / z;
 }
 
-double unseen_entropy(float unseen_logodds) {
-  const float l[SemanticState::kSlots + 1] = {unseen_logodds, unseen_logodds, unseen_logodds, unseen_logodds};
-  return logodds_entropy(l, SemanticState::kSlots + 1);
+double unseen_entropy(float unseen_logodds, EntropyCategories categories, int num_classes) {
+  float l[SemanticClasses::kMaxClasses + 1];
+  const int n = categories == EntropyCategories::kPrototype ? SemanticState::kSlots + 1 : num_classes;
+  for (int i = 0; i < n; ++i) l[i] = unseen_logodds;
+  return logodds_entropy(l, n);
+}
+
+std::string to_string(EntropyCategories c) { return c == EntropyCategories::kPaper ? "paper" : "prototype"; }
+
+EntropyCategories entropy_categories_from_string(const std::string& s, const std::string& where) {
+  if (s == "paper") return EntropyCategories::kPaper;
+  if (s == "prototype") return EntropyCategories::kPrototype;
+  throw InputError(where + ": unknown entropy_categories '" + s + "' (valid: paper, prototype)");
 }
 
 }  // namespace canopy::mapping

@@ -226,6 +226,10 @@ struct Mission::Impl {
     rec.successful_views = result.successful_views() + rec.success;
     rec.coverage = last_metrics.coverage;
     rec.entropy = last_metrics.total_entropy;
+    rec.coverage_paper = last_metrics.paper.coverage;
+    rec.entropy_paper = last_metrics.paper.entropy;
+    rec.coverage_prototype = last_metrics.prototype.coverage;
+    rec.entropy_prototype = last_metrics.prototype.entropy;
     rec.sim_time_s = sim.time();
     if (!rec.success) ++result.failures[cause];
     result.times.merge(rec.times);

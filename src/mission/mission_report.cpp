@@ -18,7 +18,8 @@ std::string views_csv(const MissionResult& r, const std::string& method) {
   std::string s =
       "attempt,stop,method,phase,source,success,failure,goal_x,goal_y,goal_z,reached_x,reached_y,reached_z,"
       "reached_qw,reached_qx,reached_qy,reached_qz,position_error_m,angle_error_deg,gain,cluster,successful_views,"
-      "coverage,entropy,sim_time_s,move_time_s,truth_contacts,self_contacts\n";
+      "coverage,entropy,sim_time_s,move_time_s,truth_contacts,self_contacts,coverage_paper,entropy_paper,"
+      "coverage_prototype,entropy_prototype\n";
   for (const ViewRecord& v : r.views) {
     const Vec3 g = v.T_goal.translation(), p = v.T_reached.translation();
     const Quat q(v.T_reached.linear());
@@ -30,7 +31,8 @@ std::string views_csv(const MissionResult& r, const std::string& method) {
          "," + num(v.position_error_m) + "," + num(v.angle_error_rad * 180.0 / M_PI) + "," + num(v.gain) + "," +
          std::to_string(v.cluster) + "," + std::to_string(v.successful_views) + "," + num(v.coverage) + "," +
          num(v.entropy) + "," + num(v.sim_time_s) + "," + num(v.move_time_s) + "," + std::to_string(v.truth_contacts) +
-         "," + std::to_string(v.self_contacts) + "\n";
+         "," + std::to_string(v.self_contacts) + "," + num(v.coverage_paper) + "," + num(v.entropy_paper) + "," +
+         num(v.coverage_prototype) + "," + num(v.entropy_prototype) + "\n";
   }
   return s;
 }
@@ -81,10 +83,14 @@ nlohmann::json summary_json(const MissionResult& r) {
   for (const StopRecord& s : r.stops) all_reached = all_reached && s.reached_goal;
   j["all_stops_reached"] = all_reached;
   j["contacts"] = {{"arm_truth_contact_checks", truth_contacts}, {"base_truth_contact_checks", base_contacts}};
-  j["final"] = {{"fruit_coverage", r.final_metrics.coverage},
+  const nlohmann::json metrics = r.final_metrics.to_json();
+  j["final"] = {{"metrics_rule", metrics["rule"]},
+                {"fruit_coverage", r.final_metrics.coverage},
                 {"fruit_entropy", r.final_metrics.total_entropy},
                 {"fruit_points", r.final_metrics.points},
-                {"covered_points", r.final_metrics.covered}};
+                {"target_fruits", r.final_metrics.fruits.size()},
+                {"non_target_fruits", r.final_metrics.non_target_fruits},
+                {"rules", metrics["rules"]}};
   j["simulated_time_s"] = r.sim_time_s;
   j["wall_time_s"] = r.wall_time_s;
   j["wall_time_by_phase_s"] = r.times.totals();

@@ -81,7 +81,7 @@ VoxelInfo make_voxel_info(const mapping::SemanticOcTree& map, const mapping::Sem
   v.known = state != nullptr;
   if (state) {
     v.p_occ = float(s.occupancy());
-    v.entropy = float(s.entropy());
+    v.entropy = float(map.entropy_of(s));
     v.binary_entropy = float(binary_entropy(s.occupancy()));
     v.cls = static_cast<std::int8_t>(s.most_likely_class());
     v.is_target = mapping::SemanticOcTree::is_class_voxel(s, map.classes().target_index());

@@ -19,6 +19,11 @@ ExtractorParams ExtractorParams::from_yaml(YamlReader& y) {
   c.finish();
   p.p_gt = y.get("p_gt", p.p_gt);
   y.check(std::isfinite(p.p_gt) && p.p_gt >= 0.0 && p.p_gt <= 1.0, "p_gt", "must be in [0, 1]");
+  if (y.has("noise")) {
+    const std::string s = y.require<std::string>("noise");
+    if (s != "per_class_mask" && s != "per_region") y.fail("noise", "must be 'per_class_mask' or 'per_region'");
+    p.noise = noise_model_from_string(s, y.file());
+  }
   p.depth_noise_k = y.get("depth_noise_k", p.depth_noise_k);
   y.check(std::isfinite(p.depth_noise_k) && p.depth_noise_k >= 0.0, "depth_noise_k", "must be >= 0");
   p.seed = y.get("seed", p.seed);
@@ -30,13 +35,14 @@ YAML::Node ExtractorParams::to_yaml() const {
   n["source"] = to_string(source);
   n["color"] = color.to_yaml();
   n["p_gt"] = p_gt;
+  n["noise"] = to_string(noise);
   n["depth_noise_k"] = depth_noise_k;
   n["seed"] = seed;
   return n;
 }
 
 bool ExtractorParams::operator==(const ExtractorParams& o) const {
-  return source == o.source && color == o.color && p_gt == o.p_gt && depth_noise_k == o.depth_noise_k &&
+  return source == o.source && color == o.color && p_gt == o.p_gt && noise == o.noise && depth_noise_k == o.depth_noise_k &&
          seed == o.seed;
 }
 

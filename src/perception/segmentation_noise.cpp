@@ -6,6 +6,26 @@
 
 namespace canopy::perception {
 
+std::string to_string(NoiseModel m) { return m == NoiseModel::kPerClassMask ? "per_class_mask" : "per_region"; }
+
+NoiseModel noise_model_from_string(const std::string& s, const std::string& where) {
+  if (s == "per_class_mask") return NoiseModel::kPerClassMask;
+  if (s == "per_region") return NoiseModel::kPerRegion;
+  throw InputError(where + ": unknown noise model '" + s + "' (valid: per_class_mask, per_region)");
+}
+
+namespace {
+
+// A wrong class for true class c, uniform over the other num_classes - 1 classes.
+int wrong_class(int c, int num_classes, double u) {
+  int wrong = static_cast<int>(u * (num_classes - 1));  // 0 .. K-2
+  if (wrong >= num_classes - 1) wrong = num_classes - 2;
+  if (wrong >= c) ++wrong;  // skip the true class
+  return wrong;
+}
+
+}  // namespace
+
 int label_masks(const Image<std::uint8_t>& labels, const Image<std::int32_t>& instance, Image<std::int32_t>* masks) {
   const int w = labels.width, h = labels.height;
   const bool use_instance = !instance.empty();
@@ -62,10 +82,7 @@ MaskNoiseStats apply_mask_noise(Image<std::uint8_t>& labels, const Image<std::in
       new_class[static_cast<std::size_t>(m)] = c;
       continue;
     }
-    int wrong = static_cast<int>(rng.uniform() * (num_classes - 1));  // 0 .. K-2
-    if (wrong >= num_classes - 1) wrong = num_classes - 2;
-    if (wrong >= c) ++wrong;  // skip the true class
-    new_class[static_cast<std::size_t>(m)] = wrong;
+    new_class[static_cast<std::size_t>(m)] = wrong_class(c, num_classes, rng.uniform());
     ++stats.flipped;
   }
   for (std::size_t i = 0; i < labels.data.size(); ++i) {
@@ -73,6 +90,34 @@ MaskNoiseStats apply_mask_noise(Image<std::uint8_t>& labels, const Image<std::in
     if (m >= 0) labels.data[i] = static_cast<std::uint8_t>(new_class[static_cast<std::size_t>(m)]);
   }
   return stats;
+}
+
+MaskNoiseStats apply_class_mask_noise(Image<std::uint8_t>& labels, int num_classes, double p_gt, Rng& rng) {
+  MaskNoiseStats stats;
+  if (p_gt >= 1.0 || num_classes < 2) return stats;
+  std::vector<bool> present(static_cast<std::size_t>(num_classes), false);
+  for (const std::uint8_t l : labels.data)
+    if (l < num_classes) present[l] = true;
+  // map[c] = the class every pixel of class c becomes in this image.
+  std::vector<std::uint8_t> map(256);
+  for (int c = 0; c < 256; ++c) map[static_cast<std::size_t>(c)] = static_cast<std::uint8_t>(c);
+  for (int c = 1; c < num_classes; ++c) {
+    const double keep = rng.uniform(), which = rng.uniform();  // both drawn for every class
+    if (!present[static_cast<std::size_t>(c)]) continue;
+    ++stats.masks;
+    if (keep < p_gt) continue;
+    map[static_cast<std::size_t>(c)] = static_cast<std::uint8_t>(wrong_class(c, num_classes, which));
+    ++stats.flipped;
+  }
+  if (stats.flipped == 0) return stats;
+  for (std::uint8_t& l : labels.data) l = map[l];
+  return stats;
+}
+
+MaskNoiseStats apply_segmentation_noise(NoiseModel model, Image<std::uint8_t>& labels,
+                                        const Image<std::int32_t>& instance, int num_classes, double p_gt, Rng& rng) {
+  return model == NoiseModel::kPerClassMask ? apply_class_mask_noise(labels, num_classes, p_gt, rng)
+                                            : apply_mask_noise(labels, instance, num_classes, p_gt, rng);
 }
 
 }  // namespace canopy::perception

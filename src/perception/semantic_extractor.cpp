@@ -23,7 +23,8 @@ Image<std::uint8_t> SemanticExtractor::label(const LabelledFrame& frame, Extract
   // cannot tell touching fruits apart).
   static const Image<std::int32_t> kNone;
   const Image<std::int32_t>& instance = params_.source == LabelSource::kTruth ? frame.instance : kNone;
-  const MaskNoiseStats n = apply_mask_noise(labels, instance, classes_.size(), params_.p_gt, rng_);
+  const MaskNoiseStats n =
+      apply_segmentation_noise(params_.noise, labels, instance, classes_.size(), params_.p_gt, rng_);
   stats->masks += n.masks;
   stats->masks_flipped += n.flipped;
   return labels;

@@ -20,6 +20,12 @@ size_t GroundTruth::total_points() const {
   return n;
 }
 
+size_t GroundTruth::target_count() const {
+  size_t n = 0;
+  for (const auto& f : fruits) n += f.target ? 1 : 0;
+  return n;
+}
+
 std::vector<const FruitTruth*> GroundTruth::fruits_of_plant(int plant_index) const {
   std::vector<const FruitTruth*> out;
   for (const auto& f : fruits)
@@ -39,6 +45,7 @@ GroundTruth sample_ground_truth(const World& world) {
       f.plant_index = plant.index;
       f.color = part.fruit_color;
       f.shape = part.fruit_shape;
+      f.target = part.fruit_target;
       part.mesh.bounds(&f.bbox_min, &f.bbox_max);
       f.center = 0.5 * (f.bbox_min + f.bbox_max);
       f.surface_area_m2 = part.mesh.area();
@@ -73,6 +80,7 @@ void GroundTruth::save(const std::string& dir) const {
     j["fruits"].push_back({{"instance_id", f.instance_id},
                            {"plant_index", f.plant_index},
                            {"color", f.color},
+                           {"target", f.target},
                            {"shape", f.shape},
                            {"center", vec_json(f.center)},
                            {"bbox_min", vec_json(f.bbox_min)},
@@ -102,6 +110,7 @@ GroundTruth GroundTruth::load(const std::string& dir) {
       f.instance_id = jf.at("instance_id").get<int>();
       f.plant_index = jf.at("plant_index").get<int>();
       f.color = jf.at("color").get<std::string>();
+      f.target = jf.value("target", true);  // files from before the flag: every fruit counted
       f.shape = jf.at("shape").get<std::string>();
       f.center = vec_from(jf.at("center"));
       f.bbox_min = vec_from(jf.at("bbox_min"));

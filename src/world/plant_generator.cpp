@@ -253,6 +253,8 @@ Plant make_plant(const WorldSpec& spec, int index, const Vec3& base, int* next_i
       PlantPart& fruit = add_part("fruit", f, std::move(mesh), jitter(rng, fruit_color(color), 0.03f));
       fruit.instance_id = (*next_instance)++;
       fruit.fruit_color = color;
+      fruit.fruit_target = spec.is_ripe(color);
+      if (!fruit.fruit_target) fruit.class_id = spec.class_of("unripe_fruit");
       fruit.fruit_shape = blocky ? "blocky" : "conical";
       break;
     }

@@ -67,6 +67,7 @@ WorldSpec WorldSpec::load(const std::string& path) {
   s.part_classes.leaf = pc.get("leaf", s.part_classes.leaf);
   s.part_classes.peduncle = pc.get("peduncle", s.part_classes.peduncle);
   s.part_classes.fruit = pc.get("fruit", s.part_classes.fruit);
+  s.part_classes.unripe_fruit = pc.get("unripe_fruit", s.part_classes.unripe_fruit);
   pc.finish();
 
   YamlReader r = y.child("rows");
@@ -107,9 +108,20 @@ WorldSpec WorldSpec::load(const std::string& path) {
       p.fail("fruit_colors", "must map colour names to weights");
     }
   }
+  if (p.has("ripe_colors")) {
+    try {
+      pp.ripe_colors = p.require<std::vector<std::string>>("ripe_colors");
+    } catch (const InputError&) {
+      p.fail("ripe_colors", "must be a list of colour names");
+    }
+  }
   p.finish();
+  auto known_color = [](const std::string& c) { return c == "red" || c == "yellow" || c == "green" || c == "orange"; };
+  for (const std::string& name : pp.ripe_colors)
+    if (!known_color(name))
+      throw InputError(path + ": key 'plant.ripe_colors': unknown colour '" + name + "' (use red, yellow, orange, green)");
   for (const auto& [name, w] : pp.fruit_colors) {
-    if (name != "red" && name != "yellow" && name != "green" && name != "orange")
+    if (!known_color(name))
       throw InputError(path + ": key 'plant.fruit_colors." + name + "': unknown colour (use red, yellow, orange, green)");
     if (!(w >= 0.0) || !std::isfinite(w))
       throw InputError(path + ": key 'plant.fruit_colors." + name + "': value '" + std::to_string(w) + "' must be >= 0");
@@ -145,7 +157,7 @@ void WorldSpec::validate() const {
   const std::string where = source_file.empty() ? std::string("world") : source_file;
   classes.validate(where);
   camera.validate(where);
-  for (const std::string part : {"ground", "robot", "stem", "petiole", "leaf", "peduncle", "fruit"}) {
+  for (const std::string part : {"ground", "robot", "stem", "petiole", "leaf", "peduncle", "fruit", "unripe_fruit"}) {
     if (class_of(part) < 0)
       throw InputError(where + ": key 'part_classes." + part + "': its class is not in the class list");
   }
@@ -217,7 +229,7 @@ nlohmann::json WorldSpec::to_json() const {
       {"part_classes",
        {{"ground", part_classes.ground}, {"robot", part_classes.robot}, {"stem", part_classes.stem},
         {"petiole", part_classes.petiole}, {"leaf", part_classes.leaf}, {"peduncle", part_classes.peduncle},
-        {"fruit", part_classes.fruit}}},
+        {"fruit", part_classes.fruit}, {"unripe_fruit", part_classes.unripe_fruit}}},
       {"rows",
        {{"rows", rows.rows}, {"plants_per_row", rows.plants_per_row}, {"plant_spacing_m", rows.plant_spacing_m},
         {"row_offset_m", rows.row_offset_m}, {"x_start_m", rows.x_start_m},
@@ -237,7 +249,8 @@ nlohmann::json WorldSpec::to_json() const {
         {"blocky_length_m", {p.blocky_length_min_m, p.blocky_length_max_m}},
         {"conical_width_m", {p.conical_width_min_m, p.conical_width_max_m}},
         {"conical_length_m", {p.conical_length_min_m, p.conical_length_max_m}},
-        {"fruit_colors", colors}}},
+        {"fruit_colors", colors},
+        {"ripe_colors", p.ripe_colors}}},
       {"camera",
        {{"width_px", camera.width_px}, {"height_px", camera.height_px}, {"fx_px", camera.fx_px},
         {"fy_px", camera.fy_px}, {"cx_px", camera.cx_px}, {"cy_px", camera.cy_px},
@@ -257,7 +270,14 @@ int WorldSpec::class_of(const std::string& part) const {
   else if (part == "leaf") name = &part_classes.leaf;
   else if (part == "peduncle") name = &part_classes.peduncle;
   else if (part == "fruit") name = &part_classes.fruit;
+  else if (part == "unripe_fruit") name = &part_classes.unripe_fruit;
   return name ? classes.index_of(*name) : -1;
+}
+
+bool WorldSpec::is_ripe(const std::string& color) const {
+  for (const std::string& c : plant.ripe_colors)
+    if (c == color) return true;
+  return false;
 }
 
 }  // namespace canopy::world

@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "canopy/common/error.h"
 #include "canopy/mapping/semantic_state.h"
 
 using canopy::mapping::SemanticState;
@@ -100,29 +101,65 @@ TEST(SemanticState, ClampsAndSaturation) {
   EXPECT_FALSE(h.free_is_noop(kRule));
 }
 
+using canopy::mapping::EntropyCategories;
+
 TEST(SemanticState, EntropyMatchesDefinition) {
   SemanticState s;
   s.apply_hit(kFruit, kRule);
   s.apply_hit(kLeaf, kRule);
   s.apply_hit(kFruit, kRule);
-  // H over {free, fruit, leaf, others}.
-  const double e[4] = {1.0, std::exp(double(s.logodds[0])), std::exp(double(s.logodds[1])), std::exp(double(s.others))};
-  const double z = e[0] + e[1] + e[2] + e[3];
-  double h = 0;
-  for (double x : e) h -= x / z * std::log(x / z);
-  EXPECT_NEAR(s.entropy(), h, 1e-9);
-  // The unseen prior [0, -0.1 x4] is close to uniform over five categories.
-  EXPECT_NEAR(canopy::mapping::unseen_entropy(-0.1f), std::log(5.0), 0.01);
-  EXPECT_LT(canopy::mapping::unseen_entropy(-0.1f), std::log(5.0));
+  // Three classes, two stored: both category sets hold {free, fruit, leaf, the third class};
+  // the prototype adds its empty third slot at l_others.
+  const double e[5] = {1.0, std::exp(double(s.logodds[0])), std::exp(double(s.logodds[1])), std::exp(double(s.others)),
+                       std::exp(double(s.others))};
+  for (int n : {4, 5}) {
+    double z = 0, h = 0;
+    for (int i = 0; i < n; ++i) z += e[i];
+    for (int i = 0; i < n; ++i) h -= e[i] / z * std::log(e[i] / z);
+    EXPECT_NEAR(s.entropy(n == 4 ? EntropyCategories::kPaper : EntropyCategories::kPrototype, 3), h, 1e-9);
+  }
+}
+
+// Issue 10 point 4, values computed by hand (softmax entropy of [0, l...]):
+//  unknown, paper:      [0, -0.1, -0.1, -0.1]            -> 1.385325944 (about ln 4)
+//  unknown, prototype:  [0, -0.1, -0.1, -0.1, -0.1]      -> 1.608605863 (about ln 5)
+//  one fruit hit, paper: [0, 1, -0.1 - ln 2, -0.1 - ln 2] -> 1.098328783 (leaf and background share l_others)
+//  one fruit hit, prototype: [0, 1, -0.1, -0.1, -0.1]    -> 1.481040736
+TEST(SemanticState, EntropyCategoriesHandComputed) {
+  using canopy::mapping::unseen_entropy;
+  EXPECT_NEAR(unseen_entropy(-0.1f, EntropyCategories::kPaper, 3), 1.385325944, 1e-6);
+  EXPECT_NEAR(unseen_entropy(-0.1f, EntropyCategories::kPrototype, 3), 1.608605863, 1e-6);
+  SemanticState s;
+  s.apply_hit(kFruit, kRule);
+  ASSERT_EQ(s.count, 1);
+  ASSERT_EQ(s.logodds[0], 1.0f);
+  ASSERT_EQ(s.others, -0.1f);
+  EXPECT_NEAR(s.entropy(EntropyCategories::kPaper, 3), 1.098328783, 1e-6);
+  EXPECT_NEAR(s.entropy(EntropyCategories::kPrototype, 3), 1.481040736, 1e-6);
+  // With every class stored, the paper's "others" slot carries no mass: H runs over four
+  // categories whatever l_others is.
+  SemanticState all;
+  all.apply_hit(kFruit, kRule);
+  all.apply_hit(kLeaf, kRule);
+  all.apply_hit(0, kRule);
+  ASSERT_EQ(all.count, 3);
+  SemanticState other = all;
+  other.others = -5.f;
+  EXPECT_EQ(all.entropy(EntropyCategories::kPaper, 3), other.entropy(EntropyCategories::kPaper, 3));
+  EXPECT_NE(all.entropy(EntropyCategories::kPrototype, 3), other.entropy(EntropyCategories::kPrototype, 3));
+  EXPECT_EQ(canopy::mapping::entropy_categories_from_string("prototype", "t"), EntropyCategories::kPrototype);
+  EXPECT_THROW(canopy::mapping::entropy_categories_from_string("shannon", "t"), canopy::InputError);
 }
 
 TEST(SemanticState, RepeatedHitsLowerEntropyMonotonically) {
-  SemanticState s;
-  double last = canopy::mapping::unseen_entropy(-0.1f);
-  for (int i = 0; i < 30; ++i) {
-    s.apply_hit(kFruit, kRule);
-    const double h = s.entropy();
-    EXPECT_LT(h, last) << "after " << i + 1 << " hits";
-    last = h;
+  for (EntropyCategories cats : {EntropyCategories::kPaper, EntropyCategories::kPrototype}) {
+    SemanticState s;
+    double last = canopy::mapping::unseen_entropy(-0.1f, cats, 3);
+    for (int i = 0; i < 30; ++i) {
+      s.apply_hit(kFruit, kRule);
+      const double h = s.entropy(cats, 3);
+      EXPECT_LT(h, last) << "after " << i + 1 << " hits";
+      last = h;
+    }
   }
 }

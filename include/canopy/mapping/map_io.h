@@ -15,7 +15,7 @@
 namespace canopy::mapping {
 
 /// Current .csm format version.
-constexpr std::uint32_t kMapFormatVersion = 1;
+constexpr std::uint32_t kMapFormatVersion = 2;  ///< 2: entropy categories stored with the parameters.
 
 /// Serialises a map to the .csm byte format.
 std::string serialize_map(const SemanticOcTree& map);

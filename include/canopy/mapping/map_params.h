@@ -22,6 +22,8 @@ struct SemanticMapParams {
   double ray_range_m = 0.8;          ///< Free space is carved up to this distance.
   float unseen_logodds = -0.1f;      ///< SSMI's prior chi for never-observed voxels (entropy).
   bool prune = true;                 ///< Collapse eight identical children after each scan.
+  /// What H(x) runs over (semantic_state.h): the NBV gains' entropy and the metrics' paper rule.
+  EntropyCategories entropy_categories = EntropyCategories::kPaper;
   int threads = 0;                   ///< Worker threads for insertion; 0 = all cores.
 
   UpdateRule rule() const { return {hit_logodds, pass_logodds, clamp_min_logodds, clamp_max_logodds}; }

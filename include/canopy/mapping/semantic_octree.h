@@ -145,6 +145,10 @@ class SemanticOcTree : protected octomap::OcTreeBaseImpl<SemanticNode, octomap::
   double entropy(const Vec3& p_world) const;
   /// Entropy of a never-observed voxel under params().unseen_logodds.
   double unseen_entropy() const { return unseen_entropy_; }
+  /// Entropy of a voxel state over params().entropy_categories.
+  double entropy_of(const SemanticState& s) const {
+    return s.entropy(params_.entropy_categories, static_cast<int>(classes_.size()));
+  }
   /// True when a state counts as a voxel of class `c`: occupied (p_occ > 0.5) and c is
   /// its most likely class.
   static bool is_class_voxel(const SemanticState& s, int c) {

@@ -14,8 +14,23 @@
 
 #include <array>
 #include <cstdint>
+#include <string>
 
 namespace canopy::mapping {
+
+/// The categories the multi-class entropy H(x) runs over (FACTS.md sections 5 and 8):
+///  - kPaper: {free} and the K classes of the map (the paper's H). Stored classes keep their
+///    log-odds; unstored classes share the "others" mass equally; when every class is
+///    stored the "others" slot holds no class and carries no mass. An unknown voxel is
+///    SSMI's prior chi = [0, u, ..., u] with K class entries (K = 3: about ln 4 nats).
+///  - kPrototype: the released code's 5-entry vector softmax([0, l_1, l_2, l_3, l_others])
+///    whatever K is; an empty slot holds l_others. Unknown: [0, u, u, u, u] (about ln 5).
+enum class EntropyCategories { kPaper, kPrototype };
+
+/// "paper" / "prototype".
+std::string to_string(EntropyCategories c);
+/// Parses a name; throws InputError naming `where` and the valid names otherwise.
+EntropyCategories entropy_categories_from_string(const std::string& s, const std::string& where);
 
 /// Log-odds increments and clamps of the SSMI rules (psi, phi, +-9.21).
 struct UpdateRule {
@@ -62,17 +77,17 @@ struct SemanticState {
   float class_logodds(int c) const;
   /// p(class c) among `num_classes` classes; unstored classes share the others mass equally.
   double class_probability(int c, int num_classes) const;
-  /// Shannon entropy (nats) over {free, stored classes, others}.
-  double entropy() const;
+  /// Shannon entropy (nats) over `categories` for a map of `num_classes` classes.
+  double entropy(EntropyCategories categories, int num_classes) const;
   /// Writes {free, class 0..num_classes-1} probabilities into `out` (size num_classes + 1).
   void distribution(int num_classes, double* out) const;
 };
 
 static_assert(sizeof(SemanticState) == 20, "SemanticState must stay compact");
 
-/// Entropy (nats) of a never-observed voxel: SSMI's prior chi = [0, u, u, u, u] over
-/// {free, 3 slots, others}, u = `unseen_logodds` (-0.1 in SSMI).
-double unseen_entropy(float unseen_logodds);
+/// Entropy (nats) of a never-observed voxel under SSMI's prior chi, u = `unseen_logodds`
+/// (-0.1 in SSMI): [0, u x K] for kPaper, [0, u, u, u, u] for kPrototype.
+double unseen_entropy(float unseen_logodds, EntropyCategories categories, int num_classes);
 
 /// Shannon entropy (nats) of softmax([0, l_1, ..., l_n]), a log-odds vector relative to free.
 double logodds_entropy(const float* l, int n);

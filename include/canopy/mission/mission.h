@@ -74,8 +74,10 @@ struct ViewRecord {
   double gain = 0.0;
   int cluster = -1;
   int successful_views = 0;      ///< Successful views so far (this one included).
-  double coverage = 0.0;         ///< Fruit surface coverage after this view.
-  double entropy = 0.0;          ///< Fruit entropy after this view [nats].
+  double coverage = 0.0;         ///< Fruit surface coverage after this view (metrics rule).
+  double entropy = 0.0;          ///< Fruit entropy after this view [nats] (metrics rule).
+  double coverage_paper = 0.0, entropy_paper = 0.0;          ///< The same under each rule.
+  double coverage_prototype = 0.0, entropy_prototype = 0.0;
   double sim_time_s = 0.0;       ///< Simulated time at the end of the attempt.
   double move_time_s = 0.0;      ///< Simulated time of the move.
   int truth_contacts = 0;        ///< Executed states in contact with the true plants.

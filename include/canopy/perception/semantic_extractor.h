@@ -12,6 +12,7 @@
 #include "canopy/common/yaml_reader.h"
 #include "canopy/perception/color_segmentation.h"
 #include "canopy/perception/labelled_cloud.h"
+#include "canopy/perception/segmentation_noise.h"
 
 namespace canopy::perception {
 
@@ -23,11 +24,12 @@ std::string to_string(LabelSource s);
 /// Parses "color" / "truth"; throws InputError naming `where` otherwise.
 LabelSource label_source_from_string(const std::string& s, const std::string& where);
 
-/// Extractor settings; defaults are the paper's (colour segmentation, P_gt = 0.7).
+/// Extractor settings; defaults are the paper's (colour segmentation, P_gt = 0.7 per class mask).
 struct ExtractorParams {
   LabelSource source = LabelSource::kColor;
   ColorSegmentationParams color;
   double p_gt = 0.7;              ///< Probability a mask keeps its class; 1 = no noise.
+  NoiseModel noise = NoiseModel::kPerClassMask;  ///< What a mask is (segmentation_noise.h).
   double depth_noise_k = 0.0;     ///< Extra depth noise sigma = k z^2 [m]; 0 = none.
   std::uint64_t seed = 1;         ///< Seed of the label and depth noise.
 

@@ -15,6 +15,7 @@ struct FruitTruth {
   int plant_index = 0;
   std::string color;                ///< "red", "yellow", "green", ...
   std::string shape;                ///< "blocky" or "conical"
+  bool target = true;               ///< Ripe: counted by the metrics (the paper's ground truth).
   Vec3 center = Vec3::Zero();       ///< Centre of the bounding box [m, world].
   Vec3 bbox_min = Vec3::Zero();     ///< Axis-aligned bounding box [m, world].
   Vec3 bbox_max = Vec3::Zero();
@@ -27,6 +28,8 @@ struct GroundTruth {
   double point_spacing_m = 0.003;
   std::vector<FruitTruth> fruits;
 
+  /// Number of target (ripe) fruits.
+  size_t target_count() const;
   /// Total number of surface points over all fruits.
   size_t total_points() const;
   /// Fruits of one plant (by plant index), in instance order.

@@ -20,6 +20,7 @@ struct PlantPart {
   int instance_id = kNoInstance;    ///< Fruit instance id (fruits only).
   std::string fruit_color;          ///< Fruits only: "red", "yellow", ...
   std::string fruit_shape;          ///< Fruits only: "blocky" or "conical".
+  bool fruit_target = true;         ///< Fruits only: ripe, counted by the metrics.
   float rgba[4] = {0.f, 0.f, 0.f, 1.f};
   TriMesh mesh;                     ///< World-frame vertices.
 };

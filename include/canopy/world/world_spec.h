@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <map>
 #include <string>
+#include <vector>
 
 #include "canopy/common/camera.h"
 #include "canopy/common/classes.h"
@@ -46,6 +47,9 @@ struct PlantParams {
   double conical_width_min_m = 0.05, conical_width_max_m = 0.06;
   double conical_length_min_m = 0.11, conical_length_max_m = 0.16;
   std::map<std::string, double> fruit_colors = {{"red", 0.6}, {"yellow", 0.3}, {"green", 0.1}};
+  /// Ripe colours: their fruits are targets (in the metrics); others are rendered and
+  /// labelled (part class unripe_fruit) but not counted, as in the paper's ground truth.
+  std::vector<std::string> ripe_colors = {"red", "yellow", "orange"};
 };
 
 /// Which semantic class each kind of geometry carries (names from SemanticClasses).
@@ -57,6 +61,7 @@ struct PartClasses {
   std::string leaf = "leaf";
   std::string peduncle = "leaf";
   std::string fruit = "fruit";
+  std::string unripe_fruit = "fruit";  ///< Fruits whose colour is not ripe.
 };
 
 /// Everything a world file holds. Defaults reproduce the paper's set-up: 8 plants in two
@@ -79,6 +84,8 @@ struct WorldSpec {
   void validate() const;
   /// Class index of a part kind ("stem", "leaf", "fruit", ...).
   int class_of(const std::string& part) const;
+  /// True when fruits of `color` are targets (plant.ripe_colors).
+  bool is_ripe(const std::string& color) const;
   int plant_count() const { return rows.rows * rows.plants_per_row; }
   /// How far a plant may reach sideways from its nominal row position: position jitter plus
   /// the longest petiole and leaf blade.
