@@ -11,13 +11,21 @@ namespace {
 
 class Osamcep final : public GainFunction {
  public:
-  explicit Osamcep(const GainParams& p) : max_dist2_(float(p.max_dist_m * p.max_dist_m)) {}
+  explicit Osamcep(const GainParams& p)
+      : max_dist2_(float(p.max_dist_m * p.max_dist_m)), per_segment_end_(p.proximity == Proximity::kPerSegmentEnd) {}
   std::string name() const override { return "osamcep"; }
   double ray_gain(const RayVoxel* v, std::size_t n) const override {
     double g = 0.0, visible = 1.0;
+    float seg_end_d2 = 0.f;  // per_segment_end: distance of the current run's last voxel
     for (std::size_t i = 0; i < n; ++i) {
+      if (per_segment_end_ && (i == 0 || v[i].id != v[i - 1].id)) {
+        std::size_t j = i;
+        while (j + 1 < n && v[j + 1].id == v[i].id) ++j;
+        seg_end_d2 = v[j].dist2_m2;
+      }
       const VoxelInfo& x = *v[i].info;
-      if ((!x.known || x.is_target) && v[i].dist2_m2 < max_dist2_) g += visible * x.entropy;
+      const float d2 = per_segment_end_ ? seg_end_d2 : v[i].dist2_m2;
+      if ((!x.known || x.is_target) && d2 < max_dist2_) g += visible * x.entropy;
       visible *= 1.0 - x.p_occ;
     }
     return g;
@@ -25,6 +33,7 @@ class Osamcep final : public GainFunction {
 
  private:
   float max_dist2_;
+  bool per_segment_end_;
 };
 
 class AverageEntropy final : public GainFunction {

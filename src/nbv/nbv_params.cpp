@@ -6,6 +6,15 @@
 
 namespace canopy::nbv {
 
+std::string to_string(Proximity p) { return p == Proximity::kPerVoxel ? "per_voxel" : "per_segment_end"; }
+
+Proximity proximity_from_string(const std::string& s, const std::string& where) {
+  if (s == "per_voxel") return Proximity::kPerVoxel;
+  if (s == "per_segment_end") return Proximity::kPerSegmentEnd;
+  throw InputError(where + ": unknown proximity '" + s + "' (valid: per_voxel, per_segment_end)");
+}
+
+
 
 NbvParams NbvParams::from_yaml(YamlReader& y) {
   NbvParams p;
@@ -47,6 +56,11 @@ NbvParams NbvParams::from_yaml(YamlReader& y) {
     YamlReader c = y.child("gain");
     auto& q = p.gain;
     q.max_dist_m = get_positive(c, "max_dist_m", q.max_dist_m);
+    if (c.has("proximity")) {
+      const std::string s = c.require<std::string>("proximity");
+      if (s != "per_voxel" && s != "per_segment_end") c.fail("proximity", "must be 'per_voxel' or 'per_segment_end'");
+      q.proximity = proximity_from_string(s, c.file());
+    }
     q.ae_stop_occupancy = get_finite(c, "ae_stop_occupancy", q.ae_stop_occupancy);
     q.unknown_low = get_finite(c, "unknown_low", q.unknown_low);
     q.unknown_high = get_finite(c, "unknown_high", q.unknown_high);
@@ -115,6 +129,7 @@ YAML::Node NbvParams::to_yaml() const {
   n["rays"]["sparse_grid"] = rays.sparse_grid;
   n["rays"]["depth_margin_m"] = rays.depth_margin_m;
   n["gain"]["max_dist_m"] = gain.max_dist_m;
+  n["gain"]["proximity"] = to_string(gain.proximity);
   n["gain"]["ae_stop_occupancy"] = gain.ae_stop_occupancy;
   n["gain"]["unknown_low"] = gain.unknown_low;
   n["gain"]["unknown_high"] = gain.unknown_high;
@@ -148,7 +163,8 @@ bool NbvParams::operator==(const NbvParams& o) const {
          a.candidates.min_height_m == o.candidates.min_height_m && a.rays.cluster_size_m == o.rays.cluster_size_m &&
          a.rays.step_m == o.rays.step_m && a.rays.dense_grid == o.rays.dense_grid &&
          a.rays.sparse_grid == o.rays.sparse_grid && a.rays.depth_margin_m == o.rays.depth_margin_m &&
-         a.gain.max_dist_m == o.gain.max_dist_m && a.gain.ae_stop_occupancy == o.gain.ae_stop_occupancy &&
+         a.gain.max_dist_m == o.gain.max_dist_m && a.gain.proximity == o.gain.proximity &&
+         a.gain.ae_stop_occupancy == o.gain.ae_stop_occupancy &&
          a.gain.unknown_low == o.gain.unknown_low && a.gain.unknown_high == o.gain.unknown_high &&
          a.gain.uvpc_base_weight == o.gain.uvpc_base_weight && a.planner.top_k == o.planner.top_k &&
          a.views.taken_position_m == o.views.taken_position_m && a.views.taken_angle_deg == o.views.taken_angle_deg &&

@@ -73,6 +73,51 @@ TEST(Gains, OsamcepHandComputed) {
   EXPECT_NEAR(gain("osamcep", ray({&wall, &u}, {0.05f, 0.05f})), 1e-4 * 1.6, 1e-6);
 }
 
+// Issue 10 point 5, hand-built rays. A ray of 20 unknown voxels (one run: palette id 0)
+// whose distance to the target falls from 0.385 m to 0.005 m in 0.02 m steps; voxels with
+// d < 0.1 are the last five (i = 15..19).
+//  per_voxel: sum_{i=15..19} 0.5^i H = H (0.5^15 + ... + 0.5^19) ~ 5.9e-5 H;
+//  per_segment_end: the run's last voxel is at d = 0.005, so every voxel counts:
+//    H (1 - 0.5^20) / (1 - 0.5) ~ 2 H.
+// Then a free run (id 1, far from the target at its end) before an unknown run: the free
+// voxels never count (known, not target), and the unknown run counts by its own end.
+TEST(Gains, OsamcepProximityVariantsHandComputed) {
+  const float H = 1.385f;
+  const VoxelInfo u = unknown_voxel(H);
+  std::vector<RayVoxel> r;
+  for (int i = 0; i < 20; ++i) {
+    const float d = 0.02f * float(19 - i) + 0.005f;
+    r.push_back({&u, d * d, 0});
+  }
+  GainParams per_voxel, per_end;
+  per_voxel.proximity = Proximity::kPerVoxel;
+  per_end.proximity = Proximity::kPerSegmentEnd;
+  double expect_voxel = 0.0, expect_end = 0.0;
+  for (int i = 0; i < 20; ++i) {
+    expect_end += std::pow(0.5, i) * H;
+    if (i >= 15) expect_voxel += std::pow(0.5, i) * H;
+  }
+  const double g_voxel = make_gain("osamcep", per_voxel)->ray_gain(r.data(), r.size());
+  const double g_end = make_gain("osamcep", per_end)->ray_gain(r.data(), r.size());
+  EXPECT_NEAR(g_voxel, expect_voxel, 1e-9);
+  EXPECT_NEAR(g_voxel / H, 5.91278e-5, 1e-9);
+  EXPECT_NEAR(g_end, expect_end, 1e-6);
+  EXPECT_NEAR(g_end / H, 2.0 * (1.0 - std::pow(0.5, 20)), 1e-6);
+  // The same unknown run ending far from the target counts under neither rule.
+  std::vector<RayVoxel> away = r;
+  for (RayVoxel& v : away) v.dist2_m2 = 0.04f;  // 0.2 m everywhere
+  EXPECT_EQ(make_gain("osamcep", per_end)->ray_gain(away.data(), away.size()), 0.0);
+  // Free run (p_occ 0.1, id 1, 3 voxels at d 0.3..0.25) then unknown run (id 0) at d 0.2, 0.15, 0.05.
+  const VoxelInfo fr = known_voxel(0.1f, 0.3f, false);
+  const std::vector<RayVoxel> mixed = {{&fr, 0.09f, 1},   {&fr, 0.0729f, 1}, {&fr, 0.0625f, 1},
+                                       {&u, 0.04f, 0},    {&u, 0.0225f, 0},  {&u, 0.0025f, 0}};
+  const double vis = 0.9 * 0.9 * 0.9;
+  EXPECT_NEAR(make_gain("osamcep", per_voxel)->ray_gain(mixed.data(), mixed.size()), vis * 0.25 * H, 1e-6);
+  EXPECT_NEAR(make_gain("osamcep", per_end)->ray_gain(mixed.data(), mixed.size()), vis * (1 + 0.5 + 0.25) * H, 1e-6);
+  EXPECT_EQ(proximity_from_string("per_voxel", "t"), Proximity::kPerVoxel);
+  EXPECT_THROW(proximity_from_string("per_ray", "t"), InputError);
+}
+
 TEST(Gains, AeHandComputed) {
   const VoxelInfo u = unknown_voxel(), free = known_voxel(0.2f, 0.5f, false), occ = known_voxel(0.95f, 0.2f, false);
   // ln2 + H_b(0.2), then stop at the occupied voxel (neither it nor the unknown behind count).

@@ -106,9 +106,46 @@ TEST(GroundTruth, SaveLoadRoundTrip) {
     EXPECT_EQ(back.fruits[i].instance_id, w.truth.fruits[i].instance_id);
     EXPECT_EQ(back.fruits[i].surface_points, w.truth.fruits[i].surface_points);  // %.17g is exact
     EXPECT_EQ(back.fruits[i].bbox_min, w.truth.fruits[i].bbox_min);
+    EXPECT_EQ(back.fruits[i].target, w.truth.fruits[i].target);
   }
   std::ofstream(dir + "/fruit_points.csv") << "instance_id,x,y,z\n0,1,2\n";
   EXPECT_THROW(GroundTruth::load(dir), InputError);
+}
+
+// Targets are the ripe colours (issue 10 point 2): green fruit is generated, rendered and
+// labelled with part_classes.unripe_fruit, but is no target; ripe_colors is configurable.
+TEST(GroundTruth, TargetFlagsFollowTheRipeColours) {
+  WorldSpec spec;  // default: 8 plants, 10 % green fruit
+  const World w = generate_world(spec);
+  std::size_t green = 0, targets = 0;
+  for (const FruitTruth& f : w.truth.fruits) {
+    EXPECT_EQ(f.target, f.color != "green") << f.instance_id << " " << f.color;
+    green += f.color == "green";
+    targets += f.target;
+  }
+  ASSERT_GT(green, 0u) << "the default world should hold unripe fruit";
+  EXPECT_EQ(w.truth.target_count(), targets);
+  for (const Plant& p : w.plants)
+    for (const PlantPart& part : p.parts)
+      if (part.instance_id != kNoInstance) {
+        EXPECT_EQ(part.fruit_target, part.fruit_color != "green");
+        EXPECT_EQ(part.class_id, spec.classes.index_of("fruit"));  // both map to fruit by default
+      }
+  // Only red counts; unripe fruit labelled leaf.
+  const std::string path = write_temp("ripe_world.yaml",
+                                      "plant: {ripe_colors: [red]}\npart_classes: {unripe_fruit: leaf}\n");
+  const WorldSpec only_red = WorldSpec::load(path);
+  const World w2 = generate_world(only_red);
+  for (const Plant& p : w2.plants)
+    for (const PlantPart& part : p.parts) {
+      if (part.instance_id == kNoInstance) continue;
+      EXPECT_EQ(part.class_id, only_red.classes.index_of(part.fruit_color == "red" ? "fruit" : "leaf"));
+    }
+  for (const FruitTruth& f : w2.truth.fruits) EXPECT_EQ(f.target, f.color == "red");
+  {
+    const std::string bad = write_temp("ripe_bad.yaml", "plant: {ripe_colors: [purple]}\n");
+    EXPECT_THROW(WorldSpec::load(bad), InputError);
+  }
 }
 
 TEST(WorldSpec, DefaultsInYamlEqualStructDefaults) {
@@ -121,6 +158,8 @@ TEST(WorldSpec, DefaultsInYamlEqualStructDefaults) {
   EXPECT_EQ(file.plant.leaves_per_stem_max, d.plant.leaves_per_stem_max);
   EXPECT_EQ(file.plant.leaf_length_max_m, d.plant.leaf_length_max_m);
   EXPECT_EQ(file.plant.fruit_colors, d.plant.fruit_colors);
+  EXPECT_EQ(file.plant.ripe_colors, d.plant.ripe_colors);
+  EXPECT_EQ(file.part_classes.unripe_fruit, d.part_classes.unripe_fruit);
   EXPECT_EQ(file.camera.fx_px, d.camera.fx_px);
   EXPECT_EQ(file.camera.max_range_m, d.camera.max_range_m);
   EXPECT_EQ(file.gt_point_spacing_m, d.gt_point_spacing_m);

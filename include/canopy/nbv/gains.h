@@ -5,9 +5,15 @@
 //
 // Definitions (paper Eq. 1-4, FACTS.md section 6), with these interpretations:
 //  - osamcep: sum of P_v(x) H(x) over voxels that are unknown (never observed) or target
-//    voxels (occupied, most likely class = target), with centre distance to the target
-//    centroid < max_dist. P_v(x_n) = prod_{i<n} (1 - p_occ(x_i)), unknown p_occ = 0.5; H is the
-//    voxel's multi-class entropy (SSMI's unseen-prior entropy for unknown voxels).
+//    voxels (occupied, most likely class = target), close to the target centroid.
+//    P_v(x_n) = prod_{i<n} (1 - p_occ(x_i)), unknown p_occ = 0.5; H is the voxel's multi-class
+//    entropy over the map's categories (SSMI's unseen prior for unknown voxels). "Close"
+//    (GainParams::proximity): per_voxel, the paper's equation, tests each voxel's centre
+//    distance < max_dist; per_segment_end, the released code, walks the ray as run-length
+//    segments of identical voxels (equal palette ids) and tests every voxel of a segment with
+//    the distance of the segment's last voxel, so an all-unknown ray ending near the target
+//    counts from the camera on (about 2 H), where per_voxel counts only its last few voxels at
+//    P_v 0.5^15..0.5^25.
 //  - ae: sum of H_b(p_occ) along the ray over the voxels before the first one with
 //    p_occ >= ae_stop_occupancy (the prototype sums; Delmerico divides by hitting rays).
 //  - uvc: count of unknown voxels (no leaf, or unknown_low < p_occ <= unknown_high) before the

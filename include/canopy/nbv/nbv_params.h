@@ -38,8 +38,16 @@ struct RayParams {
 };
 
 /// Gain-function settings.
+/// How OSAMCEP tests a voxel's distance to the target (gains.h).
+enum class Proximity { kPerVoxel, kPerSegmentEnd };
+/// "per_voxel" / "per_segment_end".
+std::string to_string(Proximity p);
+/// Parses a name; throws InputError naming `where` and the valid names otherwise.
+Proximity proximity_from_string(const std::string& s, const std::string& where);
+
 struct GainParams {
   double max_dist_m = 0.1;            ///< OSAMCEP / UVPC: voxels farther from the target do not count.
+  Proximity proximity = Proximity::kPerSegmentEnd;  ///< OSAMCEP's distance test (chosen by the ablation).
   double ae_stop_occupancy = 0.9;     ///< AE: the ray stops after the first voxel with p_occ >= this.
   double unknown_low = 0.4;           ///< UVC/UVPC: a known voxel with p in (low, high] is unknown.
   double unknown_high = 0.6;          ///< UVC/UVPC: a voxel with p_occ > high blocks the ray.
