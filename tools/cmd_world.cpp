@@ -45,7 +45,8 @@ void add_world_command(CLI::App& app) {
                         {"base_position", {p.base_position.x(), p.base_position.y(), p.base_position.z()}},
                         {"height_m", p.height_m},
                         {"parts", p.parts.size()},
-                        {"fruits", fruits}});
+                        {"fruits", fruits},
+                        {"import", p.import_dir}});  // "" for procedural plants
     }
     summary["plant_list"] = plants;
     write_json_atomic(out.path("world.json"), summary);

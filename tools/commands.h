@@ -11,6 +11,8 @@ namespace canopy::cli {
 void add_world_command(CLI::App& app);
 /// `canopy render`: render one view of a world.
 void add_render_command(CLI::App& app);
+/// `canopy import-plant`: an existing plant model as a plant folder worlds can place.
+void add_import_plant_command(CLI::App& app);
 
 /// `canopy run`: the main job (tools/run.sh), the default mission.
 void add_run_command(CLI::App& app);

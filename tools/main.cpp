@@ -67,6 +67,7 @@ int main(int argc, char** argv) {
 
   canopy::cli::add_world_command(app);
   canopy::cli::add_render_command(app);
+  canopy::cli::add_import_plant_command(app);
   canopy::cli::add_run_command(app);
   canopy::cli::add_mission_command(app);
   canopy::cli::add_map_command(app);

@@ -33,10 +33,28 @@ std::vector<const FruitTruth*> GroundTruth::fruits_of_plant(int plant_index) con
   return out;
 }
 
+std::vector<Vec3> sample_surface_points(const TriMesh& mesh, double spacing_m, std::uint64_t seed) {
+  const double density = 1.0 / (spacing_m * spacing_m);  // points per m^2
+  Rng rng(seed);
+  std::vector<Vec3> points;
+  for (const auto& tri : mesh.faces) {
+    const Vec3& a = mesh.vertices[tri[0]];
+    const Vec3& b = mesh.vertices[tri[1]];
+    const Vec3& c = mesh.vertices[tri[2]];
+    const double expected = 0.5 * (b - a).cross(c - a).norm() * density;
+    // Stochastic rounding keeps the density exact on average over small triangles.
+    const int n = static_cast<int>(expected) + (rng.uniform() < expected - std::floor(expected) ? 1 : 0);
+    for (int i = 0; i < n; ++i) {
+      const double s = std::sqrt(rng.uniform()), t = rng.uniform();
+      points.push_back((1.0 - s) * a + s * (1.0 - t) * b + s * t * c);
+    }
+  }
+  return points;
+}
+
 GroundTruth sample_ground_truth(const World& world) {
   GroundTruth gt;
   gt.point_spacing_m = world.spec.gt_point_spacing_m;
-  const double density = 1.0 / (gt.point_spacing_m * gt.point_spacing_m);  // points per m^2
   for (const auto& plant : world.plants)
     for (const auto& part : plant.parts) {
       if (part.instance_id == kNoInstance) continue;
@@ -49,19 +67,12 @@ GroundTruth sample_ground_truth(const World& world) {
       part.mesh.bounds(&f.bbox_min, &f.bbox_max);
       f.center = 0.5 * (f.bbox_min + f.bbox_max);
       f.surface_area_m2 = part.mesh.area();
-      Rng rng(mix_seed(world.spec.seed, 1000000 + static_cast<std::uint64_t>(part.instance_id)));
-      for (const auto& tri : part.mesh.faces) {
-        const Vec3& a = part.mesh.vertices[tri[0]];
-        const Vec3& b = part.mesh.vertices[tri[1]];
-        const Vec3& c = part.mesh.vertices[tri[2]];
-        const double expected = 0.5 * (b - a).cross(c - a).norm() * density;
-        // Stochastic rounding keeps the density exact on average over small triangles.
-        const int n = static_cast<int>(expected) + (rng.uniform() < expected - std::floor(expected) ? 1 : 0);
-        for (int i = 0; i < n; ++i) {
-          const double s = std::sqrt(rng.uniform()), t = rng.uniform();
-          f.surface_points.push_back((1.0 - s) * a + s * (1.0 - t) * b + s * t * c);
-        }
-      }
+      // Imported plants bring their own ground truth (their folder's, placed in the world).
+      f.surface_points = part.has_truth_points
+                             ? part.truth_points
+                             : sample_surface_points(part.mesh, gt.point_spacing_m,
+                                                     mix_seed(world.spec.seed, 1000000 + static_cast<std::uint64_t>(part.instance_id)));
+      if (part.has_truth_points) f.surface_area_m2 = part.truth_area_m2;
       gt.fruits.push_back(std::move(f));
     }
   return gt;
@@ -80,8 +91,8 @@ void GroundTruth::save(const std::string& dir) const {
     j["fruits"].push_back({{"instance_id", f.instance_id},
                            {"plant_index", f.plant_index},
                            {"color", f.color},
-                           {"target", f.target},
                            {"shape", f.shape},
+                           {"target", f.target},
                            {"center", vec_json(f.center)},
                            {"bbox_min", vec_json(f.bbox_min)},
                            {"bbox_max", vec_json(f.bbox_max)},
@@ -110,8 +121,8 @@ GroundTruth GroundTruth::load(const std::string& dir) {
       f.instance_id = jf.at("instance_id").get<int>();
       f.plant_index = jf.at("plant_index").get<int>();
       f.color = jf.at("color").get<std::string>();
-      f.target = jf.value("target", true);  // files from before the flag: every fruit counted
       f.shape = jf.at("shape").get<std::string>();
+      f.target = jf.value("target", true);  // files written before the flag: every fruit is a target
       f.center = vec_from(jf.at("center"));
       f.bbox_min = vec_from(jf.at("bbox_min"));
       f.bbox_max = vec_from(jf.at("bbox_max"));

@@ -4,10 +4,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <sstream>
 
 #include "canopy/common/error.h"
 #include "canopy/common/random.h"
+#include "canopy/world/plant_import.h"
 #include "canopy/world/world.h"
 
 namespace canopy::world {
@@ -262,6 +264,50 @@ Plant make_plant(const WorldSpec& spec, int index, const Vec3& base, int* next_i
   return plant;
 }
 
+// An imported plant (its folder read once into `asset`) with its base at `base`, turned by
+// `yaw_rad`; its fruits take the next instance ids and bring their folder's ground truth.
+Plant place_imported(const WorldSpec& spec, const PlantAsset& asset, int index, const Vec3& base, double yaw_rad,
+                     int* next_instance) {
+  Plant plant;
+  plant.index = index;
+  plant.base_position = base;
+  plant.height_m = asset.height_m;
+  plant.import_dir = asset.dir;
+  Pose T = Pose::Identity();
+  T.translation() = base;
+  T.rotate(Eigen::AngleAxisd(yaw_rad, Vec3::UnitZ()));
+  const std::string prefix = "p" + std::to_string(index) + "_";
+  std::map<int, int> instance_of_fruit;
+  for (size_t k = 0; k < asset.parts.size(); ++k) {
+    const ImportedPart& ip = asset.parts[k];
+    PlantPart part;
+    part.class_id = spec.classes.index_of(ip.class_name);
+    if (part.class_id < 0)
+      throw InputError(asset.dir + "/plant.yaml: class '" + ip.class_name + "' of material '" + ip.material +
+                       "' is not in the world's class list (" + (spec.source_file.empty() ? "world" : spec.source_file) + ")");
+    part.kind = ip.fruit >= 0 ? "fruit" : "imported";
+    part.name = prefix + (ip.fruit >= 0 ? "fruit_" + std::to_string(ip.fruit) : "part_" + std::to_string(k));
+    std::copy(ip.rgba, ip.rgba + 4, part.rgba);
+    part.mesh = ip.mesh;
+    part.mesh.transform(T);
+    if (ip.fruit >= 0) {
+      part.instance_id = (*next_instance)++;
+      part.fruit_target = ip.target;
+      const FruitTruth* truth = nullptr;
+      for (const auto& f : asset.truth.fruits)
+        if (f.instance_id == ip.fruit) truth = &f;
+      CANOPY_CHECK(truth, "load_plant_asset checks every fruit part against fruits.json");
+      part.fruit_color = truth->color;
+      part.fruit_shape = truth->shape;
+      part.has_truth_points = true;
+      part.truth_area_m2 = truth->surface_area_m2;
+      for (const auto& p : truth->surface_points) part.truth_points.push_back(T * p);
+    }
+    plant.parts.push_back(std::move(part));
+  }
+  return plant;
+}
+
 }  // namespace
 
 size_t World::triangle_count() const {
@@ -276,6 +322,12 @@ World generate_world(const WorldSpec& spec) {
   World world;
   world.spec = spec;
   int next_instance = 0;
+  std::map<std::string, PlantAsset> assets;  // each plant folder read once
+  auto asset = [&](const PlantPlacement& p) -> const PlantAsset& {
+    auto it = assets.find(p.import_dir);
+    if (it == assets.end()) it = assets.emplace(p.import_dir, load_plant_asset(p.import_dir)).first;
+    return it->second;
+  };
   Rng layout(mix_seed(spec.seed, 1));
   for (int row = 0; row < spec.rows.rows; ++row) {
     const double y = row == 0 ? spec.rows.row_offset_m : -spec.rows.row_offset_m;
@@ -283,9 +335,21 @@ World generate_world(const WorldSpec& spec) {
       const double j = spec.rows.position_jitter_m;
       const Vec3 base(spec.rows.x_start_m + i * spec.rows.plant_spacing_m + layout.uniform(-j, j),
                       y + layout.uniform(-j, j), 0.0);
-      world.plants.push_back(make_plant(spec, static_cast<int>(world.plants.size()), base, &next_instance));
+      const int index = static_cast<int>(world.plants.size());
+      // An imported plant in a slot stands exactly on it (the jitter is drawn all the same,
+      // so the other plants do not move).
+      if (const PlantPlacement* p = spec.placement_in_slot(row, i))
+        world.plants.push_back(place_imported(spec, asset(*p), index,
+                                              Vec3(spec.rows.x_start_m + i * spec.rows.plant_spacing_m, y, 0.0),
+                                              p->yaw_rad, &next_instance));
+      else
+        world.plants.push_back(make_plant(spec, index, base, &next_instance));
     }
   }
+  for (const auto& p : spec.placements)
+    if (!p.in_slot)
+      world.plants.push_back(place_imported(spec, asset(p), static_cast<int>(world.plants.size()),
+                                            Vec3(p.position_m.x(), p.position_m.y(), 0.0), p.yaw_rad, &next_instance));
   world.truth = sample_ground_truth(world);
   return world;
 }

@@ -3,8 +3,13 @@
 #include <cmath>
 #include <sstream>
 
+#include <filesystem>
+#include <set>
+
 #include "canopy/common/error.h"
+#include "canopy/common/robot_config.h"
 #include "canopy/common/yaml_reader.h"
+#include "canopy/world/plant_import.h"
 
 namespace canopy::world {
 
@@ -44,6 +49,68 @@ double read_positive(YamlReader& y, const std::string& key, double fallback) {
   const double v = y.get(key, fallback);
   y.check(std::isfinite(v) && v > 0.0, key, "must be > 0");
   return v;
+}
+
+// A plant folder named in a world file: as given (current folder or canopy's source tree),
+// else relative to the world file's folder.
+std::string resolve_plant_dir(const std::string& dir, const std::string& world_file) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const std::string found = find_data_file(dir);
+  if (fs::is_directory(found, ec)) return fs::absolute(found).lexically_normal().string();
+  const fs::path beside = fs::path(world_file).parent_path() / dir;
+  if (!fs::path(dir).is_absolute() && fs::is_directory(beside, ec)) return fs::absolute(beside).lexically_normal().string();
+  return "";
+}
+
+// The world file's `plants` list: imported plants in row slots or at free positions.
+std::vector<PlantPlacement> read_placements(YamlReader& y, const std::string& path) {
+  std::vector<PlantPlacement> out;
+  if (!y.has("plants")) return out;
+  YAML::Node list = y.require<YAML::Node>("plants");
+  if (!list.IsSequence()) y.fail("plants", "must be a list of {plant: {import: FOLDER}, slot: [row, index] or position: [x, y], yaw_deg}");
+  for (size_t i = 0; i < list.size(); ++i) {
+    const std::string where = "plants[" + std::to_string(i) + "]";
+    YamlReader e(list[i], path, where);
+    PlantPlacement pl;
+    YamlReader plant = e.child("plant");
+    const std::string dir = plant.require<std::string>("import");
+    plant.finish();
+    pl.import_dir = resolve_plant_dir(dir, path);
+    if (pl.import_dir.empty())
+      throw InputError(path + ": key '" + where + ".plant.import': value '" + dir + "' is not a plant folder");
+    read_plant_size(pl.import_dir, &pl.height_m, &pl.radius_m);
+    e.check(e.has("slot") != e.has("position"), "slot", "give exactly one of slot: [row, index] and position: [x, y]");
+    if (e.has("slot")) {
+      std::vector<int> v;
+      try {
+        v = e.require<std::vector<int>>("slot");
+      } catch (const InputError&) {
+        e.fail("slot", "must be [row, index] (whole numbers)");
+      }
+      e.check(v.size() == 2, "slot", "must be [row, index]");
+      pl.in_slot = true;
+      pl.row = v[0];
+      pl.index = v[1];
+    } else {
+      std::vector<double> v;
+      try {
+        v = e.require<std::vector<double>>("position");
+      } catch (const InputError&) {
+        e.fail("position", "must be [x, y] in metres");
+      }
+      e.check(v.size() == 2 && std::isfinite(v[0]) && std::isfinite(v[1]), "position", "must be [x, y] (finite)");
+      e.check(std::abs(v[0]) <= kMaxWorldExtentM && std::abs(v[1]) <= kMaxWorldExtentM, "position",
+              "lies outside the world (at most " + std::to_string(kMaxWorldExtentM) + " m from the origin)");
+      pl.position_m = Vec2(v[0], v[1]);
+    }
+    const double yaw_deg = e.get("yaw_deg", 0.0);
+    e.check(std::isfinite(yaw_deg), "yaw_deg", "must be finite");
+    pl.yaw_rad = yaw_deg * M_PI / 180.0;
+    e.finish();
+    out.push_back(pl);
+  }
+  return out;
 }
 
 }  // namespace
@@ -148,6 +215,7 @@ WorldSpec WorldSpec::load(const std::string& path) {
   }
   s.gt_point_spacing_m = read_positive(y, "gt_point_spacing_m", s.gt_point_spacing_m);
   y.check(s.gt_point_spacing_m >= 0.0005, "gt_point_spacing_m", "must be >= 0.0005 (too many points otherwise)");
+  s.placements = read_placements(y, path);
   y.finish();
   s.validate();
   return s;
@@ -195,6 +263,30 @@ void WorldSpec::validate() const {
                        " m from the origin (at most " + std::to_string(kMaxWorldExtentM) + " m)");
   if (2.0 * rows.row_offset_m < 0.5)
     throw InputError(where + ": key 'rows.row_offset_m': rows closer than 0.25 m to the aisle leave no room for the robot");
+  std::set<std::pair<int, int>> slots;
+  for (size_t i = 0; i < placements.size(); ++i) {
+    const PlantPlacement& p = placements[i];
+    const std::string key = where + ": key 'plants[" + std::to_string(i) + "]";
+    if (!p.in_slot) continue;
+    if (p.row < 0 || p.row >= rows.rows || p.index < 0 || p.index >= rows.plants_per_row)
+      throw InputError(key + ".slot': [" + std::to_string(p.row) + ", " + std::to_string(p.index) +
+                       "] is not a slot of the rows (row 0.." + std::to_string(rows.rows - 1) + ", index 0.." +
+                       std::to_string(rows.plants_per_row - 1) + ")");
+    if (!slots.insert({p.row, p.index}).second)
+      throw InputError(key + ".slot': slot [" + std::to_string(p.row) + ", " + std::to_string(p.index) + "] is taken twice");
+  }
+}
+
+int WorldSpec::plant_count() const {
+  int n = rows.rows * rows.plants_per_row;
+  for (const auto& p : placements) n += p.in_slot ? 0 : 1;
+  return n;
+}
+
+const PlantPlacement* WorldSpec::placement_in_slot(int row, int index) const {
+  for (const auto& p : placements)
+    if (p.in_slot && p.row == row && p.index == index) return &p;
+  return nullptr;
 }
 
 double WorldSpec::plant_reach_m() const {
@@ -214,7 +306,33 @@ void WorldSpec::check_aisle(double base_half_width_m, double clearance_m) const 
        << needed + plant_reach_m();
     throw InputError(os.str());
   }
+  // Imported plants reach as far as their own radius from their base.
+  for (size_t i = 0; i < placements.size(); ++i) {
+    const PlantPlacement& p = placements[i];
+    const double y = p.in_slot ? rows.row_offset_m : std::abs(p.position_m.y());
+    if (y - p.radius_m < needed) {
+      std::ostringstream os;
+      os << (source_file.empty() ? std::string("world") : source_file) << ": key 'plants[" << i
+         << "]': the imported plant " << p.import_dir << " reaches " << p.radius_m << " m from its base, "
+         << y - p.radius_m << " m from the aisle's centre line; the base needs " << needed
+         << " m (half width plus clearance)";
+      throw InputError(os.str());
+    }
+  }
 }
+
+namespace {
+nlohmann::json placements_json(const std::vector<PlantPlacement>& placements) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const auto& p : placements) {
+    nlohmann::json e = {{"plant", {{"import", p.import_dir}}}, {"yaw_deg", p.yaw_rad * 180.0 / M_PI}};
+    if (p.in_slot) e["slot"] = {p.row, p.index};
+    else e["position"] = {p.position_m.x(), p.position_m.y()};
+    out.push_back(e);
+  }
+  return out;
+}
+}  // namespace
 
 nlohmann::json WorldSpec::to_json() const {
   using nlohmann::json;
@@ -258,6 +376,7 @@ nlohmann::json WorldSpec::to_json() const {
         {"depth_noise_k", camera.depth_noise_k}}},
       {"robot_start", {robot_start.x_m, robot_start.y_m, robot_start.yaw_rad}},
       {"gt_point_spacing_m", gt_point_spacing_m},
+      {"plants", placements_json(placements)},
   };
 }
 

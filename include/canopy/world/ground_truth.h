@@ -1,10 +1,12 @@
 #pragma once
 // Ground truth of a generated world's fruits: what mapping metrics are scored against.
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
 #include "canopy/common/types.h"
+#include "canopy/world/mesh.h"
 
 namespace canopy::world {
 
@@ -41,5 +43,9 @@ struct GroundTruth {
   /// Reads what save() wrote; throws InputError naming the file on malformed content.
   static GroundTruth load(const std::string& dir);
 };
+
+/// Points on `mesh` uniformly by area, 1/spacing_m^2 per m^2 (stochastic rounding per
+/// triangle), from `seed`: the sampler of every world's fruit ground truth.
+std::vector<Vec3> sample_surface_points(const TriMesh& mesh, double spacing_m, std::uint64_t seed);
 
 }  // namespace canopy::world

@@ -21,6 +21,11 @@ struct PlantPart {
   std::string fruit_color;          ///< Fruits only: "red", "yellow", ...
   std::string fruit_shape;          ///< Fruits only: "blocky" or "conical".
   bool fruit_target = true;         ///< Fruits only: ripe, counted by the metrics.
+  /// Fruits of imported plants: their folder's ground truth (world frame) and area, used
+  /// instead of sampling the mesh.
+  bool has_truth_points = false;
+  std::vector<Vec3> truth_points;
+  double truth_area_m2 = 0.0;
   float rgba[4] = {0.f, 0.f, 0.f, 1.f};
   TriMesh mesh;                     ///< World-frame vertices.
 };
@@ -30,6 +35,7 @@ struct Plant {
   int index = 0;
   Vec3 base_position = Vec3::Zero();
   double height_m = 0.0;
+  std::string import_dir;           ///< Imported plants: their plant folder ("" for procedural).
   std::vector<PlantPart> parts;
 };
 

@@ -64,6 +64,20 @@ struct PartClasses {
   std::string unripe_fruit = "fruit";  ///< Fruits whose colour is not ripe.
 };
 
+/// An imported plant (a folder written by `canopy import-plant`) placed in the world, from
+/// the world file's `plants` list: in a row slot (replacing that procedural plant, so stops
+/// and scans along the rows cover it) or at a free position.
+struct PlantPlacement {
+  std::string import_dir;           ///< The plant folder, resolved (absolute).
+  bool in_slot = false;
+  int row = 0;                      ///< Slot: 0 is the row at y > 0, 1 the row at y < 0.
+  int index = 0;                    ///< Slot: position along the row (0 = x_start_m).
+  Vec2 position_m = Vec2::Zero();   ///< Free position of the base (when not in a slot).
+  double yaw_rad = 0.0;             ///< Rotation about the base's vertical axis.
+  double height_m = 0.0;            ///< From the folder's plant.yaml.
+  double radius_m = 0.0;            ///< From the folder's plant.yaml: horizontal reach from the base.
+};
+
 /// Everything a world file holds. Defaults reproduce the paper's set-up: 8 plants in two
 /// rows facing the aisle.
 struct WorldSpec {
@@ -77,6 +91,7 @@ struct WorldSpec {
   CameraIntrinsics camera;
   BasePose robot_start;               ///< Base pose at the start of the aisle.
   double gt_point_spacing_m = 0.003;  ///< Ground-truth fruit surface sample spacing.
+  std::vector<PlantPlacement> placements;  ///< Imported plants (world file key `plants`).
 
   /// Reads and validates a world file; throws InputError naming file, key and value.
   static WorldSpec load(const std::string& path);
@@ -86,7 +101,9 @@ struct WorldSpec {
   int class_of(const std::string& part) const;
   /// True when fruits of `color` are targets (plant.ripe_colors).
   bool is_ripe(const std::string& color) const;
-  int plant_count() const { return rows.rows * rows.plants_per_row; }
+  int plant_count() const;
+  /// The placement in row slot (row, index), or nullptr when that slot is procedural.
+  const PlantPlacement* placement_in_slot(int row, int index) const;
   /// How far a plant may reach sideways from its nominal row position: position jitter plus
   /// the longest petiole and leaf blade.
   double plant_reach_m() const;

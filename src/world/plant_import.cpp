@@ -1,0 +1,801 @@
+// Plant import through assimp. assimp reads the file (triangulated, identical vertices
+// joined, its COLLADA Z-up -> Y-up rotation switched off); canopy walks the node tree itself
+// so every instance gets its own node transform, then converts units and the up axis, puts
+// the base at the origin, welds, maps materials to classes and splits fruit into instances.
+
+#include "canopy/world/plant_import.h"
+
+#include <assimp/Importer.hpp>
+#include <assimp/config.h>
+#include <assimp/material.h>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+#include <openssl/evp.h>
+#include <yaml-cpp/yaml.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <functional>
+#include <limits>
+#include <map>
+#include <numeric>
+#include <regex>
+#include <set>
+#include <unordered_map>
+
+#include "canopy/common/error.h"
+#include "canopy/common/io.h"
+#include "canopy/common/random.h"
+#include "canopy/common/yaml_reader.h"
+
+namespace canopy::world {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr const char* kPlantFile = "plant.yaml";
+// Vertex-clustering cells tried, in order, when the plant is over its triangle budget.
+constexpr double kSimplifyCellsM[] = {0.001, 0.002, 0.004, 0.008, 0.016};
+// Triangles with less area are degenerate [m^2] (a 1 mm x 1 um sliver has 5e-10).
+constexpr double kMinTriangleAreaM2 = 1e-12;
+
+// ---- small helpers ------------------------------------------------------------------
+
+struct UnionFind {
+  std::vector<int> parent;
+  explicit UnionFind(int n) : parent(static_cast<size_t>(n)) { std::iota(parent.begin(), parent.end(), 0); }
+  int find(int a) {
+    while (parent[static_cast<size_t>(a)] != a) a = parent[static_cast<size_t>(a)] = parent[static_cast<size_t>(parent[static_cast<size_t>(a)])];
+    return a;
+  }
+  void unite(int a, int b) {
+    a = find(a), b = find(b);
+    if (a != b) parent[static_cast<size_t>(std::max(a, b))] = std::min(a, b);  // smallest id is the root: deterministic
+  }
+};
+
+struct CellKey {
+  std::int64_t x, y, z;
+  bool operator==(const CellKey& o) const { return x == o.x && y == o.y && z == o.z; }
+};
+struct CellHash {
+  size_t operator()(const CellKey& k) const {
+    std::uint64_t h = static_cast<std::uint64_t>(k.x) * 0x9E3779B97F4A7C15ULL;
+    h ^= static_cast<std::uint64_t>(k.y) * 0xC2B2AE3D27D4EB4FULL + (h << 6) + (h >> 2);
+    h ^= static_cast<std::uint64_t>(k.z) * 0x165667B19E3779F9ULL + (h << 6) + (h >> 2);
+    return static_cast<size_t>(h);
+  }
+};
+CellKey cell_of(const Vec3& p, double cell) {
+  return {static_cast<std::int64_t>(std::floor(p.x() / cell)), static_cast<std::int64_t>(std::floor(p.y() / cell)),
+          static_cast<std::int64_t>(std::floor(p.z() / cell))};
+}
+
+// Triangle soup -> indexed mesh, vertices closer than `tol` merged (first one kept), and
+// triangles that became degenerate dropped (counted in *degenerate). `kept`, when given,
+// receives the soup index of every face.
+TriMesh weld(const std::vector<std::array<Vec3, 3>>& soup, double tol, long* degenerate,
+             std::vector<size_t>* kept = nullptr) {
+  TriMesh m;
+  std::unordered_map<CellKey, std::vector<int>, CellHash> grid;
+  const double cell = std::max(tol, 1e-9);
+  auto index_of = [&](const Vec3& p) {
+    const CellKey c = cell_of(p, cell);
+    for (std::int64_t dx = -1; dx <= 1; ++dx)
+      for (std::int64_t dy = -1; dy <= 1; ++dy)
+        for (std::int64_t dz = -1; dz <= 1; ++dz) {
+          const auto it = grid.find({c.x + dx, c.y + dy, c.z + dz});
+          if (it == grid.end()) continue;
+          for (int i : it->second)
+            if ((m.vertices[static_cast<size_t>(i)] - p).norm() <= tol) return i;
+        }
+    const int i = static_cast<int>(m.vertices.size());
+    m.vertices.push_back(p);
+    grid[c].push_back(i);
+    return i;
+  };
+  for (size_t k = 0; k < soup.size(); ++k) {
+    const auto& t = soup[k];
+    const std::array<int, 3> f = {index_of(t[0]), index_of(t[1]), index_of(t[2])};
+    const Vec3 &a = m.vertices[static_cast<size_t>(f[0])], &b = m.vertices[static_cast<size_t>(f[1])],
+               &c = m.vertices[static_cast<size_t>(f[2])];
+    if (f[0] == f[1] || f[1] == f[2] || f[0] == f[2] || 0.5 * (b - a).cross(c - a).norm() < kMinTriangleAreaM2) {
+      ++*degenerate;
+      continue;
+    }
+    m.faces.push_back(f);
+    if (kept) kept->push_back(k);
+  }
+  return m;
+}
+
+// Drops vertices no face uses (keeps the order of the rest).
+TriMesh compact(const TriMesh& in) {
+  TriMesh out;
+  std::vector<int> remap(in.vertices.size(), -1);
+  for (const auto& f : in.faces) {
+    std::array<int, 3> g{};
+    for (int k = 0; k < 3; ++k) {
+      int& r = remap[static_cast<size_t>(f[static_cast<size_t>(k)])];
+      if (r < 0) {
+        r = static_cast<int>(out.vertices.size());
+        out.vertices.push_back(in.vertices[static_cast<size_t>(f[static_cast<size_t>(k)])]);
+      }
+      g[static_cast<size_t>(k)] = r;
+    }
+    out.faces.push_back(g);
+  }
+  return out;
+}
+
+// Vertex clustering: every vertex moves to the mean of its `cell`-sized grid cell; faces
+// that collapse or repeat are removed.
+TriMesh cluster_vertices(const TriMesh& in, double cell) {
+  std::unordered_map<CellKey, int, CellHash> cell_index;
+  std::vector<Vec3> sum;
+  std::vector<int> count, remap(in.vertices.size());
+  for (size_t i = 0; i < in.vertices.size(); ++i) {
+    const auto [it, fresh] = cell_index.try_emplace(cell_of(in.vertices[i], cell), static_cast<int>(sum.size()));
+    if (fresh) {
+      sum.push_back(Vec3::Zero());
+      count.push_back(0);
+    }
+    sum[static_cast<size_t>(it->second)] += in.vertices[i];
+    ++count[static_cast<size_t>(it->second)];
+    remap[i] = it->second;
+  }
+  TriMesh out;
+  for (size_t c = 0; c < sum.size(); ++c) out.vertices.push_back(sum[c] / count[c]);
+  std::set<std::array<int, 3>> seen;
+  for (const auto& f : in.faces) {
+    const std::array<int, 3> g = {remap[static_cast<size_t>(f[0])], remap[static_cast<size_t>(f[1])],
+                                  remap[static_cast<size_t>(f[2])]};
+    if (g[0] == g[1] || g[1] == g[2] || g[0] == g[2]) continue;
+    std::array<int, 3> key = g;
+    std::sort(key.begin(), key.end());
+    if (!seen.insert(key).second) continue;
+    out.faces.push_back(g);
+  }
+  return compact(out);
+}
+
+double box_gap(const Vec3& lo_a, const Vec3& hi_a, const Vec3& lo_b, const Vec3& hi_b) {
+  const Vec3 gap = (lo_b - hi_a).cwiseMax(lo_a - hi_b).cwiseMax(Vec3::Zero());
+  return gap.norm();
+}
+
+std::string lower(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+// A name usable as a file name.
+std::string file_stem(const std::string& s) {
+  std::string out;
+  for (char c : s) out += (std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_') ? c : '_';
+  return out.empty() ? std::string("part") : out;
+}
+
+Eigen::Matrix4d to_eigen(const aiMatrix4x4& m) {
+  Eigen::Matrix4d e;
+  e << m.a1, m.a2, m.a3, m.a4, m.b1, m.b2, m.b3, m.b4, m.c1, m.c2, m.c3, m.c4, m.d1, m.d2, m.d3, m.d4;
+  return e;
+}
+
+// Fallback flat colours (materials without a diffuse colour) per class.
+void default_rgba(const std::string& class_name, bool target, float* rgba) {
+  const float leaf[3] = {0.22f, 0.52f, 0.14f}, ripe[3] = {0.75f, 0.06f, 0.05f}, unripe[3] = {0.55f, 0.70f, 0.10f},
+              other[3] = {0.5f, 0.5f, 0.5f};
+  const float* c = class_name == "leaf" ? leaf : class_name == "fruit" ? (target ? ripe : unripe) : other;
+  std::copy(c, c + 3, rgba);
+  rgba[3] = 1.f;
+}
+
+struct CompiledRule {
+  ClassRule rule;
+  std::regex re;
+};
+
+std::string rule_text(const ClassRule& r) {
+  return r.class_name + (r.target ? "" : ":unripe") + "=" + r.pattern;
+}
+
+// One material's triangles in the plant frame, with an "exact duplicate" flag per triangle.
+struct MaterialSoup {
+  std::string name;
+  std::vector<std::array<Vec3, 3>> triangles;
+  std::vector<bool> duplicate;
+  bool has_texture = false;
+  bool has_color = false;
+  float rgba[4] = {0.5f, 0.5f, 0.5f, 1.f};
+};
+
+// Hash of a triangle by its exact vertex coordinates, in any vertex order.
+struct TriangleKey {
+  std::array<double, 9> v;
+  bool operator==(const TriangleKey& o) const { return v == o.v; }
+};
+struct TriangleHash {
+  size_t operator()(const TriangleKey& k) const {
+    size_t h = 0;
+    for (double d : k.v) h = h * 1000003u ^ std::hash<double>()(d);
+    return h;
+  }
+};
+TriangleKey triangle_key(const std::array<Vec3, 3>& t) {
+  std::array<Vec3, 3> s = t;
+  std::sort(s.begin(), s.end(), [](const Vec3& a, const Vec3& b) {
+    return std::lexicographical_compare(a.data(), a.data() + 3, b.data(), b.data() + 3);
+  });
+  TriangleKey k;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) k.v[static_cast<size_t>(3 * i + j)] = s[static_cast<size_t>(i)][j];
+  return k;
+}
+
+// Reads the file with assimp; the importer owns the scene.
+const aiScene* read_scene(Assimp::Importer& importer, const std::string& path) {
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec)) throw InputError(path + ": no such file");
+  importer.SetPropertyBool(AI_CONFIG_IMPORT_COLLADA_IGNORE_UP_DIRECTION, true);
+  // Points and lines go to meshes of their own (SortByPType) and are counted and dropped
+  // below; canopy applies node transforms and drops degenerate triangles itself.
+  const aiScene* scene =
+      importer.ReadFile(path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_SortByPType);
+  if (!scene || (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE) || !scene->mRootNode) {
+    std::string why = importer.GetErrorString();
+    for (char& c : why)
+      if (c == '\n' || c == '\r') c = ' ';
+    throw InputError(path + ": assimp cannot read it: " + (why.empty() ? std::string("incomplete scene") : why));
+  }
+  if (scene->mNumMeshes == 0) throw InputError(path + ": the file holds no mesh");
+  return scene;
+}
+
+std::string material_name(const aiScene* scene, unsigned index) {
+  aiString name;
+  if (scene->mMaterials[index]->Get(AI_MATKEY_NAME, name) == AI_SUCCESS && name.length > 0) return name.C_Str();
+  return "material_" + std::to_string(index);
+}
+
+// Every node instance's triangles, transformed by `T_out_root * (node chain)`, into one
+// soup per material. Counts what is dropped and what repeats exactly.
+void collect_triangles(const aiScene* scene, const Eigen::Matrix4d& T_out_file, std::vector<MaterialSoup>* soups,
+                       ImportReport* report) {
+  soups->assign(scene->mNumMaterials, MaterialSoup{});
+  for (unsigned i = 0; i < scene->mNumMaterials; ++i) (*soups)[i].name = material_name(scene, i);
+  std::unordered_map<TriangleKey, std::string, TriangleHash> first_node;
+  std::set<std::string> pairs;
+  std::function<void(const aiNode*, const Eigen::Matrix4d&)> walk = [&](const aiNode* node, const Eigen::Matrix4d& T_parent) {
+    const Eigen::Matrix4d T = T_parent * to_eigen(node->mTransformation);
+    const std::string node_name = node->mName.length ? node->mName.C_Str() : "(unnamed)";
+    for (unsigned k = 0; k < node->mNumMeshes; ++k) {
+      const aiMesh* mesh = scene->mMeshes[node->mMeshes[k]];
+      MaterialSoup& soup = (*soups)[mesh->mMaterialIndex];
+      for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
+        const aiFace& face = mesh->mFaces[f];
+        if (face.mNumIndices != 3) {
+          ++report->non_triangles_dropped;
+          continue;
+        }
+        std::array<Vec3, 3> t;
+        for (int c = 0; c < 3; ++c) {
+          const aiVector3D& v = mesh->mVertices[face.mIndices[c]];
+          t[static_cast<size_t>(c)] = (T * Eigen::Vector4d(v.x, v.y, v.z, 1.0)).head<3>();
+        }
+        ++report->triangles_in;
+        const auto [it, fresh] = first_node.try_emplace(triangle_key(t), node_name);
+        soup.duplicate.push_back(!fresh);
+        if (!fresh) {
+          ++report->duplicate_triangles;
+          pairs.insert(it->second + " = " + node_name);
+        }
+        soup.triangles.push_back(t);
+      }
+    }
+    for (unsigned c = 0; c < node->mNumChildren; ++c) walk(node->mChildren[c], T);
+  };
+  walk(scene->mRootNode, T_out_file);
+  report->duplicate_nodes.assign(pairs.begin(), pairs.end());
+  for (unsigned i = 0; i < scene->mNumMaterials; ++i) {
+    const aiMaterial* m = scene->mMaterials[i];
+    MaterialSoup& s = (*soups)[i];
+    aiColor4D c;
+    if (m->Get(AI_MATKEY_COLOR_DIFFUSE, c) == AI_SUCCESS) {
+      s.has_color = true;
+      s.rgba[0] = std::clamp(c.r, 0.f, 1.f);
+      s.rgba[1] = std::clamp(c.g, 0.f, 1.f);
+      s.rgba[2] = std::clamp(c.b, 0.f, 1.f);
+    }
+    s.has_texture = m->GetTextureCount(aiTextureType_DIFFUSE) > 0;
+  }
+}
+
+// The file's own unit [m per unit]. assimp 5.2 bakes COLLADA's <unit meter> into the root
+// node as a uniform scale (a visual_scene has no transform of its own), so it is read back
+// from there; other formats carry no unit assimp reports (glTF is metres, OBJ unitless).
+double file_unit(const aiScene* scene, const std::string& format) {
+  if (lower(format).find("collada") == std::string::npos) return 1.0;
+  const Eigen::Matrix4d R = to_eigen(scene->mRootNode->mTransformation);
+  const double s = R(0, 0);
+  const Eigen::Matrix4d uniform = Eigen::Vector4d(s, s, s, 1.0).asDiagonal();
+  if (!(s > 0.0) || (R - uniform).cwiseAbs().maxCoeff() > 1e-9 * s) return 1.0;
+  // assimp holds it as a float; the file's decimal (0.0254, not 0.025399999693) is the
+  // float printed to its 7 significant digits.
+  char text[32];
+  std::snprintf(text, sizeof(text), "%.7g", s);
+  return std::strtod(text, nullptr);
+}
+
+std::string scene_format(const aiScene* scene) {
+  aiString f;
+  if (scene->mMetaData && scene->mMetaData->Get("SourceAsset_Format", f)) return f.C_Str();
+  return "";
+}
+
+}  // namespace
+
+// ---- class mapping ----------------------------------------------------------------------
+
+ClassRule parse_class_rule(const std::string& text) {
+  const size_t eq = text.find('=');
+  if (eq == std::string::npos || eq == 0 || eq + 1 == text.size())
+    throw InputError("--class '" + text + "': expected CLASS=REGEX or CLASS:unripe=REGEX");
+  ClassRule r;
+  r.class_name = text.substr(0, eq);
+  r.pattern = text.substr(eq + 1);
+  const size_t colon = r.class_name.find(':');
+  if (colon != std::string::npos) {
+    const std::string flag = r.class_name.substr(colon + 1);
+    if (flag != "unripe") throw InputError("--class '" + text + "': unknown flag ':" + flag + "' (only ':unripe')");
+    r.target = false;
+    r.class_name.resize(colon);
+  }
+  if (r.class_name.empty()) throw InputError("--class '" + text + "': empty class name");
+  return r;
+}
+
+std::vector<ClassRule> class_preset(const std::string& name) {
+  // FACTS.md section 12: *frt1*/*frt2* ripe fruit, *frt0* unripe fruit, *lef* leaves,
+  // *brn* stems (stems count as leaf, as in procedural worlds).
+  if (name == "capsicum")
+    return {{"fruit", "frt[12]", true}, {"fruit", "frt0", false}, {"leaf", "lef", true}, {"leaf", "brn", true}};
+  throw InputError("--preset '" + name + "': unknown preset (known: capsicum)");
+}
+
+// ---- import -----------------------------------------------------------------------------
+
+long ImportedPlant::triangle_count() const {
+  long n = 0;
+  for (const auto& p : parts) n += static_cast<long>(p.mesh.faces.size());
+  return n;
+}
+
+ImportedPlant import_plant(const std::string& path, const ImportOptions& opt) {
+  if (opt.unit_scale && !(std::isfinite(*opt.unit_scale) && *opt.unit_scale > 0.0))
+    throw InputError("--unit-scale: value '" + std::to_string(*opt.unit_scale) + "' must be > 0");
+  if (opt.up != "auto" && opt.up != "z" && opt.up != "y")
+    throw InputError("--up: value '" + opt.up + "' must be z or y");
+  if (opt.max_triangles < 1) throw InputError("--max-triangles: must be >= 1");
+  if (!(opt.point_spacing_m >= 0.0005)) throw InputError("--spacing: must be >= 0.0005 m");
+  std::vector<CompiledRule> rules;
+  std::vector<ClassRule> all = opt.rules;
+  for (const auto& r : all) {
+    try {
+      rules.push_back({r, std::regex(r.pattern, std::regex::ECMAScript | std::regex::icase)});
+    } catch (const std::regex_error& e) {
+      throw InputError("--class '" + rule_text(r) + "': the regex does not compile: " + e.what());
+    }
+  }
+
+  ImportedPlant plant;
+  plant.source_path = fs::absolute(path).string();
+  plant.options = opt;
+  ImportReport& rep = plant.report;
+  Assimp::Importer importer;
+  const aiScene* scene = read_scene(importer, path);
+  plant.source_sha256 = file_sha256(path);
+  rep.format = scene_format(scene);
+  rep.file_unit_m = file_unit(scene, rep.format);
+  rep.unit_scale = opt.unit_scale ? *opt.unit_scale : rep.file_unit_m;
+  const std::string ext = lower(fs::path(path).extension().string());
+  rep.up = opt.up != "auto" ? opt.up : (ext == ".gltf" || ext == ".glb") ? "y" : "z";
+
+  // File -> plant frame: the root's unit replaced by the scale in use, then Y-up -> Z-up.
+  Eigen::Matrix4d T_out_file = Eigen::Matrix4d::Identity();
+  T_out_file.topLeftCorner<3, 3>() *= rep.unit_scale / rep.file_unit_m;
+  if (rep.up == "y") {
+    Eigen::Matrix4d R = Eigen::Matrix4d::Zero();  // +90 degrees about x, exactly: y -> z, z -> -y
+    R(0, 0) = R(3, 3) = 1.0, R(1, 2) = -1.0, R(2, 1) = 1.0;
+    T_out_file = R * T_out_file;
+  }
+  std::vector<MaterialSoup> soups;
+  collect_triangles(scene, T_out_file, &soups, &rep);
+  if (rep.triangles_in == 0) throw InputError(path + ": the file holds no triangles");
+  if (rep.duplicate_triangles > 0) {
+    std::string nodes;
+    for (size_t i = 0; i < rep.duplicate_nodes.size() && i < 3; ++i) nodes += (i ? "; " : "") + rep.duplicate_nodes[i];
+    rep.warnings.push_back(std::to_string(rep.duplicate_triangles) +
+                           " triangles exactly repeat others (the same geometry instanced twice at the same place: " + nodes +
+                           "); kept as the file says, counted once in the ground truth");
+  }
+
+  // Base at the origin: lowest point at z = 0, x and y at the centre of the lowest slice
+  // (the stem where it leaves the ground, not the centre of the canopy).
+  double z_lo = std::numeric_limits<double>::infinity(), z_hi = -z_lo;
+  for (const auto& s : soups)
+    for (const auto& t : s.triangles)
+      for (const auto& v : t) z_lo = std::min(z_lo, v.z()), z_hi = std::max(z_hi, v.z());
+  const double slice = z_lo + std::max(0.01, 0.02 * (z_hi - z_lo));
+  Vec2 xy_lo(std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()), xy_hi = -xy_lo;
+  for (const auto& s : soups)
+    for (const auto& t : s.triangles)
+      for (const auto& v : t)
+        if (v.z() <= slice) xy_lo = xy_lo.cwiseMin(v.head<2>()), xy_hi = xy_hi.cwiseMax(v.head<2>());
+  const Vec2 xy = 0.5 * (xy_lo + xy_hi);
+  const Vec3 base(xy.x(), xy.y(), z_lo);
+  for (auto& s : soups)
+    for (auto& t : s.triangles)
+      for (auto& v : t) v -= base;
+
+  // Classes: first matching rule, else the fallback; unmatched materials are an error.
+  std::vector<std::string> unmatched, fruit_materials;
+  std::vector<std::optional<ClassRule>> class_of(soups.size());
+  for (size_t i = 0; i < soups.size(); ++i) {
+    if (soups[i].triangles.empty()) continue;
+    for (const auto& r : rules)
+      if (std::regex_search(soups[i].name, r.re)) {
+        class_of[i] = r.rule;
+        break;
+      }
+    if (!class_of[i]) class_of[i] = opt.fallback;
+    if (!class_of[i]) unmatched.push_back(soups[i].name);
+    else if (class_of[i]->class_name == opt.fruit_class) fruit_materials.push_back(soups[i].name);
+  }
+  if (!unmatched.empty()) {
+    std::string list;
+    for (const auto& n : unmatched) list += (list.empty() ? "'" : ", '") + n + "'";
+    throw InputError(path + ": no --class rule matches the material(s) " + list + " (add a rule or --class default=CLASS)");
+  }
+  if (fruit_materials.empty()) {
+    std::string list;
+    for (const auto& s : soups)
+      if (!s.triangles.empty()) list += (list.empty() ? "'" : ", '") + s.name + "'";
+    throw InputError(path + ": no material maps to the fruit class '" + opt.fruit_class + "' (materials: " + list + ")");
+  }
+
+  // Parts: one per material, fruit materials split into connected components.
+  struct Component {
+    size_t material;
+    TriMesh mesh;
+    std::vector<bool> duplicate;
+    Vec3 lo = Vec3::Zero(), hi = Vec3::Zero();
+    bool fragment = false;
+  };
+  std::vector<Component> fruits;
+  for (size_t i = 0; i < soups.size(); ++i) {
+    if (!class_of[i]) continue;
+    MaterialSoup& s = soups[i];
+    const ClassRule& cls = *class_of[i];
+    long dropped = 0;
+    std::vector<size_t> kept;
+    TriMesh mesh = weld(s.triangles, opt.weld_tolerance_m, &dropped, &kept);
+    std::vector<bool> dup;
+    for (size_t k : kept) dup.push_back(s.duplicate[k]);
+    rep.degenerate_dropped += dropped;
+    if (mesh.faces.empty()) continue;
+    if (s.has_texture) {
+      rep.warnings.push_back("material '" + s.name + "': its texture is not used; rendered in its flat " +
+                             (s.has_color ? "diffuse colour" : "class colour"));
+    }
+    ImportedPart part;
+    part.material = s.name;
+    part.class_name = cls.class_name;
+    part.target = cls.target;
+    if (s.has_color) std::copy(s.rgba, s.rgba + 4, part.rgba);
+    else default_rgba(cls.class_name, cls.target, part.rgba);
+    if (cls.class_name != opt.fruit_class) {
+      part.mesh = std::move(mesh);
+      plant.parts.push_back(std::move(part));
+      continue;
+    }
+    UnionFind uf(static_cast<int>(mesh.vertices.size()));
+    for (const auto& f : mesh.faces) uf.unite(f[0], f[1]), uf.unite(f[1], f[2]);
+    std::map<int, size_t> comp_of_root;  // root vertex -> index in `fruits`
+    for (size_t t = 0; t < mesh.faces.size(); ++t) {
+      const int root = uf.find(mesh.faces[t][0]);
+      auto [it, fresh] = comp_of_root.try_emplace(root, fruits.size());
+      if (fresh) {
+        fruits.push_back(Component{i, {}, {}, Vec3::Zero(), Vec3::Zero(), false});
+        fruits.back().mesh.vertices = mesh.vertices;  // compacted below
+      }
+      Component& c = fruits[it->second];
+      c.mesh.faces.push_back(mesh.faces[t]);
+      c.duplicate.push_back(dup[t]);
+    }
+  }
+  for (auto& c : fruits) {
+    c.mesh = compact(c.mesh);
+    c.mesh.bounds(&c.lo, &c.hi);
+    c.fragment = (c.hi - c.lo).norm() < opt.min_fruit_size_m;
+  }
+  // Fragments join the nearest whole fruit of the same ripeness within merge_distance_m.
+  std::vector<Component> whole;
+  for (auto& c : fruits)
+    if (!c.fragment) whole.push_back(c);
+  for (const auto& c : fruits) {
+    if (!c.fragment) continue;
+    int best = -1;
+    double best_gap = opt.merge_distance_m;
+    for (size_t w = 0; w < whole.size(); ++w) {
+      if (class_of[whole[w].material]->target != class_of[c.material]->target) continue;
+      const double gap = box_gap(c.lo, c.hi, whole[w].lo, whole[w].hi);
+      if (gap <= best_gap) best_gap = gap, best = static_cast<int>(w);
+    }
+    if (best < 0) {
+      ++rep.fragments_dropped;
+      continue;
+    }
+    Component& into = whole[static_cast<size_t>(best)];
+    into.mesh.append(c.mesh);
+    into.duplicate.insert(into.duplicate.end(), c.duplicate.begin(), c.duplicate.end());
+    ++rep.fragments_merged;
+  }
+  if (rep.fragments_dropped + rep.fragments_merged > 0)
+    rep.warnings.push_back(std::to_string(rep.fragments_merged) + " fruit fragment(s) smaller than " +
+                           std::to_string(opt.min_fruit_size_m) + " m merged into their nearest fruit, " +
+                           std::to_string(rep.fragments_dropped) + " dropped (no fruit within " +
+                           std::to_string(opt.merge_distance_m) + " m)");
+  // Fruit numbering: by material name, then in the file's order.
+  std::stable_sort(whole.begin(), whole.end(),
+                   [&](const Component& a, const Component& b) { return soups[a.material].name < soups[b.material].name; });
+  if (whole.empty()) throw InputError(path + ": the fruit materials hold no fruit larger than " +
+                                      std::to_string(opt.min_fruit_size_m) + " m");
+
+  // Ground truth per fruit, from the unique triangles (exact duplicates counted once).
+  plant.truth.point_spacing_m = opt.point_spacing_m;
+  for (size_t k = 0; k < whole.size(); ++k) {
+    Component& c = whole[k];
+    const MaterialSoup& s = soups[c.material];
+    const ClassRule& cls = *class_of[c.material];
+    TriMesh unique = c.mesh;
+    unique.faces.clear();
+    for (size_t t = 0; t < c.mesh.faces.size(); ++t)
+      if (!c.duplicate[t]) unique.faces.push_back(c.mesh.faces[t]);
+    unique = compact(unique);
+    FruitTruth f;
+    f.instance_id = static_cast<int>(k);
+    f.plant_index = 0;
+    f.color = s.name;
+    f.shape = "imported";
+    f.target = cls.target;
+    unique.bounds(&f.bbox_min, &f.bbox_max);
+    f.center = 0.5 * (f.bbox_min + f.bbox_max);
+    f.surface_area_m2 = unique.area();
+    f.surface_points = opt.truth == TruthMode::kVertices
+                           ? unique.vertices
+                           : sample_surface_points(unique, opt.point_spacing_m, mix_seed(opt.seed, 1000000 + k));
+    plant.truth.fruits.push_back(std::move(f));
+    ImportedPart part;
+    part.material = s.name;
+    part.class_name = cls.class_name;
+    part.target = cls.target;
+    part.fruit = static_cast<int>(k);
+    if (s.has_color) std::copy(s.rgba, s.rgba + 4, part.rgba);
+    else default_rgba(cls.class_name, cls.target, part.rgba);
+    part.mesh = std::move(c.mesh);
+    plant.parts.push_back(std::move(part));
+  }
+
+  // Budget: leaves and stems are simplified by vertex clustering with growing cells; fruit
+  // geometry is kept as it is (its ground truth and instances come from it).
+  if (plant.triangle_count() > opt.max_triangles) {
+    const std::vector<ImportedPart> original = plant.parts;
+    for (double cell : kSimplifyCellsM) {
+      for (size_t p = 0; p < plant.parts.size(); ++p)
+        if (plant.parts[p].fruit < 0) plant.parts[p].mesh = cluster_vertices(original[p].mesh, cell);
+      rep.simplify_cell_m = cell;
+      if (plant.triangle_count() <= opt.max_triangles) break;
+    }
+    if (plant.triangle_count() > opt.max_triangles) {
+      long fruit_tris = 0;
+      for (const auto& p : plant.parts) fruit_tris += p.fruit >= 0 ? static_cast<long>(p.mesh.faces.size()) : 0;
+      throw InputError(path + ": " + std::to_string(plant.triangle_count()) + " triangles (" +
+                       std::to_string(fruit_tris) + " of them fruit, never simplified) after simplifying leaves and stems with " +
+                       std::to_string(rep.simplify_cell_m * 1000) + " mm cells; --max-triangles is " +
+                       std::to_string(opt.max_triangles));
+    }
+    plant.parts.erase(std::remove_if(plant.parts.begin(), plant.parts.end(),
+                                     [](const ImportedPart& p) { return p.mesh.faces.empty(); }),
+                      plant.parts.end());
+    rep.warnings.push_back("simplified leaves and stems with " + std::to_string(rep.simplify_cell_m * 1000) +
+                           " mm cells to meet --max-triangles " + std::to_string(opt.max_triangles));
+  }
+
+  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  for (const auto& p : plant.parts) {
+    Vec3 a, b;
+    p.mesh.bounds(&a, &b);
+    lo = lo.cwiseMin(a), hi = hi.cwiseMax(b);
+    for (const auto& v : p.mesh.vertices) rep.radius_m = std::max(rep.radius_m, v.head<2>().norm());
+  }
+  rep.size_m = hi - lo;
+  return plant;
+}
+
+// ---- the plant folder -------------------------------------------------------------------
+
+namespace {
+
+std::string part_file(const ImportedPart& p, size_t index) {
+  if (p.fruit >= 0) return "meshes/fruit_" + std::to_string(p.fruit) + ".obj";
+  return "meshes/" + file_stem(p.class_name) + "_" + std::to_string(index) + "_" + file_stem(p.material) + ".obj";
+}
+
+std::string obj_text(const ImportedPart& p) {
+  std::string s = "# canopy import-plant: material '" + p.material + "', class " + p.class_name + "\n";
+  char line[128];
+  for (const auto& v : p.mesh.vertices) {
+    std::snprintf(line, sizeof(line), "v %.9g %.9g %.9g\n", v.x(), v.y(), v.z());
+    s += line;
+  }
+  for (const auto& f : p.mesh.faces) {
+    std::snprintf(line, sizeof(line), "f %d %d %d\n", f[0] + 1, f[1] + 1, f[2] + 1);
+    s += line;
+  }
+  return s;
+}
+
+// Reads an OBJ (or any mesh file) into one mesh, node transforms applied.
+TriMesh read_mesh(const std::string& path) {
+  Assimp::Importer importer;
+  const aiScene* scene = read_scene(importer, path);
+  std::vector<MaterialSoup> soups;
+  ImportReport rep;
+  collect_triangles(scene, Eigen::Matrix4d::Identity(), &soups, &rep);
+  std::vector<std::array<Vec3, 3>> all;
+  for (const auto& s : soups) all.insert(all.end(), s.triangles.begin(), s.triangles.end());
+  long degenerate = 0;
+  return weld(all, 0.0, &degenerate);
+}
+
+}  // namespace
+
+void ImportedPlant::save(const std::string& dir) const {
+  fs::create_directories(dir + "/meshes");
+  YAML::Emitter y;
+  y << YAML::Comment("Written by canopy import-plant; worlds place it with plant: {import: <this folder>}");
+  y << YAML::BeginMap;
+  y << YAML::Key << "source" << YAML::Value << source_path;
+  y << YAML::Key << "source_sha256" << YAML::Value << source_sha256;
+  y << YAML::Key << "format" << YAML::Value << report.format;
+  y << YAML::Key << "file_unit_m" << YAML::Value << report.file_unit_m;
+  y << YAML::Key << "unit_scale" << YAML::Value << report.unit_scale;
+  y << YAML::Key << "up" << YAML::Value << report.up;
+  y << YAML::Key << "size_m" << YAML::Value << YAML::Flow << YAML::BeginSeq << report.size_m.x() << report.size_m.y()
+    << report.size_m.z() << YAML::EndSeq;
+  y << YAML::Key << "height_m" << YAML::Value << report.size_m.z();
+  y << YAML::Key << "radius_m" << YAML::Value << report.radius_m;
+  y << YAML::Key << "triangles" << YAML::Value << triangle_count();
+  y << YAML::Key << "ground_truth" << YAML::Value << (options.truth == TruthMode::kVertices ? "vertices" : "surface");
+  y << YAML::Key << "gt_point_spacing_m" << YAML::Value << options.point_spacing_m;
+  y << YAML::Key << "report" << YAML::Value << YAML::BeginMap;
+  y << YAML::Key << "triangles_in" << YAML::Value << report.triangles_in;
+  y << YAML::Key << "degenerate_dropped" << YAML::Value << report.degenerate_dropped;
+  y << YAML::Key << "non_triangles_dropped" << YAML::Value << report.non_triangles_dropped;
+  y << YAML::Key << "duplicate_triangles" << YAML::Value << report.duplicate_triangles;
+  y << YAML::Key << "fragments_merged" << YAML::Value << report.fragments_merged;
+  y << YAML::Key << "fragments_dropped" << YAML::Value << report.fragments_dropped;
+  y << YAML::Key << "simplify_cell_m" << YAML::Value << report.simplify_cell_m;
+  y << YAML::EndMap;
+  // The class of every material (one entry per material, fruit instances folded in).
+  y << YAML::Key << "materials" << YAML::Value << YAML::BeginMap;
+  std::set<std::string> listed;
+  for (const auto& p : parts)
+    if (listed.insert(p.material).second) {
+      y << YAML::Key << p.material << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key << "class" << YAML::Value
+        << p.class_name << YAML::Key << "target" << YAML::Value << p.target << YAML::EndMap;
+    }
+  y << YAML::EndMap;
+  y << YAML::Key << "parts" << YAML::Value << YAML::BeginSeq;
+  for (size_t i = 0; i < parts.size(); ++i) {
+    const ImportedPart& p = parts[i];
+    y << YAML::Flow << YAML::BeginMap << YAML::Key << "file" << YAML::Value << part_file(p, i) << YAML::Key << "material"
+      << YAML::Value << p.material << YAML::Key << "class" << YAML::Value << p.class_name;
+    if (p.fruit >= 0) y << YAML::Key << "fruit" << YAML::Value << p.fruit << YAML::Key << "target" << YAML::Value << p.target;
+    y << YAML::Key << "rgba" << YAML::Value << YAML::Flow << YAML::BeginSeq << p.rgba[0] << p.rgba[1] << p.rgba[2]
+      << p.rgba[3] << YAML::EndSeq << YAML::Key << "triangles" << YAML::Value << p.mesh.faces.size() << YAML::EndMap;
+  }
+  y << YAML::EndSeq;
+  y << YAML::Key << "fruits" << YAML::Value << YAML::BeginSeq;
+  for (const auto& f : truth.fruits)
+    y << YAML::Flow << YAML::BeginMap << YAML::Key << "fruit" << YAML::Value << f.instance_id << YAML::Key << "material"
+      << YAML::Value << f.color << YAML::Key << "target" << YAML::Value << f.target << YAML::Key << "center"
+      << YAML::Value << YAML::Flow << YAML::BeginSeq << f.center.x() << f.center.y() << f.center.z() << YAML::EndSeq
+      << YAML::Key << "points" << YAML::Value << f.surface_points.size() << YAML::EndMap;
+  y << YAML::EndSeq;
+  y << YAML::EndMap;
+  for (size_t i = 0; i < parts.size(); ++i) write_file_atomic(dir + "/" + part_file(parts[i], i), obj_text(parts[i]));
+  truth.save(dir);
+  write_file_atomic(dir + "/" + kPlantFile, std::string(y.c_str()) + "\n");
+}
+
+void read_plant_size(const std::string& dir, double* height_m, double* radius_m) {
+  YamlReader y = YamlReader::load_file(dir + "/" + kPlantFile);
+  *height_m = y.require<double>("height_m");
+  *radius_m = y.require<double>("radius_m");
+  y.check(std::isfinite(*height_m) && *height_m > 0.0, "height_m", "must be > 0");
+  y.check(std::isfinite(*radius_m) && *radius_m >= 0.0, "radius_m", "must be >= 0");
+}
+
+PlantAsset load_plant_asset(const std::string& dir) {
+  const std::string file = dir + "/" + kPlantFile;
+  PlantAsset a;
+  a.dir = dir;
+  read_plant_size(dir, &a.height_m, &a.radius_m);
+  a.truth = GroundTruth::load(dir);
+  YamlReader y = YamlReader::load_file(file);
+  YAML::Node parts;
+  try {
+    parts = y.require<YAML::Node>("parts");
+  } catch (const InputError&) {
+    throw InputError(file + ": missing key 'parts'");
+  }
+  if (!parts.IsSequence() || parts.size() == 0) throw InputError(file + ": key 'parts' must be a non-empty list");
+  std::set<int> fruits;
+  for (size_t i = 0; i < parts.size(); ++i) {
+    YamlReader p(parts[i], file, "parts[" + std::to_string(i) + "]");
+    ImportedPart part;
+    const std::string mesh_file = p.require<std::string>("file");
+    p.check(mesh_file.find("..") == std::string::npos && !fs::path(mesh_file).is_absolute(), "file",
+            "must be a path inside the plant folder");
+    part.material = p.require<std::string>("material");
+    part.class_name = p.require<std::string>("class");
+    part.fruit = p.get("fruit", -1);
+    part.target = p.get("target", true);
+    const auto rgba = p.require<std::vector<double>>("rgba");
+    p.check(rgba.size() == 4, "rgba", "must be [r, g, b, a]");
+    for (int k = 0; k < 4; ++k) {
+      p.check(rgba[static_cast<size_t>(k)] >= 0.0 && rgba[static_cast<size_t>(k)] <= 1.0, "rgba", "must lie in [0, 1]");
+      part.rgba[k] = static_cast<float>(rgba[static_cast<size_t>(k)]);
+    }
+    const long triangles = p.require<long>("triangles");
+    p.finish();
+    part.mesh = read_mesh(dir + "/" + mesh_file);
+    if (static_cast<long>(part.mesh.faces.size()) != triangles)
+      throw InputError(dir + "/" + mesh_file + ": " + std::to_string(part.mesh.faces.size()) + " triangles, but " + file +
+                       " says " + std::to_string(triangles));
+    if (part.fruit >= 0) {
+      const bool known = std::any_of(a.truth.fruits.begin(), a.truth.fruits.end(),
+                                     [&](const FruitTruth& f) { return f.instance_id == part.fruit; });
+      if (!known || !fruits.insert(part.fruit).second)
+        throw InputError(file + ": key 'parts[" + std::to_string(i) + "].fruit': fruit " + std::to_string(part.fruit) +
+                         " is unknown to fruits.json or listed twice");
+    }
+    a.parts.push_back(std::move(part));
+  }
+  if (fruits.size() != a.truth.fruits.size())
+    throw InputError(file + ": fruits.json has " + std::to_string(a.truth.fruits.size()) + " fruits but parts name " +
+                     std::to_string(fruits.size()));
+  return a;
+}
+
+std::string file_sha256(const std::string& path) {
+  const std::string bytes = read_file(path);
+  unsigned char digest[EVP_MAX_MD_SIZE];
+  unsigned int length = 0;
+  if (EVP_Digest(bytes.data(), bytes.size(), digest, &length, EVP_sha256(), nullptr) != 1)
+    throw InternalError("SHA-256 failed");
+  std::string hex;
+  char two[3];
+  for (unsigned i = 0; i < length; ++i) {
+    std::snprintf(two, sizeof(two), "%02x", digest[i]);
+    hex += two;
+  }
+  return hex;
+}
+
+}  // namespace canopy::world
