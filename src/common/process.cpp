@@ -33,8 +33,15 @@ std::vector<char*> c_argv(const std::vector<std::string>& argv) {
 // Spawns argv with fd `stdin_fd` (or the caller's stdin when -1) as its standard input and
 // `out_fd` (or the caller's when -1) as its standard output and error.
 // Returns the pid, or -1 with `error` set.
-pid_t spawn(const std::vector<std::string>& argv, int stdin_fd, std::string* error, int out_fd = -1) {
+pid_t spawn(const std::vector<std::string>& argv, int stdin_fd, std::string* error, int out_fd = -1,
+            bool own_group = false) {
   std::vector<char*> args = c_argv(argv);
+  posix_spawnattr_t attr;
+  posix_spawnattr_init(&attr);
+  if (own_group) {  // its own process group, so a kill reaches the programs it started too
+    posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETPGROUP);
+    posix_spawnattr_setpgroup(&attr, 0);
+  }
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
   if (stdin_fd >= 0) posix_spawn_file_actions_adddup2(&actions, stdin_fd, STDIN_FILENO);
@@ -43,8 +50,9 @@ pid_t spawn(const std::vector<std::string>& argv, int stdin_fd, std::string* err
     posix_spawn_file_actions_adddup2(&actions, out_fd, STDERR_FILENO);
   }
   pid_t pid = -1;
-  const int rc = posix_spawnp(&pid, args[0], &actions, nullptr, args.data(), environ);
+  const int rc = posix_spawnp(&pid, args[0], &actions, &attr, args.data(), environ);
   posix_spawn_file_actions_destroy(&actions);
+  posix_spawnattr_destroy(&attr);
   if (rc != 0) {
     *error = argv[0] + ": " + std::strerror(rc);
     return -1;
@@ -88,6 +96,7 @@ ProcessStatus supervise(pid_t pid, const ProcessOptions& o) {
     const pid_t r = ::waitpid(pid, &status, WNOHANG);
     if (r == pid) {
       decode(status, &s);
+      if (term_sent_at >= 0.0) ::kill(-pid, SIGKILL);  // what it started and left behind
       return s;
     }
     if (r < 0 && errno != EINTR) {
@@ -99,11 +108,11 @@ ProcessStatus supervise(pid_t pid, const ProcessOptions& o) {
       if (o.timeout_s > 0.0 && t > o.timeout_s) s.timed_out = true;
       else if (o.cancel && o.cancel()) s.cancelled = true;
       if (s.timed_out || s.cancelled) {
-        ::kill(pid, SIGTERM);
+        ::kill(-pid, SIGTERM);
         term_sent_at = t;
       }
     } else if (t - term_sent_at > o.kill_grace_s) {
-      ::kill(pid, SIGKILL);
+      ::kill(-pid, SIGKILL);
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
@@ -141,7 +150,7 @@ ProcessStatus run_process(const std::vector<std::string>& argv, const ProcessOpt
       return s;
     }
   }
-  const pid_t pid = spawn(argv, -1, &s.error, out_fd);
+  const pid_t pid = spawn(argv, -1, &s.error, out_fd, true);
   if (out_fd >= 0) ::close(out_fd);
   if (pid < 0) return s;
   return supervise(pid, options);

@@ -41,8 +41,9 @@ struct ProcessOptions {
   std::function<bool()> cancel; ///< Polled while the child runs; true kills it.
   double kill_grace_s = 2.0;    ///< SIGTERM first, SIGKILL when it is still running this much later.
 };
-/// Runs `argv` like run_process, supervised as `options` say. The standard input is the
-/// caller's. A child that cannot start, times out or is cancelled is reported in the
+/// Runs `argv` like run_process, supervised as `options` say, in a process group of its own
+/// (a timeout or cancel kills the group: the programs it started too, and Ctrl-C at the
+/// terminal reaches only the caller, which decides). The standard input is the caller's. A child that cannot start, times out or is cancelled is reported in the
 /// status, never thrown.
 ProcessStatus run_process(const std::vector<std::string>& argv, const ProcessOptions& options);
 
