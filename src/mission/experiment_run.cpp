@@ -1,10 +1,13 @@
 // Running an experiment's trials as supervised child processes (canopy/mission/experiment.h).
 
+#include <unistd.h>
+
 #include <atomic>
 #include <cstdio>
 #include <exception>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <mutex>
 #include <thread>
 
@@ -45,6 +48,20 @@ std::string last_line(const fs::path& log) {
 // one (resume) must list the same trials.
 void prepare_folder(const Experiment& e, const fs::path& out, bool resume) {
   StagedDir::check_writable(out.string());
+  if (!fs::exists(out / kOutputMarker)) {
+    // Shards may start at once in one folder: the folder appears with its marker in a single
+    // rename, so no shard ever sees it half made (a rename onto a folder someone else made
+    // first fails, and theirs is used).
+    const fs::path tmp = out.string() + ".new-" + std::to_string(::getpid()) + "-" +
+                         std::to_string(std::hash<std::thread::id>()(std::this_thread::get_id()) % 100000);
+    fs::remove_all(tmp);
+    fs::create_directories(tmp);
+    write_file_atomic((tmp / kOutputMarker).string(), "canopy experiment\n");
+    std::error_code ec;
+    fs::rename(tmp, out, ec);
+    fs::remove_all(tmp);
+    StagedDir::check_writable(out.string());
+  }
   fs::create_directories(out / "trials");
   const fs::path manifest = out / "experiment.json";
   const nlohmann::json expected = e.manifest();
@@ -59,7 +76,6 @@ void prepare_folder(const Experiment& e, const fs::path& out, bool resume) {
     }
     return;
   }
-  if (!fs::exists(out / kOutputMarker)) write_file_atomic((out / kOutputMarker).string(), "canopy experiment\n");
   write_json_atomic(manifest.string(), expected);
 }
 
