@@ -53,6 +53,8 @@ dir=$(cd "$dir" && pwd)
 [[ ! -e $dir/slurm.conf ]] || die "$dir holds a cluster already; stop it first"
 chmod 755 "$dir"  # the munge user must reach its folder inside
 mkdir -p "$dir/state" "$dir/spool" "$dir/log" "$dir/run" "$dir/munge"
+runuser -u munge -- test -x "$dir" ||
+  die "the munge user cannot reach $dir (a parent folder is not searchable by others); use a folder like /tmp/X"
 chown munge:munge "$dir/munge"
 chmod 755 "$dir/munge"  # munged wants its socket folder reachable by all
 
