@@ -41,9 +41,12 @@ YAML::Node merged(const YAML::Node& base, const YAML::Node& over) {
   return out;
 }
 
-bool valid_label(const std::string& s) {
+// Method labels go into trial ids, where '_' separates the parts.
+bool valid_label(const std::string& s, const std::string& extra = "-") {
   if (s.empty() || s.size() > 40) return false;
-  return std::all_of(s.begin(), s.end(), [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '-'; });
+  return std::all_of(s.begin(), s.end(), [&](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || extra.find(c) != std::string::npos;
+  });
 }
 
 std::vector<ExperimentMethod> read_methods(YamlReader& y) {
@@ -187,7 +190,7 @@ Experiment Experiment::load_string(const std::string& text, const std::string& n
   Experiment e;
   e.source_file = name;
   e.name = y.require<std::string>("name");
-  y.check(valid_label(e.name), "name", "must be 1-40 letters, digits or '-'");
+  y.check(valid_label(e.name, "-_."), "name", "must be 1-40 letters, digits, '-', '_' or '.'");
   e.world_file = resolve(y.require<std::string>("world"), dir);
   e.world = world::WorldSpec::load(e.world_file);
   const std::string bundle = resolve(y.get<std::string>("settings", "configs/canopy.yaml"), dir);

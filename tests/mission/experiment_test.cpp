@@ -75,6 +75,15 @@ TEST(Experiment, ParsesTrialsInSeedMajorOrderWithStableIds) {
   EXPECT_EQ(load(replaced(kBase, "{first: 11, count: 2}", "[11, 12]")).manifest(), e.manifest());
 }
 
+TEST(Experiment, TheShippedExperimentsLoad) {
+  const Experiment fig3 = Experiment::load("experiments/paper_fig3.yaml", default_robot_config());
+  EXPECT_EQ(fig3.trials().size(), 60u);  // 3 methods x P_gt {1, 0.7} x 10 seeds
+  EXPECT_EQ(fig3.world.plant_count(), 8);
+  EXPECT_EQ(fig3.settings.to_yaml_text(), Settings::load("configs/canopy.yaml", default_robot_config()).to_yaml_text());
+  EXPECT_EQ(Experiment::load("experiments/paper_fig3_smoke.yaml", default_robot_config()).trials().size(), 12u);
+  EXPECT_EQ(Experiment::load("experiments/small.yaml", default_robot_config()).trials().size(), 12u);
+}
+
 TEST(Experiment, RejectsBadFilesWithTheKeyNamed) {
   expect_input_error(kBase + "extra: 1\n", "extra");
   expect_input_error(replaced(kBase, "p_gt: [1.0, 0.7]", "p_gt: [1.0, 1.5]"), "p_gt");
