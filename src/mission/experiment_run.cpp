@@ -61,6 +61,7 @@ void prepare_folder(const Experiment& e, const fs::path& out, bool resume) {
     fs::rename(tmp, out, ec);
     fs::remove_all(tmp);
     StagedDir::check_writable(out.string());
+    if (!fs::exists(out / kOutputMarker)) write_file_atomic((out / kOutputMarker).string(), "canopy experiment\n");
   }
   fs::create_directories(out / "trials");
   const fs::path manifest = out / "experiment.json";
@@ -162,7 +163,8 @@ ExperimentRunSummary run_experiment(const Experiment& e, const std::string& out_
   ExperimentRunSummary summary;
   summary.total = static_cast<int>(all.size());
   summary.in_shard = static_cast<int>(mine.size());
-  const fs::path out(out_dir);
+  fs::path out = fs::path(out_dir).lexically_normal();
+  if (out.filename().empty()) out = out.parent_path();  // "runs/fig3/"
   prepare_folder(e, out, o.resume);
   const fs::path trials_dir = out / "trials";
 

@@ -22,11 +22,11 @@ methods:
   - {label: ours, method: ours}
   - {label: predefined, method: predefined}
 p_gt: [1.0, 0.7]
-seeds: [1, 2]
+seeds: [1]
 trial_timeout_s: 120
 YAML
 ids=$(python3 - <<'PY'
-print(" ".join(f"{m}_pgt{p}_seed{s}" for s in (1, 2) for p in ("1", "0.7") for m in ("ours", "predefined")))
+print(" ".join(f"{m}_pgt{p}_seed{s}" for s in (1,) for p in ("1", "0.7") for m in ("ours", "predefined")))
 PY
 )
 
@@ -59,7 +59,7 @@ for id in $ids; do
   n=$(grep -c "trial $id: started" "$dir/par.log")
   [[ $n -eq 1 ]] || fail "parallel: trial $id started $n times"
 done
-[[ $(ls "$dir/par/trials" | wc -l) -eq 8 ]] || fail "parallel: not 8 trial folders: $(ls "$dir/par/trials")"
+[[ $(ls "$dir/par/trials" | wc -l) -eq 4 ]] || fail "parallel: not 4 trial folders: $(ls "$dir/par/trials")"
 
 # One process running everything gives the same curves (missions are deterministic per seed).
 "$canopy" experiment --config "$exp" --out "$dir/full" --jobs 2 2> "$dir/full.log"
@@ -69,7 +69,7 @@ cmp "$dir/par/report/curves.csv" "$dir/full/report/curves.csv" || fail "shards a
 for f in curves.csv runtime.csv findings.md trials.json fig3_entropy_coverage.png fig4_runtime.png; do
   [[ -s "$dir/full/report/$f" ]] || fail "report: missing $f"
 done
-grep -q "8 expected, 8 ok, 0 failed, 0 missing" "$dir/full/report/findings.md" || fail "findings: $(head -3 "$dir/full/report/findings.md")"
+grep -q "4 expected, 4 ok, 0 failed, 0 missing" "$dir/full/report/findings.md" || fail "findings: $(head -3 "$dir/full/report/findings.md")"
 
 # Two shard folders merged equal one folder holding both shards.
 for s in a b; do mkdir -p "$dir/$s/trials"; cp "$dir/par/experiment.json" "$dir/par/.canopy-output" "$dir/$s/"; done
@@ -82,7 +82,7 @@ for f in curves.csv runtime.csv findings.md; do
   cmp "$dir/r_ab/$f" "$dir/par/report/$f" || fail "merged shards differ from one folder in $f"
 done
 "$canopy" report "$dir/a" --out "$dir/r_a" --no-plots 2>/dev/null
-[[ $(grep -c "^- missing: " "$dir/r_a/findings.md") -eq 4 ]] || fail "one shard alone: not 4 missing trials listed"
+[[ $(grep -c "^- missing: " "$dir/r_a/findings.md") -eq 2 ]] || fail "one shard alone: not 2 missing trials listed"
 
 # A trial with different results in two folders is an error.
 python3 - "$dir/b/trials/predefined_pgt1_seed1/mission/views.csv" <<'PY'  # trial 1: shard 1
@@ -99,7 +99,7 @@ expect_error "predefined_pgt1_seed1" report "$dir/par" "$dir/b" --out "$dir/r_ba
 # A sweep killed mid-trial (SIGTERM, as scancel sends): only complete trials or .partial ones.
 "$canopy" experiment --config "$exp" --out "$dir/kill" --jobs 2 2> "$dir/kill.log" &
 pid=$!
-for _ in $(seq 1 300); do grep -q "\[2/8\]" "$dir/kill.log" && break; sleep 0.1; done
+for _ in $(seq 1 300); do grep -q "\[1/4\]" "$dir/kill.log" && break; sleep 0.1; done
 kill -TERM "$pid"
 set +e
 wait "$pid"
@@ -113,10 +113,10 @@ for t in "$dir/kill/trials"/*; do
     *) [[ -f "$t/trial.json" && -f "$t/mission/views.csv" ]] || fail "half-written trial $t"; complete=$((complete + 1)) ;;
   esac
 done
-(( complete >= 2 && complete < 8 )) || fail "killed sweep: $complete complete trials"
+(( complete >= 1 && complete < 4 )) || fail "killed sweep: $complete complete trials"
 "$canopy" report "$dir/kill" --no-plots 2>/dev/null
 missing=$(grep -c "^- missing: " "$dir/kill/report/findings.md" || true)
-[[ $missing -eq $((8 - complete)) ]] || fail "report lists $missing missing trials, expected $((8 - complete))"
+[[ $missing -eq $((4 - complete)) ]] || fail "report lists $missing missing trials, expected $((4 - complete))"
 # Also a trial left .partial by hand (a kill between the mission and the rename).
 mv "$dir/kill/trials/predefined_pgt1_seed1" "$dir/kill/trials/predefined_pgt1_seed1.partial" 2>/dev/null || true
 "$canopy" experiment --config "$exp" --out "$dir/kill" --jobs 2 --resume 2> "$dir/resume.log"
@@ -126,11 +126,11 @@ for id in $ids; do
   cmp "$dir/kill/trials/$id/mission/views.csv" "$dir/full/trials/$id/mission/views.csv" || fail "resumed $id differs"
 done
 "$canopy" report "$dir/kill" --no-plots 2>/dev/null
-grep -q "8 expected, 8 ok, 0 failed, 0 missing; 0 incomplete" "$dir/kill/report/findings.md" || fail "resumed report incomplete"
+grep -q "4 expected, 4 ok, 0 failed, 0 missing; 0 incomplete" "$dir/kill/report/findings.md" || fail "resumed report incomplete"
 
 # Other settings on --resume: an error naming the trial and the setting; without --resume the folder is kept.
 sed 's/views_per_stop: 1/views_per_stop: 2/' "$exp" > "$dir/other.yaml"
 expect_error "settings.mission.loop.views_per_stop" experiment --config "$dir/other.yaml" --out "$dir/full" --resume
 expect_error "_seed" experiment --config "$dir/other.yaml" --out "$dir/full" --resume
 expect_error "--resume" experiment --config "$exp" --out "$dir/full"
-echo "experiment cli: ok (bad input, GNU parallel shards, merge, conflict, kill + resume ($complete of 8 complete when killed), mismatch)"
+echo "experiment cli: ok (bad input, GNU parallel shards, merge, conflict, kill + resume ($complete of 4 complete when killed), mismatch)"
