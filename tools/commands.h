@@ -23,6 +23,11 @@ void add_map_command(CLI::App& app);
 /// `canopy reach`: reachable, collision-free and planned fractions of views from a base pose.
 void add_reach_command(CLI::App& app);
 
+/// `canopy experiment`: an experiment file's trials (methods x P_gt x seeds), sharded.
+void add_experiment_command(CLI::App& app);
+/// `canopy report`: merge experiment folders into curves, run time, findings and plots.
+void add_report_command(CLI::App& app);
+
 /// `canopy ablate`: free-camera ablation of gains and ray sets (paper Fig. 5 and 6).
 void add_ablate_command(CLI::App& app);
 

@@ -13,6 +13,7 @@ PACKAGES=(
   libgtest-dev libgmock-dev libbenchmark-dev
   ffmpeg
   python3-matplotlib
+  slurm-wlm munge parallel
 )
 
 missing=()

@@ -72,6 +72,8 @@ int main(int argc, char** argv) {
   canopy::cli::add_mission_command(app);
   canopy::cli::add_map_command(app);
   canopy::cli::add_ablate_command(app);
+  canopy::cli::add_experiment_command(app);
+  canopy::cli::add_report_command(app);
   canopy::cli::add_reach_command(app);
   CLI::App* bench = app.add_subcommand("bench", "Benchmarks that print timings (not tests)");
   bench->require_subcommand(1);

@@ -2,7 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -79,6 +82,43 @@ TEST(Process, PipedProgramThatIsMissingDoesNotStart) {
   const char byte = 0;
   EXPECT_FALSE(p.write(&byte, 1));
   EXPECT_FALSE(p.wait().started);
+}
+
+TEST(Process, SupervisedRunCapturesOutputAndKillsOnTimeoutOrCancel) {
+  const fs::path log = fs::path(testing::TempDir()) / "supervised.log";
+  ProcessOptions o;
+  o.output_file = log.string();
+  const ProcessStatus ok = run_process({"sh", "-c", "echo out; echo err >&2; exit 4"}, o);
+  EXPECT_EQ(ok.exit_code, 4);
+  EXPECT_FALSE(ok.timed_out);
+  std::ifstream in(log);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(text, "out\nerr\n");
+
+  o.timeout_s = 0.3;
+  o.kill_grace_s = 0.2;
+  const auto t0 = std::chrono::steady_clock::now();
+  // Ignores SIGTERM, so only the SIGKILL after the grace period ends it.
+  const ProcessStatus hang = run_process({"sh", "-c", "trap '' TERM; sleep 30"}, o);
+  const double took = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  EXPECT_TRUE(hang.timed_out);
+  EXPECT_EQ(hang.signal, 9);
+  EXPECT_FALSE(hang.ok());
+  EXPECT_LT(took, 20.0);  // not the child's 30 s
+  EXPECT_EQ(hang.describe(), "timed out after 0.3 s (killed)");
+
+  ProcessOptions c;
+  int polls = 0;
+  c.cancel = [&polls] { return ++polls > 3; };
+  const ProcessStatus cancelled = run_process({"sleep", "30"}, c);
+  EXPECT_TRUE(cancelled.cancelled);
+  EXPECT_EQ(cancelled.signal, 15);
+
+  ProcessOptions bad;
+  bad.output_file = "/nonexistent-dir/x.log";
+  const ProcessStatus no_log = run_process({"true"}, bad);
+  EXPECT_FALSE(no_log.started);
+  EXPECT_NE(no_log.describe().find("/nonexistent-dir/x.log"), std::string::npos);
 }
 
 }  // namespace

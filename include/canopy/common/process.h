@@ -6,6 +6,7 @@
 #include <sys/types.h>
 
 #include <cstddef>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -17,6 +18,9 @@ struct ProcessStatus {
   int exit_code = -1;    ///< Exit code when it exited normally, else -1.
   int signal = 0;        ///< The signal that killed it, else 0.
   std::string error;     ///< Why it could not be started ("" when it was).
+  bool timed_out = false;  ///< Killed by run_process because it ran past its timeout.
+  bool cancelled = false;  ///< Killed by run_process because `cancel` returned true.
+  double timeout_s = 0.0;  ///< The timeout it ran with (for describe()).
 
   /// Started and exited with code 0.
   bool ok() const { return started && signal == 0 && exit_code == 0; }
@@ -28,6 +32,20 @@ struct ProcessStatus {
 /// input, output and error, and waits for it. Never throws for a program that is missing
 /// or fails: the status says so. Throws InternalError on an empty argv.
 ProcessStatus run_process(const std::vector<std::string>& argv);
+
+/// How run_process supervises a child (batch trials: a crash or a hang must not take the
+/// caller with it).
+struct ProcessOptions {
+  std::string output_file;      ///< Standard output and error go to this file (truncated); "" = the caller's.
+  double timeout_s = 0.0;       ///< Kill the child after this much wall time (0 = never).
+  std::function<bool()> cancel; ///< Polled while the child runs; true kills it.
+  double kill_grace_s = 2.0;    ///< SIGTERM first, SIGKILL when it is still running this much later.
+};
+/// Runs `argv` like run_process, supervised as `options` say, in a process group of its own
+/// (a timeout or cancel kills the group: the programs it started too, and Ctrl-C at the
+/// terminal reaches only the caller, which decides). The standard input is the caller's. A child that cannot start, times out or is cancelled is reported in the
+/// status, never thrown.
+ProcessStatus run_process(const std::vector<std::string>& argv, const ProcessOptions& options);
 
 /// A running child process whose standard input is fed by write() (e.g. raw video frames
 /// for ffmpeg). Its standard output and error are the caller's. The destructor closes the

@@ -1,0 +1,76 @@
+// canopy experiment: runs an experiment file's trials (methods x P_gt x seeds), one child
+// `canopy mission` per trial, N at once, optionally one shard of n (SLURM array tasks, GNU
+// parallel jobs). The rules (folder layout, resume checks, failures) are in
+// canopy/mission/experiment.h.
+
+#include <spdlog/spdlog.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <csignal>
+#include <cstdlib>
+#include <filesystem>
+
+#include "canopy/common/error.h"
+#include "canopy/mission/experiment.h"
+#include "cli_util.h"
+#include "commands.h"
+
+namespace canopy::cli {
+
+namespace {
+
+std::atomic<bool> g_stop{false};
+extern "C" void on_stop_signal(int) { g_stop = true; }
+
+// Host, pid and the SLURM job, for trial.json (provenance only).
+std::string runner_text() {
+  char host[256] = {0};
+  ::gethostname(host, sizeof host - 1);
+  std::string s = std::string("host ") + host + ", pid " + std::to_string(::getpid());
+  if (const char* job = std::getenv("SLURM_JOB_ID")) s += std::string(", SLURM job ") + job;
+  if (const char* task = std::getenv("SLURM_ARRAY_TASK_ID")) s += std::string(", array task ") + task;
+  return s;
+}
+
+}  // namespace
+
+void add_experiment_command(CLI::App& app) {
+  struct Options {
+    std::string config, out, shard = "0/1";
+    int jobs = 1;
+    bool resume = false;
+  };
+  auto o = std::make_shared<Options>();
+  CLI::App* sub = app.add_subcommand("experiment", "Run an experiment file's trials (methods x P_gt x seeds), each a mission");
+  sub->add_option("--config", o->config, "Experiment file (experiments/*.yaml)")->required();
+  sub->add_option("--out", o->out, "Experiment folder (trials/<id>/ per trial)")->required();
+  sub->add_option("--jobs", o->jobs, "Trials at once on this machine")->capture_default_str()->check(CLI::Range(1, 256));
+  sub->add_option("--shard", o->shard, "Run shard i of n (0 <= i < n): trial k belongs to shard k mod n")->capture_default_str();
+  sub->add_flag("--resume", o->resume, "Continue the experiment in --out: skip complete trials, run the rest");
+  sub->callback([o] {
+    const auto [index, count] = mission::parse_shard(o->shard);
+    const mission::Experiment e = mission::Experiment::load(o->config, default_robot_config());
+    load_world_spec(e.world_file);  // the mission's own checks (the robot fits the aisle), before any trial
+    mission::ExperimentRunOptions ro;
+    ro.mission_command = {std::filesystem::read_symlink("/proc/self/exe").string(), "mission"};
+    ro.jobs = o->jobs;
+    ro.shard_index = index;
+    ro.shard_count = count;
+    ro.resume = o->resume;
+    ro.runner = runner_text();
+    ro.progress = [](const std::string& line) { spdlog::info("{}", line); };
+    ro.stop_requested = [] { return g_stop.load(); };
+    g_stop = false;
+    auto old_int = std::signal(SIGINT, on_stop_signal);
+    auto old_term = std::signal(SIGTERM, on_stop_signal);
+    const mission::ExperimentRunSummary s = mission::run_experiment(e, o->out, ro);
+    std::signal(SIGINT, old_int);
+    std::signal(SIGTERM, old_term);
+    spdlog::info("experiment {} shard {}: {} trials ran ({} ok, {} failed), {} complete already, {:.0f} s; results in {}/trials/",
+                 e.name, o->shard, s.ok + s.failed, s.ok, s.failed, s.skipped, s.wall_time_s, o->out);
+    if (s.interrupted) throw Interrupted();
+  });
+}
+
+}  // namespace canopy::cli
