@@ -358,11 +358,11 @@ bool FrameSequence::read(std::size_t i, LabelledFrame* frame, std::string* why) 
   LabelledFrame f;
   f.intrinsics = e.intrinsics;
   f.T_world_camera = e.T_world_camera;
-  f.rgb = read_png_rgb(e.rgb);
-  check_size(f.rgb, e.intrinsics, e.rgb);
   const Image<std::uint16_t> raw = read_png_gray16(e.depth);
   check_size(raw, e.intrinsics, e.depth);
   f.depth_m = depth_in_metres(raw, e.depth_scale_per_m);
+  f.rgb = read_png_rgb(e.rgb);
+  check_size(f.rgb, e.intrinsics, e.rgb);
   if (options_.label_images) {
     const Image<Rgb8> labels = read_png_rgb(e.labels);
     check_size(labels, e.intrinsics, e.labels);
