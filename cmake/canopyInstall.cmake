@@ -58,3 +58,8 @@ write_basic_package_version_file(${PROJECT_BINARY_DIR}/canopyConfigVersion.cmake
                                  COMPATIBILITY SameMinorVersion)
 install(FILES ${PROJECT_BINARY_DIR}/canopyConfig.cmake ${PROJECT_BINARY_DIR}/canopyConfigVersion.cmake
         DESTINATION ${CANOPY_INSTALL_CMAKEDIR})
+
+if(CANOPY_SANITIZE)
+  # An install of a sanitized build: a consumer links the sanitizer runtimes too.
+  target_link_options(canopy_common INTERFACE $<INSTALL_INTERFACE:-fsanitize=address,undefined>)
+endif()

@@ -4,6 +4,7 @@
 #include <spdlog/spdlog.h>
 
 #include <cstdio>
+#include <filesystem>
 
 #include "canopy/common/error.h"
 #include "canopy/common/frame_sequence.h"
@@ -13,6 +14,8 @@
 #include "canopy/motion/view_reach.h"
 #include "cli_util.h"
 #include "commands.h"
+
+namespace fs = std::filesystem;
 
 namespace canopy::cli {
 
@@ -76,6 +79,9 @@ void add_nbv_command(CLI::App& app) {
     ps.rays = opt->rays;
     const std::unique_ptr<nbv::ViewPlanner> planner = nbv::make_view_planner("ours", ps, "nbv");
     const mapping::SemanticOcTree map = mapping::load_map(opt->map);
+    const fs::path out_dir = fs::absolute(opt->out).parent_path();
+    if (fs::is_directory(opt->out)) throw InputError("--out: '" + opt->out + "' is a folder; name the views file");
+    if (!fs::is_directory(out_dir)) throw InputError("--out: folder '" + out_dir.string() + "' does not exist");
 
     motion::NextViewsRequest req;
     req.base = base;

@@ -81,6 +81,7 @@ expect_error "cannot open" nbv --map "$tmp/none.csm" --base 0,0,0 --out "$tmp/v.
 expect_error "--joints: value '9,9,9,9,9,9' is outside the joint limits" \
   nbv --map "$tmp/map/map.csm" --base 0,0,0 --joints 9,9,9,9,9,9 --out "$tmp/v.json"
 expect_error "gain" nbv --map "$tmp/map/map.csm" --base 0,0,0 --gain nonsense --out "$tmp/v.json"
+expect_error "--out: folder '$tmp/nodir' does not exist" nbv --map "$tmp/map/map.csm" --base 0,0,0 --out "$tmp/nodir/v.json"
 [[ -e "$tmp/v.json" ]] && fail "views file written on bad input"
 
 if ((failures)); then echo "$failures failure(s)"; exit 1; fi
