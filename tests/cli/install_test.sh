@@ -31,6 +31,9 @@ for i in 0 1 2; do
 done
 CANOPY_DATA_DIR="$tmp/nowhere" "$prefix/bin/canopy" world --out "$tmp/w" >/dev/null 2>&1 &&
   fail "CANOPY_DATA_DIR pointing at no data still found the data"
+# The build tree's canopy, from outside the source tree: its relative pointer finds the data.
+"$build/canopy" world --world worlds/small.yaml --out "$tmp/wb" >/dev/null 2>&1 || fail "build-tree canopy outside the tree"
+grep -q "$src" "$build/canopy-data-dir" && fail "the build tree's pointer is absolute"
 
 # The example, against the prefix only.
 launcher=()
