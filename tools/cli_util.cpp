@@ -6,10 +6,10 @@
 
 namespace canopy::cli {
 
-std::string default_world_path() { return find_data_file("worlds/default.yaml"); }
+std::string default_world_path() { return "worlds/default.yaml"; }
 
 world::WorldSpec load_world_spec(const std::string& path, const RobotConfig& robot) {
-  world::WorldSpec spec = world::WorldSpec::load(path);
+  world::WorldSpec spec = world::WorldSpec::load(find_data_file(path));
   const robot::RobotDescription description = robot::RobotDescription::load_urdf(robot.urdf_path);
   const std::string base_link = description.joint(robot.base_joints.back()).child_link;
   spec.check_aisle(description.collision_half_width_m(base_link), robot.aisle_clearance_m);
@@ -18,7 +18,7 @@ world::WorldSpec load_world_spec(const std::string& path, const RobotConfig& rob
 }
 
 mission::Settings load_settings(const std::string& path) {
-  return mission::Settings::load(path, default_robot_config());
+  return mission::Settings::load(find_data_file(path), default_robot_config());
 }
 
 nlohmann::json settings_json(const std::string& command, const world::WorldSpec& spec) {

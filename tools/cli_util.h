@@ -11,15 +11,17 @@
 
 namespace canopy::cli {
 
-/// Default world file, found in the current directory or the source tree.
+/// Default world file, relative to the data folder (shown so in --help).
 std::string default_world_path();
-/// Loads a world file, checks that the robot's base fits its aisle (robot.yaml
+/// Loads a world file (a relative path missing from the current folder is looked up in the
+/// data folder, see data_dir.h), checks that the robot's base fits its aisle (robot.yaml
 /// aisle_clearance_m) and logs what it is. Throws InputError on problems.
 world::WorldSpec load_world_spec(const std::string& path, const RobotConfig& robot = default_robot_config());
 /// The start of every command's settings.json: the command, the world file and the world's
 /// resolved parameters (seed included). Commands add their own options.
 nlohmann::json settings_json(const std::string& command, const world::WorldSpec& spec);
-/// Loads the settings bundle every command's --config names (InputError on problems).
+/// Loads the settings bundle every command's --config names, found like a world file
+/// (InputError on problems).
 mission::Settings load_settings(const std::string& path);
 /// Help text of --config.
 constexpr const char* kConfigHelp = "Settings bundle (YAML: mapping, nbv, motion, mission sections)";

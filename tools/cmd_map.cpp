@@ -1,5 +1,6 @@
 // canopy map: render views of a world with a free-floating camera, insert each into the
 // semantic map, and after every view write the map, its PLY and .bt exports and metrics.json.
+// With --frames DIR: map a recorded sequence (canopy or TUM layout) instead of a world.
 
 #include <spdlog/spdlog.h>
 
@@ -9,6 +10,8 @@
 
 #include "canopy/common/error.h"
 #include "canopy/common/io.h"
+#include "canopy/common/frame_sequence.h"
+#include "canopy/mapping/frame_mapping.h"
 #include "canopy/mapping/map_io.h"
 #include "canopy/mapping/mapping_config.h"
 #include "canopy/mapping/scan_inserter.h"
@@ -38,24 +41,95 @@ nlohmann::json insert_json(const mapping::InsertStats& s, const perception::Extr
           {"ms_update", s.ms_update}};
 }
 
+struct MapOptions {
+  std::string world = default_world_path();
+  std::string views = "ring";
+  std::string config = mission::default_settings_path();
+  std::string seg;
+  double pgt = -1.0;
+  std::string out;
+  std::string frames, intrinsics, label_colors;
+  double max_dt_s = FrameReaderOptions{}.max_time_diff_s;
+};
+
+// canopy map --frames: no world, no ground truth; the map and what each frame gave.
+void map_recorded(const MapOptions& opt, mission::Settings bundle) {
+  mapping::MappingConfig& cfg = bundle.mapping;
+  FrameReaderOptions reader;
+  reader.intrinsics_file = opt.intrinsics;
+  reader.label_colors_file = opt.label_colors;
+  reader.max_time_diff_s = opt.max_dt_s;
+  reader.label_images = cfg.extractor.source == perception::LabelSource::kTruth;
+  const FrameSequence frames = FrameSequence::open(opt.frames, reader);
+  StagedDir out(opt.out);
+  mapping::SemanticOcTree map(cfg.map, frames.classes());
+  mapping::ScanInserter inserter(map);
+  perception::SemanticExtractor extractor(cfg.extractor, frames.classes());
+  write_file_atomic(out.path("settings.yaml"), bundle.to_yaml_text());
+  write_json_atomic(out.path("settings.json"), {{"command", "map"},
+                                                {"frames", opt.frames},
+                                                {"layout", to_string(frames.layout())},
+                                                {"labels", reader.label_images ? "label images" : "color"},
+                                                {"classes", frames.classes().names},
+                                                {"max_time_diff_s", opt.max_dt_s}});
+  spdlog::info("mapping {} frames ({} layout, {} skipped while pairing), labels {}", frames.size(),
+               to_string(frames.layout()), frames.skipped().size(), reader.label_images ? "from images" : "color");
+  const mapping::SequenceMapResult r =
+      mapping::map_sequence(frames, extractor, inserter, [&](const mapping::FrameMapStep& s) {
+        if (s.mapped)
+          std::fprintf(stderr, "frame %s: %zu points, insert %.1f ms\n", s.name.c_str(), s.extract.points,
+                       s.insert.ms_total);
+        else
+          std::fprintf(stderr, "frame %s: skipped (%s)\n", s.name.c_str(), s.skip_reason.c_str());
+      });
+  if (r.mapped == 0) throw InputError(opt.frames + ": no frame could be mapped (" + std::to_string(r.skipped.size()) + " skipped)");
+  mapping::save_map(map, out.path("map.csm"));
+  const std::size_t occupied = mapping::export_ply(map, out.path("map.ply"));
+  mapping::export_bt(map, out.path("map.bt"));
+  nlohmann::json steps = nlohmann::json::array();
+  for (const mapping::FrameMapStep& s : r.steps) {
+    nlohmann::json j = {{"frame", s.name}, {"mapped", s.mapped}};
+    if (s.mapped) j["insert"] = insert_json(s.insert, s.extract);
+    else j["skip_reason"] = s.skip_reason;
+    steps.push_back(j);
+  }
+  nlohmann::json skipped = nlohmann::json::array();
+  for (const SkippedFrame& s : r.skipped) skipped.push_back({{"frame", s.name}, {"reason", s.reason}});
+  write_json_atomic(out.path("frames.json"), {{"frames_mapped", r.mapped},
+                                              {"frames_skipped", r.skipped.size()},
+                                              {"skipped_by_reason", count_reasons(r.skipped)},
+                                              {"skipped", skipped},
+                                              {"occupied_voxels", occupied},
+                                              {"steps", steps}});
+  out.commit();
+  std::printf("mapped %zu frames (%zu skipped): %zu occupied voxels; wrote %s\n", r.mapped, r.skipped.size(),
+              occupied, opt.out.c_str());
+}
+
 }  // namespace
 
 void add_map_command(CLI::App& app) {
-  struct Options {
-    std::string world = default_world_path();
-    std::string views = "ring";
-    std::string config = mission::default_settings_path();
-    std::string seg;
-    double pgt = -1.0;
-    std::string out;
-  };
-  auto opt = std::make_shared<Options>();
+  auto opt = std::make_shared<MapOptions>();
   CLI::App* sub = app.add_subcommand("map", "Map a world from camera views: semantic map, PLY, .bt and metrics.json");
-  sub->add_option("--world", opt->world, "World file (YAML)")->capture_default_str();
-  sub->add_option("--views", opt->views, "Camera poses: 'ring', 'aisle' or a file of 'x y z qw qx qy qz' lines")
+  auto* world = sub->add_option("--world", opt->world, "World file (YAML)")->capture_default_str();
+  auto* views = sub->add_option("--views", opt->views, "Camera poses: 'ring', 'aisle' or a file of 'x y z qw qx qy qz' lines")
       ->capture_default_str();
+  auto* frames = sub->add_option("--frames", opt->frames,
+                                 "Map a recorded sequence instead of a world: canopy frame folders (what 'canopy "
+                                 "render' writes) or a TUM RGB-D folder (rgb.txt, depth.txt, groundtruth.txt)");
+  frames->excludes(world)->excludes(views);
+  sub->add_option("--intrinsics", opt->intrinsics, "--frames, TUM: camera YAML (default: DIR/camera.yaml)")
+      ->needs(frames);
+  sub->add_option("--label-colors", opt->label_colors,
+                  "--frames with --seg truth: class-colour table of the label images (YAML; default: the "
+                  "classes' drawing colours)")
+      ->needs(frames);
+  sub->add_option("--max-dt", opt->max_dt_s, "--frames, TUM: largest RGB-depth and depth-pose time difference [s]")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber)
+      ->needs(frames);
   sub->add_option("--config", opt->config, kConfigHelp)->capture_default_str();
-  sub->add_option("--seg", opt->seg, "Labels: color (HSV segmentation) or truth (renderer); default from config")
+  sub->add_option("--seg", opt->seg, "Labels: color (HSV segmentation) or truth (renderer; with --frames: the label images); default from config")
       ->check(CLI::IsMember({"color", "truth"}));
   sub->add_option("--pgt", opt->pgt, "Probability a mask keeps its class (1 = no noise); default from config")
       ->check(CLI::Range(0.0, 1.0));
@@ -65,6 +139,7 @@ void add_map_command(CLI::App& app) {
     mapping::MappingConfig& cfg = bundle.mapping;
     if (!opt->seg.empty()) cfg.extractor.source = perception::label_source_from_string(opt->seg, "--seg");
     if (opt->pgt >= 0.0) cfg.extractor.p_gt = opt->pgt;
+    if (!opt->frames.empty()) return map_recorded(*opt, bundle);
     const world::WorldSpec spec = load_world_spec(opt->world);
     const world::World world = world::generate_world(spec);
     const std::vector<Pose> views = mapping::views_from_spec(opt->views, world);

@@ -20,6 +20,8 @@ void add_run_command(CLI::App& app);
 void add_mission_command(CLI::App& app);
 /// `canopy map`: map a world from camera views (semantic map, PLY, .bt, metrics.json).
 void add_map_command(CLI::App& app);
+/// `canopy nbv`: next views from a saved map for the robot at a base pose (views.json).
+void add_nbv_command(CLI::App& app);
 /// `canopy reach`: reachable, collision-free and planned fractions of views from a base pose.
 void add_reach_command(CLI::App& app);
 

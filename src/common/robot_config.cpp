@@ -66,15 +66,6 @@ RobotConfig RobotConfig::load(const std::string& yaml_path) {
   return c;
 }
 
-std::string find_data_file(const std::string& relative_path) {
-  if (fs::path(relative_path).is_absolute() || fs::exists(relative_path)) return fs::absolute(relative_path).string();
-#ifdef CANOPY_SOURCE_DIR
-  const fs::path in_tree = fs::path(CANOPY_SOURCE_DIR) / relative_path;
-  if (fs::exists(in_tree)) return in_tree.string();
-#endif
-  return relative_path;
-}
-
 RobotConfig default_robot_config() { return RobotConfig::load(find_data_file("models/robot/robot.yaml")); }
 
 }  // namespace canopy

@@ -13,6 +13,7 @@
 #include "canopy/motion/execution.h"
 #include "canopy/motion/reachability.h"
 #include "canopy/motion/tour.h"
+#include "canopy/motion/view_reach.h"
 #include "canopy/motion/workspace_filter.h"
 #include "canopy/perception/semantic_extractor.h"
 #include "canopy/sim/renderer.h"
@@ -26,6 +27,12 @@ const char* to_string(ViewPhase p) {
     case ViewPhase::kPredefined: return "predefined";
   }
   return "?";
+}
+
+Eigen::AlignedBox3d stop_region(const LoopParams& loop, double arm_x_m, double base_y_m) {
+  return Eigen::AlignedBox3d(
+      Vec3(arm_x_m - loop.region_half_length_m, base_y_m - loop.region_half_width_m, loop.region_min_z_m),
+      Vec3(arm_x_m + loop.region_half_length_m, base_y_m + loop.region_half_width_m, loop.region_max_z_m));
 }
 
 int MissionResult::successful_views() const {
@@ -132,11 +139,8 @@ struct Mission::Impl {
   }
 
   Eigen::AlignedBox3d stop_region(int k) const {
-    const LoopParams& l = settings.mission.loop;
-    const double x = stops_x[static_cast<std::size_t>(k)];
-    const double y = settings.mission.stops.base_y_m;
-    return Eigen::AlignedBox3d(Vec3(x - l.region_half_length_m, y - l.region_half_width_m, l.region_min_z_m),
-                               Vec3(x + l.region_half_length_m, y + l.region_half_width_m, l.region_max_z_m));
+    return mission::stop_region(settings.mission.loop, stops_x[static_cast<std::size_t>(k)],
+                                settings.mission.stops.base_y_m);
   }
 
   std::vector<Pose> scan_views(int k, bool extra) const {
@@ -179,18 +183,6 @@ struct Mission::Impl {
     result.stops.push_back(rec);
     view_planner->begin_stop();
     return rec.reached_goal;
-  }
-
-  // The goal configurations of a view: the reachability check's IK answer first.
-  std::vector<ArmConfig> goal_configs(const nbv::PlannedView& view, const BasePose& base, const ArmConfig& q) const {
-    std::vector<ArmConfig> goals;
-    if (view.has_q) goals.push_back(view.q);
-    const motion::IkResult ik = model.camera_ik(base, view.T_world_camera, q);
-    for (int i = 0; i < ik.count; ++i) {
-      const ArmConfig& g = ik.q[static_cast<std::size_t>(i)];
-      if (!view.has_q || motion::joint_distance(g, view.q) > 1e-9) goals.push_back(g);
-    }
-    return goals;
   }
 
   void update_map_environment() {
@@ -247,7 +239,7 @@ struct Mission::Impl {
     motion::PlanResult plan;
     {
       ScopedPhase phase_time(rec.times, kMotionPlanning);
-      const std::vector<ArmConfig> goals = goal_configs(view, base, q0);
+      const std::vector<ArmConfig> goals = motion::view_goal_configs(model, view, base, q0);
       if (goals.empty()) return finish(failure::kNoIk, "no IK solution within the joint limits");
       // Where the robot is cannot be an obstacle (leaves it brushed aside, seen up close).
       map_env->clear_robot_volume(model, base, q0, settings.motion.collision.environment_padding_m);
@@ -324,34 +316,11 @@ struct Mission::Impl {
     progress(b);
   }
 
-  // Orders views by an open tour from the current arm state (joint-space Held-Karp);
-  // views without IK are returned in `unreachable`.
+  // Orders views by an open tour from the current arm state; views without IK are returned
+  // in `unreachable`.
   std::vector<nbv::PlannedView> tour(std::vector<nbv::PlannedView> views, std::vector<nbv::PlannedView>* unreachable) {
-    const BasePose base = sim.base_pose();
-    const ArmConfig q0 = sim.arm_positions();
-    std::vector<nbv::PlannedView> reachable;
-    std::vector<ArmConfig> qs;
-    std::vector<Vec3> cams;
-    for (nbv::PlannedView& v : views) {
-      const std::vector<ArmConfig> goals = goal_configs(v, base, q0);
-      if (goals.empty()) {
-        if (unreachable) unreachable->push_back(v);
-        continue;
-      }
-      if (!v.has_q) {
-        v.has_q = true;
-        v.q = goals.front();
-      }
-      reachable.push_back(v);
-      qs.push_back(v.q);
-      cams.push_back(v.T_world_camera.translation());
-    }
-    if (reachable.size() < 2) return reachable;
-    const std::vector<int> order =
-        motion::order_views(settings.motion.tour, q0, model.camera_pose(base, q0).translation(), qs, cams);
-    std::vector<nbv::PlannedView> out;
-    for (int i : order) out.push_back(reachable[static_cast<std::size_t>(i)]);
-    return out;
+    return motion::tour_order(model, settings.motion.tour, sim.base_pose(), sim.arm_positions(), std::move(views),
+                              unreachable);
   }
 
   // Executes views in order; stops once `wanted` succeeded (<0: all), returns the successes.
@@ -405,15 +374,7 @@ struct Mission::Impl {
     req.index = &index;
     req.region = stop_region(k);
     const BasePose base = sim.base_pose();
-    req.reach = [this, base](nbv::Candidate* c) {
-      const motion::FilteredView f = workspace.filter(base, c->T_world_camera, sim.arm_positions(), &map_checker);
-      if (!f.kept()) return false;
-      c->T_world_camera = f.T_world_camera;
-      c->shift_m = f.shift_m;
-      c->has_q = true;
-      c->q = f.q;
-      return true;
-    };
+    req.reach = motion::reach_filter(workspace, base, [this] { return sim.arm_positions(); }, &map_checker);
     req.in_workspace = [this, base](const Vec3& p) { return workspace.in_workspace(base, p); };
     if (options.method == "predefined") req.scripted = scan_views(k, true);
     std::string end = "view budget of the stop reached";

@@ -99,6 +99,6 @@ std::string Settings::to_yaml_text() const {
   return std::string(e.c_str()) + "\n";
 }
 
-std::string default_settings_path() { return find_data_file("configs/canopy.yaml"); }
+std::string default_settings_path() { return "configs/canopy.yaml"; }
 
 }  // namespace canopy::mission

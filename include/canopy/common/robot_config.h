@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "canopy/common/data_dir.h"
+
 namespace canopy {
 
 constexpr int kArmDof = 6;
@@ -40,9 +42,6 @@ struct RobotConfig {
   static RobotConfig load(const std::string& yaml_path);
 };
 
-/// Absolute path of a file shipped in the source tree (models/, worlds/, configs/), found
-/// relative to the current directory first, then to the source tree canopy was built from.
-std::string find_data_file(const std::string& relative_path);
 /// The default robot description: models/robot/robot.yaml.
 RobotConfig default_robot_config();
 

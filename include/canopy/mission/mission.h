@@ -37,6 +37,10 @@ namespace canopy::mission {
 enum class ViewPhase { kInitial, kNbv, kPredefined };
 const char* to_string(ViewPhase phase);
 
+/// Where the planner looks for targets at a stop: the LoopParams box around the arm base's
+/// x and the aisle's y (world-aligned).
+Eigen::AlignedBox3d stop_region(const LoopParams& loop, double arm_x_m, double base_y_m);
+
 /// Failure causes of an attempted view ("" = success), in the order they are checked.
 namespace failure {
 constexpr const char* kNoIk = "no_ik";                          ///< No IK solution within the joint limits.

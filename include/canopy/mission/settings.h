@@ -38,7 +38,8 @@ struct Settings {
   std::string to_yaml_text() const;
 };
 
-/// The default bundle (configs/canopy.yaml).
+/// The default bundle, relative to the data folder: "configs/canopy.yaml" (find_data_file
+/// resolves it).
 std::string default_settings_path();
 
 }  // namespace canopy::mission

@@ -1,0 +1,64 @@
+#pragma once
+// The arm's side of view planning at a base stop, shared by the mission and by `canopy nbv`
+// (planning from a saved map on a real robot): the paper's reachability filter as the view
+// planner's candidate filter, the IK goals of a view, the tour order of a batch, and the
+// whole "next views from a map" step.
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "canopy/mapping/semantic_octree.h"
+#include "canopy/motion/collision.h"
+#include "canopy/motion/motion_config.h"
+#include "canopy/motion/workspace_filter.h"
+#include "canopy/nbv/view_planner.h"
+
+namespace canopy::motion {
+
+/// The workspace filter (move into the workspace, IK, collision-free with `checker` when
+/// given) as a candidate filter for the base at `base`; `arm_now` gives the arm's joints at
+/// the time of each call (they seed the IK choice).
+nbv::CandidateFilter reach_filter(const WorkspaceFilter& workspace, const BasePose& base,
+                                  std::function<ArmConfig()> arm_now, const CollisionChecker* checker);
+
+/// IK goals of a view for the base at `base`: the reachability check's answer first, then
+/// every other solution within the joint limits (nearest to `seed` first).
+std::vector<ArmConfig> view_goal_configs(const RobotModel& model, const nbv::PlannedView& view, const BasePose& base,
+                                         const ArmConfig& seed);
+
+/// Orders views by an open tour from the arm at `q0` (TourParams: joint or Cartesian
+/// cost). Views without IK go to `unreachable` (may be null); the others get has_q and q.
+std::vector<nbv::PlannedView> tour_order(const RobotModel& model, const TourParams& params, const BasePose& base,
+                                         const ArmConfig& q0, std::vector<nbv::PlannedView> views,
+                                         std::vector<nbv::PlannedView>* unreachable);
+
+/// Occupied voxel centres of a map (p_occ > 0.5, pruned blocks expanded): the planner's
+/// collision environment.
+std::vector<Vec3> occupied_voxel_centres(const mapping::SemanticOcTree& map);
+
+/// One planning step at a stop: where the robot is and what it asks for.
+struct NextViewsRequest {
+  BasePose base;
+  ArmConfig q{};                 ///< The arm now (tour start, IK seed).
+  Eigen::AlignedBox3d region;    ///< Clusters must lie in it.
+  int budget = 1;                ///< Views wanted.
+  std::uint64_t seed = 1;
+};
+
+/// Its answer: the planner's batch and the views in execution order.
+struct NextViews {
+  nbv::ViewBatch batch;
+  std::vector<nbv::PlannedView> ordered;      ///< Tour order (kTour) or the planner's order.
+  std::vector<nbv::PlannedView> unreachable;  ///< Chosen views without an IK solution.
+  std::size_t cleared_voxels = 0;             ///< Map voxels inside the robot, not obstacles.
+};
+
+/// The next views from `map` for the robot at request.base: the map's occupied voxels as
+/// the collision environment (minus the robot's own volume), the workspace filter as the
+/// candidate filter, `planner` for the views, then the tour. Deterministic.
+NextViews plan_next_views(const mapping::SemanticOcTree& map, nbv::ViewPlanner& planner, const RobotModel& model,
+                          const MotionConfig& config, const NextViewsRequest& request);
+
+}  // namespace canopy::motion

@@ -1,0 +1,70 @@
+#include "canopy/common/data_dir.h"
+
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+
+namespace fs = std::filesystem;
+
+namespace canopy {
+
+namespace {
+
+bool is_data_dir(const fs::path& dir) {
+  std::error_code ec;
+  return !dir.empty() && fs::is_regular_file(dir / "configs" / "canopy.yaml", ec);
+}
+
+fs::path executable_dir() {
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  return ec ? fs::path() : exe.parent_path();
+}
+
+// The pointer file's first line, resolved against the pointer's folder.
+fs::path follow_pointer(const fs::path& dir) {
+  std::ifstream in(dir / kDataDirPointer);
+  std::string line;
+  if (!in || !std::getline(in, line) || line.empty()) return {};
+  const fs::path target(line);
+  return (target.is_absolute() ? target : dir / target).lexically_normal();
+}
+
+std::string find_data_dir() {
+  if (const char* env = std::getenv("CANOPY_DATA_DIR"); env && *env) {
+    const fs::path p = fs::absolute(env).lexically_normal();
+    return is_data_dir(p) ? p.string() : std::string();
+  }
+  const fs::path exe_dir = executable_dir();
+  if (exe_dir.empty()) return {};
+  const fs::path installed = (exe_dir / ".." / "share" / "canopy").lexically_normal();
+  if (is_data_dir(installed)) return installed.string();
+  for (fs::path d = exe_dir; !d.empty(); d = d.parent_path()) {
+    const fs::path p = follow_pointer(d);
+    if (is_data_dir(p)) return p.string();
+    if (d == d.root_path()) break;
+  }
+  return {};
+}
+
+}  // namespace
+
+std::string data_dir() {
+  static const std::string dir = find_data_dir();  // the environment and the executable do not change
+  return dir;
+}
+
+std::string find_data_file(const std::string& relative_path) {
+  if (relative_path.empty()) return relative_path;
+  if (fs::path(relative_path).is_absolute() || fs::exists(relative_path)) return fs::absolute(relative_path).string();
+  const std::string dir = data_dir();
+  if (!dir.empty()) {
+    const fs::path p = fs::path(dir) / relative_path;
+    if (fs::exists(p)) return p.string();
+  }
+  return relative_path;
+}
+
+}  // namespace canopy

@@ -1,0 +1,124 @@
+// canopy nbv: the next views from a saved map for the robot at a base pose: the file
+// interface a ROS node or a script calls on a real robot (no simulator involved).
+
+#include <spdlog/spdlog.h>
+
+#include <cstdio>
+#include <filesystem>
+
+#include "canopy/common/error.h"
+#include "canopy/common/frame_sequence.h"
+#include "canopy/common/io.h"
+#include "canopy/mapping/map_io.h"
+#include "canopy/mission/mission.h"
+#include "canopy/motion/view_reach.h"
+#include "cli_util.h"
+#include "commands.h"
+
+namespace fs = std::filesystem;
+
+namespace canopy::cli {
+
+namespace {
+
+nlohmann::json view_json(const nbv::PlannedView& v, int order, const std::string& why_no_q) {
+  nlohmann::json j = {{"T_world_camera", pose_to_json(v.T_world_camera)},
+                      {"target", {v.target.x(), v.target.y(), v.target.z()}},
+                      {"cluster", v.cluster},
+                      {"gain", v.gain},
+                      {"shift_m", v.shift_m}};
+  j["tour_index"] = order >= 0 ? nlohmann::json(order) : nlohmann::json(nullptr);
+  if (v.has_q) j["joints"] = v.q;
+  else j["joints"] = nullptr;
+  if (!why_no_q.empty()) j["no_joints_reason"] = why_no_q;
+  return j;
+}
+
+}  // namespace
+
+void add_nbv_command(CLI::App& app) {
+  struct Options {
+    std::string map, base, joints, out, intrinsics;
+    std::string config = mission::default_settings_path();
+    std::string gain = "osamcep", rays = "ours";
+    int k = -1;
+    std::uint64_t seed = 1;
+  };
+  auto opt = std::make_shared<Options>();
+  CLI::App* sub = app.add_subcommand(
+      "nbv", "Next views from a saved map for the robot at a base pose (ours planner, workspace filter, IK, tour): views.json");
+  sub->add_option("--map", opt->map, "Semantic map (.csm, as 'canopy map' writes)")->required();
+  sub->add_option("--base", opt->base, "Base pose x,y,yaw [m, m, rad]")->required();
+  sub->add_option("--joints", opt->joints, "Arm joints now q1,...,q6 [rad] (tour start; default: home)");
+  sub->add_option("--gain", opt->gain, "Gain of the views (nbv gain registry)")->capture_default_str();
+  sub->add_option("--rays", opt->rays, "Ray set (nbv ray-set registry)")->capture_default_str();
+  sub->add_option("--k", opt->k, "Views kept per cluster (default from config, nbv.planner.top_k)")
+      ->check(CLI::Range(1, 100));
+  sub->add_option("--intrinsics", opt->intrinsics,
+                  "Camera YAML (as for 'canopy map --frames', TUM); default: the D405 of configs");
+  sub->add_option("--config", opt->config, kConfigHelp)->capture_default_str();
+  sub->add_option("--seed", opt->seed, "Seed of the planner's random draws")->capture_default_str();
+  sub->add_option("--out", opt->out, "Output file (JSON)")->required();
+  sub->callback([opt] {
+    // Validate every input before doing any work.
+    mission::Settings settings = load_settings(opt->config);
+    if (opt->k > 0) settings.nbv.planner.top_k = opt->k;
+    const RobotConfig robot = default_robot_config();
+    const motion::RobotModel model = motion::RobotModel::load(robot);
+    const BasePose base = parse_base_pose(opt->base, "--base");
+    ArmConfig q = robot.home;
+    if (!opt->joints.empty()) {
+      const auto v = parse_numbers(opt->joints, kArmDof, "--joints");
+      std::copy(v.begin(), v.end(), q.begin());
+      if (!model.within_limits(q)) throw InputError("--joints: value '" + opt->joints + "' is outside the joint limits");
+    }
+    nbv::ViewPlannerSettings ps;
+    ps.params = settings.nbv;
+    if (!opt->intrinsics.empty()) ps.intrinsics = RecordedCamera::load(opt->intrinsics).intrinsics;
+    ps.gain = opt->gain;
+    ps.rays = opt->rays;
+    const std::unique_ptr<nbv::ViewPlanner> planner = nbv::make_view_planner("ours", ps, "nbv");
+    const mapping::SemanticOcTree map = mapping::load_map(opt->map);
+    const fs::path out_dir = fs::absolute(opt->out).parent_path();
+    if (fs::is_directory(opt->out)) throw InputError("--out: '" + opt->out + "' is a folder; name the views file");
+    if (!fs::is_directory(out_dir)) throw InputError("--out: folder '" + out_dir.string() + "' does not exist");
+
+    motion::NextViewsRequest req;
+    req.base = base;
+    req.q = q;
+    const Vec3 arm = motion::RobotModel::T_world_base(base) * model.T_base_arm().translation();
+    req.region = mission::stop_region(settings.mission.loop, arm.x(), arm.y());
+    req.budget = settings.mission.loop.views_per_stop;
+    req.seed = opt->seed;
+    const motion::NextViews nv = motion::plan_next_views(map, *planner, model, settings.motion, req);
+
+    nlohmann::json views = nlohmann::json::array();
+    int order = 0;
+    for (const nbv::PlannedView& v : nv.ordered) views.push_back(view_json(v, order++, ""));
+    for (const nbv::PlannedView& v : nv.unreachable)
+      views.push_back(view_json(v, -1, "no IK solution within the joint limits"));
+    const nlohmann::json out = {
+        {"map", opt->map},
+        {"base", {base.x_m, base.y_m, base.yaw_rad}},
+        {"joints_now", q},
+        {"planner", "ours"},
+        {"gain", opt->gain},
+        {"rays", opt->rays},
+        {"k", settings.nbv.planner.top_k},
+        {"seed", opt->seed},
+        {"region", {{"min", {req.region.min().x(), req.region.min().y(), req.region.min().z()}},
+                    {"max", {req.region.max().x(), req.region.max().y(), req.region.max().z()}}}},
+        {"clusters", nv.batch.clusters},
+        {"candidates", nv.batch.candidates},
+        {"filtered", nv.batch.filtered},
+        {"robot_voxels_cleared", nv.cleared_voxels},
+        {"finished", nv.batch.finished},
+        {"reason", nv.batch.reason},
+        {"views", views}};
+    write_json_atomic(opt->out, out);
+    std::printf("%zu views (%zu in tour order, %zu without IK) for %zu clusters; wrote %s\n", views.size(),
+                nv.ordered.size(), nv.unreachable.size(), nv.batch.clusters, opt->out.c_str());
+  });
+}
+
+}  // namespace canopy::cli
