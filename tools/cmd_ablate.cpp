@@ -70,9 +70,12 @@ void print_table(const std::vector<mission::AblationRow>& rows, int views) {
 
 void add_ablate_command(CLI::App& app) {
   struct Options {
-    std::string world = default_world_path();
+    std::string world = "worlds/ablation.yaml";
     std::string config = mission::default_settings_path();
     int plants = 6, views = 30, trials = 10, initial_views = 2, threads = 2;
+    std::string protocol = "paper";
+    std::string proximity;
+    double cluster_min_logodds = -1.0;
     std::string gains = "osamcep,ae,uvc,uvpc,oae,mi,rs";
     std::string rays = "ours,dense,sparse";
     std::string pgt = "1.0,0.7";
@@ -89,7 +92,18 @@ void add_ablate_command(CLI::App& app) {
   sub->add_option("--plants", opt->plants, "Plants (the first N of the world)")->capture_default_str()->check(CLI::Range(1, 1000));
   sub->add_option("--views", opt->views, "Views per plant, initial ones included")->capture_default_str()->check(CLI::Range(1, 1000));
   sub->add_option("--trials", opt->trials, "Trials (seeded initial views)")->capture_default_str()->check(CLI::Range(1, 1000));
-  sub->add_option("--initial-views", opt->initial_views, "Random initial views per plant")->capture_default_str()->check(CLI::Range(1, 1000));
+  sub->add_option("--protocol", opt->protocol,
+                  "paper: 1 initial view from the 10-pose grid, rounds of every cluster's best view; one_view: "
+                  "random initial views, one view per step")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"paper", "one_view"}));
+  sub->add_option("--cluster-min-logodds", opt->cluster_min_logodds,
+                  "Cluster threshold replacing the settings' cluster.min_logodds (default: 0.5 with the paper "
+                  "protocol: after its single initial view every fruit voxel has log-odds 1.0; the settings' value "
+                  "with one_view)");
+  sub->add_option("--initial-views", opt->initial_views, "Random initial views per plant (one_view protocol)")->capture_default_str()->check(CLI::Range(1, 1000));
+  sub->add_option("--osamcep-proximity", opt->proximity,
+                  "OSAMCEP proximity tests to compare (per_voxel,per_segment_end; default: the NBV settings')");
   sub->add_option("--gains", opt->gains, "Gains compared with our ray set")->capture_default_str();
   sub->add_option("--rays", opt->rays, "Ray sets compared with OSAMCEP")->capture_default_str();
   sub->add_option("--pgt", opt->pgt, "Segmentation P_gt values (1 = no noise)")->capture_default_str();
@@ -130,6 +144,10 @@ void add_ablate_command(CLI::App& app) {
     if (gains.empty() || rays.empty() || pgts.empty()) throw InputError("--gains, --rays and --pgt need a value each");
     for (const auto& g : gains) nbv::make_gain(g, np.gain, "--gains");
     for (const auto& r : rays) nbv::ray_set(r, "--rays");
+    std::vector<std::string> proximities = split(o.proximity);
+    for (const auto& p : proximities) nbv::proximity_from_string(p, "--osamcep-proximity");
+    if (proximities.empty()) proximities.push_back("");
+    const mission::AblationProtocol protocol = mission::ablation_protocol_from_string(o.protocol, "--protocol");
     if (o.initial_views > o.views) throw InputError("--initial-views: more than --views");
     world::WorldSpec spec = load_world_spec(o.world);
     spec.camera.depth_noise_k = 0.0;  // segmentation noise only, and renderers stay stateless
@@ -143,10 +161,16 @@ void add_ablate_command(CLI::App& app) {
     const std::string main_rays = std::find(rays.begin(), rays.end(), "ours") != rays.end() ? "ours" : rays[0];
     const std::string main_gain = std::find(gains.begin(), gains.end(), "osamcep") != gains.end() ? "osamcep" : gains[0];
     std::vector<AblationConfig> configs;
+    // OSAMCEP runs once per proximity test asked for.
+    auto variants = [&](const std::string& g) {
+      return g == "osamcep" ? proximities : std::vector<std::string>{""};
+    };
     for (double p : pgts) {
-      for (const auto& g : gains) configs.push_back({g, main_rays, p});
+      for (const auto& g : gains)
+        for (const auto& x : variants(g)) configs.push_back({g, main_rays, p, x});
       for (const auto& r : rays)
-        if (r != main_rays) configs.push_back({main_gain, r, p});
+        if (r != main_rays)
+          for (const auto& x : variants(main_gain)) configs.push_back({main_gain, r, p, x});
     }
     std::vector<Job> jobs;  // trial-major, so an interrupted run has whole trials
     for (int t = 0; t < o.trials; ++t)
@@ -159,6 +183,8 @@ void add_ablate_command(CLI::App& app) {
     const std::string out = out_dir.working_dir();
     nlohmann::json settings = {{"world", spec.name},   {"plants", o.plants},         {"views", o.views},
                                {"trials", o.trials},   {"initial_views", o.initial_views},
+                               {"protocol", o.protocol}, {"osamcep_proximity", o.proximity},
+                               {"cluster_min_logodds", o.cluster_min_logodds},
                                {"seed", o.seed},       {"threads", o.threads},       {"labels", perception::to_string(mcfg.extractor.source)}};
     YAML::Emitter e1, e2;
     e1 << mcfg.to_yaml();
@@ -187,6 +213,10 @@ void add_ablate_command(CLI::App& app) {
     mission::AblationSettings set;
     set.views = o.views;
     set.initial_views = o.initial_views;
+    set.protocol = protocol;
+    set.cluster_min_logodds = o.cluster_min_logodds >= 0.0 ? o.cluster_min_logodds
+                              : protocol == mission::AblationProtocol::kPaper ? 0.5
+                                                                              : -1.0;
     set.seed = o.seed;
     std::vector<nlohmann::json> results(jobs.size());
     auto job_path = [&](const Job& j) {

@@ -60,11 +60,14 @@ def main():
         print("plot_ablation: summary.csv is empty", file=sys.stderr)
         return 1
     rays_main = "ours" if any(k[1] == "ours" for k in rows) else sorted(rows)[0][1]
-    gain_main = "osamcep" if any(k[0] == "osamcep" for k in rows) else sorted(rows)[0][0]
+    # OSAMCEP may run in several variants ("osamcep-per_voxel", ...): the ray-set plot shows each.
+    osamcep = [k for k in rows if k[0].startswith("osamcep")]
+    gain_main = "osamcep" if osamcep else sorted(rows)[0][0]
     gain_keys = [k for k in rows if k[1] == rays_main]
-    ray_keys = [k for k in rows if k[0] == gain_main]
+    ray_keys = osamcep if osamcep else [k for k in rows if k[0] == gain_main]
     plot(rows, gain_keys, lambda k: k[0], f"Information gain metrics (rays: {rays_main})", out + "/gains.png")
-    plot(rows, ray_keys, lambda k: k[1], f"Ray sets ({gain_main})", out + "/rays.png")
+    plot(rows, ray_keys, lambda k: k[1] if k[0] == gain_main else f"{k[1]} ({k[0]})", f"Ray sets ({gain_main})",
+         out + "/rays.png")
     print(f"plot_ablation: wrote {out}/gains.png and {out}/rays.png")
     return 0
 

@@ -6,6 +6,7 @@
 #include <fstream>
 #include <map>
 
+#include "canopy/common/error.h"
 #include "canopy/common/io.h"
 #include "canopy/common/random.h"
 #include "canopy/mapping/scan_inserter.h"
@@ -13,10 +14,30 @@
 
 namespace canopy::mission {
 
+std::string AblationConfig::label() const { return proximity.empty() ? gain : gain + "-" + proximity; }
+
 std::string AblationConfig::id() const {
-  char b[64];
-  std::snprintf(b, sizeof b, "%s_%s_pgt%.2f", gain.c_str(), rays.c_str(), pgt);
+  char b[128];
+  std::snprintf(b, sizeof b, "%s_%s_pgt%.2f", label().c_str(), rays.c_str(), pgt);
   return b;
+}
+
+std::string to_string(AblationProtocol p) { return p == AblationProtocol::kPaper ? "paper" : "one_view"; }
+
+AblationProtocol ablation_protocol_from_string(const std::string& s, const std::string& where) {
+  if (s == "paper") return AblationProtocol::kPaper;
+  if (s == "one_view") return AblationProtocol::kOneView;
+  throw InputError(where + ": unknown ablation protocol '" + s + "' (valid: paper, one_view)");
+}
+
+Pose ablation_grid_pose(const Vec3& base, int trial, const AblationSettings& set) {
+  const int i = ((trial % 10) + 10) % 10;
+  const double azimuth = (i % 5) * (M_PI / 2.0) / 4.0;           // 0, 22.5, ..., 90 deg
+  const double polar = (i < 5 ? 30.0 : 120.0) * M_PI / 180.0;  // from +z
+  const Vec3 aim = base + Vec3(0, 0, set.grid_aim_height_m);
+  const Vec3 eye = aim + set.grid_radius_m * Vec3(std::sin(polar) * std::cos(azimuth),
+                                                  std::sin(polar) * std::sin(azimuth), std::cos(polar));
+  return look_at(eye, aim);
 }
 
 namespace {
@@ -60,6 +81,8 @@ nlohmann::json run_ablation_job(const AblationConfig& cfg, int trial, int plant,
   nbv::VoxelIndex index;
   nbv::ViewPlannerSettings ps;
   ps.params = np;
+  if (set.cluster_min_logodds >= 0.0) ps.params.cluster.min_logodds = set.cluster_min_logodds;
+  if (!cfg.proximity.empty()) ps.params.gain.proximity = nbv::proximity_from_string(cfg.proximity, "proximity");
   ps.intrinsics = renderer.intrinsics();
   ps.gain = cfg.gain;
   ps.rays = cfg.rays;
@@ -76,21 +99,64 @@ nlohmann::json run_ablation_job(const AblationConfig& cfg, int trial, int plant,
   request.region = Eigen::AlignedBox3d(pl.base_position - Vec3(set.plant_radius_m, set.plant_radius_m, 0.0),
                                        pl.base_position + Vec3(set.plant_radius_m, set.plant_radius_m, pl.height_m + 0.1));
   nlohmann::json steps = nlohmann::json::array();
-  for (int v = 0; v < set.views; ++v) {
-    nlohmann::json step = {{"view", v + 1}};
-    Pose T;
-    if (v < set.initial_views) {
-      T = random_plant_view(world, plant, set.view_radius_m, init_rng);
-      step["source"] = "initial";
-    } else {
-      request.seed = mix_seed(job_seed, 100 + std::uint64_t(v));
-      const nbv::ViewBatch batch = planner->next(request);
-      step["clusters"] = batch.clusters;
-      step["candidates"] = batch.candidates;
-      const double raycast_ms = 1e3 * batch.times.get("scoring");
-      step["ms_raycast_step"] = raycast_ms;
-      step["ms_raycast_per_view"] = batch.candidates ? raycast_ms / double(batch.candidates) : 0.0;
-      step["ms_index_build"] = index.build_ms();
+  // Takes view T (when given): render, insert, evaluate; records the step.
+  auto take = [&](nlohmann::json step, const Pose* T) {
+    if (T) {
+      planner->taken(*T);
+      request.T_world_camera = *T;
+      const LabelledFrame frame = renderer.render_free_camera(*T);  // the renderer serialises draws
+      inserter.insert(extractor.extract(frame));
+      step["pose"] = pose_to_json(*T);
+    }
+    const mapping::MapMetrics m = mapping::evaluate_map(map, truth, mcfg.metrics);
+    step["view"] = steps.size() + 1;
+    step["coverage"] = m.coverage;
+    step["entropy"] = m.total_entropy;
+    step["coverage_paper"] = m.paper.coverage;
+    step["entropy_paper"] = m.paper.entropy;
+    steps.push_back(std::move(step));
+  };
+  auto plan = [&](int round, nlohmann::json* info) {
+    request.seed = mix_seed(job_seed, 100 + std::uint64_t(round));
+    const nbv::ViewBatch batch = planner->next(request);
+    const double raycast_ms = 1e3 * batch.times.get("scoring");
+    *info = {{"round", round},
+             {"clusters", batch.clusters},
+             {"candidates", batch.candidates},
+             {"ms_raycast_step", raycast_ms},
+             {"ms_raycast_per_view", batch.candidates ? raycast_ms / double(batch.candidates) : 0.0},
+             {"ms_index_build", index.build_ms()}};
+    return batch;
+  };
+  if (set.protocol == AblationProtocol::kPaper) {
+    const Pose T0 = ablation_grid_pose(pl.base_position, trial, set);
+    take({{"source", "initial"}}, &T0);
+    for (int round = 1; int(steps.size()) < set.views; ++round) {
+      nlohmann::json info;
+      const nbv::ViewBatch batch = plan(round, &info);
+      if (batch.views.empty()) {  // an empty round still counts a view
+        info["source"] = "empty";
+        info["reason"] = batch.reason;
+        take(info, nullptr);
+        continue;
+      }
+      for (std::size_t k = 0; k < batch.views.size() && int(steps.size()) < set.views; ++k) {
+        nlohmann::json step = k == 0 ? info : nlohmann::json{{"round", round}};
+        step["source"] = "nbv";
+        step["gain"] = batch.views[k].gain;
+        take(step, &batch.views[k].T_world_camera);
+      }
+    }
+  } else {
+    for (int v = 0; v < set.views; ++v) {
+      if (v < set.initial_views) {
+        const Pose T = random_plant_view(world, plant, set.view_radius_m, init_rng);
+        take({{"source", "initial"}}, &T);
+        continue;
+      }
+      nlohmann::json step;
+      const nbv::ViewBatch batch = plan(v, &step);
+      Pose T;
       if (!batch.views.empty()) {
         T = batch.views.front().T_world_camera;
         step["source"] = "nbv";
@@ -100,18 +166,11 @@ nlohmann::json run_ablation_job(const AblationConfig& cfg, int trial, int plant,
         step["source"] = "fallback";
         step["reason"] = batch.reason;
       }
+      take(step, &T);
     }
-    planner->taken(T);
-    request.T_world_camera = T;
-    const LabelledFrame frame = renderer.render_free_camera(T);  // the renderer serialises draws
-    inserter.insert(extractor.extract(frame));
-    const mapping::MapMetrics m = mapping::evaluate_map(map, truth, mcfg.metrics);
-    step["pose"] = pose_to_json(T);
-    step["coverage"] = m.coverage;
-    step["entropy"] = m.total_entropy;
-    steps.push_back(step);
   }
-  return {{"config", cfg.id()}, {"gain", cfg.gain},   {"rays", cfg.rays}, {"p_gt", cfg.pgt},
+  return {{"config", cfg.id()}, {"gain", cfg.label()}, {"rays", cfg.rays}, {"p_gt", cfg.pgt},
+          {"protocol", to_string(set.protocol)},
           {"trial", trial},     {"plant", plant},     {"seed", job_seed}, {"fruits", truth.fruits.size()},
           {"steps", steps}};
 }
@@ -159,7 +218,7 @@ std::vector<AblationRow> summarize_ablation(const std::string& out, const std::v
         ent_t.push_back(mean(ent_p));
       }
       mean_cov_curve[std::size_t(v)] = mean(cov_t);
-      csv += configs[c].id() + "," + configs[c].gain + "," + configs[c].rays + "," + num(configs[c].pgt) + "," +
+      csv += configs[c].id() + "," + configs[c].label() + "," + configs[c].rays + "," + num(configs[c].pgt) + "," +
              std::to_string(v + 1) + "," + std::to_string(complete.size()) + "," + num(mean(cov_t)) + "," +
              num(stddev(cov_t)) + "," + num(mean(ent_t)) + "," + num(stddev(ent_t)) + "\n";
       if (v == views - 1) {
@@ -189,7 +248,7 @@ std::vector<AblationRow> summarize_ablation(const std::string& out, const std::v
     row.raycast_ms_per_view = mean(ray_ms);
     row.final_coverage = mean(final_cov);
     row.final_entropy = mean(final_ent);
-    table += configs[c].id() + "," + configs[c].gain + "," + configs[c].rays + "," + num(configs[c].pgt) + "," +
+    table += configs[c].id() + "," + configs[c].label() + "," + configs[c].rays + "," + num(configs[c].pgt) + "," +
              std::to_string(row.trials) + "," + std::to_string(row.views_to_target_curve) + "," +
              num(row.views_to_target_per_plant) + "," + std::to_string(row.runs_reaching) + "," +
              std::to_string(row.runs) + "," + num(row.raycast_ms_per_view) + "," + num(row.final_coverage) + "," +

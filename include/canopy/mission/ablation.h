@@ -1,12 +1,19 @@
 #pragma once
 // The paper's free-camera ablation (Fig. 5 and 6): one job is a (gain, ray set, P_gt) on one
-// plant in one trial. The map starts empty; `initial_views` random views around the plant
-// (the same for every configuration of a trial) come first; then every step asks the
-// cluster-centric view planner ("ours", with the job's gain and rays) for its views around
-// the plant's clusters and takes the best one (a view is never taken twice: the planner's
-// TakenViews); when the planner has none, a random fallback view is taken and the reason is
-// recorded. After every view the plant's fruit coverage and entropy are recorded, with the
-// step's ray-casting time. Deterministic in the seeds; independent of the thread running it.
+// plant in one trial. The map starts empty. Two protocols, chosen per run:
+//  - paper (the released code's; FACTS.md section 10, the default): ONE initial view from a
+//    fixed grid of 10 poses (azimuth 0..90 deg in 5 steps x polar 30 and 120 deg, r = 0.4 m,
+//    aimed at 0.5 m above the plant's base; trial i starts from pose i mod 10), then rounds:
+//    the cluster-centric planner ("ours", with the job's gain and rays) gives the best view of
+//    every unfinished cluster, in tour order from the current camera, and ALL of them are
+//    taken before clustering again; a round with no view still counts one view (the map does
+//    not change).
+//  - one_view (canopy's first protocol): `initial_views` random views around the plant, then
+//    every step takes only the planner's first view and re-plans; when the planner has none a
+//    random fallback view is taken and the reason recorded.
+// A view is never taken twice (the planner's TakenViews). After every view the plant's fruit
+// coverage and entropy are recorded, with the ray-casting time of the planning step that
+// produced it. Deterministic in the seeds; independent of the thread running it.
 
 #include <cstdint>
 #include <string>
@@ -25,17 +32,37 @@ namespace canopy::mission {
 struct AblationConfig {
   std::string gain, rays;
   double pgt = 1.0;
-  std::string id() const;  ///< "<gain>_<rays>_pgt<P_gt>", the job folder's name.
+  std::string proximity;   ///< OSAMCEP's proximity test ("" = the NBV settings' own).
+  std::string label() const;  ///< The gain, with "-<proximity>" when one is set.
+  std::string id() const;     ///< "<label>_<rays>_pgt<P_gt>", the job folder's name.
 };
+
+/// The two protocols of the header comment.
+enum class AblationProtocol { kPaper, kOneView };
+/// "paper" / "one_view".
+std::string to_string(AblationProtocol p);
+/// Parses a protocol name; throws InputError naming `where` otherwise.
+AblationProtocol ablation_protocol_from_string(const std::string& s, const std::string& where);
 
 /// Settings shared by every job.
 struct AblationSettings {
+  AblationProtocol protocol = AblationProtocol::kPaper;
   int views = 30;                      ///< Views per plant, initial ones included.
-  int initial_views = 2;
+  int initial_views = 2;               ///< one_view: random initial views (paper: always 1, from the grid).
   double plant_radius_m = 0.25;        ///< Clusters within this of the plant's axis count.
-  double view_radius_m = 0.45;         ///< Random views at this distance from the plant's axis.
+  double view_radius_m = 0.45;         ///< one_view: random views at this distance from the plant's axis.
+  double grid_radius_m = 0.4;          ///< paper: initial grid poses at this distance from the aim point.
+  double grid_aim_height_m = 0.5;      ///< paper: the grid aims at this height above the plant's base.
+  /// When >= 0, replaces the NBV settings' cluster.min_logodds. canopy inserts one hit per
+  /// voxel per view (l = psi = 1.0 after one view), the released code one per endpoint (a
+  /// single view passes its 1.0), so after ONE initial view nothing clusters at 1.0: the paper
+  /// protocol uses 0.5 (one observation) unless told otherwise (see docs/ablation).
+  double cluster_min_logodds = -1.0;
   std::uint64_t seed = 1;
 };
+
+/// The paper protocol's initial pose of `trial` for a plant whose base is at `base`.
+Pose ablation_grid_pose(const Vec3& base, int trial, const AblationSettings& settings);
 
 /// Runs one (configuration, trial, plant) job with a free camera and returns its record
 /// (config, trial, plant, seed, fruits, and one entry per view).
