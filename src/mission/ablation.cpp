@@ -134,10 +134,11 @@ nlohmann::json run_ablation_job(const AblationConfig& cfg, int trial, int plant,
     for (int round = 1; int(steps.size()) < set.views; ++round) {
       nlohmann::json info;
       const nbv::ViewBatch batch = plan(round, &info);
-      if (batch.views.empty()) {  // an empty round still counts a view
+      if (batch.views.empty()) {  // an empty round still counts a view: the camera stays and looks again
         info["source"] = "empty";
         info["reason"] = batch.reason;
-        take(info, nullptr);
+        const Pose T = request.T_world_camera;
+        take(info, &T);
         continue;
       }
       for (std::size_t k = 0; k < batch.views.size() && int(steps.size()) < set.views; ++k) {

@@ -6,8 +6,9 @@
 //    aimed at 0.5 m above the plant's base; trial i starts from pose i mod 10), then rounds:
 //    the cluster-centric planner ("ours", with the job's gain and rays) gives the best view of
 //    every unfinished cluster, in tour order from the current camera, and ALL of them are
-//    taken before clustering again; a round with no view still counts one view (the map does
-//    not change).
+//    taken before clustering again; a round with no view still counts one view: the camera
+//    stays where it is and takes another image (new segmentation noise), so a run whose
+//    initial view lost its fruit mask to noise is not stuck for ever.
 //  - one_view (canopy's first protocol): `initial_views` random views around the plant, then
 //    every step takes only the planner's first view and re-plans; when the planner has none a
 //    random fallback view is taken and the reason recorded.
