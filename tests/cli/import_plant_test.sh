@@ -133,6 +133,48 @@ expect_error "--unit-scale" "$tmp/pepper.dae" --preset capsicum --unit-scale -1
 expect_error "--max-triangles is 40" "$tmp/pepper.dae" --preset capsicum --max-triangles 40
 expect_error "unknown preset" "$tmp/pepper.dae" --preset tomato
 
+# glTF 2.0 (Y-up by the format): two octahedron fruits (frt1) and a leaf, written here with an
+# embedded buffer; the plant must stand upright (fruit centres at z 0.5 and 0.6 m above the
+# lowest point) with two fruit instances.
+python3 - "$tmp/plant.gltf" <<'PY'
+import base64, json, struct, sys
+buf = b""; views = []; accs = []
+def add(v, f):
+    global buf
+    off = len(buf); pos = b"".join(struct.pack("<3f", *p) for p in v); buf += pos
+    views.append({"buffer": 0, "byteOffset": off, "byteLength": len(pos)})
+    accs.append({"bufferView": len(views) - 1, "componentType": 5126, "count": len(v), "type": "VEC3",
+                 "min": [min(p[i] for p in v) for i in range(3)], "max": [max(p[i] for p in v) for i in range(3)]})
+    off = len(buf); idx = b"".join(struct.pack("<3H", *t) for t in f); buf += idx
+    while len(buf) % 4: buf += b"\0"
+    views.append({"buffer": 0, "byteOffset": off, "byteLength": len(idx)})
+    accs.append({"bufferView": len(views) - 1, "componentType": 5123, "count": 3 * len(f), "type": "SCALAR"})
+    return {"attributes": {"POSITION": len(accs) - 2}, "indices": len(accs) - 1}
+def octa(c, r):
+    v = [(c[0] + r, c[1], c[2]), (c[0] - r, c[1], c[2]), (c[0], c[1] + r, c[2]), (c[0], c[1] - r, c[2]),
+         (c[0], c[1], c[2] + r), (c[0], c[1], c[2] - r)]
+    return v, [(0, 2, 4), (2, 1, 4), (1, 3, 4), (3, 0, 4), (2, 0, 5), (1, 2, 5), (3, 1, 5), (0, 3, 5)]
+prims = [dict(add(*octa((0.0, 0.5, 0.0), 0.035)), material=0), dict(add(*octa((0.1, 0.6, 0.0), 0.03)), material=0),
+         dict(add([(-0.1, 0.3, -0.1), (0.1, 0.3, -0.1), (0.1, 0.3, 0.1), (0, 0, 0), (0.01, 0, 0)],
+                  [(0, 1, 2), (3, 4, 0)]), material=1)]
+g = {"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+     "meshes": [{"primitives": prims}],
+     "materials": [{"name": "frt1_red", "pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.1, 0.1, 1]}},
+                   {"name": "lef_green", "pbrMetallicRoughness": {"baseColorFactor": [0.1, 0.6, 0.1, 1]}}],
+     "buffers": [{"byteLength": len(buf), "uri": "data:application/octet-stream;base64," + base64.b64encode(buf).decode()}],
+     "bufferViews": views, "accessors": accs}
+json.dump(g, open(sys.argv[1], "w"))
+PY
+"$canopy" import-plant "$tmp/plant.gltf" --preset capsicum --out "$tmp/gltf_plant" >/dev/null 2>&1 || fail "glTF import"
+python3 - "$tmp/gltf_plant/fruits.json" <<'PY' || fail "glTF plant: wrong fruits"
+import json, sys
+f = json.load(open(sys.argv[1]))["fruits"]
+assert len(f) == 2, len(f)
+z = sorted(round(x["center"][2], 3) for x in f)
+assert abs(z[0] - 0.5) < 0.005 and abs(z[1] - 0.6) < 0.005, z
+assert all(x["target"] for x in f)
+PY
+
 if ((failures > 0)); then
   echo "$failures failure(s)"
   exit 1
