@@ -14,15 +14,11 @@ constexpr unsigned kDepth = 16;
 
 }  // namespace
 
-std::string to_string(EvaluationRule r) { return r == EvaluationRule::kPrototype ? "prototype" : "paper"; }
+std::string to_string(EvaluationRule r) { return enum_name(kEvaluationRuleNames, r); }
 
 MetricsParams MetricsParams::from_yaml(YamlReader& y) {
   MetricsParams p;
-  if (y.has("rule")) {
-    const std::string r = y.require<std::string>("rule");
-    if (r != "prototype" && r != "paper") y.fail("rule", "must be 'prototype' or 'paper'");
-    p.rule = r == "paper" ? EvaluationRule::kPaper : EvaluationRule::kPrototype;
-  }
+  p.rule = y.get_choice("rule", p.rule, kEvaluationRuleNames);
   p.coverage_distance_m = y.get("coverage_distance_m", p.coverage_distance_m);
   y.check(std::isfinite(p.coverage_distance_m) && p.coverage_distance_m > 0.0, "coverage_distance_m", "must be > 0");
   p.entropy_box_m = y.get("entropy_box_m", p.entropy_box_m);
@@ -154,10 +150,10 @@ MapMetrics evaluate_map(const SemanticOcTree& map, const world::GroundTruth& tru
   const PointKdTree paper_tree(paper_centers), prototype_tree(prototype_centers);
   const double r2 = params.coverage_distance_m * params.coverage_distance_m;
   const Vec3 half = Vec3::Constant(params.entropy_box_m / 2.0);
-  auto within = [&](const PointKdTree& tree, bool empty, const Vec3& p) {
+  auto within = [&](const PointKdTree& tree, const Vec3& p) {  // false for an empty tree
     std::size_t idx = 0;
     double d2 = 0.0;
-    return !empty && tree.nearest(p, &idx, &d2) && d2 <= r2;
+    return tree.nearest(p, &idx, &d2) && d2 <= r2;
   };
   for (const world::FruitTruth& f : truth.fruits) {
     if (!f.target) {
@@ -171,9 +167,9 @@ MapMetrics evaluate_map(const SemanticOcTree& map, const world::GroundTruth& tru
     Vec3 centroid = Vec3::Zero();
     for (const Vec3& p : f.surface_points) {
       centroid += p;
-      if (!within(paper_tree, paper_centers.empty(), p)) continue;
+      if (!within(paper_tree, p)) continue;
       ++fm.paper.covered;
-      if (within(prototype_tree, prototype_centers.empty(), p)) ++fm.prototype.covered;
+      if (within(prototype_tree, p)) ++fm.prototype.covered;
     }
     centroid = fm.points ? Vec3(centroid / double(fm.points)) : f.center;
     for (RuleScores* r : {&fm.paper, &fm.prototype}) r->coverage = fm.points ? double(r->covered) / double(fm.points) : 0.0;

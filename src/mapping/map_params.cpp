@@ -22,11 +22,7 @@ SemanticMapParams SemanticMapParams::from_yaml(YamlReader& y) {
   p.ray_range_m = real("ray_range_m", p.ray_range_m);
   p.unseen_logodds = static_cast<float>(real("unseen_logodds", p.unseen_logodds));
   p.prune = y.get("prune", p.prune);
-  if (y.has("entropy_categories")) {
-    const std::string s = y.require<std::string>("entropy_categories");
-    if (s != "paper" && s != "prototype") y.fail("entropy_categories", "must be 'paper' or 'prototype'");
-    p.entropy_categories = entropy_categories_from_string(s, y.file());
-  }
+  p.entropy_categories = y.get_choice("entropy_categories", p.entropy_categories, kEntropyCategoriesNames);
   p.threads = y.get("threads", p.threads);
   y.check(p.resolution_m >= 0.001 && p.resolution_m <= 1.0, "resolution_m", "must be in [0.001, 1] m");
   y.check(p.hit_logodds > 0.f, "hit_logodds", "must be > 0");

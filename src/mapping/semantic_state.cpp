@@ -162,12 +162,10 @@ double unseen_entropy(float unseen_logodds, EntropyCategories categories, int nu
   return logodds_entropy(l, n);
 }
 
-std::string to_string(EntropyCategories c) { return c == EntropyCategories::kPaper ? "paper" : "prototype"; }
+std::string to_string(EntropyCategories c) { return enum_name(kEntropyCategoriesNames, c); }
 
 EntropyCategories entropy_categories_from_string(const std::string& s, const std::string& where) {
-  if (s == "paper") return EntropyCategories::kPaper;
-  if (s == "prototype") return EntropyCategories::kPrototype;
-  throw InputError(where + ": unknown entropy_categories '" + s + "' (valid: paper, prototype)");
+  return enum_from_name(kEntropyCategoriesNames, s, where, "entropy_categories");
 }
 
 }  // namespace canopy::mapping

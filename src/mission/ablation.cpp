@@ -22,12 +22,10 @@ std::string AblationConfig::id() const {
   return b;
 }
 
-std::string to_string(AblationProtocol p) { return p == AblationProtocol::kPaper ? "paper" : "one_view"; }
+std::string to_string(AblationProtocol p) { return enum_name(kAblationProtocolNames, p); }
 
 AblationProtocol ablation_protocol_from_string(const std::string& s, const std::string& where) {
-  if (s == "paper") return AblationProtocol::kPaper;
-  if (s == "one_view") return AblationProtocol::kOneView;
-  throw InputError(where + ": unknown ablation protocol '" + s + "' (valid: paper, one_view)");
+  return enum_from_name(kAblationProtocolNames, s, where, "ablation protocol");
 }
 
 Pose ablation_grid_pose(const Vec3& base, int trial, const AblationSettings& set) {

@@ -6,12 +6,10 @@
 
 namespace canopy::nbv {
 
-std::string to_string(Proximity p) { return p == Proximity::kPerVoxel ? "per_voxel" : "per_segment_end"; }
+std::string to_string(Proximity p) { return enum_name(kProximityNames, p); }
 
 Proximity proximity_from_string(const std::string& s, const std::string& where) {
-  if (s == "per_voxel") return Proximity::kPerVoxel;
-  if (s == "per_segment_end") return Proximity::kPerSegmentEnd;
-  throw InputError(where + ": unknown proximity '" + s + "' (valid: per_voxel, per_segment_end)");
+  return enum_from_name(kProximityNames, s, where, "proximity");
 }
 
 
@@ -56,11 +54,7 @@ NbvParams NbvParams::from_yaml(YamlReader& y) {
     YamlReader c = y.child("gain");
     auto& q = p.gain;
     q.max_dist_m = get_positive(c, "max_dist_m", q.max_dist_m);
-    if (c.has("proximity")) {
-      const std::string s = c.require<std::string>("proximity");
-      if (s != "per_voxel" && s != "per_segment_end") c.fail("proximity", "must be 'per_voxel' or 'per_segment_end'");
-      q.proximity = proximity_from_string(s, c.file());
-    }
+    q.proximity = c.get_choice("proximity", q.proximity, kProximityNames);
     q.ae_stop_occupancy = get_finite(c, "ae_stop_occupancy", q.ae_stop_occupancy);
     q.unknown_low = get_finite(c, "unknown_low", q.unknown_low);
     q.unknown_high = get_finite(c, "unknown_high", q.unknown_high);

@@ -7,23 +7,13 @@ namespace canopy::perception {
 
 ExtractorParams ExtractorParams::from_yaml(YamlReader& y) {
   ExtractorParams p;
-  if (y.has("source")) {
-    const std::string s = y.require<std::string>("source");
-    if (s != "color" && s != "truth") y.fail("source", "must be 'color' or 'truth'");
-    p.source = label_source_from_string(s, y.file());
-  } else {
-    y.get<std::string>("source", "");
-  }
+  p.source = y.get_choice("source", p.source, kLabelSourceNames);
   YamlReader c = y.child("color");
   p.color = ColorSegmentationParams::from_yaml(c);
   c.finish();
   p.p_gt = y.get("p_gt", p.p_gt);
   y.check(std::isfinite(p.p_gt) && p.p_gt >= 0.0 && p.p_gt <= 1.0, "p_gt", "must be in [0, 1]");
-  if (y.has("noise")) {
-    const std::string s = y.require<std::string>("noise");
-    if (s != "per_class_mask" && s != "per_region") y.fail("noise", "must be 'per_class_mask' or 'per_region'");
-    p.noise = noise_model_from_string(s, y.file());
-  }
+  p.noise = y.get_choice("noise", p.noise, kNoiseModelNames);
   p.depth_noise_k = y.get("depth_noise_k", p.depth_noise_k);
   y.check(std::isfinite(p.depth_noise_k) && p.depth_noise_k >= 0.0, "depth_noise_k", "must be >= 0");
   p.seed = y.get("seed", p.seed);

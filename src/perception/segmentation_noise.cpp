@@ -6,12 +6,10 @@
 
 namespace canopy::perception {
 
-std::string to_string(NoiseModel m) { return m == NoiseModel::kPerClassMask ? "per_class_mask" : "per_region"; }
+std::string to_string(NoiseModel m) { return enum_name(kNoiseModelNames, m); }
 
 NoiseModel noise_model_from_string(const std::string& s, const std::string& where) {
-  if (s == "per_class_mask") return NoiseModel::kPerClassMask;
-  if (s == "per_region") return NoiseModel::kPerRegion;
-  throw InputError(where + ": unknown noise model '" + s + "' (valid: per_class_mask, per_region)");
+  return enum_from_name(kNoiseModelNames, s, where, "noise model");
 }
 
 namespace {

@@ -89,12 +89,10 @@ LabelledCloud depth_to_cloud(const CameraIntrinsics& K, const Pose& T_world_came
   return cloud;
 }
 
-std::string to_string(LabelSource s) { return s == LabelSource::kColor ? "color" : "truth"; }
+std::string to_string(LabelSource s) { return enum_name(kLabelSourceNames, s); }
 
 LabelSource label_source_from_string(const std::string& s, const std::string& where) {
-  if (s == "color") return LabelSource::kColor;
-  if (s == "truth") return LabelSource::kTruth;
-  throw InputError(where + ": value '" + s + "' must be 'color' or 'truth'");
+  return enum_from_name(kLabelSourceNames, s, where, "label source");
 }
 
 }  // namespace canopy::perception

@@ -205,6 +205,34 @@ TEST(Io, FailedRenameReportsTheRealError) {
     EXPECT_EQ(e.path().filename().string().find("rename_target.tmp"), std::string::npos) << e.path();
 }
 
+// Named choices: the table's names parse, an absent key gives the fallback, anything else
+// fails naming the file, key, value and the valid names.
+enum class Fruit { kPepper, kTomato };
+constexpr EnumName<Fruit> kFruitNames[] = {{Fruit::kPepper, "pepper"}, {Fruit::kTomato, "tomato"}};
+
+TEST(YamlReader, ChoicesFromANameTable) {
+  YamlReader y = YamlReader::load_string("a: tomato\nb: apple\n", "t.yaml");
+  EXPECT_EQ(y.get_choice("a", Fruit::kPepper, kFruitNames), Fruit::kTomato);
+  EXPECT_EQ(y.get_choice("missing", Fruit::kTomato, kFruitNames), Fruit::kTomato);
+  try {
+    y.get_choice("b", Fruit::kPepper, kFruitNames);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("t.yaml: key 'b': value 'apple' must be one of: pepper, tomato"),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_NO_THROW(y.finish());  // every key read
+  EXPECT_STREQ(enum_name(kFruitNames, Fruit::kTomato), "tomato");
+  EXPECT_EQ(enum_from_name(kFruitNames, "pepper", "--fruit", "fruit"), Fruit::kPepper);
+  try {
+    enum_from_name(kFruitNames, "kiwi", "--fruit", "fruit");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), "--fruit: unknown fruit 'kiwi' (valid: pepper, tomato)");
+  }
+}
+
 TEST(YamlReader, RepeatedKeysAreErrorsNamingBothLines) {
   auto message = [](const std::string& text) {
     try {

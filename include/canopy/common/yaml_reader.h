@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "canopy/common/enum_names.h"
 #include "canopy/common/error.h"
 
 namespace canopy {
@@ -31,6 +32,10 @@ class YamlReader {
   /// Value of `key` converted to T; throws when absent.
   template <typename T>
   T require(const std::string& key);
+  /// A named choice (a string from `names`), or `fallback` when absent; fails naming the key
+  /// and the valid names otherwise.
+  template <typename E, std::size_t N>
+  E get_choice(const std::string& key, E fallback, const EnumName<E> (&names)[N]);
   /// Nested mapping under `key` (an empty mapping when absent).
   YamlReader child(const std::string& key);
   /// Throws InputError naming the first key that no get/require/child call read.
@@ -72,6 +77,14 @@ T YamlReader::require(const std::string& key) {
   } catch (const YAML::Exception&) {
     fail(key, "has the wrong type");
   }
+}
+
+template <typename E, std::size_t N>
+E YamlReader::get_choice(const std::string& key, E fallback, const EnumName<E> (&names)[N]) {
+  const std::string s = get<std::string>(key, enum_name(names, fallback));
+  const E* v = find_enum(names, s);
+  if (!v) fail(key, "must be one of: " + enum_name_list(names));
+  return *v;
 }
 
 /// A finite number (or `fallback` when absent); fails naming the key otherwise.

@@ -28,6 +28,8 @@ namespace canopy::mapping {
 
 /// Which evaluation rule the headline figures follow.
 enum class EvaluationRule { kPrototype, kPaper };
+inline constexpr EnumName<EvaluationRule> kEvaluationRuleNames[] = {{EvaluationRule::kPrototype, "prototype"},
+                                                                    {EvaluationRule::kPaper, "paper"}};
 /// "prototype" / "paper".
 std::string to_string(EvaluationRule r);
 

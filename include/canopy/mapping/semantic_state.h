@@ -16,6 +16,8 @@
 #include <cstdint>
 #include <string>
 
+#include "canopy/common/enum_names.h"
+
 namespace canopy::mapping {
 
 /// The categories the multi-class entropy H(x) runs over (FACTS.md sections 5 and 8):
@@ -26,6 +28,8 @@ namespace canopy::mapping {
 ///  - kPrototype: the released code's 5-entry vector softmax([0, l_1, l_2, l_3, l_others])
 ///    whatever K is; an empty slot holds l_others. Unknown: [0, u, u, u, u] (about ln 5).
 enum class EntropyCategories { kPaper, kPrototype };
+inline constexpr EnumName<EntropyCategories> kEntropyCategoriesNames[] = {{EntropyCategories::kPaper, "paper"},
+                                                                          {EntropyCategories::kPrototype, "prototype"}};
 
 /// "paper" / "prototype".
 std::string to_string(EntropyCategories c);

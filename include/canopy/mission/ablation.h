@@ -22,6 +22,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "canopy/common/enum_names.h"
 #include "canopy/mapping/mapping_config.h"
 #include "canopy/nbv/nbv_params.h"
 #include "canopy/sim/renderer.h"
@@ -40,6 +41,8 @@ struct AblationConfig {
 
 /// The two protocols of the header comment.
 enum class AblationProtocol { kPaper, kOneView };
+inline constexpr EnumName<AblationProtocol> kAblationProtocolNames[] = {{AblationProtocol::kPaper, "paper"},
+                                                                        {AblationProtocol::kOneView, "one_view"}};
 /// "paper" / "one_view".
 std::string to_string(AblationProtocol p);
 /// Parses a protocol name; throws InputError naming `where` otherwise.

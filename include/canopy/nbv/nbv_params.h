@@ -40,6 +40,8 @@ struct RayParams {
 /// Gain-function settings.
 /// How OSAMCEP tests a voxel's distance to the target (gains.h).
 enum class Proximity { kPerVoxel, kPerSegmentEnd };
+inline constexpr EnumName<Proximity> kProximityNames[] = {{Proximity::kPerVoxel, "per_voxel"},
+                                                          {Proximity::kPerSegmentEnd, "per_segment_end"}};
 /// "per_voxel" / "per_segment_end".
 std::string to_string(Proximity p);
 /// Parses a name; throws InputError naming `where` and the valid names otherwise.

@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <string>
 
+#include "canopy/common/enum_names.h"
 #include "canopy/common/image.h"
 #include "canopy/common/random.h"
 
@@ -27,6 +28,8 @@ struct MaskNoiseStats {
 
 /// What one noise draw applies to.
 enum class NoiseModel { kPerClassMask, kPerRegion };
+inline constexpr EnumName<NoiseModel> kNoiseModelNames[] = {{NoiseModel::kPerClassMask, "per_class_mask"},
+                                                            {NoiseModel::kPerRegion, "per_region"}};
 
 /// "per_class_mask" / "per_region".
 std::string to_string(NoiseModel m);

@@ -18,6 +18,8 @@ namespace canopy::perception {
 
 /// Where pixel labels come from.
 enum class LabelSource { kColor, kTruth };
+inline constexpr EnumName<LabelSource> kLabelSourceNames[] = {{LabelSource::kColor, "color"},
+                                                              {LabelSource::kTruth, "truth"}};
 
 /// "color" or "truth".
 std::string to_string(LabelSource s);
