@@ -1,6 +1,10 @@
 #include "canopy/world/mesh.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <set>
+#include <unordered_map>
 
 #include "canopy/common/error.h"
 
@@ -103,6 +107,112 @@ TriMesh make_lobed_revolution(const std::vector<Vec2>& profile_rz, int segments,
     }
   for (int k = 0; k < segments; ++k) m.faces.push_back({bottom, idx(rings - 1, k + 1), idx(rings - 1, k)});
   return m;
+}
+
+namespace {
+
+// Triangles with less area are degenerate [m^2] (a 1 mm x 1 um sliver has 5e-10).
+constexpr double kMinTriangleAreaM2 = 1e-12;
+
+struct CellKey {
+  std::int64_t x, y, z;
+  bool operator==(const CellKey& o) const { return x == o.x && y == o.y && z == o.z; }
+};
+struct CellHash {
+  size_t operator()(const CellKey& k) const {
+    std::uint64_t h = static_cast<std::uint64_t>(k.x) * 0x9E3779B97F4A7C15ULL;
+    h ^= static_cast<std::uint64_t>(k.y) * 0xC2B2AE3D27D4EB4FULL + (h << 6) + (h >> 2);
+    h ^= static_cast<std::uint64_t>(k.z) * 0x165667B19E3779F9ULL + (h << 6) + (h >> 2);
+    return static_cast<size_t>(h);
+  }
+};
+CellKey cell_of(const Vec3& p, double cell) {
+  return {static_cast<std::int64_t>(std::floor(p.x() / cell)), static_cast<std::int64_t>(std::floor(p.y() / cell)),
+          static_cast<std::int64_t>(std::floor(p.z() / cell))};
+}
+
+}  // namespace
+
+TriMesh weld_triangles(const std::vector<std::array<Vec3, 3>>& soup, double tol, long* degenerate,
+                       std::vector<size_t>* kept) {
+  TriMesh m;
+  std::unordered_map<CellKey, std::vector<int>, CellHash> grid;
+  const double cell = std::max(tol, 1e-9);
+  auto index_of = [&](const Vec3& p) {
+    const CellKey c = cell_of(p, cell);
+    for (std::int64_t dx = -1; dx <= 1; ++dx)
+      for (std::int64_t dy = -1; dy <= 1; ++dy)
+        for (std::int64_t dz = -1; dz <= 1; ++dz) {
+          const auto it = grid.find({c.x + dx, c.y + dy, c.z + dz});
+          if (it == grid.end()) continue;
+          for (int i : it->second)
+            if ((m.vertices[static_cast<size_t>(i)] - p).norm() <= tol) return i;
+        }
+    const int i = static_cast<int>(m.vertices.size());
+    m.vertices.push_back(p);
+    grid[c].push_back(i);
+    return i;
+  };
+  for (size_t k = 0; k < soup.size(); ++k) {
+    const auto& t = soup[k];
+    const std::array<int, 3> f = {index_of(t[0]), index_of(t[1]), index_of(t[2])};
+    const Vec3 &a = m.vertices[static_cast<size_t>(f[0])], &b = m.vertices[static_cast<size_t>(f[1])],
+               &c = m.vertices[static_cast<size_t>(f[2])];
+    if (f[0] == f[1] || f[1] == f[2] || f[0] == f[2] || 0.5 * (b - a).cross(c - a).norm() < kMinTriangleAreaM2) {
+      ++*degenerate;
+      continue;
+    }
+    m.faces.push_back(f);
+    if (kept) kept->push_back(k);
+  }
+  return m;
+}
+
+TriMesh compact(const TriMesh& in) {
+  TriMesh out;
+  std::vector<int> remap(in.vertices.size(), -1);
+  for (const auto& f : in.faces) {
+    std::array<int, 3> g{};
+    for (int k = 0; k < 3; ++k) {
+      int& r = remap[static_cast<size_t>(f[static_cast<size_t>(k)])];
+      if (r < 0) {
+        r = static_cast<int>(out.vertices.size());
+        out.vertices.push_back(in.vertices[static_cast<size_t>(f[static_cast<size_t>(k)])]);
+      }
+      g[static_cast<size_t>(k)] = r;
+    }
+    out.faces.push_back(g);
+  }
+  return out;
+}
+
+TriMesh cluster_vertices(const TriMesh& in, double cell) {
+  std::unordered_map<CellKey, int, CellHash> cell_index;
+  std::vector<Vec3> sum;
+  std::vector<int> count, remap(in.vertices.size());
+  for (size_t i = 0; i < in.vertices.size(); ++i) {
+    const auto [it, fresh] = cell_index.try_emplace(cell_of(in.vertices[i], cell), static_cast<int>(sum.size()));
+    if (fresh) {
+      sum.push_back(Vec3::Zero());
+      count.push_back(0);
+    }
+    sum[static_cast<size_t>(it->second)] += in.vertices[i];
+    ++count[static_cast<size_t>(it->second)];
+    remap[i] = it->second;
+  }
+  TriMesh out;
+  for (size_t c = 0; c < sum.size(); ++c) out.vertices.push_back(sum[c] / count[c]);
+  std::set<std::array<int, 3>> seen;
+  for (const auto& f : in.faces) {
+    const std::array<int, 3> g = {remap[static_cast<size_t>(f[0])], remap[static_cast<size_t>(f[1])],
+                                  remap[static_cast<size_t>(f[2])]};
+    if (g[0] == g[1] || g[1] == g[2] || g[0] == g[2]) continue;
+    std::array<int, 3> key = g;
+    std::sort(key.begin(), key.end());
+    if (!seen.insert(key).second) continue;
+    out.faces.push_back(g);
+  }
+  return compact(out);
 }
 
 }  // namespace canopy::world

@@ -34,6 +34,27 @@ TEST(Mesh, PrimitivesAreClosedAndOutward) {
   EXPECT_GT(rev.volume(), 0.0);
 }
 
+// The clean-up of imported meshes: welding within a tolerance, degenerate triangles counted,
+// unused vertices dropped, vertex clustering collapsing faces.
+TEST(Mesh, WeldCompactAndClusterVertices) {
+  const Vec3 a(0, 0, 0), b(1, 0, 0), c(0, 1, 0), d(1, 1, 0), jitter(1e-7, 0, 0);
+  long degenerate = 0;
+  std::vector<size_t> kept;
+  const TriMesh m = weld_triangles({{a, b, c}, {b + jitter, d, c}, {a, a + jitter, d}}, 1e-6, &degenerate, &kept);
+  EXPECT_EQ(m.vertices.size(), 4u);  // b and its jittered copy merged
+  EXPECT_EQ(m.faces.size(), 2u);
+  EXPECT_EQ(degenerate, 1);          // a, a + jitter, d collapses
+  EXPECT_EQ(kept, (std::vector<size_t>{0, 1}));
+  EXPECT_NEAR(m.area(), 1.0, 1e-12);
+  TriMesh unused = m;
+  unused.vertices.push_back(Vec3(5, 5, 5));
+  EXPECT_EQ(compact(unused).vertices.size(), 4u);
+  // A 2 m cell puts every vertex in one cell (the square lies in [0, 1]^2): nothing is left.
+  EXPECT_TRUE(cluster_vertices(m, 2.0).faces.empty());
+  // A 1 mm cell changes nothing.
+  EXPECT_EQ(cluster_vertices(m, 0.001).faces.size(), 2u);
+}
+
 TEST(WorldGeneration, SameSeedSameWorldOtherSeedOtherWorld) {
   const World a = generate_world(small_spec(7));
   const World b = generate_world(small_spec(7));

@@ -1,5 +1,5 @@
 #pragma once
-// Small triangle meshes for procedural plants.
+// Small triangle meshes: procedural plant parts, and the clean-up of imported ones.
 
 #include <array>
 #include <vector>
@@ -28,5 +28,16 @@ TriMesh make_tube(const std::vector<Vec3>& points, const std::vector<double>& ra
 /// Closed surface of revolution around +z: profile (radius r_i at height z_i), lobed with
 /// `lobes` bumps of relative depth `lobe_depth` (0 for round), `segments` around.
 TriMesh make_lobed_revolution(const std::vector<Vec2>& profile_rz, int segments, int lobes, double lobe_depth);
+
+/// Triangle soup -> indexed mesh: vertices closer than `tol` merged (the first one kept),
+/// triangles that became degenerate (repeated vertex or area < 1e-12 m^2) dropped and counted
+/// in *degenerate. `kept`, when given, receives the soup index of every face.
+TriMesh weld_triangles(const std::vector<std::array<Vec3, 3>>& soup, double tol, long* degenerate,
+                       std::vector<size_t>* kept = nullptr);
+/// Drops vertices no face uses (keeps the order of the rest).
+TriMesh compact(const TriMesh& mesh);
+/// Vertex clustering: every vertex moves to the mean of its `cell`-sized grid cell; faces
+/// that collapse or repeat are removed.
+TriMesh cluster_vertices(const TriMesh& mesh, double cell);
 
 }  // namespace canopy::world

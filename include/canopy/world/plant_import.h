@@ -116,6 +116,10 @@ void read_plant_size(const std::string& dir, double* height_m, double* radius_m)
 /// Reads a plant folder written by ImportedPlant::save; throws InputError naming the file.
 PlantAsset load_plant_asset(const std::string& dir);
 
+/// Reads a mesh file (any format assimp reads, e.g. a part's OBJ) into one mesh, node
+/// transforms applied, coincident vertices merged.
+TriMesh read_mesh_file(const std::string& path);
+
 /// Hex SHA-256 of a file's bytes (InputError when it cannot be read).
 std::string file_sha256(const std::string& path);
 
