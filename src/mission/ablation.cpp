@@ -9,6 +9,7 @@
 #include "canopy/common/error.h"
 #include "canopy/common/io.h"
 #include "canopy/common/random.h"
+#include "canopy/common/stats.h"
 #include "canopy/mapping/scan_inserter.h"
 #include "canopy/nbv/view_planner.h"
 
@@ -49,18 +50,8 @@ Pose random_plant_view(const world::World& world, int plant, double radius_m, Rn
   return look_at(target + radius_m * Vec3(std::cos(a), std::sin(a), 0.0), target);
 }
 
-double mean(const std::vector<double>& v) {
-  double s = 0;
-  for (double x : v) s += x;
-  return v.empty() ? 0.0 : s / double(v.size());
-}
-double stddev(const std::vector<double>& v) {
-  if (v.size() < 2) return 0.0;
-  const double m = mean(v);
-  double s = 0;
-  for (double x : v) s += (x - m) * (x - m);
-  return std::sqrt(s / double(v.size() - 1));
-}
+double mean(const std::vector<double>& v) { return sample_stats(v).mean; }
+double stddev(const std::vector<double>& v) { return sample_stats(v).std; }
 
 }  // namespace
 

@@ -12,6 +12,7 @@
 
 #include "canopy/common/error.h"
 #include "canopy/common/io.h"
+#include "canopy/common/stats.h"
 
 namespace canopy::mission {
 
@@ -67,23 +68,8 @@ void read_mission(const fs::path& mission, TrialResult* r) {
   r->fingerprint += "\n" + views;
 }
 
-struct Stat {
-  double mean = 0.0, std = 0.0;
-  std::size_t n = 0;
-};
-Stat stat(const std::vector<double>& v) {
-  Stat s;
-  s.n = v.size();
-  if (v.empty()) return s;
-  for (double x : v) s.mean += x;
-  s.mean /= static_cast<double>(v.size());
-  if (v.size() > 1) {
-    double q = 0.0;
-    for (double x : v) q += (x - s.mean) * (x - s.mean);
-    s.std = std::sqrt(q / static_cast<double>(v.size() - 1));
-  }
-  return s;
-}
+using Stat = SampleStats;
+Stat stat(const std::vector<double>& v) { return sample_stats(v); }
 
 std::string num(double x, const char* fmt = "%.6g") {
   char b[64];
