@@ -151,6 +151,12 @@ void write_json_atomic(const std::string& path, const nlohmann::json& j) {
   write_file_atomic(path, j.dump(2) + "\n");
 }
 
+std::string format_number(double x, const char* printf_format) {
+  char b[64];
+  std::snprintf(b, sizeof b, printf_format, x);
+  return b;
+}
+
 std::string read_file(const std::string& path) {
   std::error_code ec;
   // A folder opens as an empty stream on Linux: it must not read as an empty file.

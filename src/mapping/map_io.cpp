@@ -14,7 +14,6 @@ namespace {
 static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__, "map files are written little-endian");
 
 constexpr char kMagic[8] = {'C', 'A', 'N', 'O', 'P', 'Y', 'S', 'M'};
-constexpr unsigned kDepth = 16;
 
 std::uint64_t fnv1a(const char* data, std::size_t n) {
   std::uint64_t h = 1469598103934665603ull;
@@ -131,7 +130,7 @@ void read_node(Reader& r, SemanticNode* node, unsigned depth, int num_classes, c
     node->state() = get_state(r, num_classes, rule);
     return;
   }
-  if (depth == kDepth) r.fail("a voxel with children");
+  if (depth == kOctreeDepth) r.fail("a voxel with children");
   for (unsigned i = 0; i < 8; ++i) {
     if (!(mask & (1u << i))) continue;
     ++*nodes;

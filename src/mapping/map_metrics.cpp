@@ -8,12 +8,6 @@
 
 namespace canopy::mapping {
 
-namespace {
-
-constexpr unsigned kDepth = 16;
-
-}  // namespace
-
 std::string to_string(EvaluationRule r) { return enum_name(kEvaluationRuleNames, r); }
 
 MetricsParams MetricsParams::from_yaml(YamlReader& y) {
@@ -56,7 +50,7 @@ namespace {
 template <typename F>
 void for_each_key_in_box(const SemanticOcTree& map, const Vec3& lo, const Vec3& hi, F&& f) {
   const double res = map.getResolution();
-  const int offset = 1 << (kDepth - 1);
+  const int offset = 1 << (kOctreeDepth - 1);
   const double half_range = offset * res;
   if (!lo.allFinite() || !hi.allFinite() || (lo.cwiseAbs().array() > half_range).any() ||
       (hi.cwiseAbs().array() > half_range).any())

@@ -31,18 +31,17 @@ inline std::uint16_t compact3(std::uint64_t v) {
   return static_cast<std::uint16_t>(v);
 }
 
-constexpr unsigned kDepth = 16;
 
 // Deepest depth whose node is shared by the paths of two different codes.
 inline unsigned common_depth(std::uint64_t a, std::uint64_t b) {
   const std::uint64_t x = a ^ b;
-  if (x == 0) return kDepth;
+  if (x == 0) return kOctreeDepth;
   const unsigned level = (63u - static_cast<unsigned>(__builtin_clzll(x))) / 3u;  // 0..15
-  return kDepth - 1 - level;
+  return kOctreeDepth - 1 - level;
 }
 
 inline unsigned child_index(std::uint64_t code, unsigned depth) {
-  return static_cast<unsigned>(code >> (3 * (kDepth - 1 - depth))) & 7u;
+  return static_cast<unsigned>(code >> (3 * (kOctreeDepth - 1 - depth))) & 7u;
 }
 
 }  // namespace
@@ -166,14 +165,14 @@ void SemanticOcTree::apply_range(SemanticNode* top, unsigned top_depth, const Vo
                                  const VoxelUpdate* end, bool collapse_top, bool top_is_fresh,
                                  UpdateCounts& counts) {
   const bool prune = params_.prune;
-  std::array<SemanticNode*, kDepth + 1> path{};
+  std::array<SemanticNode*, kOctreeDepth + 1> path{};
   path[top_depth] = top;
   unsigned reached = top_depth;  // deepest valid entry of `path` for the previous update
   // Nodes at depths (keep, reached] leave the path: collapse them bottom-up.
   const unsigned lowest = collapse_top ? top_depth : top_depth + 1;
   auto finish_path = [&](unsigned keep) {
     if (!prune) return;
-    for (unsigned d = std::min(reached, kDepth - 1); d > keep && d >= lowest; --d)
+    for (unsigned d = std::min(reached, kOctreeDepth - 1); d > keep && d >= lowest; --d)
       if (path[d]->collapse()) ++counts.pruned;
   };
 
@@ -190,7 +189,7 @@ void SemanticOcTree::apply_range(SemanticNode* top, unsigned top_depth, const Vo
     bool skipped = false;
     // A node created empty is childless without being a pruned block.
     bool fresh = top_is_fresh && start == top_depth;
-    for (; d < kDepth; ++d) {
+    for (; d < kOctreeDepth; ++d) {
       const unsigned idx = child_index(u->code, d);
       SemanticNode* next = node->child(idx);
       const bool node_fresh = fresh;
@@ -239,7 +238,7 @@ UpdateCounts SemanticOcTree::apply_sorted_updates(const std::vector<VoxelUpdate>
   const unsigned span_depth = common_depth(updates.front().code, updates.back().code);
   const unsigned split = span_depth + 2;  // up to 64 disjoint subtrees
   const int threads = params_.threads > 0 ? params_.threads : tbb::this_task_arena::max_concurrency();
-  if (n < 32768 || threads <= 1 || split >= kDepth) {  // small batches: waking workers costs more
+  if (n < 32768 || threads <= 1 || split >= kOctreeDepth) {  // small batches: waking workers costs more
     apply_range(root, 0, updates.data(), updates.data() + n, false, false, counts);
   } else {
     // Groups of updates sharing their node at depth `split`; each group's subtree is edited by
@@ -248,10 +247,10 @@ UpdateCounts SemanticOcTree::apply_sorted_updates(const std::vector<VoxelUpdate>
       std::size_t begin, end;
       SemanticNode* node;
       bool fresh;  // created here, so childless without being a pruned block
-      std::array<SemanticNode*, kDepth + 1> path;
+      std::array<SemanticNode*, kOctreeDepth + 1> path;
     };
     std::vector<Group> groups;
-    const unsigned shift = 3 * (kDepth - split);
+    const unsigned shift = 3 * (kOctreeDepth - split);
     for (std::size_t i = 0; i < n;) {
       std::size_t j = i + 1;
       while (j < n && (updates[j].code >> shift) == (updates[i].code >> shift)) ++j;
@@ -336,7 +335,7 @@ VoxelCounts SemanticOcTree::counts() const {
   c.memory_bytes = memoryUsage();
   const int target = classes_.target_index();
   for_each_leaf([&](const octomap::OcTreeKey&, unsigned depth, const SemanticState& s) {
-    const std::size_t side = std::size_t(1) << (kDepth - depth);
+    const std::size_t side = std::size_t(1) << (kOctreeDepth - depth);
     const std::size_t n = side * side * side;
     ++c.leaves;
     c.voxels += n;

@@ -173,11 +173,7 @@ std::vector<AblationRow> summarize_ablation(const std::string& out, const std::v
   std::string table =
       "config,gain,rays,p_gt,trials,views_to_target_mean_curve,views_to_target_per_plant_mean,"
       "plant_runs_reaching_target,plant_runs,raycast_ms_per_view_mean,final_coverage_mean,final_entropy_mean\n";
-  auto num = [](double x) {
-    char b[64];
-    std::snprintf(b, sizeof b, "%.17g", x);
-    return std::string(b);
-  };
+  auto num = [](double x) { return format_number(x, "%.17g"); };
   for (std::size_t c = 0; c < configs.size(); ++c) {
     std::map<int, std::map<int, const nlohmann::json*>> by_trial;  // [trial][plant]
     for (std::size_t j = 0; j < jobs.size(); ++j)

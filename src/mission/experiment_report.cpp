@@ -71,11 +71,7 @@ void read_mission(const fs::path& mission, TrialResult* r) {
 using Stat = SampleStats;
 Stat stat(const std::vector<double>& v) { return sample_stats(v); }
 
-std::string num(double x, const char* fmt = "%.6g") {
-  char b[64];
-  std::snprintf(b, sizeof b, fmt, x);
-  return b;
-}
+std::string num(double x, const char* fmt = "%.6g") { return format_number(x, fmt); }
 std::string pm(const Stat& s, const char* fmt = "%.3f") {
   if (s.n == 0) return "n/a";
   return num(s.mean, fmt) + " ± " + num(s.std, fmt) + " (n=" + std::to_string(s.n) + ")";

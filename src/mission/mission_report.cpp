@@ -2,17 +2,9 @@
 
 #include "canopy/mission/mission.h"
 
-#include <cstdio>
+#include "canopy/common/io.h"
 
 namespace canopy::mission {
-
-namespace {
-std::string num(double x) {
-  char b[40];
-  std::snprintf(b, sizeof b, "%.9g", x);
-  return b;
-}
-}  // namespace
 
 std::string views_csv(const MissionResult& r, const std::string& method) {
   std::string s =
@@ -24,15 +16,15 @@ std::string views_csv(const MissionResult& r, const std::string& method) {
     const Vec3 g = v.T_goal.translation(), p = v.T_reached.translation();
     const Quat q(v.T_reached.linear());
     s += std::to_string(v.attempt) + "," + std::to_string(v.stop) + "," + method + "," + to_string(v.phase) + "," +
-         v.source + "," + (v.success ? "1" : "0") + "," + v.failure + "," + num(g.x()) + "," + num(g.y()) + "," +
-         num(g.z()) + "," + (v.success ? num(p.x()) + "," + num(p.y()) + "," + num(p.z()) + "," + num(q.w()) + "," +
-                                             num(q.x()) + "," + num(q.y()) + "," + num(q.z())
+         v.source + "," + (v.success ? "1" : "0") + "," + v.failure + "," + format_number(g.x()) + "," + format_number(g.y()) + "," +
+         format_number(g.z()) + "," + (v.success ? format_number(p.x()) + "," + format_number(p.y()) + "," + format_number(p.z()) + "," + format_number(q.w()) + "," +
+                                             format_number(q.x()) + "," + format_number(q.y()) + "," + format_number(q.z())
                                        : std::string(",,,,,,")) +
-         "," + num(v.position_error_m) + "," + num(v.angle_error_rad * 180.0 / M_PI) + "," + num(v.gain) + "," +
-         std::to_string(v.cluster) + "," + std::to_string(v.successful_views) + "," + num(v.coverage) + "," +
-         num(v.entropy) + "," + num(v.sim_time_s) + "," + num(v.move_time_s) + "," + std::to_string(v.truth_contacts) +
-         "," + std::to_string(v.self_contacts) + "," + num(v.coverage_paper) + "," + num(v.entropy_paper) + "," +
-         num(v.coverage_prototype) + "," + num(v.entropy_prototype) + "\n";
+         "," + format_number(v.position_error_m) + "," + format_number(v.angle_error_rad * 180.0 / M_PI) + "," + format_number(v.gain) + "," +
+         std::to_string(v.cluster) + "," + std::to_string(v.successful_views) + "," + format_number(v.coverage) + "," +
+         format_number(v.entropy) + "," + format_number(v.sim_time_s) + "," + format_number(v.move_time_s) + "," + std::to_string(v.truth_contacts) +
+         "," + std::to_string(v.self_contacts) + "," + format_number(v.coverage_paper) + "," + format_number(v.entropy_paper) + "," +
+         format_number(v.coverage_prototype) + "," + format_number(v.entropy_prototype) + "\n";
   }
   return s;
 }
@@ -45,7 +37,7 @@ std::string timing_csv(const MissionResult& r) {
   s += "\n";
   for (const ViewRecord& v : r.views) {
     s += std::to_string(v.attempt);
-    for (const auto& p : phases) s += "," + num(v.times.get(p));
+    for (const auto& p : phases) s += "," + format_number(v.times.get(p));
     s += "\n";
   }
   return s;

@@ -13,6 +13,21 @@
 namespace canopy {
 namespace {
 
+TEST(TestSupport, EachTestProcessHasItsOwnTempDir) {
+  // ctest -j2 runs two test processes at once; fixed file names under TempDir() must not meet.
+  const std::filesystem::path d = testing::TempDir();
+  EXPECT_TRUE(std::filesystem::is_directory(d)) << d;
+  EXPECT_NE(d.string().find("canopy_test_"), std::string::npos) << d;
+  EXPECT_NE(std::filesystem::canonical(d), std::filesystem::canonical(std::filesystem::temp_directory_path()));
+}
+
+TEST(Io, FormatNumberFollowsItsPrintfFormat) {
+  EXPECT_EQ(format_number(0.1), "0.1");
+  EXPECT_EQ(format_number(1.0 / 3.0), "0.333333333");
+  EXPECT_EQ(std::stod(format_number(1.0 / 3.0, "%.17g")), 1.0 / 3.0);
+  EXPECT_EQ(format_number(2.5, "%.3f"), "2.500");
+}
+
 TEST(Camera, ProjectUnprojectRoundTripAndConvention) {
   CameraIntrinsics K;
   // x right, y down, z forward: a point right of and below the axis lands right and below

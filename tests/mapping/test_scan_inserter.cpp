@@ -17,14 +17,14 @@ using namespace canopy::mapping;
 using canopy::perception::LabelledCloud;
 
 namespace {
-SemanticOcTree make_map(int threads = 1) {
+SemanticOcTree make_inserter_tree(int threads = 1) {
   SemanticMapParams p;
   p.threads = threads;
   return SemanticOcTree(p, SemanticClasses{});
 }
-constexpr std::uint8_t kFruit = 2;
+constexpr std::uint8_t kFruitLabel = 2;
 
-LabelledCloud one_point(const Vec3& origin, const Vec3& p, std::uint8_t label = kFruit) {
+LabelledCloud one_point(const Vec3& origin, const Vec3& p, std::uint8_t label = kFruitLabel) {
   LabelledCloud c;
   c.origin_world = origin;
   c.points_world.push_back(p.cast<float>());
@@ -40,7 +40,7 @@ std::set<std::uint64_t> codes(const std::vector<octomap::OcTreeKey>& keys) {
 }  // namespace
 
 TEST(ScanInserter, OneHitAndItsRayGiveExactLogOdds) {
-  SemanticOcTree map = make_map();
+  SemanticOcTree map = make_inserter_tree();
   ScanInserter ins(map);
   const Vec3 origin(0.0, 0.0, 1.0), p(0.5, 0.0, 1.0);
   const InsertStats st = ins.insert(one_point(origin, p));
@@ -66,7 +66,7 @@ TEST(ScanInserter, FreeSpaceRayCarvesOnlyItsCells) {
   std::mt19937_64 rng(11);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   for (int trial = 0; trial < 300; ++trial) {
-    SemanticOcTree map = make_map();
+    SemanticOcTree map = make_inserter_tree();
     ScanInserter ins(map);
     const Vec3 origin(u(rng) * 0.3, u(rng) * 0.3, 1.0 + u(rng) * 0.3);
     Vec3 dir(u(rng), u(rng), u(rng));
@@ -100,7 +100,7 @@ TEST(ScanInserter, FreeSpaceRayCarvesOnlyItsCells) {
 }
 
 TEST(ScanInserter, RayRangeAndMaxRange) {
-  SemanticOcTree map = make_map();
+  SemanticOcTree map = make_inserter_tree();
   ScanInserter ins(map);
   const Vec3 origin(0.0, 0.0, 1.0);
   // Endpoint at 0.95 m: a hit (within 1.0 m) but free space stops at 0.8 m.
@@ -109,7 +109,7 @@ TEST(ScanInserter, RayRangeAndMaxRange) {
   EXPECT_NE(map.find(origin + Vec3(0.78, 0, 0)), nullptr);
   EXPECT_EQ(map.find(origin + Vec3(0.85, 0, 0)), nullptr);
   // Endpoint at 1.2 m: no hit, free space up to 0.8 m only.
-  SemanticOcTree map2 = make_map();
+  SemanticOcTree map2 = make_inserter_tree();
   ScanInserter ins2(map2);
   const InsertStats st = ins2.insert(one_point(origin, origin + Vec3(0, 1.2, 0)));
   EXPECT_EQ(st.beyond_range, 1u);
@@ -119,7 +119,7 @@ TEST(ScanInserter, RayRangeAndMaxRange) {
 }
 
 TEST(ScanInserter, HitsAreExcludedFromFreeAndVoxelFilteredByMajority) {
-  SemanticOcTree map = make_map();
+  SemanticOcTree map = make_inserter_tree();
   ScanInserter ins(map);
   LabelledCloud c;
   c.origin_world = Vec3(0, 0, 1);
@@ -142,7 +142,7 @@ TEST(ScanInserter, HitsAreExcludedFromFreeAndVoxelFilteredByMajority) {
 }
 
 TEST(ScanInserter, BadPointsAndLabelsAreSkippedAndCounted) {
-  SemanticOcTree map = make_map();
+  SemanticOcTree map = make_inserter_tree();
   ScanInserter ins(map);
   LabelledCloud c;
   c.origin_world = Vec3(0, 0, 1);

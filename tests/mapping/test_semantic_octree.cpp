@@ -9,13 +9,13 @@ using namespace canopy;
 using namespace canopy::mapping;
 
 namespace {
-SemanticOcTree make_map(int threads = 1, bool prune = true) {
+SemanticOcTree make_tree(int threads = 1, bool prune = true) {
   SemanticMapParams p;
   p.threads = threads;
   p.prune = prune;
   return SemanticOcTree(p, SemanticClasses{});
 }
-constexpr int kFruit = 2;
+constexpr int kFruitId = 2;
 }  // namespace
 
 TEST(SemanticOcTree, NodeIsCompact) {
@@ -33,16 +33,16 @@ TEST(SemanticOcTree, MortonRoundTripAndChildOrder) {
 }
 
 TEST(SemanticOcTree, UnknownUntilObserved) {
-  SemanticOcTree map = make_map();
+  SemanticOcTree map = make_tree();
   const Vec3 p(0.1, 0.2, 0.3);
   EXPECT_TRUE(map.is_unknown(p));
   EXPECT_DOUBLE_EQ(map.occupancy(p), 0.5);
   EXPECT_DOUBLE_EQ(map.entropy(p), map.unseen_entropy());
   octomap::OcTreeKey k;
   ASSERT_TRUE(map.key_of(p, &k));
-  map.update_hit(k, kFruit);
+  map.update_hit(k, kFruitId);
   ASSERT_FALSE(map.is_unknown(p));
-  EXPECT_EQ(map.find(p)->most_likely_class(), kFruit);
+  EXPECT_EQ(map.find(p)->most_likely_class(), kFruitId);
   EXPECT_EQ(map.find(p)->logodds[0], 1.0f);
   // Neighbours stay unknown.
   EXPECT_TRUE(map.is_unknown(p + Vec3(0.015, 0, 0)));
@@ -50,13 +50,13 @@ TEST(SemanticOcTree, UnknownUntilObserved) {
 }
 
 TEST(SemanticOcTree, PruningKeepsSemantics) {
-  SemanticOcTree map = make_map();
+  SemanticOcTree map = make_tree();
   // Eight siblings get the same hit: they collapse into their parent.
   const octomap::OcTreeKey base(32768, 32768, 32768);
   std::vector<VoxelUpdate> batch;
   for (int i = 0; i < 8; ++i)
     batch.push_back({morton_code(octomap::OcTreeKey(base[0] + (i & 1), base[1] + ((i >> 1) & 1), base[2] + (i >> 2))),
-                     static_cast<std::uint8_t>(kFruit)});
+                     static_cast<std::uint8_t>(kFruitId)});
   std::sort(batch.begin(), batch.end(), [](auto& a, auto& b) { return a.code < b.code; });
   const auto counts = map.apply_sorted_updates(batch);
   EXPECT_GE(counts.pruned, 1u);
@@ -64,7 +64,7 @@ TEST(SemanticOcTree, PruningKeepsSemantics) {
   for (const auto& u : batch) {
     const SemanticState* s = map.find(morton_key(u.code));
     ASSERT_NE(s, nullptr);
-    EXPECT_EQ(s->most_likely_class(), kFruit);
+    EXPECT_EQ(s->most_likely_class(), kFruitId);
     EXPECT_EQ(s->logodds[0], 1.0f);
   }
   // A different update to one voxel expands the block; the others keep their state.
@@ -76,14 +76,14 @@ TEST(SemanticOcTree, PruningKeepsSemantics) {
     EXPECT_EQ(s->logodds[0], i == 3 ? 0.9f : 1.0f);
   }
   // Eight siblings with different states never collapse.
-  SemanticOcTree map2 = make_map();
+  SemanticOcTree map2 = make_tree();
   for (int i = 0; i < 8; ++i)
-    map2.update_hit(morton_key(batch[static_cast<std::size_t>(i)].code), i % 2 ? kFruit : 1);
+    map2.update_hit(morton_key(batch[static_cast<std::size_t>(i)].code), i % 2 ? kFruitId : 1);
   EXPECT_EQ(map2.size(), 24u);
 }
 
 TEST(SemanticOcTree, SaturatedPrunedBlockIsNotExpanded) {
-  SemanticOcTree map = make_map();
+  SemanticOcTree map = make_tree();
   const octomap::OcTreeKey base(40000, 40000, 40000);
   std::vector<VoxelUpdate> batch;
   for (int i = 0; i < 8; ++i)
@@ -115,7 +115,7 @@ TEST(SemanticOcTree, BatchEqualsSingleUpdatesAndIsThreadIndependent) {
                 batch.end());
     scans.push_back(batch);
   }
-  SemanticOcTree serial = make_map(1), parallel = make_map(2), single = make_map(1);
+  SemanticOcTree serial = make_tree(1), parallel = make_tree(2), single = make_tree(1);
   for (const auto& batch : scans) {
     serial.apply_sorted_updates(batch);
     parallel.apply_sorted_updates(batch);
@@ -139,14 +139,14 @@ TEST(SemanticOcTree, BatchEqualsSingleUpdatesAndIsThreadIndependent) {
   });
   EXPECT_GT(checked, 1000u);
   // Unpruned trees hold every voxel as its own leaf.
-  SemanticOcTree unpruned = make_map(2, false);
+  SemanticOcTree unpruned = make_tree(2, false);
   for (const auto& batch : scans) unpruned.apply_sorted_updates(batch);
   EXPECT_GE(unpruned.size(), serial.size());
 }
 
 TEST(SemanticOcTree, CopyIsDeepAndIdentical) {
-  SemanticOcTree map = make_map();
-  map.update_hit(octomap::OcTreeKey(32768, 32768, 32768), kFruit);
+  SemanticOcTree map = make_tree();
+  map.update_hit(octomap::OcTreeKey(32768, 32768, 32768), kFruitId);
   map.update_free(octomap::OcTreeKey(32769, 32768, 32768));
   SemanticOcTree copy(map);
   EXPECT_TRUE(copy.identical(map));

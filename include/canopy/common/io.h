@@ -19,6 +19,10 @@ void write_json_atomic(const std::string& path, const nlohmann::json& j);
 /// Reads a whole file; throws InputError when it is a folder or cannot be opened or read.
 std::string read_file(const std::string& path);
 
+/// A number as text for CSV and report files, by a printf format for one double
+/// ("%.9g" keeps a float's value; "%.17g" a double's).
+std::string format_number(double x, const char* printf_format = "%.9g");
+
 /// PNG writers (atomic). 16-bit images are stored big-endian as PNG requires.
 void write_png(const std::string& path, const Image<Rgb8>& image);
 void write_png_gray16(const std::string& path, const Image<std::uint16_t>& image);

@@ -21,6 +21,9 @@
 
 namespace canopy::mapping {
 
+/// Depth of canopy's octrees (OctoMap's 16-bit keys): a leaf at this depth is one voxel.
+constexpr unsigned kOctreeDepth = 16;
+
 /// Octree node holding one SemanticState (8-byte child pointer + 20-byte payload).
 class SemanticNode : public octomap::OcTreeDataNode<SemanticState> {
  public:
