@@ -6,6 +6,6 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ./tools/deps.sh
-cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DCANOPY_ONLY_MODULES= >/dev/null
+cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DCANOPY_UNITY_BUILD=ON -DCANOPY_ONLY_MODULES= >/dev/null
 cmake --build build -j2 --target canopy_cli
 ./build/canopy run --out results "$@"
