@@ -31,7 +31,6 @@ inline std::uint16_t compact3(std::uint64_t v) {
   return static_cast<std::uint16_t>(v);
 }
 
-
 // Deepest depth whose node is shared by the paths of two different codes.
 inline unsigned common_depth(std::uint64_t a, std::uint64_t b) {
   const std::uint64_t x = a ^ b;

@@ -164,8 +164,4 @@ double unseen_entropy(float unseen_logodds, EntropyCategories categories, int nu
 
 std::string to_string(EntropyCategories c) { return enum_name(kEntropyCategoriesNames, c); }
 
-EntropyCategories entropy_categories_from_string(const std::string& s, const std::string& where) {
-  return enum_from_name(kEntropyCategoriesNames, s, where, "entropy_categories");
-}
-
 }  // namespace canopy::mapping

@@ -51,7 +51,6 @@ Pose random_plant_view(const world::World& world, int plant, double radius_m, Rn
 }
 
 double mean(const std::vector<double>& v) { return sample_stats(v).mean; }
-double stddev(const std::vector<double>& v) { return sample_stats(v).std; }
 
 }  // namespace
 
@@ -203,10 +202,11 @@ std::vector<AblationRow> summarize_ablation(const std::string& out, const std::v
         cov_t.push_back(mean(cov_p));
         ent_t.push_back(mean(ent_p));
       }
-      mean_cov_curve[std::size_t(v)] = mean(cov_t);
+      const SampleStats cov = sample_stats(cov_t), ent = sample_stats(ent_t);
+      mean_cov_curve[std::size_t(v)] = cov.mean;
       csv += configs[c].id() + "," + configs[c].label() + "," + configs[c].rays + "," + num(configs[c].pgt) + "," +
-             std::to_string(v + 1) + "," + std::to_string(complete.size()) + "," + num(mean(cov_t)) + "," +
-             num(stddev(cov_t)) + "," + num(mean(ent_t)) + "," + num(stddev(ent_t)) + "\n";
+             std::to_string(v + 1) + "," + std::to_string(complete.size()) + "," + num(cov.mean) + "," +
+             num(cov.std) + "," + num(ent.mean) + "," + num(ent.std) + "\n";
       if (v == views - 1) {
         final_cov = cov_t;
         final_ent = ent_t;

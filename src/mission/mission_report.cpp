@@ -7,6 +7,7 @@
 namespace canopy::mission {
 
 std::string views_csv(const MissionResult& r, const std::string& method) {
+  const auto num = [](double x) { return format_number(x); };
   std::string s =
       "attempt,stop,method,phase,source,success,failure,goal_x,goal_y,goal_z,reached_x,reached_y,reached_z,"
       "reached_qw,reached_qx,reached_qy,reached_qz,position_error_m,angle_error_deg,gain,cluster,successful_views,"
@@ -16,20 +17,21 @@ std::string views_csv(const MissionResult& r, const std::string& method) {
     const Vec3 g = v.T_goal.translation(), p = v.T_reached.translation();
     const Quat q(v.T_reached.linear());
     s += std::to_string(v.attempt) + "," + std::to_string(v.stop) + "," + method + "," + to_string(v.phase) + "," +
-         v.source + "," + (v.success ? "1" : "0") + "," + v.failure + "," + format_number(g.x()) + "," + format_number(g.y()) + "," +
-         format_number(g.z()) + "," + (v.success ? format_number(p.x()) + "," + format_number(p.y()) + "," + format_number(p.z()) + "," + format_number(q.w()) + "," +
-                                             format_number(q.x()) + "," + format_number(q.y()) + "," + format_number(q.z())
+         v.source + "," + (v.success ? "1" : "0") + "," + v.failure + "," + num(g.x()) + "," + num(g.y()) + "," +
+         num(g.z()) + "," + (v.success ? num(p.x()) + "," + num(p.y()) + "," + num(p.z()) + "," + num(q.w()) + "," +
+                                             num(q.x()) + "," + num(q.y()) + "," + num(q.z())
                                        : std::string(",,,,,,")) +
-         "," + format_number(v.position_error_m) + "," + format_number(v.angle_error_rad * 180.0 / M_PI) + "," + format_number(v.gain) + "," +
-         std::to_string(v.cluster) + "," + std::to_string(v.successful_views) + "," + format_number(v.coverage) + "," +
-         format_number(v.entropy) + "," + format_number(v.sim_time_s) + "," + format_number(v.move_time_s) + "," + std::to_string(v.truth_contacts) +
-         "," + std::to_string(v.self_contacts) + "," + format_number(v.coverage_paper) + "," + format_number(v.entropy_paper) + "," +
-         format_number(v.coverage_prototype) + "," + format_number(v.entropy_prototype) + "\n";
+         "," + num(v.position_error_m) + "," + num(v.angle_error_rad * 180.0 / M_PI) + "," + num(v.gain) + "," +
+         std::to_string(v.cluster) + "," + std::to_string(v.successful_views) + "," + num(v.coverage) + "," +
+         num(v.entropy) + "," + num(v.sim_time_s) + "," + num(v.move_time_s) + "," + std::to_string(v.truth_contacts) +
+         "," + std::to_string(v.self_contacts) + "," + num(v.coverage_paper) + "," + num(v.entropy_paper) + "," +
+         num(v.coverage_prototype) + "," + num(v.entropy_prototype) + "\n";
   }
   return s;
 }
 
 std::string timing_csv(const MissionResult& r) {
+  const auto num = [](double x) { return format_number(x); };
   const std::vector<std::string> phases = {phase::kMotionPlanning, phase::kControl, phase::kRendering, phase::kMapping,
                                           phase::kEvaluation};
   std::string s = "attempt";
@@ -37,7 +39,7 @@ std::string timing_csv(const MissionResult& r) {
   s += "\n";
   for (const ViewRecord& v : r.views) {
     s += std::to_string(v.attempt);
-    for (const auto& p : phases) s += "," + format_number(v.times.get(p));
+    for (const auto& p : phases) s += "," + num(v.times.get(p));
     s += "\n";
   }
   return s;

@@ -8,10 +8,6 @@ namespace canopy::perception {
 
 std::string to_string(NoiseModel m) { return enum_name(kNoiseModelNames, m); }
 
-NoiseModel noise_model_from_string(const std::string& s, const std::string& where) {
-  return enum_from_name(kNoiseModelNames, s, where, "noise model");
-}
-
 namespace {
 
 // A wrong class for true class c, uniform over the other num_classes - 1 classes.

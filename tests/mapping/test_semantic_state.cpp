@@ -147,8 +147,9 @@ TEST(SemanticState, EntropyCategoriesHandComputed) {
   other.others = -5.f;
   EXPECT_EQ(all.entropy(EntropyCategories::kPaper, 3), other.entropy(EntropyCategories::kPaper, 3));
   EXPECT_NE(all.entropy(EntropyCategories::kPrototype, 3), other.entropy(EntropyCategories::kPrototype, 3));
-  EXPECT_EQ(canopy::mapping::entropy_categories_from_string("prototype", "t"), EntropyCategories::kPrototype);
-  EXPECT_THROW(canopy::mapping::entropy_categories_from_string("shannon", "t"), canopy::InputError);
+  const auto& names = canopy::mapping::kEntropyCategoriesNames;
+  EXPECT_EQ(canopy::enum_from_name(names, "prototype", "t", "entropy_categories"), EntropyCategories::kPrototype);
+  EXPECT_THROW(canopy::enum_from_name(names, "shannon", "t", "entropy_categories"), canopy::InputError);
 }
 
 TEST(SemanticState, RepeatedHitsLowerEntropyMonotonically) {

@@ -140,6 +140,6 @@ TEST(SegmentationNoise, ClassMaskDrawsIndependentOfContent) {
   Rng d(3);
   apply_class_mask_noise(bad, 3, 0.0, d);
   EXPECT_EQ(bad.at(0, 0), 7);
-  EXPECT_EQ(noise_model_from_string("per_region", "t"), NoiseModel::kPerRegion);
-  EXPECT_THROW(noise_model_from_string("per_pixel", "t"), InputError);
+  EXPECT_EQ(enum_from_name(kNoiseModelNames, "per_region", "t", "noise model"), NoiseModel::kPerRegion);
+  EXPECT_THROW(enum_from_name(kNoiseModelNames, "per_pixel", "t", "noise model"), InputError);
 }

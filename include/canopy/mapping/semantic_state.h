@@ -33,8 +33,6 @@ inline constexpr EnumName<EntropyCategories> kEntropyCategoriesNames[] = {{Entro
 
 /// "paper" / "prototype".
 std::string to_string(EntropyCategories c);
-/// Parses a name; throws InputError naming `where` and the valid names otherwise.
-EntropyCategories entropy_categories_from_string(const std::string& s, const std::string& where);
 
 /// Log-odds increments and clamps of the SSMI rules (psi, phi, +-9.21).
 struct UpdateRule {

@@ -33,8 +33,6 @@ inline constexpr EnumName<NoiseModel> kNoiseModelNames[] = {{NoiseModel::kPerCla
 
 /// "per_class_mask" / "per_region".
 std::string to_string(NoiseModel m);
-/// Parses a model name; throws InputError naming `where` and the valid names otherwise.
-NoiseModel noise_model_from_string(const std::string& s, const std::string& where);
 
 /// Labels masks of `labels` (class indices < num_classes) and returns them as a mask id
 /// image (-1 on background); `instance` may be empty. Returns the number of masks.
