@@ -2,13 +2,13 @@
 # data, and canopyConfig.cmake so another project can write
 #   find_package(canopy REQUIRED COMPONENTS mapping nbv motion)
 # and link canopy::mapping, canopy::nbv, canopy::motion. The MuJoCo-free libraries form one
-# export set (canopyTargets); sim and mission, which need MuJoCo and OSMesa, another
-# (canopySimTargets), loaded only for the components sim or mission.
+# export set (canopyTargets); sim, mission and experiments, which need MuJoCo and OSMesa, another
+# (canopySimTargets), loaded only for those components.
 include(GNUInstallDirs)
 include(CMakePackageConfigHelpers)
 
-set(CANOPY_CORE_MODULES common robot world perception mapping nbv motion)
-set(CANOPY_SIM_MODULES sim mission)
+set(CANOPY_CORE_MODULES common robot world perception mapping datasets evaluation nbv motion)
+set(CANOPY_SIM_MODULES sim mission experiments)
 set(CANOPY_INSTALL_CMAKEDIR ${CMAKE_INSTALL_LIBDIR}/cmake/canopy)
 
 set(canopy_core_targets canopy_ompl canopy_warnings)

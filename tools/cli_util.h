@@ -5,7 +5,7 @@
 
 #include <string>
 
-#include "canopy/common/robot_config.h"
+#include "canopy/robot/robot_config.h"
 #include "canopy/mission/settings.h"
 #include "canopy/world/world_spec.h"
 

@@ -1,7 +1,7 @@
 // canopy ablate: the paper's ablation (Fig. 5 and 6) with a free-moving camera (no arm).
 // For each configuration (a gain with our ray set, or OSAMCEP with another ray set; each at
-// every P_gt), trial and plant, mission::run_ablation_job runs one job (its rules are in
-// canopy/mission/ablation.h). Jobs run on worker threads, each with its own Simulator and
+// every P_gt), trial and plant, experiments::run_ablation_job runs one job (its rules are in
+// canopy/experiments/ablation.h). Jobs run on worker threads, each with its own Simulator and
 // Renderer; a job's result depends only on its seeds, not on the thread or the job order.
 // Every finished job is written at once (jobs/<config>/trial<t>_plant<p>.json; --resume
 // reuses them), then per-trial JSONs, summary.csv, table.csv and PNG plots.
@@ -26,7 +26,7 @@
 #include "canopy/common/process.h"
 #include "canopy/common/random.h"
 #include "canopy/mapping/mapping_config.h"
-#include "canopy/mission/ablation.h"
+#include "canopy/experiments/ablation.h"
 #include "canopy/nbv/gains.h"
 #include "canopy/nbv/ray_sets.h"
 #include "cli_util.h"
@@ -39,8 +39,8 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-using mission::AblationConfig;
-using Job = mission::AblationJobId;
+using experiments::AblationConfig;
+using Job = experiments::AblationJobId;
 
 // Splits "a,b,c", dropping empty items and repeats (a repeated configuration would have two
 // workers write the same job file).
@@ -54,7 +54,7 @@ std::vector<std::string> split(const std::string& s) {
 }
 
 // Prints the table of summarize_ablation's rows.
-void print_table(const std::vector<mission::AblationRow>& rows, int views) {
+void print_table(const std::vector<experiments::AblationRow>& rows, int views) {
   std::printf("\n%-28s %6s %14s %16s %10s %13s %10s\n", "configuration", "trials", "views->cov80", "per-plant mean",
               "reached", "raycast ms/v", "final cov");
   for (const auto& r : rows) {
@@ -128,9 +128,9 @@ void add_ablate_command(CLI::App& app) {
       if (unset("--pgt")) o.pgt = "1.0";
     }
     // Validate everything before any work.
-    const mission::Settings bundle = load_settings(o.config);
-    mapping::MappingConfig mcfg = bundle.mapping;
-    if (!o.seg.empty()) mcfg.extractor.source = perception::label_source_from_string(o.seg, "--seg");
+    mission::Settings bundle = load_settings(o.config);
+    const mapping::MappingConfig& mcfg = bundle.mapping;
+    if (!o.seg.empty()) bundle.mapping.extractor.source = perception::label_source_from_string(o.seg, "--seg");
     const nbv::NbvParams np = bundle.nbv;
     const std::vector<std::string> gains = split(o.gains), rays = split(o.rays);
     std::vector<double> pgts;
@@ -147,7 +147,7 @@ void add_ablate_command(CLI::App& app) {
     std::vector<std::string> proximities = split(o.proximity);
     for (const auto& p : proximities) nbv::proximity_from_string(p, "--osamcep-proximity");
     if (proximities.empty()) proximities.push_back("");
-    const mission::AblationProtocol protocol = mission::ablation_protocol_from_string(o.protocol, "--protocol");
+    const experiments::AblationProtocol protocol = experiments::ablation_protocol_from_string(o.protocol, "--protocol");
     if (o.initial_views > o.views) throw InputError("--initial-views: more than --views");
     world::WorldSpec spec = load_world_spec(o.world);
     spec.camera.depth_noise_k = 0.0;  // segmentation noise only, and renderers stay stateless
@@ -210,12 +210,12 @@ void add_ablate_command(CLI::App& app) {
       }
     }
 
-    mission::AblationSettings set;
+    experiments::AblationSettings set;
     set.views = o.views;
     set.initial_views = o.initial_views;
     set.protocol = protocol;
     set.cluster_min_logodds = o.cluster_min_logodds >= 0.0 ? o.cluster_min_logodds
-                              : protocol == mission::AblationProtocol::kPaper ? 0.5
+                              : protocol == experiments::AblationProtocol::kPaper ? 0.5
                                                                               : -1.0;
     set.seed = o.seed;
     std::vector<nlohmann::json> results(jobs.size());
@@ -262,7 +262,7 @@ void add_ablate_command(CLI::App& app) {
           const Job& j = jobs[i];
           const auto tj = Clock::now();
           nlohmann::json r =
-              mission::run_ablation_job(configs[j.config], j.trial, j.plant, set, mcfg, np, world, renderer);
+              experiments::run_ablation_job(configs[j.config], j.trial, j.plant, set, bundle, world, renderer);
           write_json_atomic(job_path(j), r);
           const double cov = r["steps"].back()["coverage"].get<double>();
           results[i] = std::move(r);
@@ -285,7 +285,7 @@ void add_ablate_command(CLI::App& app) {
     for (auto& t : pool) t.join();
     if (failure) std::rethrow_exception(failure);
 
-    print_table(mission::summarize_ablation(out, configs, o.plants, o.views, results, jobs, o.coverage_target), o.views);
+    print_table(experiments::summarize_ablation(out, configs, o.plants, o.views, results, jobs, o.coverage_target), o.views);
     if (!o.no_plots) {
       const std::string script = find_data_file("tools/plot_ablation.py");
       const ProcessStatus plot = run_process({"/usr/bin/python3", script, out});

@@ -9,7 +9,7 @@
 
 #include "canopy/mapping/mapping_config.h"
 #include "canopy/mapping/scan_inserter.h"
-#include "canopy/mapping/views.h"
+#include "canopy/evaluation/view_presets.h"
 #include "canopy/nbv/planner.h"
 #include "canopy/sim/renderer.h"
 #include "cli_util.h"
@@ -76,7 +76,7 @@ void add_bench_gain(CLI::App& bench) {
     const auto gain = nbv::make_gain(opt->gain, np.gain, "--gain");
     const world::WorldSpec spec = load_world_spec(opt->world);
     const world::World world = world::generate_world(spec);
-    const std::vector<Pose> views = mapping::views_from_spec(opt->views, world);
+    const std::vector<Pose> views = evaluation::views_from_spec(opt->views, world);
 
     // The map.
     sim::Simulator sim(world, default_robot_config());

@@ -9,7 +9,7 @@
 
 #include "canopy/mapping/mapping_config.h"
 #include "canopy/mapping/scan_inserter.h"
-#include "canopy/mapping/views.h"
+#include "canopy/evaluation/view_presets.h"
 #include "canopy/sim/renderer.h"
 #include "cli_util.h"
 #include "commands.h"
@@ -90,8 +90,8 @@ void add_bench_map(CLI::App& bench) {
     const world::World world = world::generate_world(spec);
     sim::Simulator sim(world, default_robot_config());
     sim::Renderer renderer(sim, spec.camera);
-    const std::vector<Pose> views = opt->views == "aisle" ? mapping::aisle_views(world, std::max(1, opt->frames / 2))
-                                                          : mapping::views_from_spec(opt->views, world);
+    const std::vector<Pose> views = opt->views == "aisle" ? evaluation::aisle_views(world, std::max(1, opt->frames / 2))
+                                                          : evaluation::views_from_spec(opt->views, world);
     // Spread the frames over all plants.
     std::vector<Pose> picked;
     for (int i = 0; i < opt->frames; ++i)

@@ -14,6 +14,7 @@
 #include "canopy/common/io.h"
 #include "canopy/common/random.h"
 #include "canopy/motion/motion_config.h"
+#include "canopy/evaluation/truth_voxels.h"
 #include "canopy/motion/reachability.h"
 #include "canopy/world/world.h"
 #include "cli_util.h"
@@ -106,7 +107,7 @@ void add_bench_motion(CLI::App& bench) {
     // 2. Validity checks against the world's occupancy (a fully observed map).
     const world::World world = world::generate_world(spec);
     const double res = 0.015;
-    const std::vector<Vec3> voxels = motion::world_occupied_voxels(world, res);
+    const std::vector<Vec3> voxels = evaluation::world_occupied_voxels(world, res);
     const motion::CollisionChecker checker(model, cfg.collision, motion::CollisionEnvironment::from_voxels(voxels, res));
     std::vector<ArmConfig> states(static_cast<size_t>(opt->states));
     for (auto& q : states) q = random_q();

@@ -1,7 +1,7 @@
 // canopy experiment: runs an experiment file's trials (methods x P_gt x seeds), one child
 // `canopy mission` per trial, N at once, optionally one shard of n (SLURM array tasks, GNU
 // parallel jobs). The rules (folder layout, resume checks, failures) are in
-// canopy/mission/experiment.h.
+// canopy/experiments/experiment.h.
 
 #include <spdlog/spdlog.h>
 #include <unistd.h>
@@ -12,7 +12,7 @@
 #include <filesystem>
 
 #include "canopy/common/error.h"
-#include "canopy/mission/experiment.h"
+#include "canopy/experiments/experiment.h"
 #include "cli_util.h"
 #include "commands.h"
 
@@ -49,10 +49,10 @@ void add_experiment_command(CLI::App& app) {
   sub->add_option("--shard", o->shard, "Run shard i of n (0 <= i < n): trial k belongs to shard k mod n")->capture_default_str();
   sub->add_flag("--resume", o->resume, "Continue the experiment in --out: skip complete trials, run the rest");
   sub->callback([o] {
-    const auto [index, count] = mission::parse_shard(o->shard);
-    const mission::Experiment e = mission::Experiment::load(o->config, default_robot_config());
+    const auto [index, count] = experiments::parse_shard(o->shard);
+    const experiments::Experiment e = experiments::Experiment::load(o->config, default_robot_config());
     load_world_spec(e.world_file);  // the mission's own checks (the robot fits the aisle), before any trial
-    mission::ExperimentRunOptions ro;
+    experiments::ExperimentRunOptions ro;
     ro.mission_command = {std::filesystem::read_symlink("/proc/self/exe").string(), "mission"};
     ro.jobs = o->jobs;
     ro.shard_index = index;
@@ -64,7 +64,7 @@ void add_experiment_command(CLI::App& app) {
     g_stop = false;
     auto old_int = std::signal(SIGINT, on_stop_signal);
     auto old_term = std::signal(SIGTERM, on_stop_signal);
-    const mission::ExperimentRunSummary s = mission::run_experiment(e, o->out, ro);
+    const experiments::ExperimentRunSummary s = experiments::run_experiment(e, o->out, ro);
     std::signal(SIGINT, old_int);
     std::signal(SIGTERM, old_term);
     spdlog::info("experiment {} shard {}: {} trials ran ({} ok, {} failed), {} complete already, {:.0f} s; results in {}/trials/",

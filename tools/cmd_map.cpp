@@ -10,12 +10,12 @@
 
 #include "canopy/common/error.h"
 #include "canopy/common/io.h"
-#include "canopy/common/frame_sequence.h"
-#include "canopy/mapping/frame_mapping.h"
+#include "canopy/datasets/frame_sequence.h"
+#include "canopy/datasets/sequence_mapping.h"
 #include "canopy/mapping/map_io.h"
 #include "canopy/mapping/mapping_config.h"
 #include "canopy/mapping/scan_inserter.h"
-#include "canopy/mapping/views.h"
+#include "canopy/evaluation/view_presets.h"
 #include "canopy/sim/renderer.h"
 #include "cli_util.h"
 #include "commands.h"
@@ -49,18 +49,18 @@ struct MapOptions {
   double pgt = -1.0;
   std::string out;
   std::string frames, intrinsics, label_colors;
-  double max_dt_s = FrameReaderOptions{}.max_time_diff_s;
+  double max_dt_s = datasets::FrameReaderOptions{}.max_time_diff_s;
 };
 
 // canopy map --frames: no world, no ground truth; the map and what each frame gave.
 void map_recorded(const MapOptions& opt, mission::Settings bundle) {
   mapping::MappingConfig& cfg = bundle.mapping;
-  FrameReaderOptions reader;
+  datasets::FrameReaderOptions reader;
   reader.intrinsics_file = opt.intrinsics;
   reader.label_colors_file = opt.label_colors;
   reader.max_time_diff_s = opt.max_dt_s;
   reader.label_images = cfg.extractor.source == perception::LabelSource::kTruth;
-  const FrameSequence frames = FrameSequence::open(opt.frames, reader);
+  const datasets::FrameSequence frames = datasets::FrameSequence::open(opt.frames, reader);
   StagedDir out(opt.out);
   mapping::SemanticOcTree map(cfg.map, frames.classes());
   mapping::ScanInserter inserter(map);
@@ -68,14 +68,14 @@ void map_recorded(const MapOptions& opt, mission::Settings bundle) {
   write_file_atomic(out.path("settings.yaml"), bundle.to_yaml_text());
   write_json_atomic(out.path("settings.json"), {{"command", "map"},
                                                 {"frames", opt.frames},
-                                                {"layout", to_string(frames.layout())},
+                                                {"layout", datasets::to_string(frames.layout())},
                                                 {"labels", reader.label_images ? "label images" : "color"},
                                                 {"classes", frames.classes().names},
                                                 {"max_time_diff_s", opt.max_dt_s}});
   spdlog::info("mapping {} frames ({} layout, {} skipped while pairing), labels {}", frames.size(),
-               to_string(frames.layout()), frames.skipped().size(), reader.label_images ? "from images" : "color");
-  const mapping::SequenceMapResult r =
-      mapping::map_sequence(frames, extractor, inserter, [&](const mapping::FrameMapStep& s) {
+               datasets::to_string(frames.layout()), frames.skipped().size(), reader.label_images ? "from images" : "color");
+  const datasets::SequenceMapResult r =
+      datasets::map_sequence(frames, extractor, inserter, [&](const mapping::FrameMapStep& s) {
         if (s.mapped)
           std::fprintf(stderr, "frame %s: %zu points, insert %.1f ms\n", s.name.c_str(), s.extract.points,
                        s.insert.ms_total);
@@ -94,10 +94,10 @@ void map_recorded(const MapOptions& opt, mission::Settings bundle) {
     steps.push_back(j);
   }
   nlohmann::json skipped = nlohmann::json::array();
-  for (const SkippedFrame& s : r.skipped) skipped.push_back({{"frame", s.name}, {"reason", s.reason}});
+  for (const datasets::SkippedFrame& s : r.skipped) skipped.push_back({{"frame", s.name}, {"reason", s.reason}});
   write_json_atomic(out.path("frames.json"), {{"frames_mapped", r.mapped},
                                               {"frames_skipped", r.skipped.size()},
-                                              {"skipped_by_reason", count_reasons(r.skipped)},
+                                              {"skipped_by_reason", datasets::count_reasons(r.skipped)},
                                               {"skipped", skipped},
                                               {"occupied_voxels", occupied},
                                               {"steps", steps}});
@@ -142,7 +142,7 @@ void add_map_command(CLI::App& app) {
     if (!opt->frames.empty()) return map_recorded(*opt, bundle);
     const world::WorldSpec spec = load_world_spec(opt->world);
     const world::World world = world::generate_world(spec);
-    const std::vector<Pose> views = mapping::views_from_spec(opt->views, world);
+    const std::vector<Pose> views = evaluation::views_from_spec(opt->views, world);
     StagedDir out(opt->out);
 
     sim::Simulator sim(world, default_robot_config());
@@ -171,7 +171,7 @@ void add_map_command(CLI::App& app) {
       const perception::LabelledCloud cloud = extractor.extract(frame);
       const mapping::InsertStats st = inserter.insert(cloud);
       insert_ms_sum += st.ms_total;
-      const mapping::MapMetrics m = mapping::evaluate_map(map, world.truth, cfg.metrics);
+      const evaluation::MapMetrics m = evaluation::evaluate_map(map, world.truth, bundle.metrics);
       mapping::save_map(map, out.path("map.csm"));
       const std::size_t occupied = mapping::export_ply(map, out.path("map.ply"));
       mapping::export_bt(map, out.path("map.bt"));

@@ -14,7 +14,7 @@
 #include "canopy/common/error.h"
 #include "canopy/common/io.h"
 #include "canopy/common/process.h"
-#include "canopy/common/video.h"
+#include "canopy/mission/video.h"
 #include "canopy/mapping/map_io.h"
 #include "canopy/mission/mission.h"
 #include "canopy/nbv/gains.h"

@@ -7,7 +7,7 @@
 #include <filesystem>
 
 #include "canopy/common/error.h"
-#include "canopy/common/frame_sequence.h"
+#include "canopy/datasets/frame_sequence.h"
 #include "canopy/common/io.h"
 #include "canopy/mapping/map_io.h"
 #include "canopy/mission/mission.h"
@@ -74,7 +74,7 @@ void add_nbv_command(CLI::App& app) {
     }
     nbv::ViewPlannerSettings ps;
     ps.params = settings.nbv;
-    if (!opt->intrinsics.empty()) ps.intrinsics = RecordedCamera::load(opt->intrinsics).intrinsics;
+    if (!opt->intrinsics.empty()) ps.intrinsics = datasets::RecordedCamera::load(opt->intrinsics).intrinsics;
     ps.gain = opt->gain;
     ps.rays = opt->rays;
     const std::unique_ptr<nbv::ViewPlanner> planner = nbv::make_view_planner("ours", ps, "nbv");

@@ -9,6 +9,7 @@
 #include "canopy/common/error.h"
 #include "canopy/common/io.h"
 #include "canopy/motion/motion_config.h"
+#include "canopy/evaluation/truth_voxels.h"
 #include "canopy/motion/reachability.h"
 #include "canopy/world/world.h"
 #include "cli_util.h"
@@ -104,7 +105,7 @@ void add_reach_command(CLI::App& app) {
 
     motion::seed_planner_rng(cfg.seed);
     const world::World world = world::generate_world(spec);
-    const std::vector<Vec3> voxels = motion::world_occupied_voxels(world, opt->voxel_m);
+    const std::vector<Vec3> voxels = evaluation::world_occupied_voxels(world, opt->voxel_m);
     const motion::CollisionChecker checker(model, cfg.collision,
                                            motion::CollisionEnvironment::from_voxels(voxels, opt->voxel_m));
     const motion::ArmPlanner planner(checker, cfg.planner, cfg.trajectory);
@@ -112,7 +113,7 @@ void add_reach_command(CLI::App& app) {
     if (checker.in_collision(base, start))
       spdlog::warn("the start state is in collision at this base pose: {}", checker.report(base, start).pairs.front());
     const motion::ReachReport report =
-        motion::evaluate_reachability(planner, &filter, base, start, motion::world_fruit_centres(world), grid);
+        motion::evaluate_reachability(planner, &filter, base, start, evaluation::world_fruit_centres(world), grid);
 
     // The map: plants, robot footprint, views coloured by outcome (best on top).
     const Vec3 arm = (motion::RobotModel::T_world_base(base) * model.T_base_arm()).translation();

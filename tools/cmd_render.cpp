@@ -5,7 +5,7 @@
 #include <optional>
 
 #include "canopy/common/error.h"
-#include "canopy/common/frame_io.h"
+#include "canopy/datasets/frame_io.h"
 #include "canopy/common/io.h"
 #include "canopy/motion/robot_model.h"
 #include "canopy/sim/renderer.h"
@@ -66,7 +66,7 @@ void add_render_command(CLI::App& app) {
     render_options.shadows = opt->shadows;
     sim::Renderer renderer(sim, spec.camera, render_options);
     const LabelledFrame frame = free_camera ? renderer.render_free_camera(T_world_camera) : renderer.render_wrist_camera();
-    write_frame(out.path(""), frame, spec.classes);
+    datasets::write_frame(out.path(""), frame, spec.classes);
     nlohmann::json settings = settings_json("render", spec);
     settings["shadows"] = opt->shadows;
     if (free_camera) {

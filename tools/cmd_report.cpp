@@ -1,6 +1,6 @@
 // canopy report: merges experiment folders (shards, machines) and writes report/: curves.csv,
 // runtime.csv, trials.json, findings.md and the Fig. 3 / Fig. 4 plots (tools/plot_experiment.py).
-// Merging and aggregation live in canopy/mission/experiment_report.h.
+// Merging and aggregation live in canopy/experiments/experiment_report.h.
 
 #include <spdlog/spdlog.h>
 
@@ -8,7 +8,7 @@
 
 #include "canopy/common/io.h"
 #include "canopy/common/process.h"
-#include "canopy/mission/experiment_report.h"
+#include "canopy/experiments/experiment_report.h"
 #include "commands.h"
 
 namespace canopy::cli {
@@ -25,8 +25,8 @@ void add_report_command(CLI::App& app) {
   sub->add_option("--out", o->out, "Report folder (default: <first folder>/report)");
   sub->add_flag("--no-plots", o->no_plots, "Skip the PNG plots");
   sub->callback([o] {
-    const mission::MergedTrials merged = mission::merge_experiment_folders(o->dirs);
-    const mission::ExperimentReport rep = mission::make_experiment_report(merged);
+    const experiments::MergedTrials merged = experiments::merge_experiment_folders(o->dirs);
+    const experiments::ExperimentReport rep = experiments::make_experiment_report(merged);
     const std::string out_path = o->out.empty() ? (std::filesystem::path(o->dirs.front()) / "report").string() : o->out;
     StagedDir out(out_path);
     write_file_atomic(out.path("curves.csv"), rep.curves_csv);

@@ -8,9 +8,9 @@
 #include <exception>
 
 #include "canopy/common/error.h"
-#include "canopy/common/frame_sequence.h"
 #include "canopy/common/io.h"
-#include "canopy/mapping/frame_mapping.h"
+#include "canopy/datasets/frame_sequence.h"
+#include "canopy/datasets/sequence_mapping.h"
 #include "canopy/mapping/mapping_config.h"
 #include "canopy/motion/view_reach.h"
 
@@ -27,11 +27,11 @@ int main(int argc, char** argv) {
 
     // The map: the struct defaults are the paper's settings (configs/mapping.yaml).
     const mapping::MappingConfig cfg;
-    const FrameSequence frames = FrameSequence::open(argv[1]);
+    const datasets::FrameSequence frames = datasets::FrameSequence::open(argv[1]);
     mapping::SemanticOcTree map(cfg.map, frames.classes());
     mapping::ScanInserter inserter(map);
     perception::SemanticExtractor extractor(cfg.extractor, frames.classes());
-    const mapping::SequenceMapResult mapped = mapping::map_sequence(frames, extractor, inserter);
+    const datasets::SequenceMapResult mapped = datasets::map_sequence(frames, extractor, inserter);
     std::printf("mapped %zu frames (%zu skipped) from %s: %zu occupied voxels\n", mapped.mapped, mapped.skipped.size(),
                 argv[1], map.counts().occupied);
 

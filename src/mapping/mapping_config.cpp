@@ -2,11 +2,6 @@
 
 namespace canopy::mapping {
 
-MappingConfig MappingConfig::load(const std::string& path) {
-  YamlReader y = YamlReader::load_file(path);
-  return from_yaml(y);
-}
-
 MappingConfig MappingConfig::from_yaml(YamlReader& y) {
   MappingConfig c;
   YamlReader map = y.child("map");
@@ -15,10 +10,6 @@ MappingConfig MappingConfig::from_yaml(YamlReader& y) {
   YamlReader ex = y.child("extractor");
   c.extractor = perception::ExtractorParams::from_yaml(ex);
   ex.finish();
-  YamlReader me = y.child("metrics");
-  c.metrics = MetricsParams::from_yaml(me);
-  me.finish();
-  y.finish();
   return c;
 }
 
@@ -26,7 +17,6 @@ YAML::Node MappingConfig::to_yaml() const {
   YAML::Node n;
   n["map"] = map.to_yaml();
   n["extractor"] = extractor.to_yaml();
-  n["metrics"] = metrics.to_yaml();
   return n;
 }
 

@@ -9,6 +9,7 @@
 #include "canopy/mapping/scan_inserter.h"
 #include "canopy/mission/stepping.h"
 #include "canopy/motion/arm_planner.h"
+#include "canopy/evaluation/truth_voxels.h"
 #include "canopy/motion/collision.h"
 #include "canopy/motion/execution.h"
 #include "canopy/motion/reachability.h"
@@ -86,7 +87,7 @@ struct Mission::Impl {
   int current_stop = 0;
   int current_attempt = 0;
   std::string caption_text;
-  mapping::MapMetrics last_metrics;
+  evaluation::MapMetrics last_metrics;
 
   static mapping::SemanticMapParams map_params(const Settings& s) { return s.mapping.map; }
   static perception::ExtractorParams extractor_params(const Settings& s, std::uint64_t seed) {
@@ -103,7 +104,7 @@ struct Mission::Impl {
         map_checker(model, s.motion.collision, map_env), planner(map_checker, s.motion.planner, s.motion.trajectory),
         truth_checker(model, s.motion.collision,
                       motion::CollisionEnvironment::from_voxels(
-                          motion::world_occupied_voxels(w, s.mission.record.truth_voxel_m), s.mission.record.truth_voxel_m)),
+                          evaluation::world_occupied_voxels(w, s.mission.record.truth_voxel_m), s.mission.record.truth_voxel_m)),
         map(map_params(s), w.spec.classes), inserter(map), extractor(extractor_params(s, o.seed), w.spec.classes),
         stepper(sim, callbacks.video_period_s, video_tick(), callbacks.stop_requested),
         stops_x(stop_positions(s.mission.stops, w.spec)) {
@@ -289,7 +290,7 @@ struct Mission::Impl {
     view_planner->taken(frame.T_world_camera);
     if (settings.mission.record.metrics_every_view) {
       ScopedPhase phase_time(rec.times, kEvaluation);
-      last_metrics = mapping::evaluate_map(map, world.truth, settings.mapping.metrics);
+      last_metrics = evaluation::evaluate_map(map, world.truth, settings.metrics);
     }
     close_record(rec, "", "camera within tolerance");
     if (callbacks.on_view) callbacks.on_view(rec, frame, sim);
@@ -448,7 +449,7 @@ struct Mission::Impl {
       result.end_reason = "interrupted";
       if (!result.stops.empty() && result.stops.back().end_reason.empty()) result.stops.back().end_reason = "interrupted";
     }
-    result.final_metrics = mapping::evaluate_map(map, world.truth, settings.mapping.metrics);
+    result.final_metrics = evaluation::evaluate_map(map, world.truth, settings.metrics);
     result.sim_time_s = sim.time();
     result.wall_time_s = elapsed_.seconds();
     return result;

@@ -53,7 +53,12 @@ Settings read_bundle(YamlReader& y, const std::string& dir, const RobotConfig& r
       c.finish();
     }
   };
-  component("mapping", [&](YamlReader& c) { s.mapping = mapping::MappingConfig::from_yaml(c); });
+  component("mapping", [&](YamlReader& c) {
+    s.mapping = mapping::MappingConfig::from_yaml(c);
+    YamlReader me = c.child("metrics");
+    s.metrics = evaluation::MetricsParams::from_yaml(me);
+    me.finish();
+  });
   component("nbv", [&](YamlReader& c) { s.nbv = nbv::NbvParams::from_yaml(c); });
   component("motion", [&](YamlReader& c) { s.motion = motion::MotionConfig::from_yaml(c, robot); });
   component("mission", [&](YamlReader& c) { s.mission = MissionParams::from_yaml(c); });
@@ -86,6 +91,7 @@ Settings Settings::load_string(const std::string& text, const std::string& name,
 YAML::Node Settings::to_yaml() const {
   YAML::Node n;
   n["mapping"] = mapping.to_yaml();
+  n["mapping"]["metrics"] = metrics.to_yaml();
   n["nbv"] = nbv.to_yaml();
   n["motion"] = json_to_yaml(motion.to_json());
   n["mission"] = mission.to_yaml();

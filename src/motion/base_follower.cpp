@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "canopy/common/error.h"
-#include "canopy/common/robot_config.h"
+#include "canopy/robot/robot_config.h"
 #include "canopy/common/yaml_reader.h"
 
 namespace canopy::motion {

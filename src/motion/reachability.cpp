@@ -3,13 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <unordered_set>
 
 #include "canopy/common/camera.h"
 #include "canopy/common/error.h"
 #include "canopy/common/io.h"
 #include "canopy/common/view_sphere.h"
-#include "canopy/world/world.h"
 
 namespace canopy::motion {
 
@@ -123,50 +121,6 @@ ReachReport evaluate_reachability(const ArmPlanner& planner, const WorkspaceFilt
     }
   }
   return report;
-}
-
-std::vector<Vec3> world_occupied_voxels(const world::World& world, double res) {
-  if (!(std::isfinite(res) && res > 0.0)) throw InputError("world voxels: resolution must be > 0");
-  // Keys packed as 21 bits per axis (about +-15 km at 1.5 cm).
-  auto key = [res](const Vec3& p) {
-    const auto k = (p / res).array().floor().cast<std::int64_t>() + (std::int64_t{1} << 20);
-    return (static_cast<std::uint64_t>(k.x()) << 42) | (static_cast<std::uint64_t>(k.y()) << 21) |
-           static_cast<std::uint64_t>(k.z());
-  };
-  std::unordered_set<std::uint64_t> keys;
-  const double step = 0.5 * res;  // Samples closer than a voxel: no voxel is skipped.
-  for (const auto& plant : world.plants) {
-    for (const auto& part : plant.parts) {
-      const auto& v = part.mesh.vertices;
-      for (const auto& f : part.mesh.faces) {
-        const Vec3 &a = v[static_cast<size_t>(f[0])], &b = v[static_cast<size_t>(f[1])], &c = v[static_cast<size_t>(f[2])];
-        const double longest = std::max({(b - a).norm(), (c - a).norm(), (c - b).norm()});
-        const int n = std::max(1, static_cast<int>(std::ceil(longest / step)));
-        for (int i = 0; i <= n; ++i)
-          for (int j = 0; j <= n - i; ++j) keys.insert(key(a + (b - a) * (double(i) / n) + (c - a) * (double(j) / n)));
-      }
-    }
-  }
-  std::vector<Vec3> centres;
-  centres.reserve(keys.size());
-  const std::uint64_t mask = (std::uint64_t{1} << 21) - 1;
-  for (std::uint64_t k : keys) {
-    const auto unpack = [&](int shift) {
-      return static_cast<double>(static_cast<std::int64_t>((k >> shift) & mask) - (std::int64_t{1} << 20));
-    };
-    centres.emplace_back((unpack(42) + 0.5) * res, (unpack(21) + 0.5) * res, (unpack(0) + 0.5) * res);
-  }
-  // Deterministic order (the hash set's is not).
-  std::sort(centres.begin(), centres.end(), [](const Vec3& p, const Vec3& q) {
-    return std::lexicographical_compare(p.data(), p.data() + 3, q.data(), q.data() + 3);
-  });
-  return centres;
-}
-
-std::vector<Vec3> world_fruit_centres(const world::World& world) {
-  std::vector<Vec3> c;
-  for (const auto& f : world.truth.fruits) c.push_back(f.center);
-  return c;
 }
 
 }  // namespace canopy::motion

@@ -7,7 +7,7 @@
 #include <set>
 
 #include "canopy/common/error.h"
-#include "canopy/common/robot_config.h"
+#include "canopy/robot/robot_config.h"
 #include "canopy/common/yaml_reader.h"
 #include "canopy/world/plant_import.h"
 

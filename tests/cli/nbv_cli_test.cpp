@@ -11,7 +11,7 @@
 #include "canopy/mapping/map_io.h"
 #include "canopy/mapping/mapping_config.h"
 #include "canopy/mapping/scan_inserter.h"
-#include "canopy/mapping/views.h"
+#include "canopy/evaluation/view_presets.h"
 #include "canopy/mission/mission.h"
 #include "canopy/motion/view_reach.h"
 #include "canopy/perception/semantic_extractor.h"
@@ -36,7 +36,7 @@ struct SavedMap {
     map = std::make_unique<mapping::SemanticOcTree>(cfg.map, world.spec.classes);
     mapping::ScanInserter inserter(*map);
     perception::SemanticExtractor extractor(cfg.extractor, world.spec.classes);
-    for (const Pose& T : mapping::aisle_views(world, 4)) inserter.insert(extractor.extract(renderer.render_free_camera(T)));
+    for (const Pose& T : evaluation::aisle_views(world, 4)) inserter.insert(extractor.extract(renderer.render_free_camera(T)));
     mapping::save_map(*map, (dir / "map.csm").string());
   }
   ~SavedMap() { fs::remove_all(dir); }

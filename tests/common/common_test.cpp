@@ -7,7 +7,7 @@
 #include "canopy/common/classes.h"
 #include "canopy/common/error.h"
 #include "canopy/common/io.h"
-#include "canopy/common/robot_config.h"
+#include "canopy/robot/robot_config.h"
 #include "canopy/common/yaml_reader.h"
 
 namespace canopy {

@@ -6,7 +6,7 @@
 #include <random>
 
 #include "canopy/common/error.h"
-#include "canopy/common/robot_config.h"
+#include "canopy/robot/robot_config.h"
 #include "canopy/common/yaml_reader.h"
 
 namespace canopy::motion {

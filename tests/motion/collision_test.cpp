@@ -1,4 +1,5 @@
 #include "canopy/motion/collision.h"
+#include "canopy/evaluation/truth_voxels.h"
 
 #include <gtest/gtest.h>
 
@@ -9,7 +10,7 @@
 #include <thread>
 
 #include "canopy/common/error.h"
-#include "canopy/common/robot_config.h"
+#include "canopy/robot/robot_config.h"
 #include "canopy/motion/reachability.h"
 #include "canopy/world/world.h"
 
@@ -157,7 +158,7 @@ TEST(Collision, BaseInAPlantRowCollidesWithTheTruePlants) {
   const world::World w = world::generate_world(spec);
   const double voxel_m = 0.02;
   const CollisionChecker checker(model(), CollisionParams{},
-                                 CollisionEnvironment::from_voxels(motion::world_occupied_voxels(w, voxel_m), voxel_m));
+                                 CollisionEnvironment::from_voxels(evaluation::world_occupied_voxels(w, voxel_m), voxel_m));
   ASSERT_GT(checker.environment()->voxel_count(), 1000u);
   for (const world::Plant& p : w.plants) {
     EXPECT_TRUE(checker.base_in_collision({p.base_position.x(), p.base_position.y(), 0.0})) << "plant " << p.index;

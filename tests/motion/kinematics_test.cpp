@@ -3,7 +3,7 @@
 #include <cmath>
 #include <random>
 
-#include "canopy/common/robot_config.h"
+#include "canopy/robot/robot_config.h"
 #include "canopy/motion/robot_model.h"
 #include "canopy/motion/ur_kinematics.h"
 

@@ -3,7 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "canopy/common/error.h"
-#include "canopy/common/robot_config.h"
+#include "canopy/robot/robot_config.h"
 
 namespace canopy::motion {
 namespace {

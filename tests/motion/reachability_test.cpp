@@ -1,11 +1,12 @@
 #include "canopy/motion/reachability.h"
+#include "canopy/evaluation/truth_voxels.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 #include "canopy/common/error.h"
-#include "canopy/common/robot_config.h"
+#include "canopy/robot/robot_config.h"
 #include "canopy/world/world.h"
 
 namespace canopy::motion {
@@ -38,9 +39,9 @@ TEST(Reachability, WorldVoxelsCoverEveryMeshVertex) {
   spec.rows.plants_per_row = 1;
   const world::World w = world::generate_world(spec);
   const double res = 0.015;
-  const std::vector<Vec3> vox = world_occupied_voxels(w, res);
+  const std::vector<Vec3> vox = evaluation::world_occupied_voxels(w, res);
   ASSERT_GT(vox.size(), 500u);
-  EXPECT_EQ(vox, world_occupied_voxels(w, res));  // deterministic
+  EXPECT_EQ(vox, evaluation::world_occupied_voxels(w, res));  // deterministic
   // Every vertex lies in a listed voxel: nearest centre within half a voxel per axis.
   const auto env = CollisionEnvironment::from_voxels(vox, res);
   EXPECT_EQ(env->voxel_count(), vox.size());
@@ -60,7 +61,7 @@ TEST(Reachability, WorldVoxelsCoverEveryMeshVertex) {
   }
   EXPECT_GT(checked, 100u);
   EXPECT_EQ(missing, 0u);
-  EXPECT_EQ(world_fruit_centres(w).size(), w.truth.fruits.size());
+  EXPECT_EQ(evaluation::world_fruit_centres(w).size(), w.truth.fruits.size());
 }
 
 // Regression: reachability of a fixed view grid (fruits of the default world, 8 azimuths x
@@ -79,7 +80,7 @@ TEST(Reachability, DefaultWorldFractionsArePinned) {
   const RobotConfig robot = default_robot_config();
   const RobotModel model = RobotModel::load(robot);
   const CollisionChecker checker(model, CollisionParams{},
-                                 CollisionEnvironment::from_voxels(world_occupied_voxels(w, 0.015), 0.015));
+                                 CollisionEnvironment::from_voxels(evaluation::world_occupied_voxels(w, 0.015), 0.015));
   const ArmPlanner planner(checker, PlannerParams{});
   ReachParams grid;
   grid.azimuths = 8;
@@ -91,7 +92,7 @@ TEST(Reachability, DefaultWorldFractionsArePinned) {
   };
   const double tolerance = 0.012;  // about four views of ~330
   for (const Pinned& p : pinned) {
-    const ReachReport r = evaluate_reachability(planner, nullptr, p.base, robot.home, world_fruit_centres(w), grid);
+    const ReachReport r = evaluate_reachability(planner, nullptr, p.base, robot.home, evaluation::world_fruit_centres(w), grid);
     SCOPED_TRACE(r.to_json(false).dump());
     EXPECT_GT(r.targets, 10);
     EXPECT_NEAR(r.fraction_ik(), p.ik, tolerance);
@@ -101,7 +102,7 @@ TEST(Reachability, DefaultWorldFractionsArePinned) {
     EXPECT_GE(r.count_planned(), r.count_collision_free() * 9 / 10);
   }
   // Far from every plant nothing is in reach.
-  const ReachReport far = evaluate_reachability(planner, nullptr, {10.0, 0.0, 0.0}, robot.home, world_fruit_centres(w), grid);
+  const ReachReport far = evaluate_reachability(planner, nullptr, {10.0, 0.0, 0.0}, robot.home, evaluation::world_fruit_centres(w), grid);
   EXPECT_EQ(far.samples.size(), 0u);
 }
 

@@ -1,7 +1,7 @@
 #include <gtest/gtest.h>
 
 #include "canopy/common/error.h"
-#include "canopy/common/robot_config.h"
+#include "canopy/robot/robot_config.h"
 #include "canopy/nbv/nbv_params.h"
 
 using namespace canopy;

@@ -3,8 +3,8 @@
 
 #include <gtest/gtest.h>
 
-#include "canopy/common/robot_config.h"
-#include "canopy/mapping/views.h"
+#include "canopy/robot/robot_config.h"
+#include "canopy/evaluation/view_presets.h"
 #include "canopy/perception/color_segmentation.h"
 #include "canopy/sim/renderer.h"
 #include "canopy/world/world.h"
@@ -19,7 +19,7 @@ TEST(ColorVsRender, AgreesWithTrueLabelsOnFruitAndLeafPixels) {
   const int fruit = spec.classes.index_of("fruit"), leaf = spec.classes.index_of("leaf");
   std::size_t total = 0, agree = 0, fruit_total = 0, fruit_agree = 0;
   // Aisle views of both rows: every plant, as the robot sees them.
-  for (const Pose& T : mapping::aisle_views(world, 4)) {
+  for (const Pose& T : evaluation::aisle_views(world, 4)) {
     const LabelledFrame f = renderer.render_free_camera(T);
     const Image<std::uint8_t> seg = perception::segment_by_color(f.rgb, perception::ColorSegmentationParams{}, spec.classes);
     for (std::size_t i = 0; i < seg.data.size(); ++i) {

@@ -7,7 +7,7 @@
 #include <filesystem>
 #include <map>
 
-#include "canopy/common/robot_config.h"
+#include "canopy/robot/robot_config.h"
 #include "canopy/common/yaml_reader.h"
 #include "canopy/sim/renderer.h"
 #include "canopy/world/plant_import.h"

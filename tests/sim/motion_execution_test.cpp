@@ -8,6 +8,7 @@
 #include <random>
 
 #include "canopy/motion/execution.h"
+#include "canopy/evaluation/truth_voxels.h"
 #include "canopy/motion/motion_config.h"
 #include "canopy/motion/reachability.h"
 #include "canopy/motion/tour.h"
@@ -56,7 +57,7 @@ TEST(MotionSim, PlannedMovesReachTheirViewsWithoutContacts) {
   const world::World world = world::generate_world(spec);
   const RobotConfig robot = default_robot_config();
   const MotionConfig cfg = MotionConfig::defaults(robot);
-  const std::vector<Vec3> voxels = world_occupied_voxels(world, 0.015);
+  const std::vector<Vec3> voxels = evaluation::world_occupied_voxels(world, 0.015);
   const auto env = CollisionEnvironment::from_voxels(voxels, 0.015);
   const CollisionChecker checker(model(), cfg.collision, env);
   CollisionParams exact = cfg.collision;
@@ -70,7 +71,7 @@ TEST(MotionSim, PlannedMovesReachTheirViewsWithoutContacts) {
   grid.polar_angles = 3;
   grid.plan = false;
   const ReachReport reach =
-      evaluate_reachability(planner, nullptr, base, robot.home, world_fruit_centres(world), grid);
+      evaluate_reachability(planner, nullptr, base, robot.home, evaluation::world_fruit_centres(world), grid);
   std::vector<Pose> views;
   for (const auto& s : reach.samples)
     if (s.collision_free && views.size() < 4) views.push_back(s.T_world_camera);

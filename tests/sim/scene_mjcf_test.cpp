@@ -6,7 +6,7 @@
 #include <sstream>
 #include <string>
 
-#include "canopy/common/robot_config.h"
+#include "canopy/robot/robot_config.h"
 #include "canopy/world/world.h"
 
 namespace canopy::sim {

@@ -6,7 +6,7 @@
 #include <fstream>
 
 #include "canopy/common/error.h"
-#include "canopy/common/robot_config.h"
+#include "canopy/robot/robot_config.h"
 #include "canopy/world/world.h"
 
 namespace canopy::world {

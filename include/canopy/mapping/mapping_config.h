@@ -3,21 +3,18 @@
 
 #include <string>
 
-#include "canopy/mapping/map_metrics.h"
 #include "canopy/mapping/map_params.h"
 #include "canopy/perception/semantic_extractor.h"
 
 namespace canopy::mapping {
 
-/// Sections `map`, `extractor` and `metrics`; absent keys keep their defaults.
+/// Sections `map` and `extractor`; absent keys keep their defaults. (The bundle's mapping
+/// section also holds `metrics`, the evaluation's settings: mission/settings.h.)
 struct MappingConfig {
   SemanticMapParams map;
   perception::ExtractorParams extractor;
-  MetricsParams metrics;
 
-  /// Reads a config file; throws InputError naming the file and key (unknown keys too).
-  static MappingConfig load(const std::string& path);
-  /// Reads one mapping with those sections (unknown keys rejected).
+  /// Reads those sections of one mapping (the caller rejects unknown keys with finish()).
   static MappingConfig from_yaml(YamlReader& y);
   YAML::Node to_yaml() const;
 };

@@ -23,7 +23,7 @@
 
 #include "canopy/common/frame.h"
 #include "canopy/common/timer.h"
-#include "canopy/mapping/map_metrics.h"
+#include "canopy/evaluation/map_metrics.h"
 #include "canopy/mapping/semantic_octree.h"
 #include "canopy/mission/settings.h"
 #include "canopy/motion/robot_model.h"
@@ -112,7 +112,7 @@ struct MissionResult {
   double sim_time_s = 0.0;
   double wall_time_s = 0.0;
   PhaseTimes times;              ///< mapping, nbv_planning, motion_planning, control, rendering, evaluation.
-  mapping::MapMetrics final_metrics;
+  evaluation::MapMetrics final_metrics;
   int unstable_faults = 0;
   std::map<std::string, int> failures;
   int successful_views() const;

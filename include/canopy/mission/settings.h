@@ -11,7 +11,8 @@
 
 #include <yaml-cpp/yaml.h>
 
-#include "canopy/common/robot_config.h"
+#include "canopy/robot/robot_config.h"
+#include "canopy/evaluation/map_metrics.h"
 #include "canopy/mapping/mapping_config.h"
 #include "canopy/mission/mission_params.h"
 #include "canopy/motion/motion_config.h"
@@ -21,6 +22,7 @@ namespace canopy::mission {
 
 struct Settings {
   mapping::MappingConfig mapping;
+  evaluation::MetricsParams metrics;  ///< Saved in the mapping section, key `metrics`.
   nbv::NbvParams nbv;
   motion::MotionConfig motion;
   MissionParams mission;

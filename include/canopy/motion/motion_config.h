@@ -7,7 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "canopy/common/robot_config.h"
+#include "canopy/robot/robot_config.h"
 #include "canopy/common/yaml_reader.h"
 #include "canopy/motion/arm_planner.h"
 #include "canopy/motion/base_follower.h"

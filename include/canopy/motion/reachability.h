@@ -3,8 +3,8 @@
 // spheres around target points, e.g. fruits, times viewing directions towards them) is
 // classified as IK-reachable, collision-free and planned. `canopy reach` reports it, and
 // regression tests pin the fractions so that a change that breaks reachability fails CI.
-// Also: the ground-truth occupancy of a generated world (its meshes voxelised), used as the
-// environment when no map exists yet and to count executed contacts with the plants.
+// The targets and the environment come from the caller (evaluation/truth_voxels.h gives the
+// ground truth's for `canopy reach`).
 
 #include <string>
 #include <vector>
@@ -14,10 +14,6 @@
 #include "canopy/common/types.h"
 #include "canopy/motion/arm_planner.h"
 #include "canopy/motion/workspace_filter.h"
-
-namespace canopy::world {
-struct World;
-}
 
 namespace canopy::motion {
 
@@ -72,11 +68,5 @@ struct ReachReport {
 ReachReport evaluate_reachability(const ArmPlanner& planner, const WorkspaceFilter* filter, const BasePose& base,
                                   const ArmConfig& start, const std::vector<Vec3>& targets,
                                   const ReachParams& params);
-
-/// Centres of the voxels (edge `resolution_m`, centres at (k + 1/2) * resolution) that the
-/// surfaces of every plant part of `world` pass through: ground-truth occupancy.
-std::vector<Vec3> world_occupied_voxels(const world::World& world, double resolution_m);
-/// Fruit centres of `world` (ground truth), in instance order.
-std::vector<Vec3> world_fruit_centres(const world::World& world);
 
 }  // namespace canopy::motion

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "canopy/common/robot_config.h"
+#include "canopy/robot/robot_config.h"
 #include "canopy/common/types.h"
 
 namespace canopy {

@@ -7,7 +7,7 @@
 
 #include <array>
 
-#include "canopy/common/robot_config.h"
+#include "canopy/robot/robot_config.h"
 #include "canopy/common/types.h"
 
 namespace canopy::robot {

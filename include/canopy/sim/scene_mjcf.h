@@ -7,7 +7,7 @@
 #include <string>
 
 #include "canopy/common/frame.h"
-#include "canopy/common/robot_config.h"
+#include "canopy/robot/robot_config.h"
 #include "canopy/robot/robot_description.h"
 #include "canopy/world/world.h"
 

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "canopy/common/robot_config.h"
+#include "canopy/robot/robot_config.h"
 #include "canopy/common/types.h"
 #include "canopy/sim/scene_mjcf.h"
 

@@ -1,0 +1,107 @@
+#pragma once
+// Map quality against the world's ground truth (paper Experiments; FACTS.md section 8).
+// Only target (ripe) fruits count. Two evaluation rules, both always computed:
+//  - paper: a ground-truth surface point is covered when its nearest fruit voxel centre
+//    (occupied, most likely class = target) lies within delta S; the fruit entropy is the sum
+//    of H over the voxels whose centres lie in a cube of side L around the fruit's centre,
+//    H over the map's entropy categories, unknown voxels at SSMI's unseen prior.
+//  - prototype (the released code's): a fruit voxel must also have target log-odds above
+//    prototype_min_logodds (1.0: one observation is not enough); the entropy is summed over
+//    voxels whose centres lie within prototype_entropy_radius_m (0.05 m) of the fruit's
+//    centroid (the mean of its surface points), leaving out known voxels whose likeliest
+//    category is free, with H over the released code's 5-entry vector (prototype categories)
+//    whatever the map's setting.
+// `rule` picks which of the two fills MapMetrics::coverage / total_entropy (reports default
+// to prototype: it produced the paper's figures); both are in to_json(). Nearest voxels are
+// found with a nanoflann KD-tree over the voxel centres.
+
+#include <nlohmann/json.hpp>
+
+#include <string>
+#include <vector>
+
+#include "canopy/common/yaml_reader.h"
+#include "canopy/mapping/semantic_octree.h"
+#include "canopy/world/ground_truth.h"
+
+namespace canopy::evaluation {
+
+using mapping::SemanticOcTree;
+using mapping::VoxelCounts;
+
+/// Which evaluation rule the headline figures follow.
+enum class EvaluationRule { kPrototype, kPaper };
+inline constexpr EnumName<EvaluationRule> kEvaluationRuleNames[] = {{EvaluationRule::kPrototype, "prototype"},
+                                                                    {EvaluationRule::kPaper, "paper"}};
+/// "prototype" / "paper".
+std::string to_string(EvaluationRule r);
+
+/// Evaluation settings (paper Table I, FACTS.md section 8).
+struct MetricsParams {
+  EvaluationRule rule = EvaluationRule::kPrototype;  ///< Rule of MapMetrics::coverage / total_entropy.
+  double coverage_distance_m = 0.015;  ///< delta S: a surface point is covered within this.
+  double entropy_box_m = 0.1;          ///< L: side of the cube around each fruit's centre (paper).
+  double prototype_min_logodds = 1.0;  ///< Prototype: a fruit voxel needs target log-odds above this.
+  double prototype_entropy_radius_m = 0.05;  ///< Prototype: entropy sphere around each fruit's centroid.
+
+  static MetricsParams from_yaml(YamlReader& y);
+  YAML::Node to_yaml() const;
+  bool operator==(const MetricsParams& o) const {
+    return rule == o.rule && coverage_distance_m == o.coverage_distance_m && entropy_box_m == o.entropy_box_m &&
+           prototype_min_logodds == o.prototype_min_logodds &&
+           prototype_entropy_radius_m == o.prototype_entropy_radius_m;
+  }
+};
+
+/// Coverage and entropy of one fruit or one map under one rule.
+struct RuleScores {
+  std::size_t covered = 0;      ///< Surface points with a fruit voxel within delta S.
+  double coverage = 0.0;        ///< covered / points (0 without points).
+  double entropy = 0.0;         ///< [nats]
+  std::size_t voxels = 0;       ///< Voxels summed into the entropy.
+  std::size_t unknown = 0;      ///< Of which never observed.
+};
+
+/// Scores of one target fruit.
+struct FruitMetrics {
+  int instance_id = 0;
+  int plant_index = 0;
+  std::size_t points = 0;       ///< Ground-truth surface points.
+  double coverage = 0.0;        ///< Under MetricsParams::rule.
+  double entropy = 0.0;         ///< Under MetricsParams::rule [nats].
+  RuleScores paper, prototype;
+};
+
+/// Scores of a whole map (target fruits only).
+struct MapMetrics {
+  EvaluationRule rule = EvaluationRule::kPrototype;
+  double coverage = 0.0;        ///< Covered points / all points over all target fruits, under `rule`.
+  double total_entropy = 0.0;   ///< Sum of the target fruits' entropies under `rule` [nats].
+  std::size_t points = 0;
+  RuleScores paper, prototype;  ///< Both rules over the whole map.
+  std::size_t fruit_voxels_paper = 0;      ///< Voxels in the paper rule's coverage KD-tree.
+  std::size_t fruit_voxels_prototype = 0;  ///< Of which pass the prototype's log-odds test.
+  std::size_t non_target_fruits = 0;       ///< Unripe fruits left out.
+  std::vector<FruitMetrics> fruits;
+  VoxelCounts counts;
+
+  nlohmann::json to_json() const;
+};
+
+/// Centres of all target-class voxels (pruned blocks expanded), in leaf order.
+std::vector<Vec3> class_voxel_centers(const SemanticOcTree& map, int class_index);
+
+/// Scores `map` against `truth` (the map's target class is the fruit class).
+MapMetrics evaluate_map(const SemanticOcTree& map, const world::GroundTruth& truth, const MetricsParams& params);
+
+/// Entropy sum over the voxels whose centres lie in the axis-aligned box [lo, hi]
+/// (unknown voxels at the unseen entropy); counts go to *voxels and *unknown when given.
+double box_entropy(const SemanticOcTree& map, const Vec3& lo, const Vec3& hi, std::size_t* voxels = nullptr,
+                   std::size_t* unknown = nullptr);
+
+/// The prototype's fruit entropy: voxels whose centres lie within `radius` of `center`, known
+/// voxels whose likeliest category is free left out, H over the prototype categories.
+double prototype_sphere_entropy(const SemanticOcTree& map, const Vec3& center, double radius,
+                                std::size_t* voxels = nullptr, std::size_t* unknown = nullptr);
+
+}  // namespace canopy::evaluation

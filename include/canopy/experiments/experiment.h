@@ -1,0 +1,126 @@
+#pragma once
+// Experiments: a sweep of missions over methods x segmentation noise P_gt x seeds (the paper's
+// Fig. 3 and 4: 3 methods x P_gt {1.0, 0.7} x 10 seeds = 60 missions). An experiment file
+// (experiments/*.yaml, strict keys) names a world, a settings bundle with overrides, the
+// methods, the P_gt values and the seeds. Each (method, P_gt, seed) is a trial, one mission,
+// with a stable id made of those three ("ours_pgt0.7_seed3").
+//
+// An experiment folder holds experiment.json (the experiment's name and trial list, which
+// `canopy report` uses to list missing trials) and trials/<id>/, one folder per finished
+// trial, published by a rename so that it is either complete or absent:
+//   trials/<id>/trial.json    the trial's identity (method, P_gt, seed, world, settings),
+//                             status ok|failed, the failure message, wall time, runner;
+//   trials/<id>/world.yaml, settings.yaml   what the mission was given;
+//   trials/<id>/mission/      the mission's own folder (views.csv, timing.csv, summary.json, ...);
+//   trials/<id>/log.txt       the mission's standard output and error.
+// A trial runs as a child process (`canopy mission`) with a timeout, so a crash or a hang is
+// recorded as that trial's failure and the sweep goes on. Trials in flight live in
+// trials/<id>.partial/ and are ignored by the report.
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "canopy/mission/settings.h"
+#include "canopy/world/world_spec.h"
+
+namespace canopy::experiments {
+
+/// One method of an experiment: a view planner by name, with its gain and ray set.
+struct ExperimentMethod {
+  std::string label;             ///< Name in trial ids and plots; unique; [A-Za-z0-9-]+.
+  std::string method = "ours";   ///< nbv::view_planner_registry() name.
+  std::string gain = "osamcep";
+  std::string rays = "ours";
+};
+
+/// One mission of an experiment.
+struct TrialSpec {
+  std::string id;                ///< "<label>_pgt<P_gt>_seed<seed>", stable.
+  ExperimentMethod method;
+  double p_gt = 1.0;
+  std::uint64_t seed = 1;
+  nlohmann::json to_json() const;  ///< {id, label, method, gain, rays, p_gt, seed}.
+  static TrialSpec from_json(const nlohmann::json& j, const std::string& where);
+};
+
+/// The id of a (method label, P_gt, seed): P_gt printed with up to 6 significant digits.
+std::string trial_id(const std::string& label, double p_gt, std::uint64_t seed);
+
+/// A parsed experiment file.
+struct Experiment {
+  std::string name;
+  std::string source_file;
+  std::string world_file;        ///< Resolved path of the world file.
+  world::WorldSpec world;
+  mission::Settings settings;             ///< The bundle with the file's overrides (P_gt set per trial).
+  std::vector<ExperimentMethod> methods;
+  std::vector<double> p_gt;
+  std::vector<std::uint64_t> seeds;
+  double trial_timeout_s = 3600.0;  ///< Wall time after which a trial is killed and failed.
+
+  /// Loads an experiment file. Relative paths (world, settings) are read from the file's
+  /// folder first, then from the source tree. Throws InputError naming file, key and value
+  /// for unknown keys, repeated labels or values, unknown methods, gains or ray sets, P_gt
+  /// outside [0, 1], bad overrides, ...
+  static Experiment load(const std::string& path, const RobotConfig& robot);
+  /// The same from text; `name` stands in for the file and relative paths are read from `dir`.
+  static Experiment load_string(const std::string& text, const std::string& name, const std::string& dir,
+                                const RobotConfig& robot);
+
+  /// Every trial, seed-major (seed, then P_gt, then method), so any prefix or shard holds a
+  /// mix of methods.
+  std::vector<TrialSpec> trials() const;
+  /// The settings bundle of a trial (the experiment's, with the trial's P_gt).
+  mission::Settings trial_settings(const TrialSpec& trial) const;
+  /// What identifies a trial's results: its spec, the resolved world and the whole settings
+  /// bundle (saved in trial.json; --resume compares it).
+  nlohmann::json trial_identity(const TrialSpec& trial) const;
+  /// experiment.json: {"name", "trials": [TrialSpec...]}.
+  nlohmann::json manifest() const;
+};
+
+/// Parses "i/n" (0 <= i < n); throws InputError naming `option`.
+std::pair<int, int> parse_shard(const std::string& text, const std::string& option = "--shard");
+/// Trials of shard i of n: the k-th trial of `trials` belongs to shard k mod n, so the n
+/// shards are disjoint and together hold every trial once.
+std::vector<TrialSpec> shard_trials(const std::vector<TrialSpec>& trials, int index, int count);
+
+/// The first setting in which two trial identities differ, as "path: 'a' vs 'b'"
+/// (e.g. "settings.mission.loop.views_per_stop: '12' vs '2'"); "" when equal.
+std::string first_difference(const nlohmann::json& saved, const nlohmann::json& expected);
+
+/// How run_experiment runs trials.
+struct ExperimentRunOptions {
+  std::vector<std::string> mission_command;  ///< The program and leading arguments of a mission: {canopy, "mission"}.
+  int jobs = 1;                  ///< Trials at once (child processes).
+  int shard_index = 0, shard_count = 1;
+  bool resume = false;           ///< Add to an existing experiment folder, skipping complete trials.
+  std::string runner;            ///< Free text saved in trial.json (host, SLURM job), not compared.
+  std::function<void(const std::string& line)> progress;
+  std::function<bool()> stop_requested;  ///< Polled; true kills running trials (left .partial) and starts no more.
+};
+
+/// What a run did.
+struct ExperimentRunSummary {
+  int total = 0;                 ///< Trials of the experiment.
+  int in_shard = 0;              ///< Trials of this shard.
+  int skipped = 0;               ///< Complete already (resume).
+  int ok = 0, failed = 0;        ///< Run now.
+  bool interrupted = false;      ///< Stopped by stop_requested; the unfinished trials are left .partial.
+  double wall_time_s = 0.0;
+};
+
+/// Runs this shard's trials into `out_dir` (see the file comment). Without `resume`, `out_dir`
+/// must not hold an experiment yet; with it, the folder's experiment.json must list the same
+/// trials and every complete trial's saved identity must equal the experiment's (else
+/// InputError naming the trial and the first differing setting); failed trials and .partial
+/// folders are run again. Several shards may run into one folder at once (a shared
+/// filesystem): each trial is written only by its own shard.
+ExperimentRunSummary run_experiment(const Experiment& experiment, const std::string& out_dir,
+                                    const ExperimentRunOptions& options);
+
+}  // namespace canopy::experiments

@@ -1,0 +1,69 @@
+#pragma once
+// `canopy report`: merges the trial folders of any number of experiment folders (shards,
+// machines) and aggregates them into the paper's Fig. 3 curves, Fig. 4 run-time split and
+// its headline findings, each with mean, standard deviation and the number of trials.
+//
+// Merging: a trial is known by its id. The same id in two folders with the same results
+// (status and views.csv, which is byte-identical for a seed) is kept once; with different
+// results it is an error. Folders left `.partial`, or without a readable trial.json, are
+// ignored and listed. Trials the experiments' experiment.json files expect but no folder
+// holds are listed as missing.
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "canopy/experiments/experiment.h"
+
+namespace canopy::experiments {
+
+/// One finished trial, read back from its folder.
+struct TrialResult {
+  TrialSpec spec;
+  std::string status;                    ///< "ok" or "failed".
+  std::string message;                   ///< Why it failed.
+  std::string folder;                    ///< Where it was read from.
+  std::vector<double> coverage, entropy; ///< After each successful view (index v-1).
+  std::map<std::string, double> phase_s; ///< Wall time by mission phase.
+  double wall_s = 0.0, sim_s = 0.0;
+  int stops = 0, views_ok = 0, views_attempted = 0;
+  std::map<std::string, int> failures;   ///< Failed view attempts by cause.
+  std::string fingerprint;               ///< What must agree between two copies of the trial.
+};
+
+/// A folder that was ignored.
+struct IncompleteFolder {
+  std::string path, reason;
+};
+
+/// The trials of several experiment folders, merged.
+struct MergedTrials {
+  std::vector<std::string> names;          ///< Experiment names.
+  std::vector<TrialSpec> expected;         ///< Every trial the experiments list, in order.
+  std::vector<TrialResult> trials;         ///< Present trials (ok or failed), in `expected` order.
+  std::vector<std::string> missing;        ///< Expected ids no folder holds.
+  std::vector<IncompleteFolder> incomplete;
+};
+
+/// Reads and merges experiment folders. Throws InputError for a folder that is not an
+/// experiment folder, for a trial present twice with different results (naming the trial
+/// and both folders), or for two experiments that give one id different settings.
+MergedTrials merge_experiment_folders(const std::vector<std::string>& dirs);
+
+/// The report's files.
+struct ExperimentReport {
+  std::string curves_csv;   ///< method,label,p_gt,view,trials,sc_mean,sc_std,entropy_mean,entropy_std
+  std::string runtime_csv;  ///< per method and P_gt: trials and mean/std of each Fig. 4 phase, totals, views
+  std::string findings_md;  ///< The paper's headline findings beside ours.
+  nlohmann::json trials_json;  ///< Every trial: id, status, message, source folder; missing; incomplete.
+};
+
+/// Aggregates merged trials (only trials with status ok enter the statistics).
+ExperimentReport make_experiment_report(const MergedTrials& merged);
+
+/// The paper's Fig. 4 categories and the mission phases they sum.
+const std::vector<std::pair<std::string, std::vector<std::string>>>& runtime_categories();
+
+}  // namespace canopy::experiments

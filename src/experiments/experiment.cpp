@@ -1,0 +1,275 @@
+// Experiment files, trial ids, shards and trial identities (see canopy/experiments/experiment.h).
+
+#include "canopy/experiments/experiment.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <set>
+
+#include "canopy/common/error.h"
+#include "canopy/common/io.h"
+#include "canopy/common/yaml_reader.h"
+#include "canopy/nbv/gains.h"
+#include "canopy/nbv/ray_sets.h"
+#include "canopy/nbv/view_planner.h"
+
+namespace canopy::experiments {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// A relative path from the experiment file's folder, else from the source tree.
+std::string resolve(const std::string& path, const std::string& dir) {
+  if (fs::path(path).is_absolute()) return path;
+  const fs::path near = fs::path(dir) / path;
+  if (fs::exists(near)) return fs::absolute(near).lexically_normal().string();
+  return find_data_file(path);
+}
+
+// Deep merge of `over` into `base` (maps merge key by key; anything else replaces).
+YAML::Node merged(const YAML::Node& base, const YAML::Node& over) {
+  if (!over.IsMap() || !base.IsMap()) return YAML::Clone(over);
+  YAML::Node out = YAML::Clone(base);
+  for (const auto& kv : over) {
+    const std::string key = kv.first.as<std::string>();
+    out[key] = out[key] ? merged(out[key], kv.second) : YAML::Clone(kv.second);
+  }
+  return out;
+}
+
+// Method labels go into trial ids, where '_' separates the parts.
+bool valid_label(const std::string& s, const std::string& extra = "-") {
+  if (s.empty() || s.size() > 40) return false;
+  return std::all_of(s.begin(), s.end(), [&](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || extra.find(c) != std::string::npos;
+  });
+}
+
+std::vector<ExperimentMethod> read_methods(YamlReader& y) {
+  y.check(y.has("methods"), "methods", "is missing (a list of {label, method, gain, rays})");
+  const YAML::Node list = y.require<YAML::Node>("methods");
+  y.check(list.IsSequence() && list.size() > 0, "methods", "must be a non-empty list");
+  std::vector<ExperimentMethod> out;
+  std::set<std::string> labels;
+  const std::vector<std::string> planners = nbv::view_planner_names(), gains = nbv::gain_names();
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    YamlReader m(list[i], y.file(), "methods[" + std::to_string(i) + "]");
+    ExperimentMethod e;
+    e.method = m.require<std::string>("method");
+    m.check(std::find(planners.begin(), planners.end(), e.method) != planners.end(), "method",
+            "is not a view planner (" + [&] {
+              std::string s;
+              for (const auto& n : planners) s += (s.empty() ? "" : ", ") + n;
+              return s;
+            }() + ")");
+    e.gain = m.get<std::string>("gain", e.gain);
+    m.check(std::find(gains.begin(), gains.end(), e.gain) != gains.end(), "gain", "is not a gain");
+    e.rays = m.get<std::string>("rays", e.rays);
+    nbv::ray_set(e.rays, y.file() + ": " + m.key_path("rays"));
+    const bool defaults = e.gain == "osamcep" && e.rays == "ours";
+    e.label = m.get<std::string>("label", defaults || e.method != "ours" ? e.method : e.method + "-" + e.gain + "-" + e.rays);
+    m.check(valid_label(e.label), "label", "must be 1-40 letters, digits or '-'");
+    m.check(labels.insert(e.label).second, "label", "is used by two methods");
+    m.finish();
+    out.push_back(e);
+  }
+  return out;
+}
+
+std::vector<double> read_pgt(YamlReader& y) {
+  const std::vector<double> v = y.require<std::vector<double>>("p_gt");
+  y.check(!v.empty(), "p_gt", "must be a non-empty list");
+  for (double p : v) y.check(std::isfinite(p) && p >= 0.0 && p <= 1.0, "p_gt", "must hold probabilities in [0, 1]");
+  for (std::size_t i = 0; i < v.size(); ++i)
+    for (std::size_t j = 0; j < i; ++j)
+      y.check(trial_id("m", v[i], 1) != trial_id("m", v[j], 1), "p_gt", "repeats a value");
+  return v;
+}
+
+std::vector<std::uint64_t> read_seeds(YamlReader& y) {
+  y.check(y.has("seeds"), "seeds", "is missing (a list, or {first, count})");
+  const YAML::Node n = y.require<YAML::Node>("seeds");
+  std::vector<std::uint64_t> out;
+  if (n.IsMap()) {
+    YamlReader r = y.child("seeds");
+    const std::uint64_t first = r.require<std::uint64_t>("first");
+    const int count = get_count(r, "count", 0, 1, 100000);
+    r.finish();
+    for (int i = 0; i < count; ++i) out.push_back(first + static_cast<std::uint64_t>(i));
+  } else {
+    out = y.require<std::vector<std::uint64_t>>("seeds");
+    y.check(!out.empty(), "seeds", "must be a non-empty list");
+    std::set<std::uint64_t> seen(out.begin(), out.end());
+    y.check(seen.size() == out.size(), "seeds", "repeats a seed");
+  }
+  return out;
+}
+
+// Leaves of a JSON document as path -> text.
+void flatten(const nlohmann::json& j, const std::string& path, std::map<std::string, std::string>* out) {
+  if (j.is_object()) {
+    for (auto it = j.begin(); it != j.end(); ++it) flatten(it.value(), path.empty() ? it.key() : path + "." + it.key(), out);
+  } else if (j.is_array()) {
+    (*out)[path + ".size"] = std::to_string(j.size());
+    for (std::size_t i = 0; i < j.size(); ++i) flatten(j[i], path + "[" + std::to_string(i) + "]", out);
+  } else {
+    (*out)[path] = j.is_string() ? j.get<std::string>() : j.dump();
+  }
+}
+
+// Leaves of a YAML document as path -> scalar text (the settings bundle).
+void flatten(const YAML::Node& n, const std::string& path, std::map<std::string, std::string>* out) {
+  if (n.IsMap()) {
+    for (const auto& kv : n) flatten(kv.second, path + "." + kv.first.as<std::string>(), out);
+  } else if (n.IsSequence()) {
+    (*out)[path + ".size"] = std::to_string(n.size());
+    for (std::size_t i = 0; i < n.size(); ++i) flatten(n[i], path + "[" + std::to_string(i) + "]", out);
+  } else {
+    (*out)[path] = n.IsScalar() ? n.Scalar() : "";
+  }
+}
+
+std::map<std::string, std::string> leaves(const nlohmann::json& identity) {
+  std::map<std::string, std::string> out;
+  for (auto it = identity.begin(); it != identity.end(); ++it) {
+    if (it.key() == "settings" && it.value().is_string()) {
+      try {
+        flatten(YAML::Load(it.value().get<std::string>()), "settings", &out);
+      } catch (const YAML::Exception&) {
+        out["settings"] = "(unreadable YAML)";
+      }
+    } else {
+      flatten(it.value(), it.key(), &out);
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+nlohmann::json TrialSpec::to_json() const {
+  return {{"id", id},           {"label", method.label}, {"method", method.method}, {"gain", method.gain},
+          {"rays", method.rays}, {"p_gt", p_gt},          {"seed", seed}};
+}
+
+TrialSpec TrialSpec::from_json(const nlohmann::json& j, const std::string& where) {
+  try {
+    TrialSpec t;
+    t.id = j.at("id").get<std::string>();
+    t.method.label = j.at("label").get<std::string>();
+    t.method.method = j.at("method").get<std::string>();
+    t.method.gain = j.at("gain").get<std::string>();
+    t.method.rays = j.at("rays").get<std::string>();
+    t.p_gt = j.at("p_gt").get<double>();
+    t.seed = j.at("seed").get<std::uint64_t>();
+    if (t.id != trial_id(t.method.label, t.p_gt, t.seed)) throw InputError(where + ": trial id '" + t.id + "' does not match its method, P_gt and seed");
+    return t;
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(where + ": not a trial description (" + e.what() + ")");
+  }
+}
+
+std::string trial_id(const std::string& label, double p_gt, std::uint64_t seed) {
+  char b[64];
+  std::snprintf(b, sizeof b, "_pgt%.6g_seed", p_gt);
+  return label + b + std::to_string(seed);
+}
+
+Experiment Experiment::load(const std::string& path, const RobotConfig& robot) {
+  if (fs::is_directory(path)) throw InputError(path + ": is a folder, not an experiment file");
+  return load_string(read_file(path), path, fs::path(path).parent_path().string(), robot);
+}
+
+Experiment Experiment::load_string(const std::string& text, const std::string& name, const std::string& dir,
+                                   const RobotConfig& robot) {
+  YamlReader y = YamlReader::load_string(text, name);
+  Experiment e;
+  e.source_file = name;
+  e.name = y.require<std::string>("name");
+  y.check(valid_label(e.name, "-_."), "name", "must be 1-40 letters, digits, '-', '_' or '.'");
+  e.world_file = resolve(y.require<std::string>("world"), dir);
+  e.world = world::WorldSpec::load(e.world_file);
+  const std::string bundle = resolve(y.get<std::string>("settings", "configs/canopy.yaml"), dir);
+  const mission::Settings base = mission::Settings::load(bundle, robot);
+  if (y.has("overrides")) {
+    const YAML::Node over = y.require<YAML::Node>("overrides");
+    y.check(over.IsMap(), "overrides", "must be a mapping of settings sections (mapping, nbv, motion, mission)");
+    YAML::Emitter out;
+    out.SetDoublePrecision(17);
+    out << merged(base.to_yaml(), over);
+    e.settings = mission::Settings::load_string(out.c_str(), name + ": overrides", dir, robot);
+  } else {
+    e.settings = base;
+  }
+  e.methods = read_methods(y);
+  e.p_gt = read_pgt(y);
+  e.seeds = read_seeds(y);
+  e.trial_timeout_s = get_positive(y, "trial_timeout_s", e.trial_timeout_s);
+  y.finish();
+  return e;
+}
+
+std::vector<TrialSpec> Experiment::trials() const {
+  std::vector<TrialSpec> out;
+  for (std::uint64_t seed : seeds)
+    for (double p : p_gt)
+      for (const ExperimentMethod& m : methods) out.push_back({trial_id(m.label, p, seed), m, p, seed});
+  return out;
+}
+
+mission::Settings Experiment::trial_settings(const TrialSpec& trial) const {
+  mission::Settings s = settings;
+  s.mapping.extractor.p_gt = trial.p_gt;
+  return s;
+}
+
+nlohmann::json Experiment::trial_identity(const TrialSpec& trial) const {
+  nlohmann::json j = trial.to_json();
+  j["world"] = world.to_json();
+  j["settings"] = trial_settings(trial).to_yaml_text();
+  return j;
+}
+
+nlohmann::json Experiment::manifest() const {
+  nlohmann::json list = nlohmann::json::array();
+  for (const TrialSpec& t : trials()) list.push_back(t.to_json());
+  return {{"name", name}, {"trials", list}};
+}
+
+std::pair<int, int> parse_shard(const std::string& text, const std::string& option) {
+  int i = -1, n = -1;
+  char slash = 0, extra = 0;
+  if (std::sscanf(text.c_str(), "%d %c %d %c", &i, &slash, &n, &extra) != 3 || slash != '/' || n < 1 || i < 0 || i >= n ||
+      text.find_first_not_of("0123456789/") != std::string::npos)
+    throw InputError(option + ": '" + text + "' is not i/n with 0 <= i < n");
+  return {i, n};
+}
+
+std::vector<TrialSpec> shard_trials(const std::vector<TrialSpec>& trials, int index, int count) {
+  CANOPY_CHECK(count >= 1 && index >= 0 && index < count, "shard " << index << "/" << count);
+  std::vector<TrialSpec> out;
+  for (std::size_t k = 0; k < trials.size(); ++k)
+    if (static_cast<int>(k % static_cast<std::size_t>(count)) == index) out.push_back(trials[k]);
+  return out;
+}
+
+std::string first_difference(const nlohmann::json& saved, const nlohmann::json& expected) {
+  const auto a = leaves(saved), b = leaves(expected);
+  auto ia = a.begin();
+  auto ib = b.begin();
+  while (ia != a.end() || ib != b.end()) {
+    if (ib == b.end() || (ia != a.end() && ia->first < ib->first))
+      return ia->first + ": '" + ia->second + "' vs (absent)";
+    if (ia == a.end() || ib->first < ia->first) return ib->first + ": (absent) vs '" + ib->second + "'";
+    if (ia->second != ib->second) return ia->first + ": '" + ia->second + "' vs '" + ib->second + "'";
+    ++ia;
+    ++ib;
+  }
+  return "";
+}
+
+}  // namespace canopy::experiments

@@ -1,0 +1,254 @@
+// Running an experiment's trials as supervised child processes (canopy/experiments/experiment.h).
+
+#include <unistd.h>
+
+#include <atomic>
+#include <cstdio>
+#include <exception>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <mutex>
+#include <thread>
+
+#include "canopy/common/error.h"
+#include "canopy/common/io.h"
+#include "canopy/common/process.h"
+#include "canopy/common/timer.h"
+#include "canopy/experiments/experiment.h"
+
+namespace canopy::experiments {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr const char* kPartialSuffix = ".partial";
+
+nlohmann::json read_json(const fs::path& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path.string() + ": cannot be read");
+  try {
+    return nlohmann::json::parse(in);
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(path.string() + ": is not valid JSON (" + e.what() + ")");
+  }
+}
+
+// The last non-empty line of a log (the mission's error message, when it failed).
+std::string last_line(const fs::path& log) {
+  std::ifstream in(log);
+  std::string line, last;
+  while (std::getline(in, line))
+    if (line.find_first_not_of(" \t\r") != std::string::npos) last = line;
+  return last.size() > 300 ? last.substr(0, 300) + "..." : last;
+}
+
+// Prepares the experiment folder: a new one gets the marker and experiment.json; an existing
+// one (resume) must list the same trials.
+void prepare_folder(const Experiment& e, const fs::path& out, bool resume) {
+  StagedDir::check_writable(out.string());
+  if (!fs::exists(out / kOutputMarker)) {
+    // Shards may start at once in one folder: the folder appears with its marker in a single
+    // rename, so no shard ever sees it half made (a rename onto a folder someone else made
+    // first fails, and theirs is used).
+    const fs::path tmp = out.string() + ".new-" + std::to_string(::getpid()) + "-" +
+                         std::to_string(std::hash<std::thread::id>()(std::this_thread::get_id()) % 100000);
+    fs::remove_all(tmp);
+    fs::create_directories(tmp);
+    write_file_atomic((tmp / kOutputMarker).string(), "canopy experiment\n");
+    std::error_code ec;
+    fs::rename(tmp, out, ec);
+    fs::remove_all(tmp);
+    StagedDir::check_writable(out.string());
+    if (!fs::exists(out / kOutputMarker)) write_file_atomic((out / kOutputMarker).string(), "canopy experiment\n");
+  }
+  fs::create_directories(out / "trials");
+  const fs::path manifest = out / "experiment.json";
+  const nlohmann::json expected = e.manifest();
+  if (fs::exists(manifest)) {
+    if (!resume)
+      throw InputError("--out: " + out.string() + " holds an experiment already; --resume continues it, or choose another --out");
+    const nlohmann::json saved = read_json(manifest);
+    if (saved != expected) {
+      std::string diff = first_difference(saved, expected);
+      throw InputError("--resume: " + manifest.string() + " lists other trials than " + e.source_file + " (" + diff +
+                       "); use another --out");
+    }
+    return;
+  }
+  write_json_atomic(manifest.string(), expected);
+}
+
+enum class Outcome { kOk, kFailed, kInterrupted };
+
+struct TrialOutcome {
+  Outcome outcome = Outcome::kFailed;
+  std::string message;
+  double coverage = 0.0;
+  int views = 0;
+  double wall_s = 0.0;
+};
+
+// Runs one trial into trials/<id>.partial and publishes it as trials/<id> (unless interrupted).
+TrialOutcome run_trial(const Experiment& e, const TrialSpec& t, const fs::path& trials_dir,
+                       const ExperimentRunOptions& o) {
+  const fs::path final_dir = trials_dir / t.id;
+  const fs::path work = trials_dir / (t.id + kPartialSuffix);
+  fs::remove_all(work);  // what a killed run left
+  fs::create_directories(work);
+  write_file_atomic((work / "world.yaml").string(), e.world.to_json().dump(2) + "\n");
+  write_file_atomic((work / "settings.yaml").string(), e.trial_settings(t).to_yaml_text());
+  std::vector<std::string> argv = o.mission_command;
+  for (const std::string& a : {std::string("--world"), (work / "world.yaml").string(), std::string("--config"),
+                               (work / "settings.yaml").string(), std::string("--method"), t.method.method,
+                               std::string("--gain"), t.method.gain, std::string("--rays"), t.method.rays,
+                               std::string("--seed"), std::to_string(t.seed), std::string("--out"),
+                               (work / "mission").string(), std::string("--no-plots")})
+    argv.push_back(a);
+
+  ProcessOptions po;
+  po.output_file = (work / "log.txt").string();
+  po.timeout_s = e.trial_timeout_s;
+  po.cancel = o.stop_requested;
+  Stopwatch watch;
+  const ProcessStatus status = run_process(argv, po);
+  TrialOutcome r;
+  r.wall_s = watch.seconds();
+  const bool stopping = o.stop_requested && o.stop_requested();
+  if (status.cancelled || (stopping && !status.ok()) || (status.exit_code == 130 && !status.timed_out)) {
+    r.outcome = Outcome::kInterrupted;  // not the trial's fault: left .partial, run again on --resume
+    return r;
+  }
+  if (status.ok()) {
+    try {
+      const nlohmann::json s = read_json(work / "mission" / "summary.json");
+      if (s.at("complete").get<bool>()) {
+        r.outcome = Outcome::kOk;
+        r.coverage = s.at("final").at("fruit_coverage").get<double>();
+        r.views = s.at("views_successful").get<int>();
+      } else {
+        r.message = "the mission ended incomplete (" + s.value("end_reason", std::string("?")) + ")";
+      }
+    } catch (const std::exception& ex) {
+      r.message = std::string("the mission exited 0 but left no readable summary.json: ") + ex.what();
+    }
+  } else {
+    r.message = status.describe();
+    const std::string line = last_line(work / "log.txt");
+    if (!line.empty()) r.message += "; last output: " + line;
+  }
+  nlohmann::json record = {{"trial", e.trial_identity(t)},
+                           {"status", r.outcome == Outcome::kOk ? "ok" : "failed"},
+                           {"message", r.message},
+                           {"process", status.describe()},
+                           {"wall_time_s", r.wall_s},
+                           {"shard", std::to_string(o.shard_index) + "/" + std::to_string(o.shard_count)},
+                           {"runner", o.runner},
+                           {"files", {"world.yaml", "settings.yaml", "log.txt", "mission/"}}};
+  write_json_atomic((work / "trial.json").string(), record);
+  fs::remove_all(final_dir);  // a failed record being replaced
+  fs::rename(work, final_dir);
+  return r;
+}
+
+}  // namespace
+
+ExperimentRunSummary run_experiment(const Experiment& e, const std::string& out_dir, const ExperimentRunOptions& o) {
+  CANOPY_CHECK(!o.mission_command.empty(), "run_experiment: no mission command");
+  CANOPY_CHECK(o.jobs >= 1, "run_experiment: jobs " << o.jobs);
+  Stopwatch watch;
+  const std::vector<TrialSpec> all = e.trials();
+  const std::vector<TrialSpec> mine = shard_trials(all, o.shard_index, o.shard_count);
+  ExperimentRunSummary summary;
+  summary.total = static_cast<int>(all.size());
+  summary.in_shard = static_cast<int>(mine.size());
+  fs::path out = fs::path(out_dir).lexically_normal();
+  if (out.filename().empty()) out = out.parent_path();  // "runs/fig3/"
+  prepare_folder(e, out, o.resume);
+  const fs::path trials_dir = out / "trials";
+
+  // Check every complete trial before running anything: a mismatch is an error, not a rerun.
+  std::vector<TrialSpec> todo;
+  for (const TrialSpec& t : mine) {
+    const fs::path dir = trials_dir / t.id;
+    if (!fs::exists(dir)) {
+      todo.push_back(t);
+      continue;
+    }
+    const nlohmann::json saved = read_json(dir / "trial.json");
+    const std::string diff = first_difference(saved.value("trial", nlohmann::json::object()), e.trial_identity(t));
+    if (!diff.empty())
+      throw InputError("--resume: trial " + t.id + " in " + out_dir + " was run with other settings: " + diff +
+                       " (saved vs " + e.source_file + ")");
+    if (saved.value("status", std::string()) == "ok") ++summary.skipped;
+    else todo.push_back(t);  // a failed trial is run again
+  }
+  if (o.progress)
+    o.progress("experiment " + e.name + ": " + std::to_string(all.size()) + " trials, shard " +
+               std::to_string(o.shard_index) + "/" + std::to_string(o.shard_count) + " holds " +
+               std::to_string(mine.size()) + " (" + std::to_string(summary.skipped) + " complete already), " +
+               std::to_string(todo.size()) + " to run, " + std::to_string(o.jobs) + " at once");
+
+  std::atomic<std::size_t> next{0};
+  std::atomic<bool> abort{false};
+  std::mutex mutex;
+  std::exception_ptr error;
+  int finished = 0;
+  ExperimentRunOptions child = o;
+  child.stop_requested = [&] { return abort.load() || (o.stop_requested && o.stop_requested()); };
+  auto worker = [&] {
+    for (;;) {
+      if (child.stop_requested()) return;
+      const std::size_t i = next++;
+      if (i >= todo.size()) return;
+      const TrialSpec& t = todo[i];
+      if (o.progress) {
+        std::lock_guard<std::mutex> lock(mutex);
+        o.progress("trial " + t.id + ": started (shard " + std::to_string(o.shard_index) + "/" +
+                   std::to_string(o.shard_count) + ")");
+      }
+      TrialOutcome r;
+      try {
+        r = run_trial(e, t, trials_dir, child);
+      } catch (...) {
+        std::lock_guard<std::mutex> lock(mutex);
+        if (!error) error = std::current_exception();
+        abort = true;
+        return;
+      }
+      std::lock_guard<std::mutex> lock(mutex);
+      if (r.outcome == Outcome::kInterrupted) {
+        summary.interrupted = true;
+        if (o.progress) o.progress("trial " + t.id + ": interrupted (left .partial; --resume runs it again)");
+        continue;
+      }
+      ++finished;
+      (r.outcome == Outcome::kOk ? summary.ok : summary.failed)++;
+      if (o.progress) {
+        const double elapsed = watch.seconds();
+        const double eta = elapsed / finished * static_cast<double>(todo.size() - static_cast<std::size_t>(finished));
+        char line[512];
+        if (r.outcome == Outcome::kOk)
+          std::snprintf(line, sizeof line, "[%d/%d] %s: ok, SC %.3f after %d views, %.1f s (elapsed %.0f s, ETA %.0f s)",
+                        summary.skipped + finished, summary.in_shard, t.id.c_str(), r.coverage, r.views, r.wall_s,
+                        elapsed, eta);
+        else
+          std::snprintf(line, sizeof line, "[%d/%d] %s: FAILED after %.1f s: %s (elapsed %.0f s, ETA %.0f s)",
+                        summary.skipped + finished, summary.in_shard, t.id.c_str(), r.wall_s, r.message.c_str(),
+                        elapsed, eta);
+        o.progress(line);
+      }
+    }
+  };
+  const std::size_t workers = std::min<std::size_t>(static_cast<std::size_t>(o.jobs), todo.size());
+  std::vector<std::thread> pool;
+  for (std::size_t k = 0; k < workers; ++k) pool.emplace_back(worker);
+  for (auto& th : pool) th.join();
+  if (error) std::rethrow_exception(error);
+  if (o.stop_requested && o.stop_requested()) summary.interrupted = true;
+  summary.wall_time_s = watch.seconds();
+  return summary;
+}
+
+}  // namespace canopy::experiments

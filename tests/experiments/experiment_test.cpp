@@ -1,0 +1,306 @@
+// Experiments: file parsing, trial ids, shards, resume checks, failures of single trials, and
+// report merging. The runner tests use a stand-in mission (a shell script writing a known
+// views.csv and summary.json per seed, crashing or hanging on chosen seeds), so they check
+// the engine's rules in seconds; tests/mission/experiment_cli.sh runs real missions.
+
+#include "canopy/experiments/experiment.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <set>
+
+#include "canopy/common/error.h"
+#include "canopy/common/io.h"
+#include "canopy/experiments/experiment_report.h"
+
+namespace canopy::experiments {
+using namespace canopy::mission;
+namespace {
+
+namespace fs = std::filesystem;
+
+const std::string kBase = R"(name: t
+world: worlds/small.yaml
+overrides:
+  mission: {loop: {views_per_stop: 2}}
+methods:
+  - {label: ours, method: ours}
+  - {label: frontier, method: frontier}
+  - {label: predefined, method: predefined}
+p_gt: [1.0, 0.7]
+seeds: {first: 11, count: 2}
+trial_timeout_s: 5
+)";
+
+Experiment load(const std::string& text) { return Experiment::load_string(text, "test.yaml", ".", default_robot_config()); }
+
+std::string replaced(std::string s, const std::string& from, const std::string& to) {
+  const auto i = s.find(from);
+  EXPECT_NE(i, std::string::npos) << from;
+  return s.replace(i, from.size(), to);
+}
+
+void expect_input_error(const std::string& text, const std::string& fragment) {
+  try {
+    load(text);
+    ADD_FAILURE() << "no error for " << fragment;
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+  }
+}
+
+TEST(Experiment, ParsesTrialsInSeedMajorOrderWithStableIds) {
+  const Experiment e = load(kBase);
+  EXPECT_EQ(e.settings.mission.loop.views_per_stop, 2);  // the override
+  EXPECT_EQ(e.world.name, "small");
+  const std::vector<TrialSpec> t = e.trials();
+  ASSERT_EQ(t.size(), 12u);
+  EXPECT_EQ(t[0].id, "ours_pgt1_seed11");
+  EXPECT_EQ(t[1].id, "frontier_pgt1_seed11");
+  EXPECT_EQ(t[3].id, "ours_pgt0.7_seed11");
+  EXPECT_EQ(t[6].id, "ours_pgt1_seed12");
+  EXPECT_EQ(t[11].id, "predefined_pgt0.7_seed12");
+  std::set<std::string> ids;
+  for (const auto& x : t) ids.insert(x.id);
+  EXPECT_EQ(ids.size(), t.size());
+  // The trial's bundle carries its P_gt, and nothing else changes.
+  EXPECT_DOUBLE_EQ(e.trial_settings(t[3]).mapping.extractor.p_gt, 0.7);
+  EXPECT_EQ(first_difference(e.trial_identity(t[0]), e.trial_identity(t[0])), "");
+  const std::string d = first_difference(e.trial_identity(t[0]), e.trial_identity(t[3]));
+  EXPECT_NE(d.find("id"), std::string::npos) << d;
+  // Round trip of a trial's description.
+  EXPECT_EQ(TrialSpec::from_json(t[4].to_json(), "x").to_json(), t[4].to_json());
+  EXPECT_EQ(load(replaced(kBase, "{first: 11, count: 2}", "[11, 12]")).manifest(), e.manifest());
+}
+
+TEST(Experiment, TheShippedExperimentsLoad) {
+  const Experiment fig3 = Experiment::load("experiments/paper_fig3.yaml", default_robot_config());
+  EXPECT_EQ(fig3.trials().size(), 60u);  // 3 methods x P_gt {1, 0.7} x 10 seeds
+  EXPECT_EQ(fig3.world.plant_count(), 8);
+  EXPECT_EQ(fig3.settings.to_yaml_text(), Settings::load("configs/canopy.yaml", default_robot_config()).to_yaml_text());
+  EXPECT_EQ(Experiment::load("experiments/paper_fig3_smoke.yaml", default_robot_config()).trials().size(), 12u);
+  EXPECT_EQ(Experiment::load("experiments/small.yaml", default_robot_config()).trials().size(), 12u);
+}
+
+TEST(Experiment, RejectsBadFilesWithTheKeyNamed) {
+  expect_input_error(kBase + "extra: 1\n", "extra");
+  expect_input_error(replaced(kBase, "p_gt: [1.0, 0.7]", "p_gt: [1.0, 1.5]"), "p_gt");
+  expect_input_error(replaced(kBase, "p_gt: [1.0, 0.7]", "p_gt: [0.7, 0.7]"), "repeats");
+  expect_input_error(replaced(kBase, "p_gt: [1.0, 0.7]", "p_gt: []"), "p_gt");
+  expect_input_error(replaced(kBase, "{first: 11, count: 2}", "[3, 3]"), "repeats a seed");
+  expect_input_error(replaced(kBase, "{first: 11, count: 2}", "{first: 1, count: 0}"), "seeds.count");
+  expect_input_error(replaced(kBase, "method: frontier}", "method: greedy}"), "methods[1].method");
+  expect_input_error(replaced(kBase, "{label: ours, method: ours}", "{label: ours, method: ours, gain: nope}"),
+                     "methods[0].gain");
+  expect_input_error(replaced(kBase, "{label: ours, method: ours}", "{label: ours, method: ours, rays: all}"), "all");
+  expect_input_error(replaced(kBase, "label: frontier", "label: ours"), "used by two methods");
+  expect_input_error(replaced(kBase, "label: frontier", "label: 'a b'"), "label");
+  expect_input_error(replaced(kBase, "views_per_stop: 2", "views_per_stp: 2"), "views_per_stp");
+  expect_input_error(replaced(kBase, "worlds/small.yaml", "worlds/none.yaml"), "none.yaml");
+  expect_input_error(replaced(kBase, "trial_timeout_s: 5", "trial_timeout_s: .nan"), "trial_timeout_s");
+  expect_input_error(replaced(kBase, "name: t\n", "name: t\nname: u\n"), "name");
+}
+
+TEST(Experiment, ShardsAreDisjointAndCoverEveryTrial) {
+  const std::vector<TrialSpec> all = load(kBase).trials();
+  for (int n : {1, 2, 3, 5, 7, 12, 13, 40}) {
+    std::vector<std::string> seen;
+    for (int i = 0; i < n; ++i) {
+      const std::vector<TrialSpec> s = shard_trials(all, i, n);
+      EXPECT_LE(s.size(), all.size() / n + 1);
+      EXPECT_GE(s.size(), all.size() / n);
+      for (const auto& t : s) seen.push_back(t.id);
+      EXPECT_EQ(s.size(), shard_trials(all, i, n).size());  // deterministic
+    }
+    std::vector<std::string> ids;
+    for (const auto& t : all) ids.push_back(t.id);
+    std::sort(seen.begin(), seen.end());
+    std::sort(ids.begin(), ids.end());
+    EXPECT_EQ(seen, ids) << "n = " << n;  // every trial exactly once
+  }
+  EXPECT_EQ(parse_shard("1/4"), std::make_pair(1, 4));
+  for (const char* bad : {"4/4", "-1/2", "1/0", "1", "a/b", "1/2/3", "1 /2", ""}) EXPECT_THROW(parse_shard(bad), InputError) << bad;
+}
+
+// A stand-in for `canopy mission`: writes views.csv and summary.json derived from the seed;
+// seed 13 crashes (SIGSEGV), seed 14 hangs, seed 15 exits 1 with a message.
+std::vector<std::string> fake_mission(const fs::path& dir) {
+  const fs::path script = dir / "fake_mission.sh";
+  std::ofstream(script) << R"(#!/bin/sh
+while [ $# -gt 0 ]; do
+  case "$1" in --seed) seed=$2; shift 2;; --out) out=$2; shift 2;; --method) method=$2; shift 2;; *) shift;; esac
+done
+case "$seed" in
+  13) kill -SEGV $$;;
+  14) sleep 60;;
+  15) echo "canopy: error: the planner exploded" >&2; exit 1;;
+esac
+mkdir -p "$out"
+k=$(printf '%s' "$method" | wc -c)
+printf 'attempt,success,coverage,entropy\n0,1,0.%s%s,90\n1,0,0.5,80\n2,1,0.%s%s,7%s\n' "$seed" "$k" "$k" "$seed" "$seed" > "$out/views.csv"
+printf '{"complete": true, "final": {"fruit_coverage": 0.5}, "views_successful": 2, "views_attempted": 3, "failures": {"no_ik": 1},
+ "stops": [{}, {}], "wall_time_s": 2.0, "simulated_time_s": 9.0,
+ "wall_time_by_phase_s": {"mapping": 0.5, "scoring": 0.25, "clustering": 0.25, "motion_planning": 1.0, "control": 0.%s}}\n' "$seed" > "$out/summary.json"
+)";
+  return {"/bin/sh", script.string(), "mission"};
+}
+
+fs::path fresh_dir(const std::string& name) {
+  const fs::path d = fs::path(testing::TempDir()) / ("canopy_experiment_" + name);
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+std::string status_of(const fs::path& trial) {
+  std::ifstream in(trial / "trial.json");
+  return nlohmann::json::parse(in).at("status").get<std::string>();
+}
+
+TEST(ExperimentRun, FailedTrialsAreRecordedAndTheSweepGoesOn) {
+  const fs::path d = fresh_dir("faults");
+  // Seeds 12..15: ok, crash, hang (timeout 2 s), error exit.
+  const Experiment e = load(replaced(replaced(replaced(kBase, "{first: 11, count: 2}", "[12, 13, 14, 15]"),
+                                              "p_gt: [1.0, 0.7]", "p_gt: [1.0]"),
+                                     "trial_timeout_s: 5", "trial_timeout_s: 2"));
+  ExperimentRunOptions o;
+  o.mission_command = fake_mission(d);
+  o.jobs = 3;
+  const ExperimentRunSummary s = run_experiment(e, (d / "out").string(), o);
+  EXPECT_EQ(s.total, 12);
+  EXPECT_EQ(s.ok, 3);
+  EXPECT_EQ(s.failed, 9);
+  EXPECT_FALSE(s.interrupted);
+  const fs::path trials = d / "out" / "trials";
+  EXPECT_EQ(status_of(trials / "ours_pgt1_seed12"), "ok");
+  std::ifstream crash(trials / "frontier_pgt1_seed13" / "trial.json");
+  const nlohmann::json c = nlohmann::json::parse(crash);
+  EXPECT_EQ(c["status"], "failed");
+  EXPECT_NE(c["message"].get<std::string>().find("signal 11"), std::string::npos) << c["message"];
+  std::ifstream hang(trials / "ours_pgt1_seed14" / "trial.json");
+  EXPECT_NE(nlohmann::json::parse(hang)["message"].get<std::string>().find("timed out after 2 s"), std::string::npos);
+  std::ifstream err(trials / "ours_pgt1_seed15" / "trial.json");
+  EXPECT_NE(nlohmann::json::parse(err)["message"].get<std::string>().find("the planner exploded"), std::string::npos);
+  for (const auto& entry : fs::directory_iterator(trials))
+    EXPECT_EQ(entry.path().extension(), "") << "left behind: " << entry.path();
+
+  // The report counts them as failed, not in the figures, and says why.
+  const MergedTrials m = merge_experiment_folders({(d / "out").string()});
+  EXPECT_EQ(m.trials.size(), 12u);
+  EXPECT_TRUE(m.missing.empty());
+  const ExperimentReport r = make_experiment_report(m);
+  EXPECT_NE(r.findings_md.find("3 ok, 9 failed"), std::string::npos);
+  EXPECT_NE(r.findings_md.find("failed: ours_pgt1_seed14: timed out"), std::string::npos);
+}
+
+TEST(ExperimentRun, ResumeRerunsKilledAndFailedTrialsAndChecksSettings) {
+  const fs::path d = fresh_dir("resume");
+  const Experiment e = load(kBase);
+  ExperimentRunOptions o;
+  o.mission_command = fake_mission(d);
+  o.jobs = 2;
+  const std::string out = (d / "out").string();
+  EXPECT_EQ(run_experiment(e, out, o).ok, 12);
+  const fs::path trials = d / "out" / "trials";
+  const std::string views = read_file((trials / "ours_pgt0.7_seed12" / "mission" / "views.csv").string());
+
+  // Without --resume the folder is not reused.
+  EXPECT_THROW(run_experiment(e, out, o), InputError);
+  // A killed sweep leaves a trial as .partial; a failed record is run again too.
+  fs::rename(trials / "ours_pgt0.7_seed12", trials / "ours_pgt0.7_seed12.partial");
+  fs::remove(trials / "ours_pgt0.7_seed12.partial" / "trial.json");
+  nlohmann::json rec = nlohmann::json::parse(std::ifstream(trials / "frontier_pgt1_seed11" / "trial.json"));
+  rec["status"] = "failed";
+  write_json_atomic((trials / "frontier_pgt1_seed11" / "trial.json").string(), rec);
+  const MergedTrials before = merge_experiment_folders({out});
+  EXPECT_EQ(before.missing, std::vector<std::string>{"ours_pgt0.7_seed12"});
+  ASSERT_EQ(before.incomplete.size(), 1u);
+  EXPECT_NE(before.incomplete[0].path.find("ours_pgt0.7_seed12.partial"), std::string::npos);
+
+  o.resume = true;
+  const ExperimentRunSummary s = run_experiment(e, out, o);
+  EXPECT_EQ(s.skipped, 10);
+  EXPECT_EQ(s.ok, 2);
+  EXPECT_FALSE(fs::exists(trials / "ours_pgt0.7_seed12.partial"));
+  EXPECT_EQ(read_file((trials / "ours_pgt0.7_seed12" / "mission" / "views.csv").string()), views);
+  EXPECT_EQ(status_of(trials / "frontier_pgt1_seed11"), "ok");
+  EXPECT_EQ(run_experiment(e, out + "/", o).skipped, 12);  // nothing left (a trailing slash is the same folder)
+
+  // Other settings for the same trials: an error naming the trial and the setting.
+  try {
+    run_experiment(load(replaced(kBase, "views_per_stop: 2", "views_per_stop: 3")), out, o);
+    ADD_FAILURE() << "no mismatch error";
+  } catch (const InputError& err) {
+    const std::string msg = err.what();
+    EXPECT_NE(msg.find("trial ours_pgt1_seed11"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("settings.mission.loop.views_per_stop: '2' vs '3'"), std::string::npos) << msg;
+  }
+  // Another trial list: an error too.
+  EXPECT_THROW(run_experiment(load(replaced(kBase, "count: 2", "count: 3")), out, o), InputError);
+}
+
+TEST(ExperimentReport, MergingShardFoldersEqualsOneFolderAndConflictsAreErrors) {
+  const fs::path d = fresh_dir("merge");
+  const Experiment e = load(kBase);
+  ExperimentRunOptions o;
+  o.mission_command = fake_mission(d);
+  o.shard_count = 2;
+  o.shard_index = 0;
+  EXPECT_EQ(run_experiment(e, (d / "a").string(), o).ok, 6);
+  o.shard_index = 1;
+  EXPECT_EQ(run_experiment(e, (d / "b").string(), o).ok, 6);
+  o.shard_count = 1;
+  o.shard_index = 0;
+  EXPECT_EQ(run_experiment(e, (d / "all").string(), o).ok, 12);
+
+  const MergedTrials shards = merge_experiment_folders({(d / "a").string(), (d / "b").string()});
+  const MergedTrials one = merge_experiment_folders({(d / "all").string()});
+  EXPECT_TRUE(shards.missing.empty());
+  EXPECT_EQ(shards.trials.size(), 12u);
+  const ExperimentReport rs = make_experiment_report(shards), r1 = make_experiment_report(one);
+  EXPECT_EQ(rs.curves_csv, r1.curves_csv);
+  EXPECT_EQ(rs.runtime_csv, r1.runtime_csv);
+  EXPECT_EQ(rs.findings_md, r1.findings_md);
+  // One shard alone: the other shard's trials are missing.
+  EXPECT_EQ(merge_experiment_folders({(d / "a").string()}).missing.size(), 6u);
+  // The same trial twice with the same results is fine; with different results an error.
+  EXPECT_EQ(merge_experiment_folders({(d / "a").string(), (d / "all").string()}).trials.size(), 12u);
+  const fs::path v = d / "b" / "trials" / "ours_pgt0.7_seed11" / "mission" / "views.csv";
+  ASSERT_TRUE(fs::exists(v));  // trial 3 of 12: shard 1 of 2
+  write_file_atomic(v.string(), read_file(v.string()) + "9,1,0.99,1\n");
+  try {
+    merge_experiment_folders({(d / "all").string(), (d / "b").string()});
+    ADD_FAILURE() << "no conflict error";
+  } catch (const InputError& err) {
+    EXPECT_NE(std::string(err.what()).find("ours_pgt0.7_seed11"), std::string::npos) << err.what();
+  }
+  EXPECT_THROW(merge_experiment_folders({d.string()}), InputError);  // not an experiment folder
+}
+
+TEST(ExperimentReport, AggregatesKnownValues) {
+  const fs::path d = fresh_dir("values");
+  const Experiment e = load(replaced(kBase, "p_gt: [1.0, 0.7]", "p_gt: [1.0]"));
+  ExperimentRunOptions o;
+  o.mission_command = fake_mission(d);
+  run_experiment(e, (d / "x").string(), o);
+  const ExperimentReport r = make_experiment_report(merge_experiment_folders({(d / "x").string()}));
+  // The stand-in's curve for method ours (4 letters) and seeds 11, 12: view 1 SC 0.114 and
+  // 0.124 (mean 0.119, std 0.00707...), view 2 SC 0.411 and 0.412, entropy 711 and 712.
+  EXPECT_NE(r.curves_csv.find("ours,ours,1,1,2,0.119,0.00707106781,90,0\n"), std::string::npos) << r.curves_csv;
+  EXPECT_NE(r.curves_csv.find("ours,ours,1,2,2,0.4115,0.000707106781,711.5,0.707106781\n"), std::string::npos)
+      << r.curves_csv;
+  // Run time: mapping 0.5, NBV 0.25 + 0.25, motion 1, control 0.11 / 0.12 -> paper total 2.115.
+  EXPECT_NE(r.runtime_csv.find("ours,ours,1,2,0.5,0,0.5,0,1,0,0.115,0.00707107,0,0,0,0,2.115,0.00707107,2,0,9,0,2,3,0.4115,"),
+            std::string::npos)
+      << r.runtime_csv;
+  // Views per stop: 2 successful of 3 attempted over 2 stops.
+  EXPECT_NE(r.findings_md.find("| 1 | ours | 2 ± 0 (n=2) | 1.0 ± 0.0 (n=2) | 1.5 ± 0.0 (n=2) | no_ik 0.50 ± 0.00 |"),
+            std::string::npos)
+      << r.findings_md;
+}
+
+}  // namespace
+}  // namespace canopy::experiments

@@ -1,0 +1,115 @@
+#include "canopy/mission/video.h"
+
+#include <gtest/gtest.h>
+#include <stdlib.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "canopy/common/error.h"
+#include "canopy/common/process.h"
+
+namespace canopy {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path fresh_dir(const std::string& name) {
+  const fs::path d = fs::path(testing::TempDir()) / name;
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+Image<Rgb8> frame(int w, int h, std::uint8_t shade) {
+  Image<Rgb8> img(w, h);
+  for (auto& p : img.data) p = Rgb8{shade, static_cast<std::uint8_t>(255 - shade), 40};
+  return img;
+}
+
+// Puts a fake `ffmpeg` first on PATH for the lifetime of the object.
+class FakeEncoder {
+ public:
+  // `name`: a folder of its own (tests run in parallel processes).
+  FakeEncoder(const std::string& name, const std::string& script)
+      : dir_(fresh_dir(name)), old_path_(getenv("PATH")) {
+    const fs::path exe = dir_ / "ffmpeg";
+    std::ofstream(exe) << "#!/bin/sh\n" << script << "\n";
+    fs::permissions(exe, fs::perms::owner_all);
+    setenv("PATH", (dir_.string() + ":" + old_path_).c_str(), 1);
+  }
+  ~FakeEncoder() { setenv("PATH", old_path_.c_str(), 1); }
+
+ private:
+  fs::path dir_;
+  std::string old_path_;
+};
+
+TEST(VideoWriter, ValidateOutputPathNamesThePath) {
+  const fs::path d = fresh_dir("video_paths");
+  EXPECT_NO_THROW(VideoWriter::validate_output_path((d / "ok.mp4").string()));
+  EXPECT_FALSE(fs::exists(d / "ok.mp4.partial.mp4"));  // the probe file is removed
+  auto message = [](const std::string& path) {
+    try {
+      VideoWriter::validate_output_path(path);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  const std::string missing = (d / "no_such_folder" / "v.mp4").string();
+  EXPECT_NE(message(missing).find(missing), std::string::npos) << message(missing);
+  EXPECT_NE(message(missing).find("does not exist"), std::string::npos);
+  EXPECT_NE(message(d.string()).find("is a folder"), std::string::npos);
+  // A folder nobody may create files in (/proc refuses even root).
+  EXPECT_NE(message("/proc/canopy_video_test.mp4").find("cannot write '/proc/canopy_video_test.mp4'"),
+            std::string::npos);
+  EXPECT_NE(message("").find("empty"), std::string::npos);
+}
+
+TEST(VideoWriter, EncoderThatDiesIsReportedNotFatal) {
+  const fs::path d = fresh_dir("video_dies");
+  const std::string path = (d / "run.mp4").string();
+  FakeEncoder encoder("fake_ffmpeg_dies", "head -c 5000 > /dev/null; exit 7");
+  VideoWriter video(path, 64, 48, 25.0);
+  EXPECT_TRUE(video.ok());
+  for (int i = 0; i < 50; ++i) video.write(frame(64, 48, static_cast<std::uint8_t>(i)));  // never throws
+  EXPECT_FALSE(video.ok());
+  EXPECT_NE(video.error().find("exited with code 7"), std::string::npos) << video.error();
+  EXPECT_LT(video.frames(), 50);
+  EXPECT_FALSE(video.close());
+  EXPECT_FALSE(fs::exists(path));
+  EXPECT_FALSE(fs::exists(path + ".partial.mp4"));
+}
+
+TEST(VideoWriter, EncoderFailingAtTheEndIsReported) {
+  const fs::path d = fresh_dir("video_fails_late");
+  const std::string path = (d / "run.mp4").string();
+  FakeEncoder encoder("fake_ffmpeg_fails_late", "cat > /dev/null; exit 1");
+  VideoWriter video(path, 64, 48, 25.0);
+  for (int i = 0; i < 5; ++i) video.write(frame(64, 48, 10));
+  EXPECT_EQ(video.frames(), 5);
+  EXPECT_FALSE(video.close());
+  EXPECT_NE(video.error().find("exited with code 1"), std::string::npos) << video.error();
+  EXPECT_FALSE(fs::exists(path));
+}
+
+TEST(VideoWriter, WritesAPlayableFileWithRealFfmpeg) {
+  if (!run_process({"sh", "-c", "command -v ffmpeg > /dev/null"}).ok()) GTEST_SKIP() << "ffmpeg not installed";
+  const fs::path d = fresh_dir("video_real");
+  const std::string path = (d / "it's a \"video\".mp4").string();  // quotes reach ffmpeg as text
+  {
+    VideoWriter video(path, 64, 48, 25.0);
+    for (int i = 0; i < 10; ++i) video.write(frame(64, 48, static_cast<std::uint8_t>(20 * i)));
+    EXPECT_TRUE(video.close()) << video.error();
+    EXPECT_EQ(video.frames(), 10);
+  }
+  ASSERT_TRUE(fs::exists(path));
+  EXPECT_GT(fs::file_size(path), 100u);
+  EXPECT_FALSE(fs::exists(path + ".partial.mp4"));
+}
+
+}  // namespace
+}  // namespace canopy
