@@ -139,7 +139,7 @@ void add_bench_map(CLI::App& bench) {
     std::printf("  semantic phases (1 thread):  voxel filter %.2f, ray casting %.2f, tree update %.2f ms/frame\n",
                 sem1.filter_ms, sem1.raycast_ms, sem1.update_ms);
 
-    // FACTS.md section 9's anchor: a full 400x400 frame of a wall 0.9 m away (every pixel
+    // docs/background/speed_anchors.md's anchor: a full 400x400 frame of a wall 0.9 m away (every pixel
     // valid), where the dense part of the work, and the second core, count.
     std::vector<perception::LabelledCloud> walls;
     std::vector<octomap::Pointcloud> wall_octo;

@@ -140,7 +140,7 @@ const std::vector<ViewPlannerEntry>& view_planner_registry() {
   static const std::vector<ViewPlannerEntry> registry = {
       {"ours", "cluster-centric NBV: fruit clusters, candidates on a sphere, workspace filter, gain, top-k, tour",
        [](const ViewPlannerSettings& s) { return std::unique_ptr<ViewPlanner>(new OursPlanner(s)); }},
-      {"frontier", "Zaenker et al.'s ROI / exploration frontier planner (as implemented, FACTS.md section 7)",
+      {"frontier", "Zaenker et al.'s ROI / exploration frontier planner (as implemented, docs/background/frontier_baseline.md)",
        [](const ViewPlannerSettings& s) { return make_frontier(s); }},
       {"predefined", "dense predefined scanning: the scripted views of every stop, no planning",
        [](const ViewPlannerSettings& s) { return std::unique_ptr<ViewPlanner>(new PredefinedPlanner(s)); }},
@@ -281,7 +281,7 @@ Pose point_at(const Pose& current, const Vec3& eye, const Vec3& target) {
 
 namespace {
 
-// Zaenker et al.'s ROI viewpoint planner as its current code does it (FACTS.md section 7).
+// Zaenker et al.'s ROI viewpoint planner as its current code does it (docs/background/frontier_baseline.md).
 class FrontierPlanner : public ViewPlanner {
  public:
   explicit FrontierPlanner(const ViewPlannerSettings& s) : ViewPlanner(s.params.views), params_(s.params.frontier) {}

@@ -1,4 +1,4 @@
-// Procedural sweet-pepper plants (FACTS.md section 4): a short trunk splitting into two
+// Procedural sweet-pepper plants (docs/background/plants.md): a short trunk splitting into two
 // stems in a V, alternate leaves on petioles, and blocky or conical fruits hanging from
 // peduncles in the fruit zone. Every part is a closed low-poly mesh in world coordinates.
 

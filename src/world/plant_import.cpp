@@ -241,7 +241,7 @@ ClassRule parse_class_rule(const std::string& text) {
 }
 
 std::vector<ClassRule> class_preset(const std::string& name) {
-  // FACTS.md section 12: *frt1*/*frt2* ripe fruit, *frt0* unripe fruit, *lef* leaves,
+  // docs/background/capsicum_models.md: *frt1*/*frt2* ripe fruit, *frt0* unripe fruit, *lef* leaves,
   // *brn* stems (stems count as leaf, as in procedural worlds).
   if (name == "capsicum")
     return {{"fruit", "frt[12]", true}, {"fruit", "frt0", false}, {"leaf", "lef", true}, {"leaf", "brn", true}};

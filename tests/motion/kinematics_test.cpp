@@ -35,7 +35,7 @@ ArmConfig random_config(std::mt19937& rng) {
 
 TEST(UrKinematics, DhParametersComeFromTheUrdf) {
   const UrDh dh = model().ur().dh();
-  const UrDh ur3;  // FACTS.md section 3
+  const UrDh ur3;  // docs/background/robot_and_camera.md
   for (int i = 0; i < 6; ++i) {
     EXPECT_NEAR(dh.d[i], ur3.d[i], 1e-12) << i;
     EXPECT_NEAR(dh.a[i], ur3.a[i], 1e-12) << i;

@@ -11,7 +11,7 @@
 namespace canopy::robot {
 namespace {
 
-// Standard DH product for the UR3 (FACTS.md section 3), the reference for the URDF chain.
+// Standard DH product for the UR3 (docs/background/robot_and_camera.md), the reference for the URDF chain.
 Pose dh_fk(const std::array<double, 6>& q) {
   const double d[6] = {0.1519, 0, 0, 0.11235, 0.08535, 0.0819};
   const double a[6] = {0, -0.24365, -0.21325, 0, 0, 0};

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# A one-node SLURM cluster on this machine, for tests and trying the sbatch script (FACTS §11):
+# A one-node SLURM cluster on this machine, for tests and trying the sbatch script (docs/background/slurm.md):
 #   tools/slurm/local-cluster.sh start DIR   config, state, logs and its own munge daemon in DIR;
 #                                            prints the line `export SLURM_CONF=DIR/slurm.conf`
 #   tools/slurm/local-cluster.sh stop DIR    cancels its jobs, stops its daemons by their pid files

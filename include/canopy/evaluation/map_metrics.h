@@ -1,5 +1,5 @@
 #pragma once
-// Map quality against the world's ground truth (paper Experiments; FACTS.md section 8).
+// Map quality against the world's ground truth (paper Experiments; docs/background/evaluation.md).
 // Only target (ripe) fruits count. Two evaluation rules, both always computed:
 //  - paper: a ground-truth surface point is covered when its nearest fruit voxel centre
 //    (occupied, most likely class = target) lies within delta S; the fruit entropy is the sum
@@ -36,7 +36,7 @@ inline constexpr EnumName<EvaluationRule> kEvaluationRuleNames[] = {{EvaluationR
 /// "prototype" / "paper".
 std::string to_string(EvaluationRule r);
 
-/// Evaluation settings (paper Table I, FACTS.md section 8).
+/// Evaluation settings (paper Table I, docs/background/evaluation.md).
 struct MetricsParams {
   EvaluationRule rule = EvaluationRule::kPrototype;  ///< Rule of MapMetrics::coverage / total_entropy.
   double coverage_distance_m = 0.015;  ///< delta S: a surface point is covered within this.

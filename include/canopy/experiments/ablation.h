@@ -1,7 +1,7 @@
 #pragma once
 // The paper's free-camera ablation (Fig. 5 and 6): one job is a (gain, ray set, P_gt) on one
 // plant in one trial. The map starts empty. Two protocols, chosen per run:
-//  - paper (the released code's; FACTS.md section 10, the default): ONE initial view from a
+//  - paper (the released code's; docs/background/released_code.md, the default): ONE initial view from a
 //    fixed grid of 10 poses (azimuth 0..90 deg in 5 steps x polar 30 and 120 deg, r = 0.4 m,
 //    aimed at 0.5 m above the plant's base; trial i starts from pose i mod 10), then rounds:
 //    the cluster-centric planner ("ours", with the job's gain and rays) gives the best view of

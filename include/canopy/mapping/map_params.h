@@ -1,6 +1,6 @@
 #pragma once
 // Parameters of the semantic octree and of scan insertion. Defaults are the paper's Table I
-// and FACTS.md section 5; configs/mapping.yaml (section `map`) repeats them.
+// and docs/background/semantic_map.md; configs/mapping.yaml (section `map`) repeats them.
 
 #include <yaml-cpp/yaml.h>
 

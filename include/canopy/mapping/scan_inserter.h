@@ -1,5 +1,5 @@
 #pragma once
-// Inserting one labelled scan into the semantic octree (FACTS.md section 5, issue point 3):
+// Inserting one labelled scan into the semantic octree (docs/background/semantic_map.md, issue point 3):
 // the cloud is voxel-filtered at the map resolution (one hit per voxel, the majority label);
 // endpoints within max_range_m are hits; the cells along each ray from the sensor to the
 // endpoint voxel's centre, up to ray_range_m, are updated as free, except cells hit in the

@@ -1,5 +1,5 @@
 #pragma once
-// The payload of one semantic-octree voxel and SSMI's update rules (FACTS.md section 5).
+// The payload of one semantic-octree voxel and SSMI's update rules (docs/background/semantic_map.md).
 //
 // A voxel stores log-odds relative to the "free" category for at most three classes (the
 // strongest seen so far, sorted strongest first) plus an "others" bucket that stands for
@@ -20,7 +20,7 @@
 
 namespace canopy::mapping {
 
-/// The categories the multi-class entropy H(x) runs over (FACTS.md sections 5 and 8):
+/// The categories the multi-class entropy H(x) runs over (docs/background/semantic_map.md and evaluation.md):
 ///  - kPaper: {free} and the K classes of the map (the paper's H). Stored classes keep their
 ///    log-odds; unstored classes share the "others" mass equally; when every class is
 ///    stored the "others" slot holds no class and carries no mass. An unknown voxel is

@@ -16,7 +16,7 @@ class YamlReader;
 
 namespace canopy::motion {
 
-/// Limits, tolerances and gains of the base follower. Defaults: Husky A200 (FACTS §3).
+/// Limits, tolerances and gains of the base follower. Defaults: Husky A200 (docs/background/robot_and_camera.md).
 struct BaseFollowerParams {
   double max_speed_m_s = 1.0;
   double max_yaw_rate_rad_s = 2.0;

@@ -17,7 +17,7 @@
 
 namespace canopy::motion {
 
-/// The view grid (defaults: the paper's candidate sphere, FACTS.md section 6).
+/// The view grid (defaults: the paper's candidate sphere, docs/background/nbv_pipeline.md).
 struct ReachParams {
   double view_radius_m = 0.4;          ///< Camera distance to its target.
   int azimuths = 10;                   ///< In [0, 360) degrees, no duplicate at 360.

@@ -1,5 +1,5 @@
 #pragma once
-// Fruit clusters (paper Methods (ii)-(iii); FACTS.md section 6): DBSCAN over the centres of
+// Fruit clusters (paper Methods (ii)-(iii); docs/background/nbv_pipeline.md): DBSCAN over the centres of
 // voxels whose most likely class is the target with log-odds above a threshold.
 
 #include <Eigen/Geometry>

@@ -3,7 +3,7 @@
 // (gain_registry). A view's gain is the sum of its rays' gains; each ray gain reads the
 // voxels the ray visits, in order from the camera (RayVoxel, from VoxelIndex::cast).
 //
-// Definitions (paper Eq. 1-4, FACTS.md section 6), with these interpretations:
+// Definitions (paper Eq. 1-4, docs/background/nbv_pipeline.md), with these interpretations:
 //  - osamcep: sum of P_v(x) H(x) over voxels that are unknown (never observed) or target
 //    voxels (occupied, most likely class = target), close to the target centroid.
 //    P_v(x_n) = prod_{i<n} (1 - p_occ(x_i)), unknown p_occ = 0.5; H is the voxel's multi-class

@@ -1,5 +1,5 @@
 #pragma once
-// Parameters of the next-best-view core (paper Methods (iii), Table I; FACTS.md section 6).
+// Parameters of the next-best-view core (paper Methods (iii), Table I; docs/background/nbv_pipeline.md).
 // Defaults equal the paper's values; configs/nbv.yaml restates them.
 
 #include <yaml-cpp/yaml.h>
@@ -68,7 +68,7 @@ struct ViewRules {
   double done_epsilon_m = 0.05;    ///< A done cluster stays done while a later centroid lies this close.
 };
 
-/// Zaenker et al.'s ROI frontier planner as implemented (FACTS.md section 7).
+/// Zaenker et al.'s ROI frontier planner as implemented (docs/background/frontier_baseline.md).
 struct FrontierParams {
   int max_targets = 100;                  ///< Targets drawn per kind (uniformly, with replacement).
   double min_view_distance_m = 0.3;       ///< Camera origin at U(min, max) from its target.

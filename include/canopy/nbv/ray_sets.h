@@ -1,6 +1,6 @@
 #pragma once
-// The pixels a view casts rays through (paper "Increasing Ray Tracing Efficiency"; FACTS.md
-// section 6), chosen by name from one registry:
+// The pixels a view casts rays through (paper "Increasing Ray Tracing Efficiency"; docs/background/nbv_pipeline.md
+// ), chosen by name from one registry:
 //  - ours: a proper n x n grid with step ds = delta S fx / z centred on the projected target,
 //    n = floor(b / ds) + 1 with b = L fx / z (the b x b window), pixels outside the image dropped;
 //  - dense / sparse: uniform dense_grid^2 / sparse_grid^2 grids over the whole image

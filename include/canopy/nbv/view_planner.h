@@ -4,8 +4,8 @@
 //  - ours: the paper's cluster-centric planner (fruit clusters in reach -> candidates on a
 //    sphere -> reachability filter -> gain by name -> top-k per cluster); a batch is executed
 //    in tour order;
-//  - frontier: Zaenker et al.'s ROI / exploration frontier planner as implemented (FACTS.md
-//    section 7); a batch is tried in utility order until one view succeeds;
+//  - frontier: Zaenker et al.'s ROI / exploration frontier planner as implemented (docs/background/frontier_baseline.md
+//    ); a batch is tried in utility order until one view succeeds;
 //  - predefined: dense predefined scanning, no planning: the mission's extra scripted views.
 // Planners see only the map, the robot's state and its budget (MuJoCo-free, so the same
 // planner could drive a real robot); reachability comes in as callbacks.

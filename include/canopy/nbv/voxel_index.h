@@ -1,6 +1,6 @@
 #pragma once
 // A flat voxel index kept beside the semantic octree for next-best-view ray casting
-// (FACTS.md section 9), and the two ray traversals that read the map:
+// (docs/background/speed_anchors.md), and the two ray traversals that read the map:
 //  - fast: an Amanatides-Woo DDA at the map resolution (the same arithmetic as OctoMap's
 //    computeRayKeys, so both visit the same voxels) whose lookups go to 8x8x8-voxel bricks
 //    found by an open-addressing hash, with the last brick cached: most steps cost an array

@@ -1,5 +1,5 @@
 #pragma once
-// Colour segmentation in HSV (the paper's simulation method; FACTS.md section 8). Hue is in
+// Colour segmentation in HSV (the paper's simulation method; docs/background/evaluation.md). Hue is in
 // OpenCV's 0..179 range (degrees / 2), saturation and value in 0..255. A pixel takes the
 // class of the first band it falls in, else the background (class 0).
 

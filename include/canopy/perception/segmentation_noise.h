@@ -1,5 +1,5 @@
 #pragma once
-// Segmentation noise (paper Experiments; FACTS.md section 8): per image and per mask, the
+// Segmentation noise (paper Experiments; docs/background/evaluation.md): per image and per mask, the
 // true class with probability P_gt, else a wrong class drawn uniformly from the other
 // classes, background included (three classes, P_gt = 0.7: a fruit mask becomes leaf with
 // 0.15 and background with 0.15, as in the released code). What a "mask" is, is the model:

@@ -47,7 +47,7 @@ struct ImportOptions {
 };
 
 /// The rules of a named preset ("capsicum": the community's Gazebo sweet-pepper models,
-/// FACTS.md section 12); throws InputError for an unknown name.
+/// docs/background/capsicum_models.md); throws InputError for an unknown name.
 std::vector<ClassRule> class_preset(const std::string& name);
 /// Parses a command-line mapping "CLASS=REGEX" or "CLASS:unripe=REGEX"; throws InputError.
 ClassRule parse_class_rule(const std::string& text);

@@ -30,7 +30,7 @@ struct RowLayout {
   double position_jitter_m = 0.03; ///< Uniform jitter of each plant's position.
 };
 
-/// Ranges from which every plant draws its own shape (FACTS.md section 4).
+/// Ranges from which every plant draws its own shape (docs/background/plants.md).
 struct PlantParams {
   double height_min_m = 1.0, height_max_m = 1.3;
   double stem_diameter_min_m = 0.012, stem_diameter_max_m = 0.016;
