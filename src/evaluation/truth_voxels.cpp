@@ -6,17 +6,13 @@
 #include <unordered_set>
 
 #include "canopy/common/error.h"
+#include "canopy/mapping/voxel_key.h"
 
 namespace canopy::evaluation {
 
 std::vector<Vec3> world_occupied_voxels(const world::World& world, double res) {
   if (!(std::isfinite(res) && res > 0.0)) throw InputError("world voxels: resolution must be > 0");
-  // Keys packed as 21 bits per axis (about +-15 km at 1.5 cm).
-  auto key = [res](const Vec3& p) {
-    const auto k = (p / res).array().floor().cast<std::int64_t>() + (std::int64_t{1} << 20);
-    return (static_cast<std::uint64_t>(k.x()) << 42) | (static_cast<std::uint64_t>(k.y()) << 21) |
-           static_cast<std::uint64_t>(k.z());
-  };
+  auto key = [res](const Vec3& p) { return mapping::grid_key(p, res); };
   std::unordered_set<std::uint64_t> keys;
   const double step = 0.5 * res;  // Samples closer than a voxel: no voxel is skipped.
   for (const auto& plant : world.plants) {
@@ -33,13 +29,7 @@ std::vector<Vec3> world_occupied_voxels(const world::World& world, double res) {
   }
   std::vector<Vec3> centres;
   centres.reserve(keys.size());
-  const std::uint64_t mask = (std::uint64_t{1} << 21) - 1;
-  for (std::uint64_t k : keys) {
-    const auto unpack = [&](int shift) {
-      return static_cast<double>(static_cast<std::int64_t>((k >> shift) & mask) - (std::int64_t{1} << 20));
-    };
-    centres.emplace_back((unpack(42) + 0.5) * res, (unpack(21) + 0.5) * res, (unpack(0) + 0.5) * res);
-  }
+  for (std::uint64_t k : keys) centres.push_back(mapping::grid_center(k, res));
   // Deterministic order (the hash set's is not).
   std::sort(centres.begin(), centres.end(), [](const Vec3& p, const Vec3& q) {
     return std::lexicographical_compare(p.data(), p.data() + 3, q.data(), q.data() + 3);

@@ -14,6 +14,8 @@
 #include <limits>
 
 #include "canopy/common/error.h"
+#include "canopy/mapping/voxel_key.h"
+#include "canopy/mapping/voxel_ray.h"
 #include "radix_sort.h"
 
 namespace canopy::mapping {
@@ -58,57 +60,14 @@ Segment ray_segment(const SemanticOcTree& map, const octomap::point3d& origin, s
   return {origin, origin + d.normalized() * float(limit)};
 }
 
-// Amanatides-Woo traversal, step for step as OcTreeBaseImpl::computeRayKeys; calls
-// visit(key) for every free cell.
+// Calls visit(key) for every free cell of the segment (mapping/voxel_ray.h, OctoMap's voxels).
 template <typename Visit>
 void traverse(const SemanticOcTree& map, const Segment& s, Visit&& visit) {
-  octomap::OcTreeKey ko, ke;
-  if (!map.coordToKeyChecked(s.origin, ko) || !map.coordToKeyChecked(s.end, ke)) return;
-  if (ko == ke) return;
-  visit(ko);
-  octomap::point3d dir = s.end - s.origin;
-  const float length = float(dir.norm());
-  dir /= length;
-  const double res = map.getResolution();
-  int step[3];
-  double t_max[3], t_delta[3];
-  octomap::OcTreeKey k = ko;
-  for (unsigned i = 0; i < 3; ++i) {
-    step[i] = dir(i) > 0.0 ? 1 : (dir(i) < 0.0 ? -1 : 0);
-    if (step[i] != 0) {
-      double border = map.keyToCoord(k[i]);
-      border += float(step[i] * res * 0.5);
-      t_max[i] = (border - s.origin(i)) / dir(i);
-      t_delta[i] = res / std::fabs(dir(i));
-    } else {
-      t_max[i] = t_delta[i] = std::numeric_limits<double>::max();
-    }
-  }
-  while (true) {
-    unsigned dim;
-    if (t_max[0] < t_max[1]) dim = t_max[0] < t_max[2] ? 0 : 2;
-    else dim = t_max[1] < t_max[2] ? 1 : 2;
-    k[dim] = static_cast<octomap::key_type>(k[dim] + step[dim]);
-    t_max[dim] += t_delta[dim];
-    if (k == ke) return;
-    if (std::min(std::min(t_max[0], t_max[1]), t_max[2]) > length) return;
-    visit(k);
-  }
-}
-
-// OctoMap's coordToKeyChecked (key = floor(x / res) + 2^15, checked), with an inline floor:
-// libm's floor is a call per coordinate on baseline x86-64.
-inline bool fast_key(const Vec3f& p, double inv_res, octomap::OcTreeKey* key) {
-  for (int a = 0; a < 3; ++a) {
-    const double v = inv_res * double(p[a]);
-    if (!(v > -32769.0 && v < 32769.0)) return false;
-    int i = static_cast<int>(v);
-    i -= v < i;
-    i += 32768;
-    if (i < 0 || i >= 65536) return false;
-    (*key)[a] = static_cast<octomap::key_type>(i);
-  }
-  return true;
+  walk_ray(map, s.origin, s.end, [&](unsigned x, unsigned y, unsigned z) {
+    visit(octomap::OcTreeKey(static_cast<octomap::key_type>(x), static_cast<octomap::key_type>(y),
+                             static_cast<octomap::key_type>(z)));
+    return true;
+  });
 }
 
 template <typename F>
@@ -182,7 +141,7 @@ void ScanInserter::compute_updates(const perception::LabelledCloud& cloud, std::
           ++nb;
         } else if (label >= num_classes) {
           ++nl;
-        } else if (!fast_key(p, inv_res, &key)) {
+        } else if (!point_key(p, inv_res, &key)) {
           ++no;
         } else {
           const bool far = double((p - o).squaredNorm()) > max_range2;

@@ -10,49 +10,6 @@
 
 namespace canopy::mapping {
 
-namespace {
-
-// Spreads the 16 bits of v so that bit i lands on bit 3i.
-inline std::uint64_t spread3(std::uint64_t v) {
-  v &= 0xffff;
-  v = (v | (v << 16)) & 0x0000ff0000ffull;
-  v = (v | (v << 8)) & 0x00f00f00f00full;
-  v = (v | (v << 4)) & 0x0c30c30c30c3ull;
-  v = (v | (v << 2)) & 0x249249249249ull;
-  return v;
-}
-
-inline std::uint16_t compact3(std::uint64_t v) {
-  v &= 0x249249249249ull;
-  v = (v | (v >> 2)) & 0x0c30c30c30c3ull;
-  v = (v | (v >> 4)) & 0x00f00f00f00full;
-  v = (v | (v >> 8)) & 0x0000ff0000ffull;
-  v = (v | (v >> 16)) & 0xffff;
-  return static_cast<std::uint16_t>(v);
-}
-
-// Deepest depth whose node is shared by the paths of two different codes.
-inline unsigned common_depth(std::uint64_t a, std::uint64_t b) {
-  const std::uint64_t x = a ^ b;
-  if (x == 0) return kOctreeDepth;
-  const unsigned level = (63u - static_cast<unsigned>(__builtin_clzll(x))) / 3u;  // 0..15
-  return kOctreeDepth - 1 - level;
-}
-
-inline unsigned child_index(std::uint64_t code, unsigned depth) {
-  return static_cast<unsigned>(code >> (3 * (kOctreeDepth - 1 - depth))) & 7u;
-}
-
-}  // namespace
-
-std::uint64_t morton_code(const octomap::OcTreeKey& key) {
-  return spread3(key[0]) | (spread3(key[1]) << 1) | (spread3(key[2]) << 2);
-}
-
-octomap::OcTreeKey morton_key(std::uint64_t code) {
-  return octomap::OcTreeKey(compact3(code), compact3(code >> 1), compact3(code >> 2));
-}
-
 SemanticOcTree::SemanticOcTree(const SemanticMapParams& params, const SemanticClasses& classes)
     : Base(params.resolution_m), params_(params), classes_(classes), rule_(params.rule()),
       unseen_entropy_(
@@ -179,7 +136,7 @@ void SemanticOcTree::apply_range(SemanticNode* top, unsigned top_depth, const Vo
     unsigned start = top_depth;
     if (u != begin) {
       CANOPY_CHECK(u->code > (u - 1)->code, "updates must be sorted by code without duplicates");
-      const unsigned c = common_depth((u - 1)->code, u->code);
+      const unsigned c = morton_common_depth((u - 1)->code, u->code);
       finish_path(c);
       start = std::max(top_depth, std::min(c, reached));
     }
@@ -189,7 +146,7 @@ void SemanticOcTree::apply_range(SemanticNode* top, unsigned top_depth, const Vo
     // A node created empty is childless without being a pruned block.
     bool fresh = top_is_fresh && start == top_depth;
     for (; d < kOctreeDepth; ++d) {
-      const unsigned idx = child_index(u->code, d);
+      const unsigned idx = morton_child(u->code, d);
       SemanticNode* next = node->child(idx);
       const bool node_fresh = fresh;
       fresh = false;
@@ -234,7 +191,7 @@ UpdateCounts SemanticOcTree::apply_sorted_updates(const std::vector<VoxelUpdate>
   ++revision_;
   if (!root) create_root();  // counted in tree_size by create_root
   const std::size_t n = updates.size();
-  const unsigned span_depth = common_depth(updates.front().code, updates.back().code);
+  const unsigned span_depth = morton_common_depth(updates.front().code, updates.back().code);
   const unsigned split = span_depth + 2;  // up to 64 disjoint subtrees
   const int threads = params_.threads > 0 ? params_.threads : tbb::this_task_arena::max_concurrency();
   if (n < 32768 || threads <= 1 || split >= kOctreeDepth) {  // small batches: waking workers costs more
@@ -259,7 +216,7 @@ UpdateCounts SemanticOcTree::apply_sorted_updates(const std::vector<VoxelUpdate>
       unsigned d = 0;
       bool fresh = false;
       for (; d < split; ++d) {
-        const unsigned idx = child_index(updates[i].code, d);
+        const unsigned idx = morton_child(updates[i].code, d);
         SemanticNode* next = node->child(idx);
         const bool node_fresh = fresh;
         fresh = false;

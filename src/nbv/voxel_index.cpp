@@ -9,22 +9,14 @@
 #include <unordered_map>
 
 #include "canopy/common/error.h"
+#include "canopy/mapping/voxel_key.h"
+#include "canopy/mapping/voxel_ray.h"
 
 namespace canopy::nbv {
 
 namespace {
 
 constexpr std::uint64_t kEmpty = ~std::uint64_t{0};
-
-inline std::uint64_t brick_key_of(const octomap::OcTreeKey& k) {
-  constexpr int b = VoxelIndex::kBrickBits;
-  return std::uint64_t(k[0] >> b) | (std::uint64_t(k[1] >> b) << 13) | (std::uint64_t(k[2] >> b) << 26);
-}
-
-inline unsigned cell_of(unsigned x, unsigned y, unsigned z) {
-  constexpr unsigned m = VoxelIndex::kBrickSide - 1;
-  return (x & m) | ((y & m) << VoxelIndex::kBrickBits) | ((z & m) << (2 * VoxelIndex::kBrickBits));
-}
 
 inline std::uint64_t hash64(std::uint64_t x) {
   x ^= x >> 33;
@@ -173,7 +165,7 @@ void VoxelIndex::rebuild(const mapping::SemanticOcTree& map) {
     }
     const unsigned side = 1u << (16 - depth);
     if (side == 1) {
-      brick_for_insert(brick_key_of(key))[cell_of(key[0], key[1], key[2])] = id;
+      brick_for_insert(mapping::brick_key(key))[mapping::brick_cell(key[0], key[1], key[2])] = id;
       return;
     }
     unsigned lo[3], hi[3];  // voxel key range [lo, hi]
@@ -185,14 +177,14 @@ void VoxelIndex::rebuild(const mapping::SemanticOcTree& map) {
     for (unsigned bz = lo[2] >> kBrickBits; bz <= hi[2] >> kBrickBits; ++bz)
       for (unsigned by = lo[1] >> kBrickBits; by <= hi[1] >> kBrickBits; ++by)
         for (unsigned bx = lo[0] >> kBrickBits; bx <= hi[0] >> kBrickBits; ++bx) {
-          const std::uint64_t bk = std::uint64_t(bx) | (std::uint64_t(by) << 13) | (std::uint64_t(bz) << 26);
+          const std::uint64_t bk = mapping::brick_key_of_brick(bx, by, bz);
           std::uint32_t* cells = brick_for_insert(bk);
           const unsigned x0 = std::max(lo[0], bx << kBrickBits), x1 = std::min(hi[0], (bx << kBrickBits) + kBrickSide - 1);
           const unsigned y0 = std::max(lo[1], by << kBrickBits), y1 = std::min(hi[1], (by << kBrickBits) + kBrickSide - 1);
           const unsigned z0 = std::max(lo[2], bz << kBrickBits), z1 = std::min(hi[2], (bz << kBrickBits) + kBrickSide - 1);
           for (unsigned z = z0; z <= z1; ++z)
             for (unsigned y = y0; y <= y1; ++y)
-              for (unsigned x = x0; x <= x1; ++x) cells[cell_of(x, y, z)] = id;
+              for (unsigned x = x0; x <= x1; ++x) cells[mapping::brick_cell(x, y, z)] = id;
         }
   });
   build_ms_ = watch.ms();
@@ -205,8 +197,8 @@ bool VoxelIndex::refresh(const mapping::SemanticOcTree& map) {
 }
 
 std::uint32_t VoxelIndex::lookup(const octomap::OcTreeKey& key) const {
-  const std::uint32_t* b = brick(brick_key_of(key));
-  return b ? b[cell_of(key[0], key[1], key[2])] : 0u;
+  const std::uint32_t* b = brick(mapping::brick_key(key));
+  return b ? b[mapping::brick_cell(key[0], key[1], key[2])] : 0u;
 }
 
 std::size_t VoxelIndex::max_voxels(double length_m) const {
@@ -223,90 +215,37 @@ std::size_t VoxelIndex::cast(const Vec3& origin_d, const Vec3& end_d, const Vec3
                              std::size_t capacity, bool* outside, octomap::OcTreeKey* keys) const {
   if (outside) *outside = false;
   CANOPY_CHECK(map_ != nullptr, "VoxelIndex::cast before rebuild");
-  const mapping::SemanticOcTree& map = *map_;
-  // The same arithmetic as OcTreeBaseImpl::computeRayKeys (float points, double steps), so the
-  // fast traversal and the reference visit exactly the same voxels.
+  // Float end points, as OctoMap's computeRayKeys takes them (mapping/voxel_ray.h).
   const octomap::point3d origin(float(origin_d.x()), float(origin_d.y()), float(origin_d.z()));
   const octomap::point3d end(float(end_d.x()), float(end_d.y()), float(end_d.z()));
-  octomap::OcTreeKey key_origin, key_end;
-  if (!map.coordToKeyChecked(origin, key_origin) || !map.coordToKeyChecked(end, key_end)) {
-    if (outside) *outside = true;
+  if (capacity == 0) {
+    octomap::OcTreeKey k;
+    if (outside) *outside = !map_->coordToKeyChecked(origin, k) || !map_->coordToKeyChecked(end, k);
     return 0;
   }
-  if (key_origin == key_end || capacity == 0) return 0;
-
   std::size_t n = 0;
   std::uint64_t cached_bk = kEmpty;
   const std::uint32_t* cached = nullptr;
   const double res = resolution_;
-  const int tmv = 32768;  // tree_max_val of a 16-level tree
   const double tx0 = target.x(), ty0 = target.y(), tz0 = target.z();
-  auto emit = [&](unsigned x, unsigned y, unsigned z) {
-    const std::uint64_t bk = std::uint64_t(x >> kBrickBits) | (std::uint64_t(y >> kBrickBits) << 13) |
-                             (std::uint64_t(z >> kBrickBits) << 26);
+  const bool inside = mapping::walk_ray(*map_, origin, end, [&](unsigned x, unsigned y, unsigned z) {
+    const std::uint64_t bk = mapping::brick_key(x, y, z);
     if (bk != cached_bk) {
       cached_bk = bk;
       cached = brick(bk);
     }
-    const std::uint32_t id = cached ? cached[cell_of(x, y, z)] : 0u;
-    const double cx = (double(static_cast<int>(x) - tmv) + 0.5) * res - tx0;
-    const double cy = (double(static_cast<int>(y) - tmv) + 0.5) * res - ty0;
-    const double cz = (double(static_cast<int>(z) - tmv) + 0.5) * res - tz0;
+    const std::uint32_t id = cached ? cached[mapping::brick_cell(x, y, z)] : 0u;
+    const double cx = mapping::key_center(x, res) - tx0;
+    const double cy = mapping::key_center(y, res) - ty0;
+    const double cz = mapping::key_center(z, res) - tz0;
     if (keys) keys[n] = octomap::OcTreeKey(static_cast<octomap::key_type>(x), static_cast<octomap::key_type>(y),
                                            static_cast<octomap::key_type>(z));
     out[n].info = &palette_[id];
     out[n].id = id;
     out[n].dist2_m2 = float(cx * cx + cy * cy + cz * cz);
-    ++n;
-  };
-  emit(key_origin[0], key_origin[1], key_origin[2]);
-
-  octomap::point3d direction = end - origin;
-  const float length = float(direction.norm());
-  direction /= length;
-  int step[3];
-  double t_max[3], t_delta[3];
-  octomap::OcTreeKey current = key_origin;
-  for (unsigned i = 0; i < 3; ++i) {
-    step[i] = direction(i) > 0.0 ? 1 : (direction(i) < 0.0 ? -1 : 0);
-    if (step[i] != 0) {
-      double border = map.keyToCoord(current[i]);
-      border += float(step[i] * res * 0.5);
-      t_max[i] = (border - origin(i)) / direction(i);
-      t_delta[i] = res / std::fabs(direction(i));
-    } else {
-      t_max[i] = std::numeric_limits<double>::max();
-      t_delta[i] = std::numeric_limits<double>::max();
-    }
-  }
-  // The loop state in scalars (registers), not arrays indexed by the axis.
-  double tx = t_max[0], ty = t_max[1], tz = t_max[2];
-  const double dx = t_delta[0], dy = t_delta[1], dz = t_delta[2];
-  const unsigned sx = unsigned(step[0]), sy = unsigned(step[1]), sz = unsigned(step[2]);  // wrap = -1
-  unsigned kx = current[0], ky = current[1], kz = current[2];
-  const unsigned ex = key_end[0], ey = key_end[1], ez = key_end[2];
-  const double len = length;
-  while (n < capacity) {
-    // Step along the axis of the nearest boundary (ties as computeRayKeys: 2 over 1 over 0).
-    if (tx < ty) {
-      if (tx < tz) {
-        kx = (kx + sx) & 0xFFFFu;
-        tx += dx;
-      } else {
-        kz = (kz + sz) & 0xFFFFu;
-        tz += dz;
-      }
-    } else if (ty < tz) {
-      ky = (ky + sy) & 0xFFFFu;
-      ty += dy;
-    } else {
-      kz = (kz + sz) & 0xFFFFu;
-      tz += dz;
-    }
-    if (kx == ex && ky == ey && kz == ez) break;
-    if (std::min(std::min(tx, ty), tz) > len) break;
-    emit(kx, ky, kz);
-  }
+    return ++n < capacity;
+  });
+  if (!inside && outside) *outside = true;
   return n;
 }
 

@@ -18,11 +18,9 @@
 #include "canopy/common/types.h"
 #include "canopy/mapping/map_params.h"
 #include "canopy/mapping/semantic_state.h"
+#include "canopy/mapping/voxel_key.h"
 
 namespace canopy::mapping {
-
-/// Depth of canopy's octrees (OctoMap's 16-bit keys): a leaf at this depth is one voxel.
-constexpr unsigned kOctreeDepth = 16;
 
 /// Octree node holding one SemanticState (8-byte child pointer + 20-byte payload).
 class SemanticNode : public octomap::OcTreeDataNode<SemanticState> {
@@ -71,13 +69,6 @@ struct VoxelCounts {
   std::size_t nodes = 0;           ///< All tree nodes.
   std::size_t memory_bytes = 0;    ///< Approximate heap use of the tree.
 };
-
-/// Morton code of a key: bits interleaved so that bits 3l..3l+2 hold the child index at
-/// tree level 15 - l (OctoMap's computeChildIdx), so sorting by code visits leaves in
-/// depth-first order.
-std::uint64_t morton_code(const octomap::OcTreeKey& key);
-/// Inverse of morton_code.
-octomap::OcTreeKey morton_key(std::uint64_t code);
 
 /// Probabilistic multi-class voxel map (SSMI rules) with OctoMap's addressing.
 ///

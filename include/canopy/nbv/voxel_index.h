@@ -1,10 +1,10 @@
 #pragma once
 // A flat voxel index kept beside the semantic octree for next-best-view ray casting
 // (docs/background/speed_anchors.md), and the two ray traversals that read the map:
-//  - fast: an Amanatides-Woo DDA at the map resolution (the same arithmetic as OctoMap's
-//    computeRayKeys, so both visit the same voxels) whose lookups go to 8x8x8-voxel bricks
-//    found by an open-addressing hash, with the last brick cached: most steps cost an array
-//    read, not a 16-level tree descent;
+//  - fast: the project's one voxel walk (mapping/voxel_ray.h, the same voxels as OctoMap's
+//    computeRayKeys) whose lookups go to 8x8x8-voxel bricks (mapping/voxel_key.h) found by an
+//    open-addressing hash, with the last brick cached: most steps cost an array read, not a
+//    16-level tree descent;
 //  - reference: computeRayKeys plus one tree search per key (slow, obviously correct).
 //
 // Every distinct voxel state is interned once into a palette of VoxelInfo that already holds
@@ -50,9 +50,9 @@ struct RayVoxel {
 /// Flat brick-hashed index of a SemanticOcTree's voxels (pruned blocks expanded).
 class VoxelIndex {
  public:
-  static constexpr int kBrickBits = 3;                 ///< Bricks of 8^3 voxels.
-  static constexpr int kBrickSide = 1 << kBrickBits;
-  static constexpr int kBrickCells = kBrickSide * kBrickSide * kBrickSide;
+  static constexpr int kBrickBits = mapping::kBrickBits;  ///< Bricks of 8^3 voxels (mapping/voxel_key.h).
+  static constexpr int kBrickSide = mapping::kBrickSide;
+  static constexpr int kBrickCells = mapping::kBrickCells;
 
   VoxelIndex() = default;
   /// Builds the index of `map` (keeps a pointer; the map must outlive the index).
