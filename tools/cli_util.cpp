@@ -21,8 +21,12 @@ mission::Settings load_settings(const std::string& path) {
   return mission::Settings::load(find_data_file(path), default_robot_config());
 }
 
-nlohmann::json settings_json(const std::string& command, const world::WorldSpec& spec) {
-  return {{"command", command}, {"world_file", spec.source_file}, {"world", spec.to_json()}};
+YAML::Node run_record(const std::string& command, const world::WorldSpec& spec) {
+  YAML::Node n;
+  n["command"] = command;
+  n["world_file"] = spec.source_file;
+  n["world"] = YAML::Load(spec.to_json().dump());  // JSON is YAML
+  return n;
 }
 
 }  // namespace canopy::cli

@@ -17,9 +17,10 @@ std::string default_world_path();
 /// data folder, see data_dir.h), checks that the robot's base fits its aisle (robot.yaml
 /// aisle_clearance_m) and logs what it is. Throws InputError on problems.
 world::WorldSpec load_world_spec(const std::string& path, const RobotConfig& robot = default_robot_config());
-/// The start of every command's settings.json: the command, the world file and the world's
-/// resolved parameters (seed included). Commands add their own options.
-nlohmann::json settings_json(const std::string& command, const world::WorldSpec& spec);
+/// The start of a command's run.yaml: the command, the world file and the world's resolved
+/// parameters (seed included). Commands add their own options; the settings bundle goes to
+/// settings.yaml beside it.
+YAML::Node run_record(const std::string& command, const world::WorldSpec& spec);
 /// Loads the settings bundle every command's --config names, found like a world file
 /// (InputError on problems).
 mission::Settings load_settings(const std::string& path);

@@ -4,10 +4,10 @@
 
 #include <spdlog/spdlog.h>
 
-#include <chrono>
 #include <cstdio>
 
-#include "canopy/mapping/mapping_config.h"
+#include "canopy/common/timer.h"
+#include "canopy/mission/settings.h"
 #include "canopy/mapping/scan_inserter.h"
 #include "canopy/evaluation/view_presets.h"
 #include "canopy/nbv/planner.h"
@@ -19,8 +19,6 @@ namespace canopy::cli {
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
 struct Timed {
   double ms_per_view = 0.0;
@@ -34,14 +32,14 @@ Timed time_views(std::size_t views, double min_ms, F&& pass) {
   Timed t;
   int reps = 0;
   std::size_t voxels = 0;
-  const auto t0 = Clock::now();
+  const Stopwatch watch;
   double elapsed = 0.0;
   do {
     double g = 0.0;
     voxels += pass(&g);
     t.gain_sum = g;
     ++reps;
-    elapsed = ms_since(t0);
+    elapsed = watch.ms();
   } while (elapsed < min_ms);
   t.ms_per_view = elapsed / (double(reps) * double(views));
   t.voxels_per_view = double(voxels) / (double(reps) * double(views));
@@ -71,7 +69,7 @@ void add_bench_gain(CLI::App& bench) {
   sub->add_option("--min-ms", opt->min_ms, "Minimum time per measurement [ms]")->capture_default_str()->check(CLI::Range(1.0, 1e6));
   sub->callback([opt] {
     const mission::Settings bundle = load_settings(opt->config);
-    const mapping::MappingConfig cfg = bundle.mapping;
+    const mission::MappingSettings cfg = bundle.mapping;
     const nbv::NbvParams np = bundle.nbv;
     const auto gain = nbv::make_gain(opt->gain, np.gain, "--gain");
     const world::WorldSpec spec = load_world_spec(opt->world);
@@ -84,9 +82,9 @@ void add_bench_gain(CLI::App& bench) {
     mapping::SemanticOcTree map(cfg.map, spec.classes);
     mapping::ScanInserter inserter(map);
     perception::SemanticExtractor extractor(cfg.extractor, spec.classes);
-    const auto tm = Clock::now();
+    const Stopwatch mapping_watch;
     for (const Pose& T : views) inserter.insert(extractor.extract(renderer.render_free_camera(T)));
-    spdlog::info("mapped {} views in {:.1f} s", views.size(), ms_since(tm) / 1000.0);
+    spdlog::info("mapped {} views in {:.1f} s", views.size(), mapping_watch.seconds());
     nbv::VoxelIndex index(map);
     const mapping::VoxelCounts counts = map.counts();
     const auto clusters = nbv::find_clusters(map, np.cluster);

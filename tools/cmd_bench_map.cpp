@@ -4,10 +4,10 @@
 #include <octomap/OcTree.h>
 #include <spdlog/spdlog.h>
 
-#include <chrono>
 #include <cstdio>
 
-#include "canopy/mapping/mapping_config.h"
+#include "canopy/common/timer.h"
+#include "canopy/mission/settings.h"
 #include "canopy/mapping/scan_inserter.h"
 #include "canopy/evaluation/view_presets.h"
 #include "canopy/sim/renderer.h"
@@ -18,7 +18,6 @@ namespace canopy::cli {
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
 
 struct Timing {
   double ms = 0.0;
@@ -32,14 +31,14 @@ Timing time_semantic(const std::vector<perception::LabelledCloud>& clouds, const
   for (int r = 0; r < repeats; ++r) {
     mapping::SemanticOcTree map(p, classes);
     mapping::ScanInserter ins(map);
-    const auto t0 = Clock::now();
+    const Stopwatch watch;
     for (const auto& c : clouds) {
       const mapping::InsertStats st = ins.insert(c);
       t.filter_ms += st.ms_filter;
       t.raycast_ms += st.ms_raycast;
       t.update_ms += st.ms_update;
     }
-    t.ms += std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    t.ms += watch.ms();
     t.nodes = map.size();
   }
   const double n = double(repeats) * double(clouds.size());
@@ -55,12 +54,12 @@ Timing time_octomap(const std::vector<octomap::Pointcloud>& clouds, const std::v
   Timing t;
   for (int r = 0; r < repeats; ++r) {
     octomap::OcTree tree(res);
-    const auto t0 = Clock::now();
+    const Stopwatch watch;
     for (std::size_t i = 0; i < clouds.size(); ++i) {
       const octomap::point3d o(float(origins[i].x()), float(origins[i].y()), float(origins[i].z()));
       tree.insertPointCloud(clouds[i], o, max_range, /*lazy_eval=*/false, /*discretize=*/true);
     }
-    t.ms += std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    t.ms += watch.ms();
     t.nodes = tree.size();
   }
   t.ms /= double(repeats) * double(clouds.size());
@@ -85,7 +84,7 @@ void add_bench_map(CLI::App& bench) {
   sub->add_option("--frames", opt->frames, "Frames to insert, spread over the views")->capture_default_str()->check(CLI::Range(1, 10000));
   sub->add_option("--repeats", opt->repeats, "Runs over all frames, averaged")->capture_default_str()->check(CLI::Range(1, 100));
   sub->callback([opt] {
-    const mapping::MappingConfig cfg = load_settings(opt->config).mapping;
+    const mission::MappingSettings cfg = load_settings(opt->config).mapping;
     const world::WorldSpec spec = load_world_spec(opt->world);
     const world::World world = world::generate_world(spec);
     sim::Simulator sim(world, default_robot_config());

@@ -5,12 +5,12 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <map>
 
 #include "canopy/common/error.h"
+#include "canopy/common/timer.h"
 #include "canopy/common/io.h"
 #include "canopy/common/random.h"
 #include "canopy/motion/motion_config.h"
@@ -24,9 +24,7 @@ namespace canopy::cli {
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
 
-double us_since(Clock::time_point t0) { return std::chrono::duration<double, std::micro>(Clock::now() - t0).count(); }
 
 double percentile(std::vector<double> v, double p) {
   if (v.empty()) return 0.0;
@@ -82,17 +80,17 @@ void add_bench_motion(CLI::App& bench) {
       seeds[i] = random_q();
     }
     long solutions = 0;
-    auto t0 = Clock::now();
+    Stopwatch watch;
     for (const Pose& T : poses06) solutions += model.ur().ik(T).count;
-    const double ik_us = us_since(t0) / static_cast<double>(poses06.size());
+    const double ik_us = (1e6 * watch.seconds()) / static_cast<double>(poses06.size());
     long filtered = 0;
-    t0 = Clock::now();
+    watch.restart();
     for (size_t i = 0; i < poses_cam.size(); ++i) filtered += model.camera_ik_in_arm(poses_cam[i], seeds[i]).count;
-    const double cam_ik_us = us_since(t0) / static_cast<double>(poses_cam.size());
+    const double cam_ik_us = (1e6 * watch.seconds()) / static_cast<double>(poses_cam.size());
     double sink = 0.0;
-    t0 = Clock::now();
+    watch.restart();
     for (const ArmConfig& q : seeds) sink += model.ur().fk(q).translation().x();
-    const double fk_us = us_since(t0) / static_cast<double>(seeds.size());
+    const double fk_us = (1e6 * watch.seconds()) / static_cast<double>(seeds.size());
     std::printf("kinematics (%d random poses)\n", opt->ik_poses);
     std::printf("  analytic IK, all branches         %8.3f us/solve  (%.2f solutions per pose)\n", ik_us,
                 double(solutions) / poses06.size());
@@ -112,15 +110,15 @@ void add_bench_motion(CLI::App& bench) {
     std::vector<ArmConfig> states(static_cast<size_t>(opt->states));
     for (auto& q : states) q = random_q();
     std::vector<char> colliding(states.size());
-    t0 = Clock::now();
+    watch.restart();
     for (size_t i = 0; i < states.size(); ++i) colliding[i] = checker.in_collision(base, states[i], motion::BodySet::kArmOnly);
-    const double valid_us = us_since(t0) / static_cast<double>(states.size());
+    const double valid_us = (1e6 * watch.seconds()) / static_cast<double>(states.size());
     std::vector<ArmConfig> free_states;
     for (size_t i = 0; i < states.size(); ++i)
       if (!colliding[i]) free_states.push_back(states[i]);
-    t0 = Clock::now();
+    watch.restart();
     for (const ArmConfig& q : free_states) sink += checker.in_collision(base, q, motion::BodySet::kArmOnly);
-    const double free_us = free_states.empty() ? 0.0 : us_since(t0) / static_cast<double>(free_states.size());
+    const double free_us = free_states.empty() ? 0.0 : (1e6 * watch.seconds()) / static_cast<double>(free_states.size());
     std::printf("validity checks (%zu occupied voxels of %.3f m, base %s)\n", voxels.size(), res, opt->base.c_str());
     std::printf("  random states                     %8.3f us/state  (%.1f%% in collision)\n", valid_us,
                 100.0 * double(states.size() - free_states.size()) / states.size());
@@ -166,7 +164,7 @@ void add_bench_motion(CLI::App& bench) {
     j["planning_p90_s"] = percentile(times, 0.9);
     j["planning_max_s"] = percentile(times, 1.0);
     j["planning_statuses"] = statuses;
-    j["motion_config"] = cfg.to_json();
+    j["motion_config"] = yaml_to_json(params_to_yaml(cfg));
     if (!opt->json.empty()) {
       write_json_atomic(opt->json, j);
       spdlog::info("wrote {}", opt->json);

@@ -2,9 +2,9 @@
 
 #include <spdlog/spdlog.h>
 
-#include <chrono>
 #include <cstdio>
 
+#include "canopy/common/timer.h"
 #include "canopy/sim/renderer.h"
 #include "cli_util.h"
 #include "commands.h"
@@ -41,13 +41,12 @@ void add_bench_render(CLI::App& bench) {
     renderer.render_free_camera(views.front());  // warm-up (shader compilation, uploads)
     double rgbd_ms = 0.0, full_ms = 0.0;
     for (const Pose& T : views) {
-      auto t0 = std::chrono::steady_clock::now();
+      Stopwatch watch;
       renderer.render(T, false, /*labels=*/false);
-      auto t1 = std::chrono::steady_clock::now();
+      rgbd_ms += watch.ms();
+      watch.restart();
       renderer.render(T, false, /*labels=*/true);
-      auto t2 = std::chrono::steady_clock::now();
-      rgbd_ms += std::chrono::duration<double, std::milli>(t1 - t0).count();
-      full_ms += std::chrono::duration<double, std::milli>(t2 - t1).count();
+      full_ms += watch.ms();
     }
     const int n = static_cast<int>(views.size());
     std::printf("bench render: world '%s', %dx%d, %d frames, shadows %s\n", spec.name.c_str(), spec.camera.width_px,

@@ -4,16 +4,16 @@
 
 #include <spdlog/spdlog.h>
 
-#include <chrono>
 #include <cstdio>
 #include <filesystem>
 
 #include "canopy/common/error.h"
 #include "canopy/common/io.h"
+#include "canopy/common/timer.h"
 #include "canopy/datasets/frame_sequence.h"
 #include "canopy/datasets/sequence_mapping.h"
 #include "canopy/mapping/map_io.h"
-#include "canopy/mapping/mapping_config.h"
+#include "canopy/mapping/frame_mapping.h"
 #include "canopy/mapping/scan_inserter.h"
 #include "canopy/evaluation/view_presets.h"
 #include "canopy/sim/renderer.h"
@@ -54,7 +54,7 @@ struct MapOptions {
 
 // canopy map --frames: no world, no ground truth; the map and what each frame gave.
 void map_recorded(const MapOptions& opt, mission::Settings bundle) {
-  mapping::MappingConfig& cfg = bundle.mapping;
+  mission::MappingSettings& cfg = bundle.mapping;
   datasets::FrameReaderOptions reader;
   reader.intrinsics_file = opt.intrinsics;
   reader.label_colors_file = opt.label_colors;
@@ -66,12 +66,14 @@ void map_recorded(const MapOptions& opt, mission::Settings bundle) {
   mapping::ScanInserter inserter(map);
   perception::SemanticExtractor extractor(cfg.extractor, frames.classes());
   write_file_atomic(out.path("settings.yaml"), bundle.to_yaml_text());
-  write_json_atomic(out.path("settings.json"), {{"command", "map"},
-                                                {"frames", opt.frames},
-                                                {"layout", datasets::to_string(frames.layout())},
-                                                {"labels", reader.label_images ? "label images" : "color"},
-                                                {"classes", frames.classes().names},
-                                                {"max_time_diff_s", opt.max_dt_s}});
+  YAML::Node run;
+  run["command"] = "map";
+  run["frames"] = opt.frames;
+  run["layout"] = datasets::to_string(frames.layout());
+  run["labels"] = reader.label_images ? "label images" : "color";
+  run["classes"] = frames.classes().names;
+  run["max_time_diff_s"] = opt.max_dt_s;
+  write_file_atomic(out.path("run.yaml"), yaml_text(run));
   spdlog::info("mapping {} frames ({} layout, {} skipped while pairing), labels {}", frames.size(),
                datasets::to_string(frames.layout()), frames.skipped().size(), reader.label_images ? "from images" : "color");
   const datasets::SequenceMapResult r =
@@ -136,7 +138,7 @@ void add_map_command(CLI::App& app) {
   sub->add_option("--out", opt->out, "Output folder")->required();
   sub->callback([opt] {
     mission::Settings bundle = load_settings(opt->config);
-    mapping::MappingConfig& cfg = bundle.mapping;
+    mission::MappingSettings& cfg = bundle.mapping;
     if (!opt->seg.empty()) cfg.extractor.source = perception::label_source_from_string(opt->seg, "--seg");
     if (opt->pgt >= 0.0) cfg.extractor.p_gt = opt->pgt;
     if (!opt->frames.empty()) return map_recorded(*opt, bundle);
@@ -150,36 +152,34 @@ void add_map_command(CLI::App& app) {
     mapping::SemanticOcTree map(cfg.map, spec.classes);
     mapping::ScanInserter inserter(map);
     perception::SemanticExtractor extractor(cfg.extractor, spec.classes);
-    YAML::Emitter mapping_yaml;
-    mapping_yaml << cfg.to_yaml();
     write_file_atomic(out.path("settings.yaml"), bundle.to_yaml_text());  // a loadable --config
-    nlohmann::json settings = settings_json("map", spec);
-    settings["views"] = opt->views;
-    settings["view_poses"] = nlohmann::json::array();
-    for (const Pose& T : views) settings["view_poses"].push_back(pose_to_json(T));
-    settings["mapping_config"] = mapping_yaml.c_str();
-    write_json_atomic(out.path("settings.json"), settings);
+    YAML::Node run = run_record("map", spec);
+    run["views"] = opt->views;
+    nlohmann::json poses = nlohmann::json::array();
+    for (const Pose& T : views) poses.push_back(pose_to_json(T));
+    run["view_poses"] = YAML::Load(poses.dump());
+    write_file_atomic(out.path("run.yaml"), yaml_text(run));
     spdlog::info("mapping {} views ({}), labels {}, P_gt {}", views.size(), opt->views,
                  perception::to_string(cfg.extractor.source), cfg.extractor.p_gt);
 
     nlohmann::json history = nlohmann::json::array();
     double insert_ms_sum = 0.0;
     for (std::size_t i = 0; i < views.size(); ++i) {
-      const auto t0 = std::chrono::steady_clock::now();
+      const Stopwatch render_watch;
       const LabelledFrame frame = renderer.render_free_camera(views[i]);
-      const auto t1 = std::chrono::steady_clock::now();
-      const perception::LabelledCloud cloud = extractor.extract(frame);
-      const mapping::InsertStats st = inserter.insert(cloud);
+      const double ms_render = render_watch.ms();
+      const mapping::FrameMapStep fs = mapping::map_frame(frame, extractor, inserter);
+      const mapping::InsertStats& st = fs.insert;
       insert_ms_sum += st.ms_total;
-      const evaluation::MapMetrics m = evaluation::evaluate_map(map, world.truth, bundle.metrics);
+      const evaluation::MapMetrics m = evaluation::evaluate_map(map, world.truth, cfg.metrics);
       mapping::save_map(map, out.path("map.csm"));
       const std::size_t occupied = mapping::export_ply(map, out.path("map.ply"));
       mapping::export_bt(map, out.path("map.bt"));
 
       nlohmann::json step = {{"view", i},
                              {"pose", pose_to_json(views[i])},
-                             {"ms_render", std::chrono::duration<double, std::milli>(t1 - t0).count()},
-                             {"insert", insert_json(st, cloud.stats)},
+                             {"ms_render", ms_render},
+                             {"insert", insert_json(st, fs.extract)},
                              {"coverage", m.coverage},
                              {"total_entropy", m.total_entropy},
                              {"coverage_paper", m.paper.coverage},
@@ -200,7 +200,7 @@ void add_map_command(CLI::App& app) {
       std::fprintf(stderr,
                    "view %zu/%zu: %zu points, insert %.1f ms, coverage %.3f, fruit entropy %.1f, %zu occupied "
                    "voxels\n",
-                   i + 1, views.size(), cloud.size(), st.ms_total, m.coverage, m.total_entropy, occupied);
+                   i + 1, views.size(), fs.extract.points, st.ms_total, m.coverage, m.total_entropy, occupied);
     }
     out.commit();
     std::printf("mapped %zu views: coverage %.3f, fruit entropy %.1f, %.1f ms per insertion; wrote %s\n",

@@ -14,12 +14,9 @@
 #include "canopy/common/error.h"
 #include "canopy/common/io.h"
 #include "canopy/common/process.h"
-#include "canopy/mission/video.h"
-#include "canopy/mapping/map_io.h"
 #include "canopy/mission/mission.h"
-#include "canopy/nbv/gains.h"
-#include "canopy/nbv/ray_sets.h"
-#include "canopy/sim/renderer.h"
+#include "canopy/mission/run_folder.h"
+#include "canopy/mission/video.h"
 #include "cli_util.h"
 #include "commands.h"
 
@@ -33,7 +30,8 @@ extern "C" void on_sigint(int) { g_interrupted = true; }
 struct MissionCliOptions {
   std::string world = default_world_path();
   std::string config = mission::default_settings_path();
-  std::string method = "ours", gain = "osamcep", rays = "ours";
+  std::string method = "ours", gain = "osamcep", rays = "ours";  // override the bundle's `method` when given
+  std::vector<std::string> set;
   std::string seg, stops, out, video, video_size = "640x480";
   double pgt = -1.0;  // < 0: the config's
   int views_per_stop = -1;
@@ -49,9 +47,10 @@ void add_options(CLI::App* sub, MissionCliOptions* o, bool out_required) {
         std::string s;
         for (const auto& n : nbv::view_planner_names()) s += (s.empty() ? "" : ", ") + n;
         return s;
-      }())->capture_default_str();
-  sub->add_option("--gain", o->gain, "Information gain of method ours")->capture_default_str();
-  sub->add_option("--rays", o->rays, "Ray set of method ours: ours, dense, sparse")->capture_default_str();
+      }() + " (default: the bundle's method.name, ours)");
+  sub->add_option("--gain", o->gain, "Information gain of method ours (default: the bundle's method.gain, osamcep)");
+  sub->add_option("--rays", o->rays, "Ray set of method ours: ours, dense, sparse (default: the bundle's method.rays)");
+  sub->add_option("--set", o->set, "Any setting of the bundle, KEY=VALUE (e.g. nbv.gain.proximity=per_voxel); repeatable");
   sub->add_option("--pgt", o->pgt, "Segmentation noise P_gt (1 = none; default: the config's)");
   sub->add_option("--seg", o->seg, "Labels: color or truth (default: the config's)")
       ->check(CLI::IsMember({"color", "truth"}));
@@ -67,61 +66,14 @@ void add_options(CLI::App* sub, MissionCliOptions* o, bool out_required) {
   sub->add_flag("--no-plots", o->no_plots, "Skip sc_entropy.png and runtime.png");
 }
 
-// A chase camera behind and above the base, looking ahead along the aisle.
-Pose chase_pose(const BasePose& base) {
-  const Vec3 heading(std::cos(base.yaw_rad), std::sin(base.yaw_rad), 0.0);
-  const Vec3 ground(base.x_m, base.y_m, 0.0);
-  return look_at(ground - 1.6 * heading + Vec3(0, 0, 1.9), ground + 0.9 * heading + Vec3(0, 0, 0.6));
-}
-
-// Off-screen video: chase view, the last wrist frame's RGB and labels inset, a caption.
-class MissionVideo {
- public:
-  MissionVideo(const std::string& path, int w, int h, double fps, sim::Simulator& sim, const world::WorldSpec& spec)
-      : writer_(path, w, h, fps), classes_(spec.classes) {
-    CameraIntrinsics k;
-    k.width_px = w;
-    k.height_px = h;
-    k.cx_px = 0.5 * w;
-    k.cy_px = 0.5 * h;
-    k.fx_px = k.fy_px = 0.5 * h / std::tan(0.5 * 60.0 * M_PI / 180.0);  // 60 degree vertical field of view
-    k.min_range_m = 0.01;
-    k.max_range_m = 50.0;
-    renderer_ = std::make_unique<sim::Renderer>(sim, k, sim::RenderOptions{true, 1, false});
-  }
-  void tick(sim::Simulator& sim, const std::string& caption) {
-    if (!writer_.ok()) return;  // the encoder died: the run goes on without the video
-    Image<Rgb8> frame = renderer_->render_captioned(chase_pose(sim.base_pose()), true, caption);
-    if (!wrist_rgb_.empty()) {
-      const int iw = frame.width / 4, ih = iw * wrist_rgb_.height / std::max(1, wrist_rgb_.width);
-      const Rgb8 white{255, 255, 255};
-      blit_scaled(wrist_rgb_, frame.width - iw - 8, frame.height - 2 * ih - 16, iw, ih, &frame, 2, white);
-      blit_scaled(wrist_labels_, frame.width - iw - 8, frame.height - ih - 8, iw, ih, &frame, 2, white);
-    }
-    writer_.write(frame);
-  }
-  void set_wrist(const LabelledFrame& f) {
-    wrist_rgb_ = f.rgb;
-    wrist_labels_ = Image<Rgb8>(f.class_id.width, f.class_id.height);
-    for (std::size_t i = 0; i < f.class_id.data.size(); ++i) {
-      wrist_labels_.data[i] = classes_.color(f.class_id.data[i]);
-    }
-  }
-  VideoWriter& writer() { return writer_; }
-
- private:
-  VideoWriter writer_;
-  SemanticClasses classes_;
-  std::unique_ptr<sim::Renderer> renderer_;
-  Image<Rgb8> wrist_rgb_, wrist_labels_;
-};
-
 void run_mission(const MissionCliOptions& o, CLI::App* sub) {
   // Validate every input before any work.
-  if (!o.video.empty()) VideoWriter::validate_output_path(o.video);
+  if (!o.video.empty()) mission::VideoWriter::validate_output_path(o.video);
   const world::WorldSpec spec = load_world_spec(o.world);
-  const RobotConfig robot = default_robot_config();
   mission::Settings settings = load_settings(o.config);
+  if (sub->count("--method")) settings.set("method.name", o.method, "--method");
+  if (sub->count("--gain")) settings.set("method.gain", o.gain, "--gain");
+  if (sub->count("--rays")) settings.set("method.rays", o.rays, "--rays");
   if (sub->count("--pgt")) {
     if (!(std::isfinite(o.pgt) && o.pgt >= 0.0 && o.pgt <= 1.0))
       throw InputError("--pgt: " + std::to_string(o.pgt) + " is not a probability in [0, 1]");
@@ -141,16 +93,10 @@ void run_mission(const MissionCliOptions& o, CLI::App* sub) {
       settings.mission.stops.positions_m = v;
     }
   }
-  mission::MissionOptions mo;
-  mo.method = o.method;
-  mo.gain = o.gain;
-  mo.rays = o.rays;
-  mo.seed = o.seed;
-  nbv::ViewPlannerSettings check;
-  check.params = settings.nbv;
-  nbv::make_view_planner(o.method, check, "--method");
-  nbv::make_gain(o.gain, settings.nbv.gain, "--gain");
-  nbv::ray_set(o.rays, "--rays");
+  for (const std::string& s : o.set) {
+    const mission::SettingOverride kv = mission::parse_override(s, "--set");
+    settings.set(kv.first, kv.second, "--set " + s);
+  }
   int video_w = 0, video_h = 0;
   if (!o.video.empty()) {
     char x = 0;
@@ -163,29 +109,29 @@ void run_mission(const MissionCliOptions& o, CLI::App* sub) {
   }
 
   const world::World world = world::generate_world(spec);
-  spdlog::info("mission: method {}{}, {} plants, {} fruits, P_gt {}, seed {}", o.method,
-               o.method == "ours" ? " (" + o.gain + ", rays " + o.rays + ")" : "", world.plants.size(),
+  const nbv::MethodChoice& method = settings.method;
+  spdlog::info("mission: method {}{}, {} plants, {} fruits, P_gt {}, seed {}", method.name,
+               method.name == "ours" ? " (" + method.gain + ", rays " + method.rays + ")" : "", world.plants.size(),
                world.truth.fruits.size(), settings.mapping.extractor.p_gt, o.seed);
   StagedDir out(o.out);
 
-  std::unique_ptr<MissionVideo> video;
+  std::unique_ptr<mission::MissionVideo> video;
   mission::MissionCallbacks cb;
   cb.progress = [](const std::string& m) { spdlog::info("{}", m); };
   cb.stop_requested = [] { return g_interrupted.load(); };
-  mission::Mission mission(world, settings, mo, [&] {
-    mission::MissionCallbacks c = cb;
-    if (!o.video.empty()) {
-      c.video_period_s = 1.0 / o.video_fps;
-      c.video_tick = [&video](sim::Simulator& sim, const std::string& caption) {
-        if (video) video->tick(sim, caption);
-      };
-      c.on_view = [&video](const mission::ViewRecord&, const LabelledFrame& f, const sim::Simulator&) {
-        if (video) video->set_wrist(f);
-      };
-    }
-    return c;
-  }());
-  if (!o.video.empty()) video = std::make_unique<MissionVideo>(o.video, video_w, video_h, o.video_fps, mission.simulator(), spec);
+  if (!o.video.empty()) {
+    cb.video_period_s = 1.0 / o.video_fps;
+    cb.video_tick = [&video](sim::Simulator& sim, const std::string& caption) {
+      if (video) video->tick(sim, caption);
+    };
+    cb.on_view = [&video](const mission::ViewRecord&, const LabelledFrame& f, const sim::Simulator&) {
+      if (video) video->set_wrist(f);
+    };
+  }
+  mission::Mission mission(world, settings, o.seed, cb);
+  if (!o.video.empty())
+    video = std::make_unique<mission::MissionVideo>(o.video, video_w, video_h, o.video_fps, mission.simulator(),
+                                                    spec.classes);
 
   g_interrupted = false;
   auto previous = std::signal(SIGINT, on_sigint);
@@ -193,36 +139,22 @@ void run_mission(const MissionCliOptions& o, CLI::App* sub) {
   std::signal(SIGINT, previous);
 
   // Results.
-  write_file_atomic(out.path("views.csv"), mission::views_csv(result, o.method));
-  write_file_atomic(out.path("timing.csv"), mission::timing_csv(result));
-  write_file_atomic(out.path("settings.yaml"), settings.to_yaml_text());
-  mapping::save_map(mission.map(), out.path("map.csm"));
-  mapping::export_ply(mission.map(), out.path("map.ply"));
-  mapping::export_bt(mission.map(), out.path("map.bt"));
-  nlohmann::json summary = mission::summary_json(result);
-  summary["method"] = {{"name", o.method}, {"gain", o.gain}, {"rays", o.rays}};
-  summary["seed"] = o.seed;
-  summary["p_gt"] = settings.mapping.extractor.p_gt;
-  summary["labels"] = perception::to_string(settings.mapping.extractor.source);
-  summary["world"] = {{"file", o.world},
-                      {"plants", world.plants.size()},
-                      {"fruits", world.truth.fruits.size()},
-                      {"triangles", world.triangle_count()},
-                      {"spec", spec.to_json()}};
-  summary["settings_file"] = "settings.yaml";
-  summary["files"] = {"views.csv", "timing.csv", "settings.yaml", "map.csm", "map.ply", "map.bt"};
+  mission::RunContext context;
+  context.seed = o.seed;
+  context.world_file = o.world;
+  context.world = &world;
   bool video_ok = true;
   if (video) {  // an encoder failure loses only the video, not the run
     video_ok = video->writer().close();
     if (video_ok) {
-      summary["video"] = {{"file", o.video}, {"frames", video->writer().frames()}};
+      context.video = {{"file", o.video}, {"frames", video->writer().frames()}};
       spdlog::info("wrote {} ({} frames)", o.video, video->writer().frames());
     } else {
-      summary["video"] = {{"file", o.video}, {"error", video->writer().error()}};
+      context.video = {{"file", o.video}, {"error", video->writer().error()}};
       spdlog::error("the video {} is missing: {}", o.video, video->writer().error());
     }
   }
-  write_json_atomic(out.path("summary.json"), summary);
+  mission::write_run_folder(out.working_dir(), result, settings, mission.map(), context);
   if (!o.no_plots) {
     const std::string script = find_data_file("tools/plot_mission.py");
     const ProcessStatus plot = run_process({"/usr/bin/python3", script, out.working_dir()});

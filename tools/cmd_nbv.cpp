@@ -40,7 +40,7 @@ void add_nbv_command(CLI::App& app) {
   struct Options {
     std::string map, base, joints, out, intrinsics;
     std::string config = mission::default_settings_path();
-    std::string gain = "osamcep", rays = "ours";
+    std::string gain, rays;  // "": the bundle's method.gain / method.rays
     int k = -1;
     std::uint64_t seed = 1;
   };
@@ -50,8 +50,8 @@ void add_nbv_command(CLI::App& app) {
   sub->add_option("--map", opt->map, "Semantic map (.csm, as 'canopy map' writes)")->required();
   sub->add_option("--base", opt->base, "Base pose x,y,yaw [m, m, rad]")->required();
   sub->add_option("--joints", opt->joints, "Arm joints now q1,...,q6 [rad] (tour start; default: home)");
-  sub->add_option("--gain", opt->gain, "Gain of the views (nbv gain registry)")->capture_default_str();
-  sub->add_option("--rays", opt->rays, "Ray set (nbv ray-set registry)")->capture_default_str();
+  sub->add_option("--gain", opt->gain, "Gain of the views (default: the bundle's method.gain, osamcep)");
+  sub->add_option("--rays", opt->rays, "Ray set (default: the bundle's method.rays, ours)");
   sub->add_option("--k", opt->k, "Views kept per cluster (default from config, nbv.planner.top_k)")
       ->check(CLI::Range(1, 100));
   sub->add_option("--intrinsics", opt->intrinsics,
@@ -75,9 +75,11 @@ void add_nbv_command(CLI::App& app) {
     nbv::ViewPlannerSettings ps;
     ps.params = settings.nbv;
     if (!opt->intrinsics.empty()) ps.intrinsics = datasets::RecordedCamera::load(opt->intrinsics).intrinsics;
-    ps.gain = opt->gain;
-    ps.rays = opt->rays;
-    const std::unique_ptr<nbv::ViewPlanner> planner = nbv::make_view_planner("ours", ps, "nbv");
+    ps.method = settings.method;
+    ps.method.name = "ours";
+    if (!opt->gain.empty()) ps.method.gain = opt->gain;
+    if (!opt->rays.empty()) ps.method.rays = opt->rays;
+    const std::unique_ptr<nbv::ViewPlanner> planner = nbv::make_view_planner(ps, "nbv");
     const mapping::SemanticOcTree map = mapping::load_map(opt->map);
     const fs::path out_dir = fs::absolute(opt->out).parent_path();
     if (fs::is_directory(opt->out)) throw InputError("--out: '" + opt->out + "' is a folder; name the views file");
@@ -102,8 +104,8 @@ void add_nbv_command(CLI::App& app) {
         {"base", {base.x_m, base.y_m, base.yaw_rad}},
         {"joints_now", q},
         {"planner", "ours"},
-        {"gain", opt->gain},
-        {"rays", opt->rays},
+        {"gain", ps.method.gain},
+        {"rays", ps.method.rays},
         {"k", settings.nbv.planner.top_k},
         {"seed", opt->seed},
         {"region", {{"min", {req.region.min().x(), req.region.min().y(), req.region.min().z()}},

@@ -75,9 +75,9 @@ void add_reach_command(CLI::App& app) {
   sub->add_option("--base", opt->base, "Base pose x,y,yaw [m, m, rad]")->required();
   sub->add_option("--joints", opt->joints, "Start arm joints q1,...,q6 [rad] (default: home)");
   sub->add_option("--out", opt->out, "Output folder")->required();
-  sub->add_option("--radius", opt->grid.view_radius_m, "Camera distance to each fruit [m]")->capture_default_str();
-  sub->add_option("--azimuths", opt->grid.azimuths, "Viewing azimuths per fruit")->capture_default_str();
-  sub->add_option("--polar", opt->grid.polar_angles, "Polar angles per fruit, 30..150 deg")->capture_default_str();
+  sub->add_option("--radius", opt->grid.sphere.radius_m, "Camera distance to each fruit [m]")->capture_default_str();
+  sub->add_option("--azimuths", opt->grid.sphere.azimuth_count, "Viewing azimuths per fruit")->capture_default_str();
+  sub->add_option("--polar", opt->grid.sphere.polar_count, "Polar angles per fruit, 30..150 deg")->capture_default_str();
   sub->add_option("--max-target-distance", opt->grid.max_target_distance_m,
                   "Fruits farther from the arm base (horizontally) are skipped [m]")
       ->capture_default_str();
@@ -147,17 +147,11 @@ void add_reach_command(CLI::App& app) {
     j["world"] = spec.name;
     j["world_file"] = opt->world;
     j["start_joints"] = start;
-    j["grid"] = {{"view_radius_m", grid.view_radius_m},
-                 {"azimuths", grid.azimuths},
-                 {"polar_angles", grid.polar_angles},
-                 {"polar_min_deg", grid.polar_min_deg},
-                 {"polar_max_deg", grid.polar_max_deg},
-                 {"max_target_distance_m", grid.max_target_distance_m},
-                 {"plan", grid.plan}};
+    j["grid"] = yaml_to_json(params_to_yaml(grid));
     j["environment"] = {{"source", "ground-truth plant meshes voxelised"},
                         {"voxel_m", opt->voxel_m},
                         {"voxels", voxels.size()}};
-    j["motion_config"] = cfg.to_json();
+    j["motion_config"] = yaml_to_json(params_to_yaml(cfg));
     j["png"] = {{"panels", "left: top view (x right, y up); right: side view (y right, z up); 2.6 m wide, "
                            "centred on the arm base"},
                 {"no_ik", rgb_json(kNoIk)},

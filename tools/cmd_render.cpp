@@ -67,15 +67,15 @@ void add_render_command(CLI::App& app) {
     sim::Renderer renderer(sim, spec.camera, render_options);
     const LabelledFrame frame = free_camera ? renderer.render_free_camera(T_world_camera) : renderer.render_wrist_camera();
     datasets::write_frame(out.path(""), frame, spec.classes);
-    nlohmann::json settings = settings_json("render", spec);
-    settings["shadows"] = opt->shadows;
+    YAML::Node run = run_record("render", spec);
+    run["shadows"] = opt->shadows;
     if (free_camera) {
-      settings["camera_pose"] = pose_to_json(T_world_camera);
+      run["camera_pose"] = YAML::Load(pose_to_json(T_world_camera).dump());
     } else {
-      settings["base"] = {base_pose->x_m, base_pose->y_m, base_pose->yaw_rad};
-      settings["joints"] = q;
+      run["base"] = std::vector<double>{base_pose->x_m, base_pose->y_m, base_pose->yaw_rad};
+      run["joints"] = std::vector<double>(q.begin(), q.end());
     }
-    write_json_atomic(out.path("settings.json"), settings);
+    write_file_atomic(out.path("run.yaml"), yaml_text(run));
     out.commit();
     int valid = 0;
     for (float z : frame.depth_m.data) valid += z > 0.f;

@@ -12,7 +12,7 @@ PACKAGES=(
   libnanoflann-dev libtbb-dev libpng-dev libassimp-dev libssl-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   ffmpeg
-  python3-matplotlib
+  python3-matplotlib python3-yaml
   slurm-wlm munge parallel
 )
 

@@ -11,7 +11,7 @@
 #include "canopy/common/io.h"
 #include "canopy/datasets/frame_sequence.h"
 #include "canopy/datasets/sequence_mapping.h"
-#include "canopy/mapping/mapping_config.h"
+#include "canopy/mapping/map_params.h"
 #include "canopy/motion/view_reach.h"
 
 int main(int argc, char** argv) {
@@ -26,18 +26,19 @@ int main(int argc, char** argv) {
     const motion::RobotModel model = motion::RobotModel::load(robot);
 
     // The map: the struct defaults are the paper's settings (configs/mapping.yaml).
-    const mapping::MappingConfig cfg;
+    const mapping::SemanticMapParams map_params;
+    const perception::ExtractorParams extractor_params;
     const datasets::FrameSequence frames = datasets::FrameSequence::open(argv[1]);
-    mapping::SemanticOcTree map(cfg.map, frames.classes());
+    mapping::SemanticOcTree map(map_params, frames.classes());
     mapping::ScanInserter inserter(map);
-    perception::SemanticExtractor extractor(cfg.extractor, frames.classes());
+    perception::SemanticExtractor extractor(extractor_params, frames.classes());
     const datasets::SequenceMapResult mapped = datasets::map_sequence(frames, extractor, inserter);
     std::printf("mapped %zu frames (%zu skipped) from %s: %zu occupied voxels\n", mapped.mapped, mapped.skipped.size(),
                 argv[1], map.counts().occupied);
 
     // The next views: the paper's planner with the OSAMCEP gain, for fruit within 1 m of the arm.
     nbv::ViewPlannerSettings settings;
-    const std::unique_ptr<nbv::ViewPlanner> planner = nbv::make_view_planner("ours", settings);
+    const std::unique_ptr<nbv::ViewPlanner> planner = nbv::make_view_planner(settings);
     motion::NextViewsRequest request;
     request.base = base;
     request.q = robot.home;

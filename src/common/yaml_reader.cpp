@@ -65,6 +65,8 @@ std::string YamlReader::value_text(const std::string& key) const {
   return e.c_str();
 }
 
+bool YamlReader::value_is_scalar(const std::string& key) const { return has(key) && node_[key].IsScalar(); }
+
 void YamlReader::fail(const std::string& key, const std::string& problem) const {
   throw InputError(file_ + ": key '" + key_path(key) + "': value '" + value_text(key) + "' " + problem);
 }

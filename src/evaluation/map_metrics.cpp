@@ -12,33 +12,6 @@ using namespace mapping;  // the map types this file reads
 
 std::string to_string(EvaluationRule r) { return enum_name(kEvaluationRuleNames, r); }
 
-MetricsParams MetricsParams::from_yaml(YamlReader& y) {
-  MetricsParams p;
-  p.rule = y.get_choice("rule", p.rule, kEvaluationRuleNames);
-  p.coverage_distance_m = y.get("coverage_distance_m", p.coverage_distance_m);
-  y.check(std::isfinite(p.coverage_distance_m) && p.coverage_distance_m > 0.0, "coverage_distance_m", "must be > 0");
-  p.entropy_box_m = y.get("entropy_box_m", p.entropy_box_m);
-  y.check(std::isfinite(p.entropy_box_m) && p.entropy_box_m > 0.0 && p.entropy_box_m <= 2.0, "entropy_box_m",
-          "must be in (0, 2] m");
-  p.prototype_min_logodds = y.get("prototype_min_logodds", p.prototype_min_logodds);
-  y.check(std::isfinite(p.prototype_min_logodds), "prototype_min_logodds", "must be finite");
-  p.prototype_entropy_radius_m = y.get("prototype_entropy_radius_m", p.prototype_entropy_radius_m);
-  y.check(std::isfinite(p.prototype_entropy_radius_m) && p.prototype_entropy_radius_m > 0.0 &&
-              p.prototype_entropy_radius_m <= 1.0,
-          "prototype_entropy_radius_m", "must be in (0, 1] m");
-  return p;
-}
-
-YAML::Node MetricsParams::to_yaml() const {
-  YAML::Node n;
-  n["rule"] = to_string(rule);
-  n["coverage_distance_m"] = coverage_distance_m;
-  n["entropy_box_m"] = entropy_box_m;
-  n["prototype_min_logodds"] = prototype_min_logodds;
-  n["prototype_entropy_radius_m"] = prototype_entropy_radius_m;
-  return n;
-}
-
 std::vector<Vec3> class_voxel_centers(const SemanticOcTree& map, int class_index) {
   std::vector<Vec3> out;
   map.for_each_voxel_if([&](const SemanticState& s) { return SemanticOcTree::is_class_voxel(s, class_index); },

@@ -11,12 +11,19 @@
 #include "canopy/common/random.h"
 #include "canopy/common/stats.h"
 #include "canopy/evaluation/map_metrics.h"
-#include "canopy/mapping/scan_inserter.h"
+#include "canopy/mapping/frame_mapping.h"
 #include "canopy/nbv/view_planner.h"
 
 namespace canopy::experiments {
 
-std::string AblationConfig::label() const { return proximity.empty() ? gain : gain + "-" + proximity; }
+std::string AblationConfig::label() const {
+  std::string s = gain;
+  for (const auto& [key, value] : set) {
+    if (key == "nbv.gain.proximity") s += "-" + value;
+    else s += "-" + key.substr(key.rfind('.') + 1) + "=" + value;
+  }
+  return s;
+}
 
 std::string AblationConfig::id() const {
   char b[128];
@@ -28,6 +35,18 @@ std::string to_string(AblationProtocol p) { return enum_name(kAblationProtocolNa
 
 AblationProtocol ablation_protocol_from_string(const std::string& s, const std::string& where) {
   return enum_from_name(kAblationProtocolNames, s, where, "ablation protocol");
+}
+
+mission::Settings ablation_job_settings(const mission::Settings& bundle, const AblationConfig& cfg,
+                                        const AblationSettings& set) {
+  mission::Settings s = bundle;
+  s.method.name = "ours";
+  s.method.gain = cfg.gain;
+  s.method.rays = cfg.rays;
+  s.mapping.extractor.p_gt = cfg.pgt;
+  s.apply(cfg.set, "ablation configuration " + cfg.id());
+  if (set.cluster_min_logodds >= 0.0) s.nbv.cluster.min_logodds = set.cluster_min_logodds;
+  return s;
 }
 
 Pose ablation_grid_pose(const Vec3& base, int trial, const AblationSettings& set) {
@@ -53,30 +72,33 @@ Pose random_plant_view(const world::World& world, int plant, double radius_m, Rn
 
 double mean(const std::vector<double>& v) { return sample_stats(v).mean; }
 
+// One job's value of `key` after each of its `views` steps.
+std::vector<double> step_values(const nlohmann::json& job, const char* key, int views) {
+  std::vector<double> out;
+  for (int v = 0; v < views; ++v) out.push_back(job["steps"][v][key].get<double>());
+  return out;
+}
+
 }  // namespace
 
 nlohmann::json run_ablation_job(const AblationConfig& cfg, int trial, int plant, const AblationSettings& set,
                                 const mission::Settings& bundle, const world::World& world,
                                 sim::Renderer& renderer) {
   const std::uint64_t job_seed = mix_seed(set.seed, std::uint64_t(trial) * 1000 + std::uint64_t(plant));
-  const mapping::MappingConfig& mcfg = bundle.mapping;
-  perception::ExtractorParams ep = mcfg.extractor;
-  ep.p_gt = cfg.pgt;
+  const mission::Settings s = ablation_job_settings(bundle, cfg, set);
+  perception::ExtractorParams ep = s.mapping.extractor;
   ep.seed = mix_seed(job_seed, 1);  // same noise stream for every configuration (paired trials)
   perception::SemanticExtractor extractor(ep, world.spec.classes);
-  mapping::SemanticMapParams mp = mcfg.map;
+  mapping::SemanticMapParams mp = s.mapping.map;
   mp.threads = 1;  // jobs run in parallel instead
   mapping::SemanticOcTree map(mp, world.spec.classes);
   mapping::ScanInserter inserter(map);
   nbv::VoxelIndex index;
   nbv::ViewPlannerSettings ps;
-  ps.params = bundle.nbv;
-  if (set.cluster_min_logodds >= 0.0) ps.params.cluster.min_logodds = set.cluster_min_logodds;
-  if (!cfg.proximity.empty()) ps.params.gain.proximity = nbv::proximity_from_string(cfg.proximity, "proximity");
+  ps.params = s.nbv;
   ps.intrinsics = renderer.intrinsics();
-  ps.gain = cfg.gain;
-  ps.rays = cfg.rays;
-  const std::unique_ptr<nbv::ViewPlanner> planner = nbv::make_view_planner("ours", ps);
+  ps.method = s.method;
+  const std::unique_ptr<nbv::ViewPlanner> planner = nbv::make_view_planner(ps);
   Rng init_rng(mix_seed(job_seed, 2));      // initial views: shared by all configurations
   Rng fallback_rng(mix_seed(job_seed, 3));  // views when the planner has none
 
@@ -95,10 +117,10 @@ nlohmann::json run_ablation_job(const AblationConfig& cfg, int trial, int plant,
       planner->taken(*T);
       request.T_world_camera = *T;
       const LabelledFrame frame = renderer.render_free_camera(*T);  // the renderer serialises draws
-      inserter.insert(extractor.extract(frame));
+      mapping::map_frame(frame, extractor, inserter);
       step["pose"] = pose_to_json(*T);
     }
-    const evaluation::MapMetrics m = evaluation::evaluate_map(map, truth, bundle.metrics);
+    const evaluation::MapMetrics m = evaluation::evaluate_map(map, truth, s.mapping.metrics);
     step["view"] = steps.size() + 1;
     step["coverage"] = m.coverage;
     step["entropy"] = m.total_entropy;
@@ -191,28 +213,32 @@ std::vector<AblationRow> summarize_ablation(const std::string& out, const std::v
     AblationRow row;
     row.config = configs[c];
     row.trials = complete.size();
+    // A trial's curve is the mean over its plants' curves; the row's curve is the mean and
+    // std over trials.
+    std::vector<std::vector<double>> cov_trials, ent_trials;
+    for (int t : complete) {
+      std::vector<std::vector<double>> cov_plants, ent_plants;
+      for (const auto& [p, r] : by_trial[t]) {
+        cov_plants.push_back(step_values(*r, "coverage", views));
+        ent_plants.push_back(step_values(*r, "entropy", views));
+      }
+      cov_trials.push_back(curve_means(cov_plants));
+      ent_trials.push_back(curve_means(ent_plants));
+    }
+    const std::vector<SampleStats> cov_curve = curve_stats(cov_trials), ent_curve = curve_stats(ent_trials);
     std::vector<double> mean_cov_curve(static_cast<std::size_t>(views), 0.0);
     std::vector<double> reach_views, ray_ms, final_cov, final_ent;
     for (int v = 0; v < views; ++v) {
-      std::vector<double> cov_t, ent_t;
-      for (int t : complete) {
-        std::vector<double> cov_p, ent_p;
-        for (const auto& [p, r] : by_trial[t]) {
-          cov_p.push_back((*r)["steps"][v]["coverage"].get<double>());
-          ent_p.push_back((*r)["steps"][v]["entropy"].get<double>());
-        }
-        cov_t.push_back(mean(cov_p));
-        ent_t.push_back(mean(ent_p));
-      }
-      const SampleStats cov = sample_stats(cov_t), ent = sample_stats(ent_t);
+      const SampleStats& cov = cov_curve[std::size_t(v)];
+      const SampleStats& ent = ent_curve[std::size_t(v)];
       mean_cov_curve[std::size_t(v)] = cov.mean;
       csv += configs[c].id() + "," + configs[c].label() + "," + configs[c].rays + "," + num(configs[c].pgt) + "," +
              std::to_string(v + 1) + "," + std::to_string(complete.size()) + "," + num(cov.mean) + "," +
              num(cov.std) + "," + num(ent.mean) + "," + num(ent.std) + "\n";
-      if (v == views - 1) {
-        final_cov = cov_t;
-        final_ent = ent_t;
-      }
+    }
+    for (std::size_t t = 0; t < complete.size(); ++t) {
+      final_cov.push_back(cov_trials[t].back());
+      final_ent.push_back(ent_trials[t].back());
     }
     for (int t : complete)
       for (const auto& [p, r] : by_trial[t]) {

@@ -59,19 +59,29 @@ std::vector<ExperimentMethod> read_methods(YamlReader& y) {
   for (std::size_t i = 0; i < list.size(); ++i) {
     YamlReader m(list[i], y.file(), "methods[" + std::to_string(i) + "]");
     ExperimentMethod e;
-    e.method = m.require<std::string>("method");
-    m.check(std::find(planners.begin(), planners.end(), e.method) != planners.end(), "method",
+    nbv::MethodChoice& c = e.choice;
+    c.name = m.require<std::string>("method");
+    m.check(std::find(planners.begin(), planners.end(), c.name) != planners.end(), "method",
             "is not a view planner (" + [&] {
               std::string s;
               for (const auto& n : planners) s += (s.empty() ? "" : ", ") + n;
               return s;
             }() + ")");
-    e.gain = m.get<std::string>("gain", e.gain);
-    m.check(std::find(gains.begin(), gains.end(), e.gain) != gains.end(), "gain", "is not a gain");
-    e.rays = m.get<std::string>("rays", e.rays);
-    nbv::ray_set(e.rays, y.file() + ": " + m.key_path("rays"));
-    const bool defaults = e.gain == "osamcep" && e.rays == "ours";
-    e.label = m.get<std::string>("label", defaults || e.method != "ours" ? e.method : e.method + "-" + e.gain + "-" + e.rays);
+    c.gain = m.get<std::string>("gain", c.gain);
+    m.check(std::find(gains.begin(), gains.end(), c.gain) != gains.end(), "gain", "is not a gain");
+    c.rays = m.get<std::string>("rays", c.rays);
+    nbv::ray_set(c.rays, y.file() + ": " + m.key_path("rays"));
+    if (m.has("set")) {
+      const YAML::Node set = m.require<YAML::Node>("set");
+      m.check(set.IsMap(), "set", "must be a mapping of setting keys to values (e.g. nbv.gain.proximity: per_voxel)");
+      for (const auto& kv : set) {
+        YAML::Emitter v;
+        v << kv.second;
+        e.set.emplace_back(kv.first.as<std::string>(), v.c_str());
+      }
+    }
+    const bool defaults = c.gain == "osamcep" && c.rays == "ours";
+    e.label = m.get<std::string>("label", defaults || c.name != "ours" ? c.name : c.name + "-" + c.gain + "-" + c.rays);
     m.check(valid_label(e.label), "label", "must be 1-40 letters, digits or '-'");
     m.check(labels.insert(e.label).second, "label", "is used by two methods");
     m.finish();
@@ -152,8 +162,19 @@ std::map<std::string, std::string> leaves(const nlohmann::json& identity) {
 }  // namespace
 
 nlohmann::json TrialSpec::to_json() const {
-  return {{"id", id},           {"label", method.label}, {"method", method.method}, {"gain", method.gain},
-          {"rays", method.rays}, {"p_gt", p_gt},          {"seed", seed}};
+  nlohmann::json j = {{"id", id},
+                      {"label", method.label},
+                      {"method", method.choice.name},
+                      {"gain", method.choice.gain},
+                      {"rays", method.choice.rays},
+                      {"p_gt", p_gt},
+                      {"seed", seed}};
+  if (!method.set.empty()) {
+    nlohmann::json set = nlohmann::json::array();
+    for (const auto& [key, value] : method.set) set.push_back({key, value});
+    j["set"] = set;
+  }
+  return j;
 }
 
 TrialSpec TrialSpec::from_json(const nlohmann::json& j, const std::string& where) {
@@ -161,9 +182,11 @@ TrialSpec TrialSpec::from_json(const nlohmann::json& j, const std::string& where
     TrialSpec t;
     t.id = j.at("id").get<std::string>();
     t.method.label = j.at("label").get<std::string>();
-    t.method.method = j.at("method").get<std::string>();
-    t.method.gain = j.at("gain").get<std::string>();
-    t.method.rays = j.at("rays").get<std::string>();
+    t.method.choice.name = j.at("method").get<std::string>();
+    t.method.choice.gain = j.at("gain").get<std::string>();
+    t.method.choice.rays = j.at("rays").get<std::string>();
+    if (j.contains("set"))
+      for (const auto& kv : j.at("set")) t.method.set.emplace_back(kv.at(0).get<std::string>(), kv.at(1).get<std::string>());
     t.p_gt = j.at("p_gt").get<double>();
     t.seed = j.at("seed").get<std::uint64_t>();
     if (t.id != trial_id(t.method.label, t.p_gt, t.seed)) throw InputError(where + ": trial id '" + t.id + "' does not match its method, P_gt and seed");
@@ -206,6 +229,10 @@ Experiment Experiment::load_string(const std::string& text, const std::string& n
     e.settings = base;
   }
   e.methods = read_methods(y);
+  for (const ExperimentMethod& m : e.methods) {  // every method's settings must load
+    mission::Settings s = e.settings;
+    s.apply(m.set, name + ": methods: " + m.label);
+  }
   e.p_gt = read_pgt(y);
   e.seeds = read_seeds(y);
   e.trial_timeout_s = get_positive(y, "trial_timeout_s", e.trial_timeout_s);
@@ -223,6 +250,8 @@ std::vector<TrialSpec> Experiment::trials() const {
 
 mission::Settings Experiment::trial_settings(const TrialSpec& trial) const {
   mission::Settings s = settings;
+  s.method = trial.method.choice;
+  s.apply(trial.method.set, source_file + ": method " + trial.method.label);
   s.mapping.extractor.p_gt = trial.p_gt;
   return s;
 }

@@ -13,6 +13,7 @@
 #include "canopy/common/error.h"
 #include "canopy/common/io.h"
 #include "canopy/common/stats.h"
+#include "canopy/mission/run_folder.h"
 
 namespace canopy::experiments {
 
@@ -26,37 +27,11 @@ nlohmann::json parse_json_file(const fs::path& p) {
   return nlohmann::json::parse(in);  // nlohmann::json::exception on bad text
 }
 
-std::vector<std::string> split_csv_line(const std::string& line) {
-  std::vector<std::string> out;
-  std::stringstream ss(line);
-  std::string item;
-  while (std::getline(ss, item, ',')) out.push_back(item);
-  if (!line.empty() && line.back() == ',') out.emplace_back();
-  return out;
-}
-
-// Reads the mission's files of an ok trial; throws std::exception on a malformed file.
 void read_mission(const fs::path& mission, TrialResult* r) {
-  const std::string views = read_file((mission / "views.csv").string());
-  std::stringstream in(views);
-  std::string line;
-  std::getline(in, line);
-  const std::vector<std::string> header = split_csv_line(line);
-  auto col = [&](const std::string& name) {
-    const auto it = std::find(header.begin(), header.end(), name);
-    if (it == header.end()) throw InputError((mission / "views.csv").string() + ": no column '" + name + "'");
-    return static_cast<std::size_t>(it - header.begin());
-  };
-  const std::size_t c_success = col("success"), c_cov = col("coverage"), c_ent = col("entropy");
-  while (std::getline(in, line)) {
-    if (line.empty()) continue;
-    const std::vector<std::string> f = split_csv_line(line);
-    if (f.size() != header.size()) throw InputError((mission / "views.csv").string() + ": a row has the wrong column count");
-    if (f[c_success] != "1") continue;
-    r->coverage.push_back(std::stod(f[c_cov]));
-    r->entropy.push_back(std::stod(f[c_ent]));
-  }
-  const nlohmann::json s = parse_json_file(mission / "summary.json");
+  const mission::RunFolder f = mission::read_run_folder(mission.string());
+  r->coverage = f.coverage;
+  r->entropy = f.entropy;
+  const nlohmann::json& s = f.summary;
   for (auto it = s.at("wall_time_by_phase_s").begin(); it != s.at("wall_time_by_phase_s").end(); ++it)
     r->phase_s[it.key()] = it.value().get<double>();
   r->wall_s = s.at("wall_time_s").get<double>();
@@ -65,7 +40,7 @@ void read_mission(const fs::path& mission, TrialResult* r) {
   r->views_ok = s.at("views_successful").get<int>();
   r->views_attempted = s.at("views_attempted").get<int>();
   for (auto it = s.at("failures").begin(); it != s.at("failures").end(); ++it) r->failures[it.key()] = it.value().get<int>();
-  r->fingerprint += "\n" + views;
+  r->fingerprint += "\n" + f.views_csv;
 }
 
 using Stat = SampleStats;
@@ -154,7 +129,7 @@ std::string resolution(const Stat& a, const Stat& b) {
 
 const Group* find_group(const std::vector<Group>& gs, const std::string& method, double p_gt) {
   for (const Group& g : gs)
-    if (g.method.method == method && trial_id("m", g.p_gt, 1) == trial_id("m", p_gt, 1)) return &g;
+    if (g.method.choice.name == method && trial_id("m", g.p_gt, 1) == trial_id("m", p_gt, 1)) return &g;
   return nullptr;
 }
 
@@ -260,17 +235,16 @@ ExperimentReport make_experiment_report(const MergedTrials& m) {
   // curves.csv: only trials that reached view v count at v (the `trials` column).
   std::string c = "method,label,p_gt,view,trials,sc_mean,sc_std,entropy_mean,entropy_std\n";
   for (const Group& g : groups) {
-    std::size_t max_views = 0;
-    for (const TrialResult* r : g.trials) max_views = std::max(max_views, r->coverage.size());
-    for (std::size_t v = 0; v < max_views; ++v) {
-      std::vector<double> sc, h;
-      for (const TrialResult* r : g.trials)
-        if (v < r->coverage.size()) {
-          sc.push_back(r->coverage[v]);
-          h.push_back(r->entropy[v]);
-        }
-      const Stat a = stat(sc), b = stat(h);
-      c += g.method.method + "," + g.method.label + "," + pgt_text(g.p_gt) + "," + std::to_string(v + 1) + "," +
+    std::vector<std::vector<double>> sc, h;
+    for (const TrialResult* r : g.trials) {
+      sc.push_back(r->coverage);
+      h.push_back(r->entropy);
+    }
+    const std::vector<SampleStats> sc_curve = curve_stats(sc), h_curve = curve_stats(h);
+    for (std::size_t v = 0; v < sc_curve.size(); ++v) {
+      const Stat& a = sc_curve[v];
+      const Stat& b = h_curve[v];
+      c += g.method.choice.name + "," + g.method.label + "," + pgt_text(g.p_gt) + "," + std::to_string(v + 1) + "," +
            std::to_string(a.n) + "," + num(a.mean, "%.9g") + "," + num(a.std, "%.9g") + "," + num(b.mean, "%.9g") + "," +
            num(b.std, "%.9g") + "\n";
     }
@@ -283,7 +257,7 @@ ExperimentReport make_experiment_report(const MergedTrials& m) {
   r += ",paper_total_s_mean,paper_total_s_std,wall_s_mean,wall_s_std,simulated_s_mean,simulated_s_std,"
        "views_ok_mean,views_attempted_mean,final_sc_mean,final_sc_std\n";
   for (const Group& g : groups) {
-    r += g.method.method + "," + g.method.label + "," + pgt_text(g.p_gt) + "," + std::to_string(g.trials.size());
+    r += g.method.choice.name + "," + g.method.label + "," + pgt_text(g.p_gt) + "," + std::to_string(g.trials.size());
     for (const auto& [cat, phases] : runtime_categories()) {
       const Stat s = over(g, [&, &ph = phases](const TrialResult& t) { return category(t, ph); });
       r += "," + num(s.mean) + "," + num(s.std);
@@ -326,7 +300,7 @@ ExperimentReport make_experiment_report(const MergedTrials& m) {
       if (pgt_text(g.p_gt) != pgt_text(p)) continue;
       const Stat s = over(g, final_sc);
       f += "| " + pgt_text(p) + " | " + g.method.label + " | " + pm(s) + " | " +
-           (g.method.method == "predefined" || !pre ? std::string("—") : diff_text(s, over(*pre, final_sc), 100.0, "")) +
+           (g.method.choice.name == "predefined" || !pre ? std::string("—") : diff_text(s, over(*pre, final_sc), 100.0, "")) +
            " |\n";
     }
   }
@@ -335,7 +309,7 @@ ExperimentReport make_experiment_report(const MergedTrials& m) {
     const Group* pre = find_group(groups, "predefined", p);
     if (!pre || pre->trials.empty()) continue;
     for (const Group& g : groups) {
-      if (pgt_text(g.p_gt) != pgt_text(p) || g.method.method == "predefined" || g.trials.empty()) continue;
+      if (pgt_text(g.p_gt) != pgt_text(p) || g.method.choice.name == "predefined" || g.trials.empty()) continue;
       const Stat a = over(g, final_sc), b = over(*pre, final_sc);
       const double d = a.mean - b.mean;
       f += "- P_gt " + pgt_text(p) + ", " + g.method.label + ": " +

@@ -101,9 +101,7 @@ TrialOutcome run_trial(const Experiment& e, const TrialSpec& t, const fs::path& 
   write_file_atomic((work / "settings.yaml").string(), e.trial_settings(t).to_yaml_text());
   std::vector<std::string> argv = o.mission_command;
   for (const std::string& a : {std::string("--world"), (work / "world.yaml").string(), std::string("--config"),
-                               (work / "settings.yaml").string(), std::string("--method"), t.method.method,
-                               std::string("--gain"), t.method.gain, std::string("--rays"), t.method.rays,
-                               std::string("--seed"), std::to_string(t.seed), std::string("--out"),
+                               (work / "settings.yaml").string(), std::string("--seed"), std::to_string(t.seed), std::string("--out"),
                                (work / "mission").string(), std::string("--no-plots")})
     argv.push_back(a);
 

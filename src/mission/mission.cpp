@@ -63,7 +63,7 @@ const char* failure_of(motion::PlanStatus s) {
 struct Mission::Impl {
   const world::World& world;
   Settings settings;
-  MissionOptions options;
+  std::uint64_t seed;
   MissionCallbacks callbacks;
 
   sim::Simulator sim;
@@ -96,24 +96,23 @@ struct Mission::Impl {
     return p;
   }
 
-  Impl(const world::World& w, const Settings& s, const MissionOptions& o, MissionCallbacks cb)
-      : world(w), settings(s), options(o), callbacks(std::move(cb)), sim(w, default_robot_config()),
-        renderer(sim, w.spec.camera, sim::RenderOptions{false, mix_seed(o.seed, 2), /*self_filter=*/true}),
+  Impl(const world::World& w, const Settings& s, std::uint64_t mission_seed, MissionCallbacks cb)
+      : world(w), settings(s), seed(mission_seed), callbacks(std::move(cb)), sim(w, default_robot_config()),
+        renderer(sim, w.spec.camera, sim::RenderOptions{false, mix_seed(mission_seed, 2), /*self_filter=*/true}),
         model(motion::RobotModel::load(sim.robot_config())), workspace(model, s.motion.workspace),
         map_env(motion::CollisionEnvironment::empty(s.mapping.map.resolution_m)),
         map_checker(model, s.motion.collision, map_env), planner(map_checker, s.motion.planner, s.motion.trajectory),
         truth_checker(model, s.motion.collision,
                       motion::CollisionEnvironment::from_voxels(
                           evaluation::world_occupied_voxels(w, s.mission.record.truth_voxel_m), s.mission.record.truth_voxel_m)),
-        map(map_params(s), w.spec.classes), inserter(map), extractor(extractor_params(s, o.seed), w.spec.classes),
+        map(map_params(s), w.spec.classes), inserter(map), extractor(extractor_params(s, mission_seed), w.spec.classes),
         stepper(sim, callbacks.video_period_s, video_tick(), callbacks.stop_requested),
         stops_x(stop_positions(s.mission.stops, w.spec)) {
     nbv::ViewPlannerSettings ps;
     ps.params = s.nbv;
     ps.intrinsics = w.spec.camera;
-    ps.gain = o.gain;
-    ps.rays = o.rays;
-    view_planner = nbv::make_view_planner(o.method, ps, "--method");
+    ps.method = s.method;
+    view_planner = nbv::make_view_planner(ps, "method");
     if (callbacks.before_step) stepper.set_before_step([this] { callbacks.before_step(sim, current_attempt); });
     update_caption();
   }
@@ -129,7 +128,7 @@ struct Mission::Impl {
 
   void update_caption() {
     char b[160];
-    std::snprintf(b, sizeof b, "%s | stop %d/%zu | views %d | fruit SC %.2f", options.method.c_str(), current_stop + 1,
+    std::snprintf(b, sizeof b, "%s | stop %d/%zu | views %d | fruit SC %.2f", settings.method.name.c_str(), current_stop + 1,
                   stops_x.size(), result.successful_views(), last_metrics.coverage);
     caption_text = b;
   }
@@ -244,7 +243,7 @@ struct Mission::Impl {
       if (goals.empty()) return finish(failure::kNoIk, "no IK solution within the joint limits");
       // Where the robot is cannot be an obstacle (leaves it brushed aside, seen up close).
       map_env->clear_robot_volume(model, base, q0, settings.motion.collision.environment_padding_m);
-      plan = planner.plan_to_configs(base, q0, goals, mix_seed(options.seed, 1000000 + std::uint64_t(current_attempt)));
+      plan = planner.plan_to_configs(base, q0, goals, mix_seed(seed, 1000000 + std::uint64_t(current_attempt)));
     }
     if (!plan.ok()) return finish(failure_of(plan.status), plan.message);
 
@@ -290,7 +289,7 @@ struct Mission::Impl {
     view_planner->taken(frame.T_world_camera);
     if (settings.mission.record.metrics_every_view) {
       ScopedPhase phase_time(rec.times, kEvaluation);
-      last_metrics = evaluation::evaluate_map(map, world.truth, settings.metrics);
+      last_metrics = evaluation::evaluate_map(map, world.truth, settings.mapping.metrics);
     }
     close_record(rec, "", "camera within tolerance");
     if (callbacks.on_view) callbacks.on_view(rec, frame, sim);
@@ -377,7 +376,8 @@ struct Mission::Impl {
     const BasePose base = sim.base_pose();
     req.reach = motion::reach_filter(workspace, base, [this] { return sim.arm_positions(); }, &map_checker);
     req.in_workspace = [this, base](const Vec3& p) { return workspace.in_workspace(base, p); };
-    if (options.method == "predefined") req.scripted = scan_views(k, true);
+    const nbv::PlannerTraits traits = view_planner->traits();
+    if (traits.scripted) req.scripted = scan_views(k, true);
     std::string end = "view budget of the stop reached";
     for (;;) {
       if (ok >= loop.views_per_stop) break;
@@ -395,7 +395,7 @@ struct Mission::Impl {
         const Stopwatch watch;
         req.T_world_camera = sim.camera_pose();
         req.budget = loop.views_per_stop - ok;
-        req.seed = mix_seed(options.seed, 5000 + std::uint64_t(k) * 1000 + std::uint64_t(s.rounds));
+        req.seed = mix_seed(seed, 5000 + std::uint64_t(k) * 1000 + std::uint64_t(s.rounds));
         batch = view_planner->next(req);
         result.times.merge(batch.times);
         if (!batch.views.empty()) {
@@ -411,17 +411,17 @@ struct Mission::Impl {
         if (batch.finished) break;
         continue;  // e.g. every frontier view rejected: sample anew next round
       }
-      const ViewPhase phase = options.method == "predefined" ? ViewPhase::kPredefined : ViewPhase::kNbv;
+      const ViewPhase phase = traits.scripted ? ViewPhase::kPredefined : ViewPhase::kNbv;
       record_unreachable(unreachable, phase);
       attempts_left -= static_cast<int>(unreachable.size());
       const int wanted = loop.views_per_stop - ok;
       if (batch.order == nbv::BatchOrder::kTour) {
-        ok += execute(ordered, phase, options.method == "predefined" ? -1 : wanted, &attempts_left);
+        ok += execute(ordered, phase, traits.execute_whole_batch ? -1 : wanted, &attempts_left);
       } else {
         ok += execute(ordered, phase, 1, &attempts_left);  // frontier: the first view that succeeds
       }
-      if (options.method == "predefined") {
-        end = "predefined views done";
+      if (batch.last_of_stop) {
+        end = batch.reason;
         break;
       }
     }
@@ -449,7 +449,7 @@ struct Mission::Impl {
       result.end_reason = "interrupted";
       if (!result.stops.empty() && result.stops.back().end_reason.empty()) result.stops.back().end_reason = "interrupted";
     }
-    result.final_metrics = evaluation::evaluate_map(map, world.truth, settings.metrics);
+    result.final_metrics = evaluation::evaluate_map(map, world.truth, settings.mapping.metrics);
     result.sim_time_s = sim.time();
     result.wall_time_s = elapsed_.seconds();
     return result;
@@ -458,9 +458,8 @@ struct Mission::Impl {
   Stopwatch elapsed_;
 };
 
-Mission::Mission(const world::World& world, const Settings& settings, const MissionOptions& options,
-                 MissionCallbacks callbacks)
-    : impl_(std::make_unique<Impl>(world, settings, options, std::move(callbacks))) {}
+Mission::Mission(const world::World& world, const Settings& settings, std::uint64_t seed, MissionCallbacks callbacks)
+    : impl_(std::make_unique<Impl>(world, settings, seed, std::move(callbacks))) {}
 Mission::~Mission() = default;
 MissionResult Mission::run() { return impl_->run(); }
 bool Mission::drive_to_stop(int k) { return impl_->drive_to_stop(k); }

@@ -1,6 +1,7 @@
 #include "canopy/mission/settings.h"
 
 #include <filesystem>
+#include <sstream>
 
 #include "canopy/common/error.h"
 
@@ -8,62 +9,20 @@ namespace canopy::mission {
 
 namespace {
 
-// MotionConfig reports itself as JSON; the bundle is YAML (JSON's types map one to one).
-YAML::Node json_to_yaml(const nlohmann::json& j) {
-  YAML::Node n;
-  if (j.is_object()) {
-    for (auto it = j.begin(); it != j.end(); ++it) n[it.key()] = json_to_yaml(it.value());
-  } else if (j.is_array()) {
-    n = YAML::Node(YAML::NodeType::Sequence);
-    for (const auto& v : j) n.push_back(json_to_yaml(v));
-  } else if (j.is_boolean()) {
-    n = j.get<bool>();
-  } else if (j.is_number_unsigned()) {
-    n = j.get<std::uint64_t>();
-  } else if (j.is_number_integer()) {
-    n = j.get<std::int64_t>();
-  } else if (j.is_number_float()) {
-    n = j.get<double>();
-  } else if (j.is_string()) {
-    n = j.get<std::string>();
-  }
-  return n;
-}
-
 Settings read_bundle(YamlReader& y, const std::string& dir, const RobotConfig& robot) {
   Settings s = Settings::defaults(robot);
-  auto component = [&](const std::string& key, auto&& read) {
-    if (!y.has(key)) return;
-    std::string path;
-    bool is_path = false;
-    try {
-      path = y.require<std::string>(key);
-      is_path = true;
-    } catch (const InputError&) {
-    }
-    if (is_path) {
-      std::filesystem::path p(path);
-      if (p.is_relative()) p = std::filesystem::path(dir) / p;
-      YamlReader c = YamlReader::load_file(p.string());
-      read(c);
-      c.finish();
-    } else {
-      YamlReader c = y.child(key);
-      read(c);
-      c.finish();
-    }
-  };
-  component("mapping", [&](YamlReader& c) {
-    s.mapping = mapping::MappingConfig::from_yaml(c);
-    YamlReader me = c.child("metrics");
-    s.metrics = evaluation::MetricsParams::from_yaml(me);
-    me.finish();
-  });
-  component("nbv", [&](YamlReader& c) { s.nbv = nbv::NbvParams::from_yaml(c); });
-  component("motion", [&](YamlReader& c) { s.motion = motion::MotionConfig::from_yaml(c, robot); });
-  component("mission", [&](YamlReader& c) { s.mission = MissionParams::from_yaml(c); });
+  YamlIn in(y, /*section_files=*/true, dir);
+  s.visit(in);
   y.finish();
   return s;
+}
+
+std::vector<std::string> split_key(const std::string& key) {
+  std::vector<std::string> parts;
+  std::stringstream ss(key);
+  std::string part;
+  while (std::getline(ss, part, '.')) parts.push_back(part);
+  return parts;
 }
 
 }  // namespace
@@ -88,21 +47,47 @@ Settings Settings::load_string(const std::string& text, const std::string& name,
   return read_bundle(y, dir, robot);
 }
 
-YAML::Node Settings::to_yaml() const {
-  YAML::Node n;
-  n["mapping"] = mapping.to_yaml();
-  n["mapping"]["metrics"] = metrics.to_yaml();
-  n["nbv"] = nbv.to_yaml();
-  n["motion"] = json_to_yaml(motion.to_json());
-  n["mission"] = mission.to_yaml();
-  return n;
+YAML::Node Settings::to_yaml() const { return params_to_yaml(*this); }
+
+std::string Settings::to_yaml_text() const { return yaml_text(to_yaml()); }
+
+void Settings::set(const std::string& key, const std::string& value, const std::string& where) {
+  const std::vector<std::string> parts = split_key(key);
+  YAML::Node root = to_yaml();
+  YAML::Node node = root;
+  for (std::size_t i = 0; i < parts.size(); ++i) {
+    const YAML::Node& parent = node;
+    if (parts[i].empty() || !parent.IsMap() || !parent[parts[i]])
+      throw InputError(where + ": unknown setting '" + key + "' (settings are named by key paths such as "
+                       "mission.loop.views_per_stop)");
+    if (i + 1 < parts.size()) node.reset(node[parts[i]]);
+  }
+  YAML::Node parsed;
+  try {
+    parsed = YAML::Load(value);
+  } catch (const YAML::Exception& e) {
+    throw InputError(where + ": setting '" + key + "': value '" + value + "' is not valid YAML (" + e.msg + ")");
+  }
+  node[parts.back()] = parsed;
+  YamlReader y(root, where, "");
+  Settings s = *this;
+  YamlIn in(y);
+  s.visit(in);
+  y.finish();
+  *this = s;
 }
 
-std::string Settings::to_yaml_text() const {
-  YAML::Emitter e;
-  e.SetDoublePrecision(17);
-  e << to_yaml();
-  return std::string(e.c_str()) + "\n";
+void Settings::apply(const std::vector<SettingOverride>& overrides, const std::string& where) {
+  for (const auto& [key, value] : overrides) set(key, value, where);
+}
+
+std::vector<ParamDescription> Settings::describe() const { return describe_params(*this); }
+
+SettingOverride parse_override(const std::string& text, const std::string& where) {
+  const std::size_t eq = text.find('=');
+  if (eq == std::string::npos || eq == 0 || eq + 1 == text.size())
+    throw InputError(where + ": '" + text + "' is not KEY=VALUE (e.g. mission.loop.views_per_stop=6)");
+  return {text.substr(0, eq), text.substr(eq + 1)};
 }
 
 std::string default_settings_path() { return "configs/canopy.yaml"; }

@@ -8,11 +8,12 @@
 #include <filesystem>
 
 #include "canopy/common/error.h"
+#include "canopy/common/camera.h"
 #include "canopy/common/process.h"
 
 namespace fs = std::filesystem;
 
-namespace canopy {
+namespace canopy::mission {
 
 namespace {
 std::string temp_video_path(const std::string& path) { return path + ".partial.mp4"; }
@@ -92,4 +93,42 @@ bool VideoWriter::close() {
   return ok();
 }
 
-}  // namespace canopy
+Pose chase_pose(const BasePose& base) {
+  const Vec3 heading(std::cos(base.yaw_rad), std::sin(base.yaw_rad), 0.0);
+  const Vec3 ground(base.x_m, base.y_m, 0.0);
+  return look_at(ground - 1.6 * heading + Vec3(0, 0, 1.9), ground + 0.9 * heading + Vec3(0, 0, 0.6));
+}
+
+MissionVideo::MissionVideo(const std::string& path, int w, int h, double fps, sim::Simulator& sim,
+                           const SemanticClasses& classes)
+    : writer_(path, w, h, fps), classes_(classes) {
+  CameraIntrinsics k;
+  k.width_px = w;
+  k.height_px = h;
+  k.cx_px = 0.5 * w;
+  k.cy_px = 0.5 * h;
+  k.fx_px = k.fy_px = 0.5 * h / std::tan(0.5 * 60.0 * M_PI / 180.0);  // 60 degree vertical field of view
+  k.min_range_m = 0.01;
+  k.max_range_m = 50.0;
+  renderer_ = std::make_unique<sim::Renderer>(sim, k, sim::RenderOptions{true, 1, false});
+}
+
+void MissionVideo::tick(sim::Simulator& sim, const std::string& caption) {
+  if (!writer_.ok()) return;  // the encoder died: the run goes on without the video
+  Image<Rgb8> frame = renderer_->render_captioned(chase_pose(sim.base_pose()), true, caption);
+  if (!wrist_rgb_.empty()) {
+    const int iw = frame.width / 4, ih = iw * wrist_rgb_.height / std::max(1, wrist_rgb_.width);
+    const Rgb8 white{255, 255, 255};
+    blit_scaled(wrist_rgb_, frame.width - iw - 8, frame.height - 2 * ih - 16, iw, ih, &frame, 2, white);
+    blit_scaled(wrist_labels_, frame.width - iw - 8, frame.height - ih - 8, iw, ih, &frame, 2, white);
+  }
+  writer_.write(frame);
+}
+
+void MissionVideo::set_wrist(const LabelledFrame& f) {
+  wrist_rgb_ = f.rgb;
+  wrist_labels_ = Image<Rgb8>(f.class_id.width, f.class_id.height);
+  for (std::size_t i = 0; i < f.class_id.data.size(); ++i) wrist_labels_.data[i] = classes_.color(f.class_id.data[i]);
+}
+
+}  // namespace canopy::mission

@@ -160,41 +160,6 @@ bool seed_planner_rng(std::uint64_t seed) {
   return applied;
 }
 
-PlannerParams PlannerParams::from_yaml(YamlReader& y, const PlannerParams& d) {
-  PlannerParams p;
-  p.planner = y.get("planner", d.planner);
-  p.time_limit_s = y.get("time_limit_s", d.time_limit_s);
-  p.max_iterations = y.get("max_iterations", d.max_iterations);
-  p.motion_check_resolution_rad = y.get("motion_check_resolution_rad", d.motion_check_resolution_rad);
-  p.range_rad = y.get("range_rad", d.range_rad);
-  p.try_direct_first = y.get("try_direct_first", d.try_direct_first);
-  p.simplify = y.get("simplify", d.simplify);
-  p.max_goal_configs = y.get("max_goal_configs", d.max_goal_configs);
-  p.start_limit_tolerance_rad = y.get("start_limit_tolerance_rad", d.start_limit_tolerance_rad);
-  try {
-    p.validate();
-  } catch (const InputError& e) {
-    throw InputError(y.file() + ": " + e.what());
-  }
-  return p;
-}
-
-void PlannerParams::validate() const {
-  if (!planner_registry().count(planner)) {
-    std::string names;
-    for (const auto& n : planner_names()) names += (names.empty() ? "" : ", ") + n;
-    throw InputError("planner: unknown planner '" + planner + "' (known: " + names + ")");
-  }
-  if (!(std::isfinite(time_limit_s) && time_limit_s > 0.0)) throw InputError("planner: time_limit_s must be > 0");
-  if (max_iterations < 1) throw InputError("planner: max_iterations must be >= 1");
-  if (!(std::isfinite(motion_check_resolution_rad) && motion_check_resolution_rad > 0.0))
-    throw InputError("planner: motion_check_resolution_rad must be > 0");
-  if (!(std::isfinite(range_rad) && range_rad >= 0.0)) throw InputError("planner: range_rad must be >= 0");
-  if (max_goal_configs < 1 || max_goal_configs > 8) throw InputError("planner: max_goal_configs must be in [1, 8]");
-  if (!(std::isfinite(start_limit_tolerance_rad) && start_limit_tolerance_rad >= 0.0))
-    throw InputError("planner: start_limit_tolerance_rad must be >= 0");
-}
-
 ArmPlanner::ArmPlanner(const CollisionChecker& checker, const PlannerParams& params, const TrajectoryParams& trajectory)
     : checker_(&checker), params_(params), trajectory_params_(trajectory) {
   params_.validate();

@@ -28,56 +28,6 @@ BaseFollowerParams BaseFollowerParams::from_robot(const RobotConfig& robot) {
   return p;
 }
 
-BaseFollowerParams BaseFollowerParams::from_yaml(YamlReader& y, const BaseFollowerParams& d) {
-  BaseFollowerParams p;
-  p.max_speed_m_s = y.get("max_speed_m_s", d.max_speed_m_s);
-  p.max_yaw_rate_rad_s = y.get("max_yaw_rate_rad_s", d.max_yaw_rate_rad_s);
-  p.max_accel_m_s2 = y.get("max_accel_m_s2", d.max_accel_m_s2);
-  p.max_yaw_accel_rad_s2 = y.get("max_yaw_accel_rad_s2", d.max_yaw_accel_rad_s2);
-  p.position_tolerance_m = y.get("position_tolerance_m", d.position_tolerance_m);
-  p.yaw_tolerance_rad = y.get("yaw_tolerance_rad", d.yaw_tolerance_rad);
-  p.settle_fraction = y.get("settle_fraction", d.settle_fraction);
-  p.waypoint_radius_m = y.get("waypoint_radius_m", d.waypoint_radius_m);
-  p.heading_gain_per_s = y.get("heading_gain_per_s", d.heading_gain_per_s);
-  p.distance_gain_per_s = y.get("distance_gain_per_s", d.distance_gain_per_s);
-  p.braking_fraction = y.get("braking_fraction", d.braking_fraction);
-  p.turn_in_place_rad = y.get("turn_in_place_rad", d.turn_in_place_rad);
-  p.reverse_max_distance_m = y.get("reverse_max_distance_m", d.reverse_max_distance_m);
-  p.stopped_speed_m_s = y.get("stopped_speed_m_s", d.stopped_speed_m_s);
-  p.stopped_yaw_rate_rad_s = y.get("stopped_yaw_rate_rad_s", d.stopped_yaw_rate_rad_s);
-  try {
-    p.validate();
-  } catch (const InputError& e) {
-    throw InputError(y.file() + ": " + e.what());
-  }
-  return p;
-}
-
-void BaseFollowerParams::validate() const {
-  auto positive = [](double v, const char* name) {
-    if (!(std::isfinite(v) && v > 0.0))
-      throw InputError(std::string("base follower: ") + name + " = " + std::to_string(v) + " must be > 0");
-  };
-  positive(max_speed_m_s, "max_speed_m_s");
-  positive(max_yaw_rate_rad_s, "max_yaw_rate_rad_s");
-  positive(max_accel_m_s2, "max_accel_m_s2");
-  positive(max_yaw_accel_rad_s2, "max_yaw_accel_rad_s2");
-  positive(position_tolerance_m, "position_tolerance_m");
-  positive(yaw_tolerance_rad, "yaw_tolerance_rad");
-  positive(settle_fraction, "settle_fraction");
-  positive(waypoint_radius_m, "waypoint_radius_m");
-  positive(heading_gain_per_s, "heading_gain_per_s");
-  positive(distance_gain_per_s, "distance_gain_per_s");
-  positive(braking_fraction, "braking_fraction");
-  positive(turn_in_place_rad, "turn_in_place_rad");
-  positive(stopped_speed_m_s, "stopped_speed_m_s");
-  positive(stopped_yaw_rate_rad_s, "stopped_yaw_rate_rad_s");
-  if (settle_fraction >= 1.0) throw InputError("base follower: settle_fraction must be < 1");
-  if (braking_fraction > 1.0) throw InputError("base follower: braking_fraction must be <= 1");
-  if (!(std::isfinite(reverse_max_distance_m) && reverse_max_distance_m >= 0.0))
-    throw InputError("base follower: reverse_max_distance_m must be >= 0");
-}
-
 BaseFollower::BaseFollower(const BaseFollowerParams& params, std::vector<BasePose> waypoints)
     : params_(params), waypoints_(std::move(waypoints)) {
   params_.validate();

@@ -64,29 +64,6 @@ bool collide(const Geometry& a, const Pose& Ta, const Geometry& b, const Pose& T
 }  // namespace
 
 // ----------------------------------------------------------------------------------------
-CollisionParams CollisionParams::from_yaml(YamlReader& y, const CollisionParams& d) {
-  CollisionParams p;
-  p.environment_padding_m = y.get("environment_padding_m", d.environment_padding_m);
-  p.self_padding_m = y.get("self_padding_m", d.self_padding_m);
-  p.check_ground = y.get("check_ground", d.check_ground);
-  p.ground_height_m = y.get("ground_height_m", d.ground_height_m);
-  try {
-    p.validate();
-  } catch (const InputError& e) {
-    throw InputError(y.file() + ": " + e.what());
-  }
-  return p;
-}
-
-void CollisionParams::validate() const {
-  if (!(std::isfinite(environment_padding_m) && environment_padding_m >= 0.0))
-    throw InputError("collision: environment_padding_m must be >= 0");
-  if (!(std::isfinite(self_padding_m) && self_padding_m >= 0.0))
-    throw InputError("collision: self_padding_m must be >= 0");
-  if (!std::isfinite(ground_height_m)) throw InputError("collision: ground_height_m must be finite");
-}
-
-// ----------------------------------------------------------------------------------------
 // A coarse occupancy grid beside the octree: FCL's octree traversal costs several
 // microseconds even far from any voxel, so shapes whose bounding box touches no marked
 // coarse cell skip it (an exact, conservative test). Cells are marked when a voxel is added

@@ -11,25 +11,6 @@
 
 namespace canopy::motion {
 
-void ReachParams::validate() const {
-  if (!(std::isfinite(view_radius_m) && view_radius_m > 0.0)) throw InputError("reach: view_radius_m must be > 0");
-  if (azimuths < 1 || azimuths > 360) throw InputError("reach: azimuths must be in [1, 360]");
-  if (polar_angles < 1 || polar_angles > 180) throw InputError("reach: polar_angles must be in [1, 180]");
-  if (!(polar_min_deg > 0.0 && polar_max_deg < 180.0 && polar_min_deg <= polar_max_deg))
-    throw InputError("reach: polar angles must satisfy 0 < min <= max < 180 degrees");
-  if (!(std::isfinite(max_target_distance_m) && max_target_distance_m > 0.0))
-    throw InputError("reach: max_target_distance_m must be > 0");
-}
-
-std::vector<Pose> sphere_views(const Vec3& target, const ReachParams& p) {
-  p.validate();
-  std::vector<Pose> views;
-  for (const SphereView& v : canopy::sphere_views(
-           target, ViewSphere{p.view_radius_m, p.polar_angles, p.polar_min_deg, p.polar_max_deg, p.azimuths}))
-    views.push_back(v.T_world_camera);
-  return views;
-}
-
 int ReachReport::count_ik() const {
   return static_cast<int>(std::count_if(samples.begin(), samples.end(), [](const ReachSample& s) { return s.ik; }));
 }
@@ -102,7 +83,8 @@ ReachReport evaluate_reachability(const ArmPlanner& planner, const WorkspaceFilt
   for (const Vec3& target : targets) {
     if (!target.allFinite() || (target - arm).head<2>().norm() > params.max_target_distance_m) continue;
     ++report.targets;
-    for (const Pose& T : sphere_views(target, params)) {
+    for (const SphereView& v : sphere_views(target, params.sphere)) {
+      const Pose& T = v.T_world_camera;
       ReachSample s;
       s.target = target;
       s.T_world_camera = T;

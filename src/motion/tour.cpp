@@ -23,24 +23,6 @@ void check_matrix(const CostMatrix& c) {
 
 }  // namespace
 
-TourParams TourParams::from_yaml(YamlReader& y, const TourParams& d) {
-  TourParams p;
-  p.exact_max_views = y.get("exact_max_views", d.exact_max_views);
-  p.cost = y.get("cost", d.cost);
-  try {
-    p.validate();
-  } catch (const InputError& e) {
-    throw InputError(y.file() + ": " + e.what());
-  }
-  return p;
-}
-
-void TourParams::validate() const {
-  if (exact_max_views < 0 || exact_max_views > 16) throw InputError("tour: exact_max_views must be in [0, 16]");
-  if (cost != "joint" && cost != "cartesian")
-    throw InputError("tour: cost '" + cost + "' must be 'joint' or 'cartesian'");
-}
-
 double tour_cost(const CostMatrix& c, const std::vector<int>& order) {
   double total = 0.0;
   size_t prev = 0;

@@ -9,25 +9,6 @@
 
 namespace canopy::motion {
 
-TrajectoryParams TrajectoryParams::from_yaml(YamlReader& y, const TrajectoryParams& d) {
-  TrajectoryParams p;
-  p.velocity_scale = y.get("velocity_scale", d.velocity_scale);
-  p.acceleration_scale = y.get("acceleration_scale", d.acceleration_scale);
-  try {
-    p.validate();
-  } catch (const InputError& e) {
-    throw InputError(y.file() + ": " + e.what());
-  }
-  return p;
-}
-
-void TrajectoryParams::validate() const {
-  if (!(std::isfinite(velocity_scale) && velocity_scale > 0.0 && velocity_scale <= 1.0))
-    throw InputError("trajectory: velocity_scale must be in (0, 1]");
-  if (!(std::isfinite(acceleration_scale) && acceleration_scale > 0.0 && acceleration_scale <= 1.0))
-    throw InputError("trajectory: acceleration_scale must be in (0, 1]");
-}
-
 ArmTrajectory ArmTrajectory::time_parameterize(const std::vector<ArmConfig>& path, const ArmLimits& limits,
                                                const TrajectoryParams& params) {
   params.validate();

@@ -28,36 +28,6 @@ const char* to_string(ViewVerdict v) {
   return "unknown";
 }
 
-WorkspaceParams WorkspaceParams::from_yaml(YamlReader& y, const WorkspaceParams& d) {
-  WorkspaceParams p;
-  p.samples = y.get("samples", d.samples);
-  p.seed = y.get("seed", d.seed);
-  p.membership_radius_m = y.get("membership_radius_m", d.membership_radius_m);
-  p.min_camera_height_m = y.get("min_camera_height_m", d.min_camera_height_m);
-  p.max_forward_shift_m = y.get("max_forward_shift_m", d.max_forward_shift_m);
-  p.max_backward_shift_m = y.get("max_backward_shift_m", d.max_backward_shift_m);
-  p.shift_step_m = y.get("shift_step_m", d.shift_step_m);
-  try {
-    p.validate();
-  } catch (const InputError& e) {
-    throw InputError(y.file() + ": " + e.what());
-  }
-  return p;
-}
-
-void WorkspaceParams::validate() const {
-  if (samples < 100 || samples > 10000000) throw InputError("workspace: samples must be in [100, 1e7]");
-  auto non_negative = [](double v, const char* name) {
-    if (!(std::isfinite(v) && v >= 0.0)) throw InputError(std::string("workspace: ") + name + " must be >= 0");
-  };
-  non_negative(max_forward_shift_m, "max_forward_shift_m");
-  non_negative(max_backward_shift_m, "max_backward_shift_m");
-  if (!(std::isfinite(membership_radius_m) && membership_radius_m > 0.0))
-    throw InputError("workspace: membership_radius_m must be > 0");
-  if (!(std::isfinite(shift_step_m) && shift_step_m > 0.0)) throw InputError("workspace: shift_step_m must be > 0");
-  if (!std::isfinite(min_camera_height_m)) throw InputError("workspace: min_camera_height_m must be finite");
-}
-
 WorkspaceFilter::~WorkspaceFilter() = default;
 WorkspaceFilter::WorkspaceFilter(WorkspaceFilter&&) noexcept = default;
 

@@ -7,7 +7,7 @@ namespace canopy::nbv {
 std::vector<Candidate> sample_candidates(const Vec3& centroid, int cluster, const CandidateParams& p) {
   std::vector<Candidate> out;
   for (const SphereView& v :
-       sphere_views(centroid, ViewSphere{p.radius_m, p.polar_count, p.polar_min_deg, p.polar_max_deg, p.azimuth_count})) {
+       sphere_views(centroid, p.sphere)) {
     if (v.T_world_camera.translation().z() < p.min_height_m) continue;
     Candidate c;
     c.T_world_camera = v.T_world_camera;

@@ -45,7 +45,8 @@ class OursPlanner : public ViewPlanner {
  public:
   explicit OursPlanner(const ViewPlannerSettings& s)
       : ViewPlanner(s.params.views), settings_(s), planner_(s.params, s.intrinsics),
-        gain_(make_gain(s.gain, s.params.gain, "gain")), rays_(ray_set(s.rays, "rays")), done_(s.params.views) {}
+        gain_(make_gain(s.method.gain, s.params.gain, "gain")), rays_(ray_set(s.method.rays, "rays")),
+        done_(s.params.views) {}
 
   std::string name() const override { return "ours"; }
 
@@ -102,9 +103,17 @@ class PredefinedPlanner : public ViewPlanner {
  public:
   explicit PredefinedPlanner(const ViewPlannerSettings& s) : ViewPlanner(s.params.views) {}
   std::string name() const override { return "predefined"; }
+  PlannerTraits traits() const override {
+    PlannerTraits t;
+    t.scripted = true;
+    t.execute_whole_batch = true;
+    return t;
+  }
   ViewBatch next(const ViewRequest& req) override {
     ViewBatch batch;
     batch.order = BatchOrder::kTour;
+    batch.last_of_stop = true;
+    batch.reason = "predefined views done";
     if (served_) {
       batch.finished = true;
       batch.reason = "every predefined view of this stop was tried";
@@ -154,8 +163,8 @@ std::vector<std::string> view_planner_names() {
   return names;
 }
 
-std::unique_ptr<ViewPlanner> make_view_planner(const std::string& name, const ViewPlannerSettings& settings,
-                                               const std::string& where) {
+std::unique_ptr<ViewPlanner> make_view_planner(const ViewPlannerSettings& settings, const std::string& where) {
+  const std::string& name = settings.method.name;
   for (const auto& e : view_planner_registry())
     if (e.name == name) return e.make(settings);
   std::string names;

@@ -28,60 +28,6 @@ Hsv rgb_to_hsv(const Rgb8& c) {
   return out;
 }
 
-bool HsvBand::operator==(const HsvBand& o) const {
-  return class_name == o.class_name && h_min == o.h_min && h_max == o.h_max && s_min == o.s_min &&
-         s_max == o.s_max && v_min == o.v_min && v_max == o.v_max;
-}
-
-ColorSegmentationParams ColorSegmentationParams::from_yaml(YamlReader& y) {
-  ColorSegmentationParams p;
-  if (!y.has("bands")) {
-    y.get<std::string>("bands", "");  // mark as read
-    return p;
-  }
-  const YAML::Node list = y.require<YAML::Node>("bands");
-  y.check(list.IsSequence() && list.size() > 0, "bands", "must be a non-empty list of bands");
-  p.bands.clear();
-  for (std::size_t i = 0; i < list.size(); ++i) {
-    YamlReader b(list[i], y.file(), y.key_path("bands") + "[" + std::to_string(i) + "]");
-    HsvBand band;
-    band.class_name = b.require<std::string>("class");
-    auto bound = [&](const std::string& key, int fallback, int max) {
-      const int v = b.get(key, fallback);
-      b.check(v >= 0 && v <= max, key, "must be in [0, " + std::to_string(max) + "]");
-      return v;
-    };
-    band.h_min = bound("h_min", band.h_min, 179);
-    band.h_max = bound("h_max", band.h_max, 179);
-    band.s_min = bound("s_min", band.s_min, 255);
-    band.s_max = bound("s_max", band.s_max, 255);
-    band.v_min = bound("v_min", band.v_min, 255);
-    band.v_max = bound("v_max", band.v_max, 255);
-    b.check(band.h_min <= band.h_max, "h_max", "must be >= h_min");
-    b.check(band.s_min <= band.s_max, "s_max", "must be >= s_min");
-    b.check(band.v_min <= band.v_max, "v_max", "must be >= v_min");
-    b.finish();
-    p.bands.push_back(band);
-  }
-  return p;
-}
-
-YAML::Node ColorSegmentationParams::to_yaml() const {
-  YAML::Node n;
-  for (const HsvBand& b : bands) {
-    YAML::Node e;
-    e["class"] = b.class_name;
-    e["h_min"] = b.h_min;
-    e["h_max"] = b.h_max;
-    e["s_min"] = b.s_min;
-    e["s_max"] = b.s_max;
-    e["v_min"] = b.v_min;
-    e["v_max"] = b.v_max;
-    n["bands"].push_back(e);
-  }
-  return n;
-}
-
 Image<std::uint8_t> segment_by_color(const Image<Rgb8>& rgb, const ColorSegmentationParams& params,
                                      const SemanticClasses& classes, const std::string& where) {
   std::vector<int> band_class;

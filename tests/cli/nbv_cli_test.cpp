@@ -9,7 +9,7 @@
 #include "canopy/common/io.h"
 #include "canopy/common/process.h"
 #include "canopy/mapping/map_io.h"
-#include "canopy/mapping/mapping_config.h"
+#include "canopy/mission/settings.h"
 #include "canopy/mapping/scan_inserter.h"
 #include "canopy/evaluation/view_presets.h"
 #include "canopy/mission/mission.h"
@@ -32,7 +32,7 @@ struct SavedMap {
     const world::World world = world::generate_world(world::WorldSpec::load(find_data_file("worlds/small.yaml")));
     sim::Simulator sim(world, default_robot_config());
     sim::Renderer renderer(sim, world.spec.camera);
-    const mapping::MappingConfig cfg;
+    const mission::MappingSettings cfg;
     map = std::make_unique<mapping::SemanticOcTree>(cfg.map, world.spec.classes);
     mapping::ScanInserter inserter(*map);
     perception::SemanticExtractor extractor(cfg.extractor, world.spec.classes);
@@ -60,7 +60,7 @@ TEST(NbvCli, SavedMapGivesTheInProcessViews) {
   settings.nbv.planner.top_k = 2;
   nbv::ViewPlannerSettings ps;
   ps.params = settings.nbv;
-  const auto planner = nbv::make_view_planner("ours", ps);
+  const auto planner = nbv::make_view_planner(ps);
   motion::NextViewsRequest req;
   req.base = base;
   req.q = robot.home;

@@ -27,7 +27,7 @@ log=$(cd "$tmp/cwd" && "$canopy" ablate --quick --views 2 --summarize-only --no-
 [[ $code -eq 0 && "$log" == *"(3 reused)"* ]] || fail "--summarize-only on finished results: $code: $log"
 # Other settings: nothing finished for them, so --summarize-only says so.
 msg=$(cd "$tmp/cwd" && "$canopy" ablate --quick --views 3 --summarize-only --no-plots --out "$weird" 2>&1 >/dev/null); code=$?
-[[ $code -eq 2 && "$msg" == *"settings differ"* ]] || fail "--summarize-only with other settings: $code: $msg"
+[[ $code -eq 2 && "$msg" == *"run.yaml differs"* ]] || fail "--summarize-only with other settings: $code: $msg"
 mkdir -p "$tmp/empty"
 msg=$("$canopy" ablate --quick --summarize-only --out "$tmp/empty" 2>&1 >/dev/null); code=$?
 [[ $code -eq 2 && "$msg" == *"--summarize-only: no finished jobs with these settings in '$tmp/empty'"* ]] \
@@ -55,9 +55,9 @@ diff <(grep -v '<!-- Generated' "$tmp/w1/scene.xml") <(grep -v '<!-- Generated' 
 log=$("$canopy" render --out "$tmp/r" 2>&1) || fail "canopy render: $log"
 valid=$(grep -o '(\([0-9]*\) of 160000 depth pixels valid)' <<<"$log" | grep -o '^([0-9]*' | tr -d '(')
 [[ -n "$valid" && "$valid" -gt 16000 ]] || fail "default render: ${valid:-?} of 160000 depth pixels valid (want > 10%)"
-python3 - "$tmp/r/settings.json" <<'PY' || fail "render settings.json"
-import json, sys
-s = json.load(open(sys.argv[1]))
+/usr/bin/python3 - "$tmp/r/run.yaml" <<'PY' || fail "render run.yaml"
+import sys, yaml
+s = yaml.safe_load(open(sys.argv[1]))
 assert s["command"] == "render" and s["world"]["seed"] == 1 and len(s["joints"]) == 6 and len(s["base"]) == 3, s
 PY
 
@@ -66,11 +66,12 @@ printf '0.0 0.3 0.7 0.5 -0.5 0.5 -0.5\n' > "$tmp/one_view.txt"
 "$canopy" map --views "$tmp/one_view.txt" --out "$tmp/m" >/dev/null 2>&1 || fail "canopy map"
 [[ -s "$tmp/m/metrics.json" && -s "$tmp/m/map.csm" && -f "$tmp/m/.canopy-output" && ! -e "$tmp/m.partial" ]] \
   || fail "canopy map did not write a complete folder"
-python3 - "$tmp/m/settings.json" <<'PY' || fail "map settings.json"
-import json, sys
-s = json.load(open(sys.argv[1]))
+/usr/bin/python3 - "$tmp/m/run.yaml" "$tmp/m/settings.yaml" <<'PY' || fail "map run.yaml and settings.yaml"
+import sys, yaml
+s = yaml.safe_load(open(sys.argv[1]))
 assert s["command"] == "map" and s["world"]["seed"] == 1 and len(s["view_poses"]) == 1, s
-assert "p_gt" in s["mapping_config"], s
+b = yaml.safe_load(open(sys.argv[2]))
+assert b["mapping"]["extractor"]["p_gt"] == 0.7 and b["method"]["name"] == "ours", b
 PY
 # A second map run replaces canopy's own folder.
 "$canopy" map --views "$tmp/one_view.txt" --out "$tmp/m" >/dev/null 2>&1 || fail "canopy map over its own output"

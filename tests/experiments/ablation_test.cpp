@@ -62,7 +62,7 @@ class AblationJob : public testing::Test {
     set.protocol = protocol;
     set.views = views;
     set.cluster_min_logodds = protocol == AblationProtocol::kPaper ? 0.5 : -1.0;
-    return run_ablation_job({"osamcep", "ours", 1.0, "per_segment_end"}, 3, 0, set, s, *world_, *renderer_);
+    return run_ablation_job({"osamcep", "ours", 1.0, {{"nbv.gain.proximity", "per_segment_end"}}}, 3, 0, set, s, *world_, *renderer_);
   }
   static world::World* world_;
   static sim::Simulator* sim_;

@@ -131,8 +131,9 @@ std::vector<std::string> fake_mission(const fs::path& dir) {
   const fs::path script = dir / "fake_mission.sh";
   std::ofstream(script) << R"(#!/bin/sh
 while [ $# -gt 0 ]; do
-  case "$1" in --seed) seed=$2; shift 2;; --out) out=$2; shift 2;; --method) method=$2; shift 2;; *) shift;; esac
+  case "$1" in --seed) seed=$2; shift 2;; --out) out=$2; shift 2;; --config) config=$2; shift 2;; *) shift;; esac
 done
+method=$(sed -n '/^method:/,/^[a-z]/s/^  name: *//p' "$config")
 case "$seed" in
   13) kill -SEGV $$;;
   14) sleep 60;;

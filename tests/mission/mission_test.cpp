@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "canopy/mission/mission.h"
+#include "canopy/mission/run_folder.h"
 #include "canopy/world/world_spec.h"
 
 namespace canopy::mission {
@@ -47,8 +48,6 @@ int successes(const MissionResult& r, ViewPhase phase) {
 // decreases, and the NBV views add coverage to the initial scan.
 TEST(Mission, OursTakesTheRequestedViewsFromTheReachedPose) {
   const SmallWorld& w = small();
-  MissionOptions o;
-  o.method = "ours";
   MissionCallbacks cb;
   const motion::RobotModel model = motion::RobotModel::load(default_robot_config());
   int frames = 0;
@@ -60,7 +59,7 @@ TEST(Mission, OursTakesTheRequestedViewsFromTheReachedPose) {
     worst_rad = std::max(worst_rad, Eigen::AngleAxisd(fk.linear().transpose() * f.T_world_camera.linear()).angle());
     EXPECT_TRUE(v.T_reached.isApprox(f.T_world_camera));
   };
-  Mission mission(w.world, w.settings, o, cb);
+  Mission mission(w.world, w.settings, 1, cb);
   const MissionResult r = mission.run();
   ASSERT_TRUE(r.complete);
   ASSERT_EQ(r.stops.size(), 1u);
@@ -83,9 +82,9 @@ TEST(Mission, OursTakesTheRequestedViewsFromTheReachedPose) {
 
 TEST(Mission, FrontierRunsThroughTheSameController) {
   const SmallWorld& w = small();
-  MissionOptions o;
-  o.method = "frontier";
-  Mission mission(w.world, w.settings, o);
+  Settings s = w.settings;
+  s.method.name = "frontier";
+  Mission mission(w.world, s, 1);
   const MissionResult r = mission.run();
   ASSERT_TRUE(r.complete);
   EXPECT_EQ(successes(r, ViewPhase::kNbv), 3) << r.stops[0].end_reason;
@@ -99,9 +98,9 @@ TEST(Mission, FrontierRunsThroughTheSameController) {
 
 TEST(Mission, PredefinedScansTwentyFourViewsPerStop) {
   const SmallWorld& w = small();
-  MissionOptions o;
-  o.method = "predefined";
-  Mission mission(w.world, w.settings, o);
+  Settings s = w.settings;
+  s.method.name = "predefined";
+  Mission mission(w.world, s, 1);
   const MissionResult r = mission.run();
   ASSERT_TRUE(r.complete);
   EXPECT_EQ(r.stops[0].initial_attempted, 12);
@@ -119,12 +118,10 @@ TEST(Mission, SameSeedSameViews) {
   Settings s = w.settings;
   s.mapping.extractor.source = perception::LabelSource::kColor;
   s.mapping.extractor.p_gt = 0.7;
-  MissionOptions o;
-  const std::string a = views_csv(Mission(w.world, s, o).run(), "ours");
-  const std::string b = views_csv(Mission(w.world, s, o).run(), "ours");
+  const std::string a = views_csv(Mission(w.world, s, 1).run(), "ours");
+  const std::string b = views_csv(Mission(w.world, s, 1).run(), "ours");
   EXPECT_EQ(a, b);
-  o.seed = 2;
-  EXPECT_NE(a, views_csv(Mission(w.world, s, o).run(), "ours"));
+  EXPECT_NE(a, views_csv(Mission(w.world, s, 2).run(), "ours"));
 }
 
 // --- Faults ------------------------------------------------------------------------------
@@ -135,7 +132,7 @@ TEST(MissionFaults, BaseDrivingIntoThePlantsFailsTheStop) {
   const SmallWorld& w = small();
   Settings s = w.settings;
   s.mission.stops.base_y_m = 0.55;  // the 0.67 m wide base would reach into the left row at 0.75 m
-  Mission mission(w.world, s, MissionOptions{});
+  Mission mission(w.world, s, 1);
   const MissionResult r = mission.run();
   ASSERT_EQ(r.stops.size(), 1u);
   EXPECT_GT(r.stops[0].base_truth_contacts, 0);
@@ -150,7 +147,7 @@ TEST(MissionFaults, PlannerTimeoutIsCountedAndTheMissionGoesOn) {
   Settings s = w.settings;
   s.motion.planner.try_direct_first = false;
   s.motion.planner.max_iterations = 1;
-  Mission mission(w.world, s, MissionOptions{});
+  Mission mission(w.world, s, 1);
   const MissionResult r = mission.run();
   ASSERT_TRUE(r.complete);
   ASSERT_TRUE(r.failures.count(failure::kPlanTimeout)) << "no planner timeout was recorded";
@@ -167,7 +164,7 @@ TEST(MissionFaults, UnreachableInitialViewsAreSkippedAndCounted) {
   Settings s = w.settings;
   s.mission.scan.distance_m = 1.6;  // cameras far beyond the arm's reach
   s.mission.loop.views_per_stop = 0;
-  Mission mission(w.world, s, MissionOptions{});
+  Mission mission(w.world, s, 1);
   const MissionResult r = mission.run();
   ASSERT_TRUE(r.complete);
   EXPECT_EQ(r.stops[0].initial_attempted, 12);
@@ -178,7 +175,7 @@ TEST(MissionFaults, UnreachableInitialViewsAreSkippedAndCounted) {
 // A goal view whose camera sits inside a mapped plant voxel is refused before any motion.
 TEST(MissionFaults, GoalInsideAPlantIsRefused) {
   const SmallWorld& w = small();
-  Mission mission(w.world, w.settings, MissionOptions{});
+  Mission mission(w.world, w.settings, 1);
   ASSERT_TRUE(mission.drive_to_stop(0));
   for (const Pose& T : mission.scan_views(0, false)) {
     nbv::PlannedView v;
@@ -214,7 +211,7 @@ TEST(MissionFaults, GoalInsideAPlantIsRefused) {
 // before any motion: every IK solution collides with the robot itself.
 TEST(MissionFaults, ViewThroughTheBaseIsRefused) {
   const SmallWorld& w = small();
-  Mission mission(w.world, w.settings, MissionOptions{});
+  Mission mission(w.world, w.settings, 1);
   ASSERT_TRUE(mission.drive_to_stop(0));
   const motion::RobotModel& model = mission.robot();
   const BasePose base = mission.simulator().base_pose();
@@ -255,7 +252,7 @@ TEST(MissionFaults, DivergenceIsDetectedAndRestored) {
       ++injected;
     }
   };
-  Mission mission(w.world, w.settings, MissionOptions{}, cb);
+  Mission mission(w.world, w.settings, 1, cb);
   const MissionResult r = mission.run();
   ASSERT_EQ(injected, 1);
   ASSERT_TRUE(r.complete);

@@ -11,7 +11,7 @@
 #include "canopy/common/error.h"
 #include "canopy/common/process.h"
 
-namespace canopy {
+namespace canopy::mission {
 namespace {
 
 namespace fs = std::filesystem;
@@ -112,4 +112,4 @@ TEST(VideoWriter, WritesAPlayableFileWithRealFfmpeg) {
 }
 
 }  // namespace
-}  // namespace canopy
+}  // namespace canopy::mission

@@ -184,12 +184,12 @@ TEST_F(ArmPlannerTest, SeedDecidesThePath) {
 
 TEST(ArmPlannerParams, YamlAndRegistry) {
   YamlReader y = YamlReader::load_string("planner: PRM\ntime_limit_s: 2.5\n", "t");
-  const PlannerParams p = PlannerParams::from_yaml(y, PlannerParams{});
+  const PlannerParams p = params_from_yaml<PlannerParams>(y);
   y.finish();
   EXPECT_EQ(p.planner, "PRM");
   EXPECT_EQ(p.time_limit_s, 2.5);
   YamlReader bad = YamlReader::load_string("planner: NoSuchPlanner\n", "t");
-  EXPECT_THROW(PlannerParams::from_yaml(bad, PlannerParams{}), InputError);
+  EXPECT_THROW(params_from_yaml<PlannerParams>(bad), InputError);
   EXPECT_GE(planner_names().size(), 10u);
   EXPECT_STREQ(to_string(PlanStatus::kGoalInCollision), "goal_in_collision");
 }

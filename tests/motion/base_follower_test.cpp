@@ -141,14 +141,14 @@ TEST(BaseFollower, BadInput) {
 
 TEST(BaseFollower, ParamsFromYamlAndRobot) {
   YamlReader y = YamlReader::load_string("max_speed_m_s: 0.5\nwaypoint_radius_m: 0.2\n", "test");
-  const BaseFollowerParams p = BaseFollowerParams::from_yaml(y, BaseFollowerParams{});
+  const BaseFollowerParams p = params_from_yaml<BaseFollowerParams>(y);
   y.finish();
   EXPECT_EQ(p.max_speed_m_s, 0.5);
   EXPECT_EQ(p.waypoint_radius_m, 0.2);
   EXPECT_EQ(p.max_yaw_rate_rad_s, BaseFollowerParams{}.max_yaw_rate_rad_s);
 
   YamlReader bad = YamlReader::load_string("max_accel_m_s2: 0\n", "test");
-  EXPECT_THROW(BaseFollowerParams::from_yaml(bad, BaseFollowerParams{}), InputError);
+  EXPECT_THROW(params_from_yaml<BaseFollowerParams>(bad), InputError);
 
   const RobotConfig robot = default_robot_config();
   const BaseFollowerParams r = BaseFollowerParams::from_robot(robot);

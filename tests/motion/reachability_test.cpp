@@ -15,7 +15,8 @@ namespace {
 TEST(Reachability, SphereViewsLookAtTheTargetWithZeroRoll) {
   const Vec3 target(1.0, 2.0, 0.7);
   ReachParams p;
-  const std::vector<Pose> views = sphere_views(target, p);
+  std::vector<Pose> views;
+  for (const SphereView& v : sphere_views(target, p.sphere)) views.push_back(v.T_world_camera);
   ASSERT_EQ(views.size(), 50u);  // 10 azimuths x 5 polar angles, no duplicate at 360 deg
   for (const Pose& T : views) {
     EXPECT_NEAR((T.translation() - target).norm(), 0.4, 1e-12);
@@ -29,8 +30,9 @@ TEST(Reachability, SphereViewsLookAtTheTargetWithZeroRoll) {
     for (size_t j = i + 1; j < views.size(); ++j)
       EXPECT_GT((views[i].translation() - views[j].translation()).norm(), 1e-3);
   ReachParams bad;
-  bad.polar_min_deg = 0.0;
-  EXPECT_THROW(sphere_views(target, bad), InputError);
+  bad.sphere.polar_min_deg = 100.0;
+  bad.sphere.polar_max_deg = 90.0;
+  EXPECT_THROW(bad.validate(), InputError);
 }
 
 TEST(Reachability, WorldVoxelsCoverEveryMeshVertex) {
@@ -83,8 +85,8 @@ TEST(Reachability, DefaultWorldFractionsArePinned) {
                                  CollisionEnvironment::from_voxels(evaluation::world_occupied_voxels(w, 0.015), 0.015));
   const ArmPlanner planner(checker, PlannerParams{});
   ReachParams grid;
-  grid.azimuths = 8;
-  grid.polar_angles = 3;
+  grid.sphere.azimuth_count = 8;
+  grid.sphere.polar_count = 3;
   const Pinned pinned[] = {
       {{0.25, 0.0, 0.0}, 0.0547, 0.0495, 0.0495},
       {{0.75, 0.05, 0.1}, 0.0577, 0.0481, 0.0481},

@@ -108,7 +108,7 @@ TEST(Tour, OrderViewsAndBadInput) {
   EXPECT_THROW(solve_tour(CostMatrix{{0, 1}, {1}}), InputError);
   EXPECT_THROW(solve_tour(CostMatrix{{0, std::nan("")}, {1, 0}}), InputError);
   YamlReader y = YamlReader::load_string("cost: euclid\n", "t");
-  EXPECT_THROW(TourParams::from_yaml(y, TourParams{}), InputError);
+  EXPECT_THROW(params_from_yaml<TourParams>(y), InputError);
 }
 
 }  // namespace

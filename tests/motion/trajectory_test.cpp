@@ -97,9 +97,9 @@ TEST(Trajectory, ScaledLimitsAndParams) {
   const double slow = ArmTrajectory::time_parameterize(path, lim, half).duration();
   EXPECT_NEAR(slow, 2.0 * full, 1e-9);  // v/2 and a/4 exactly double the time.
   YamlReader y = YamlReader::load_string("velocity_scale: 0.3\n", "t");
-  EXPECT_EQ(TrajectoryParams::from_yaml(y, TrajectoryParams{}).velocity_scale, 0.3);
+  EXPECT_EQ(params_from_yaml<TrajectoryParams>(y).velocity_scale, 0.3);
   YamlReader bad = YamlReader::load_string("acceleration_scale: 1.5\n", "t");
-  EXPECT_THROW(TrajectoryParams::from_yaml(bad, TrajectoryParams{}), InputError);
+  EXPECT_THROW(params_from_yaml<TrajectoryParams>(bad), InputError);
   EXPECT_THROW(TrajectoryTracker(ArmTrajectory{}, -1.0), InputError);
 }
 

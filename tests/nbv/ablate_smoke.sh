@@ -17,7 +17,7 @@ for bad in "--gains osamcep,entropy" "--rays ours,all" "--pgt 1.5" "--plants 99"
 done
 "$canopy" ablate --quick --views 4 --no-plots --threads 1 --out "$dir/t1" > /dev/null 2>&1
 "$canopy" ablate --quick --views 4 --no-plots --threads 2 --out "$dir/t2" > /dev/null 2>&1
-for f in summary.csv table.csv settings.json; do
+for f in summary.csv table.csv run.yaml settings.yaml; do
   [[ -s "$dir/t2/$f" ]] || { echo "missing $f"; exit 1; }
 done
 python3 - "$dir/t1" "$dir/t2" <<'PY'

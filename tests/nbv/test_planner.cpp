@@ -113,7 +113,7 @@ TEST(Planner, FilterMovesTheScoredPose) {
     EXPECT_TRUE(v.candidate.has_q);
     EXPECT_EQ(v.candidate.q[5], 6.0);
     EXPECT_NEAR((v.candidate.T_world_camera.translation() - v.candidate.target).norm(),
-                f.params.candidates.radius_m - shift, 1e-9);
+                f.params.candidates.sphere.radius_m - shift, 1e-9);
     const ViewScore s = eval.evaluate(v.candidate.T_world_camera, v.candidate.target, *gain, ray_set("ours"), 0);
     EXPECT_DOUBLE_EQ(s.gain, v.score.gain);
   }

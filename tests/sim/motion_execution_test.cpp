@@ -67,8 +67,8 @@ TEST(MotionSim, PlannedMovesReachTheirViewsWithoutContacts) {
 
   const BasePose base{0.25, 0.0, 0.0};
   ReachParams grid;
-  grid.azimuths = 6;
-  grid.polar_angles = 3;
+  grid.sphere.azimuth_count = 6;
+  grid.sphere.polar_count = 3;
   grid.plan = false;
   const ReachReport reach =
       evaluate_reachability(planner, nullptr, base, robot.home, evaluation::world_fruit_centres(world), grid);

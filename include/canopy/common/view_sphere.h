@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "canopy/common/camera.h"
+#include "canopy/common/params.h"
 
 namespace canopy {
 
@@ -16,6 +17,16 @@ struct ViewSphere {
   double polar_min_deg = 30.0;  ///< From world +z.
   double polar_max_deg = 150.0;
   int azimuth_count = 10;
+
+  template <class A>
+  void visit(A& a) {
+    a("radius_m", radius_m, limits::positive(), "r: camera distance to the target [m]");
+    a("polar_count", polar_count, limits::in(1, 1000), "N_theta: polar angles from world +z");
+    a("polar_min_deg", polar_min_deg, limits::in(0.0, 180.0), "First polar angle [deg]");
+    a("polar_max_deg", polar_max_deg, limits::in(0.0, 180.0), "Last polar angle, included [deg]");
+    a("azimuth_count", azimuth_count, limits::in(1, 1000), "N_phi: azimuths in [0, 360) without the 360 duplicate");
+    a.check(polar_max_deg >= polar_min_deg, "polar_max_deg", "must be >= polar_min_deg");
+  }
 };
 
 /// One view of the sphere.

@@ -51,6 +51,8 @@ class YamlReader {
   const std::string& file() const { return file_; }
   std::string key_path(const std::string& key) const;
   std::string value_text(const std::string& key) const;
+  /// True when `key` holds a scalar (not a mapping or list).
+  bool value_is_scalar(const std::string& key) const;
 
  private:
   YAML::Node node_;

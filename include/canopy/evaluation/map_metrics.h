@@ -20,7 +20,7 @@
 #include <string>
 #include <vector>
 
-#include "canopy/common/yaml_reader.h"
+#include "canopy/common/params.h"
 #include "canopy/mapping/semantic_octree.h"
 #include "canopy/world/ground_truth.h"
 
@@ -38,19 +38,25 @@ std::string to_string(EvaluationRule r);
 
 /// Evaluation settings (paper Table I, docs/background/evaluation.md).
 struct MetricsParams {
-  EvaluationRule rule = EvaluationRule::kPrototype;  ///< Rule of MapMetrics::coverage / total_entropy.
-  double coverage_distance_m = 0.015;  ///< delta S: a surface point is covered within this.
-  double entropy_box_m = 0.1;          ///< L: side of the cube around each fruit's centre (paper).
-  double prototype_min_logodds = 1.0;  ///< Prototype: a fruit voxel needs target log-odds above this.
-  double prototype_entropy_radius_m = 0.05;  ///< Prototype: entropy sphere around each fruit's centroid.
+  EvaluationRule rule = EvaluationRule::kPrototype;
+  double coverage_distance_m = 0.015;
+  double entropy_box_m = 0.1;
+  double prototype_min_logodds = 1.0;
+  double prototype_entropy_radius_m = 0.05;
 
-  static MetricsParams from_yaml(YamlReader& y);
-  YAML::Node to_yaml() const;
-  bool operator==(const MetricsParams& o) const {
-    return rule == o.rule && coverage_distance_m == o.coverage_distance_m && entropy_box_m == o.entropy_box_m &&
-           prototype_min_logodds == o.prototype_min_logodds &&
-           prototype_entropy_radius_m == o.prototype_entropy_radius_m;
+  template <class A>
+  void visit(A& a) {
+    a.choice("rule", rule, kEvaluationRuleNames, "Rule of the headline coverage and entropy (both are always written)");
+    a("coverage_distance_m", coverage_distance_m, limits::positive(),
+      "delta S: a surface point is covered when a fruit voxel centre lies this close [m]");
+    a("entropy_box_m", entropy_box_m, limits::above_up_to(0.0, 2.0),
+      "L: side of the cube around each fruit's centre summed by the paper rule's entropy [m]");
+    a("prototype_min_logodds", prototype_min_logodds, limits::finite(),
+      "Prototype rule: a fruit voxel needs target log-odds above this");
+    a("prototype_entropy_radius_m", prototype_entropy_radius_m, limits::above_up_to(0.0, 1.0),
+      "Prototype rule: radius of the entropy sphere around each fruit's centroid [m]");
   }
+  bool operator==(const MetricsParams& o) const { return same_params(*this, o); }
 };
 
 /// Coverage and entropy of one fruit or one map under one rule.

@@ -29,12 +29,15 @@
 
 namespace canopy::experiments {
 
-/// One configuration of the ablation.
+/// One configuration of the ablation: the `ours` planner with a gain and a ray set, at one
+/// P_gt, with any further settings by key (OSAMCEP's proximity test, or anything a sweep names).
 struct AblationConfig {
   std::string gain, rays;
   double pgt = 1.0;
-  std::string proximity;   ///< OSAMCEP's proximity test ("" = the NBV settings' own).
-  std::string label() const;  ///< The gain, with "-<proximity>" when one is set.
+  std::vector<mission::SettingOverride> set;  ///< Applied over the bundle, in order.
+  /// The gain, then "-<value>" for OSAMCEP's proximity and "-<leaf key>=<value>" for any other
+  /// setting of `set`.
+  std::string label() const;
   std::string id() const;     ///< "<label>_<rays>_pgt<P_gt>", the job folder's name.
 };
 
@@ -64,11 +67,17 @@ struct AblationSettings {
   std::uint64_t seed = 1;
 };
 
+/// The settings of a configuration's jobs: the bundle with the method (ours, the gain and
+/// rays), P_gt, the configuration's settings and the protocol's cluster threshold applied.
+mission::Settings ablation_job_settings(const mission::Settings& bundle, const AblationConfig& config,
+                                        const AblationSettings& settings);
+
 /// The paper protocol's initial pose of `trial` for a plant whose base is at `base`.
 Pose ablation_grid_pose(const Vec3& base, int trial, const AblationSettings& settings);
 
 /// Runs one (configuration, trial, plant) job with a free camera and returns its record
-/// (config, trial, plant, seed, fruits, and one entry per view).
+/// (config, trial, plant, seed, fruits, and one entry per view). `bundle` is the run's
+/// settings bundle (ablation_job_settings applies the configuration).
 nlohmann::json run_ablation_job(const AblationConfig& config, int trial, int plant, const AblationSettings& settings,
                                 const mission::Settings& bundle,
                                 const world::World& world, sim::Renderer& renderer);

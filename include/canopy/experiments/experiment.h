@@ -29,12 +29,12 @@
 
 namespace canopy::experiments {
 
-/// One method of an experiment: a view planner by name, with its gain and ray set.
+/// One method of an experiment: a view planner by name with its gain and ray set (the
+/// bundle's `method` section), and any settings of its own by key (`set:` in the file).
 struct ExperimentMethod {
   std::string label;             ///< Name in trial ids and plots; unique; [A-Za-z0-9-]+.
-  std::string method = "ours";   ///< nbv::view_planner_registry() name.
-  std::string gain = "osamcep";
-  std::string rays = "ours";
+  nbv::MethodChoice choice;
+  std::vector<mission::SettingOverride> set;
 };
 
 /// One mission of an experiment.

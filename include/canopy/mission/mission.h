@@ -118,14 +118,6 @@ struct MissionResult {
   int successful_views() const;
 };
 
-/// What the mission runs.
-struct MissionOptions {
-  std::string method = "ours";   ///< A view planner's registry name.
-  std::string gain = "osamcep";  ///< ours: gain by name.
-  std::string rays = "ours";     ///< ours: ray set by name.
-  std::uint64_t seed = 1;        ///< Seeds segmentation noise, planners and OMPL.
-};
-
 /// Hooks for the command line (progress, video, Ctrl-C) and for tests (fault injection).
 struct MissionCallbacks {
   std::function<void(const std::string& message)> progress;
@@ -143,8 +135,8 @@ struct MissionCallbacks {
 /// The mission controller.
 class Mission {
  public:
-  Mission(const world::World& world, const Settings& settings, const MissionOptions& options,
-          MissionCallbacks callbacks = {});
+  /// The method is settings.method; `seed` seeds segmentation noise, the planner's draws and OMPL.
+  Mission(const world::World& world, const Settings& settings, std::uint64_t seed, MissionCallbacks callbacks = {});
   ~Mission();
   Mission(const Mission&) = delete;
   Mission& operator=(const Mission&) = delete;
@@ -169,12 +161,5 @@ class Mission {
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
-
-/// views.csv (one row per attempted view, no wall times: byte-identical for a seed).
-std::string views_csv(const MissionResult& result, const std::string& method);
-/// timing.csv (wall time per attempted view and phase).
-std::string timing_csv(const MissionResult& result);
-/// summary.json body: per-stop counts, failures, final figures, time split.
-nlohmann::json summary_json(const MissionResult& result);
 
 }  // namespace canopy::mission

@@ -8,7 +8,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "canopy/common/types.h"
-#include "canopy/common/yaml_reader.h"
+#include "canopy/common/params.h"
 
 namespace canopy::world {
 struct WorldSpec;
@@ -18,40 +18,82 @@ namespace canopy::mission {
 
 /// Base stops along the aisle.
 struct StopParams {
-  int count = 5;                       ///< Evenly spaced over the rows' plants when positions_m is empty.
-  std::vector<double> positions_m;     ///< Arm-base x of each stop (world), overrides count.
-  double base_y_m = 0.0;               ///< Base y at every stop (the aisle centre).
-  double timeout_s = 30.0;             ///< Give up driving to a stop after this much simulated time.
+  int count = 5;
+  std::vector<double> positions_m;
+  double base_y_m = 0.0;
+  double timeout_s = 30.0;
+
+  template <class A>
+  void visit(A& a) {
+    a("count", count, limits::in(1, 1000), "Stops evenly spaced over the rows' plants (when positions_m is empty)");
+    a("positions_m", positions_m, limits::finite(), "Arm-base x of each stop in the world; overrides count [m]");
+    a("base_y_m", base_y_m, limits::finite(), "Base y at every stop (the aisle centre) [m]");
+    a("timeout_s", timeout_s, limits::positive(), "Give up driving to a stop after this much simulated time [s]");
+  }
 };
 
 /// The predefined views of a stop, built around target points relative to the arm base:
 /// at every row (lateral offset) and height, one view per azimuth, looking from the aisle
 /// side at `distance_m`, horizontally, with zero roll.
 struct ScanParams {
-  double distance_m = 0.4;                          ///< Camera distance to its target.
-  std::vector<double> azimuths_deg = {-30.0, 0.0, 30.0};  ///< About world z, 0 = straight across the aisle.
-  std::vector<double> heights_m = {0.55, 0.85};    ///< Target heights above the ground (initial scan).
-  std::vector<double> extra_heights_m = {0.4, 1.0};  ///< Predefined scanning's additional views.
-  std::vector<double> lateral_m;                   ///< Target |y| offsets with sign; empty: the world's rows.
-  double along_m = 0.0;                            ///< Target x relative to the arm base.
+  double distance_m = 0.4;
+  std::vector<double> azimuths_deg = {-30.0, 0.0, 30.0};
+  std::vector<double> heights_m = {0.55, 0.85};
+  std::vector<double> extra_heights_m = {0.4, 1.0};
+  std::vector<double> lateral_m;
+  double along_m = 0.0;
+
+  template <class A>
+  void visit(A& a) {
+    a("distance_m", distance_m, limits::positive(), "Camera distance to its target [m]");
+    a("azimuths_deg", azimuths_deg, limits::open(-90.0, 90.0),
+      "About world z, 0 = straight across the aisle [deg]");
+    a("heights_m", heights_m, limits::finite(), "Target heights above the ground of the initial scan [m]");
+    a("extra_heights_m", extra_heights_m, limits::finite(), "Predefined scanning's additional heights [m]");
+    a("lateral_m", lateral_m, limits::finite(), "Target y offsets with sign; empty: the world's rows [m]");
+    a("along_m", along_m, limits::finite(), "Target x relative to the arm base [m]");
+    a.check(!azimuths_deg.empty(), "azimuths_deg", "needs at least one azimuth");
+  }
 };
 
 /// The NBV loop of one stop.
 struct LoopParams {
-  int views_per_stop = 12;           ///< Successful NBV (or frontier) views wanted per stop.
-  int max_rounds = 10;               ///< Planning rounds per stop at most.
-  int max_attempts = 60;             ///< Attempted views per stop at most (after the initial scan).
-  double region_half_length_m = 0.45;  ///< Targets within this of the arm base along x count.
-  double region_half_width_m = 1.2;    ///< ... and within this laterally.
+  int views_per_stop = 12;
+  int max_rounds = 10;
+  int max_attempts = 60;
+  double region_half_length_m = 0.45;
+  double region_half_width_m = 1.2;
   double region_min_z_m = 0.05;
   double region_max_z_m = 1.8;
+
+  template <class A>
+  void visit(A& a) {
+    a("views_per_stop", views_per_stop, limits::in(0, 10000), "Successful NBV (or frontier) views wanted per stop");
+    a("max_rounds", max_rounds, limits::in(0, 10000), "Planning rounds per stop at most");
+    a("max_attempts", max_attempts, limits::in(0, 100000), "Attempted views per stop at most (after the initial scan)");
+    a("region_half_length_m", region_half_length_m, limits::positive(),
+      "Targets within this of the arm base along x count [m]");
+    a("region_half_width_m", region_half_width_m, limits::positive(), "... and within this laterally [m]");
+    a("region_min_z_m", region_min_z_m, limits::finite(), "Lowest target height [m]");
+    a("region_max_z_m", region_max_z_m, limits::finite(), "Highest target height [m]");
+    a.check(region_max_z_m > region_min_z_m, "region_max_z_m", "must be above region_min_z_m");
+  }
 };
 
 /// What the mission records beside the map.
 struct RecordParams {
-  double truth_voxel_m = 0.01;       ///< Voxel size of the ground-truth plant occupancy for contact counting.
-  double base_check_period_s = 0.02; ///< Base-vs-plants checks while driving (simulated seconds).
-  bool metrics_every_view = true;    ///< Coverage and entropy after every view (else only per stop).
+  double truth_voxel_m = 0.01;
+  double base_check_period_s = 0.02;
+  bool metrics_every_view = true;
+
+  template <class A>
+  void visit(A& a) {
+    a("truth_voxel_m", truth_voxel_m, limits::in(0.002, 0.2),
+      "Voxel of the ground-truth plant occupancy for counting contacts [m]");
+    a("base_check_period_s", base_check_period_s, limits::positive(),
+      "Base-vs-plants checks while driving, simulated seconds [s]");
+    a("metrics_every_view", metrics_every_view, "Coverage and entropy after every view (else only per stop)");
+  }
 };
 
 /// All mission settings.
@@ -61,10 +103,14 @@ struct MissionParams {
   LoopParams loop;
   RecordParams record;
 
-  /// Reads the sections stops, scan, loop, record (every key optional, unknown keys rejected).
-  static MissionParams from_yaml(YamlReader& y);
-  YAML::Node to_yaml() const;
-  bool operator==(const MissionParams& o) const;
+  template <class A>
+  void visit(A& a) {
+    a.section("stops", stops, "Base stops along the aisle");
+    a.section("scan", scan, "The predefined views of every stop");
+    a.section("loop", loop, "The NBV loop of a stop");
+    a.section("record", record, "What the mission records");
+  }
+  bool operator==(const MissionParams& o) const { return same_params(*this, o); }
 };
 
 /// Arm-base x of each stop in `world` (positions_m, or count evenly spaced over the plants;

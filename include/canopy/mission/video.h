@@ -1,15 +1,21 @@
 #pragma once
-// Writes RGB frames to an H.264 MP4 by streaming raw frames to ffmpeg (Debian's ffmpeg),
-// started without a shell (common/process.h).
+// The mission's video: a chase view of the robot with the wrist camera's last RGB and label
+// images inset and a caption line (MissionVideo), written to an H.264 MP4 by streaming raw
+// frames to ffmpeg (Debian's ffmpeg), started without a shell (common/process.h).
 
 #include <memory>
 #include <string>
 
+#include "canopy/common/classes.h"
+#include "canopy/common/frame.h"
 #include "canopy/common/image.h"
+#include "canopy/sim/renderer.h"
 
 namespace canopy {
-
 class PipedProcess;
+}
+
+namespace canopy::mission {
 
 /// Streams same-sized RGB frames into an MP4 file. The file appears under its final name
 /// only after close() succeeds. An encoder that dies mid-run does not end the caller's
@@ -52,4 +58,27 @@ class VideoWriter {
   std::string error_;
 };
 
-}  // namespace canopy
+/// Off-screen video of a mission: every tick renders the chase view with the last wrist
+/// frame's RGB and labels inset and the caption, and appends it to the MP4.
+class MissionVideo {
+ public:
+  /// Starts the encoder (VideoWriter's errors); frames of `width` x `height` at `fps`.
+  MissionVideo(const std::string& path, int width, int height, double fps, sim::Simulator& sim,
+               const SemanticClasses& classes);
+  /// Renders and writes one frame (nothing once the encoder has failed).
+  void tick(sim::Simulator& sim, const std::string& caption);
+  /// The wrist frame shown in the insets from now on.
+  void set_wrist(const LabelledFrame& frame);
+  VideoWriter& writer() { return writer_; }
+
+ private:
+  VideoWriter writer_;
+  SemanticClasses classes_;
+  std::unique_ptr<sim::Renderer> renderer_;
+  Image<Rgb8> wrist_rgb_, wrist_labels_;
+};
+
+/// The chase camera: behind and above the base, looking ahead along the aisle.
+Pose chase_pose(const BasePose& base);
+
+}  // namespace canopy::mission

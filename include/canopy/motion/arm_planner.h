@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "canopy/common/params.h"
 #include "canopy/common/types.h"
 #include "canopy/motion/collision.h"
 #include "canopy/motion/robot_model.h"
@@ -46,12 +47,28 @@ struct PlannerParams {
   /// clamped into them; further out it is invalid input.
   double start_limit_tolerance_rad = 0.01;
 
-  static PlannerParams from_yaml(YamlReader& y, const PlannerParams& defaults);
-  void validate() const;
+  template <class A>
+  void visit(A& a);
+  void validate() const { validate_params(*this, "planner"); }
 };
 
 /// Names accepted by PlannerParams::planner.
 std::vector<std::string> planner_names();
+
+template <class A>
+void PlannerParams::visit(A& a) {
+  a.one_of("planner", planner, planner_names(), "OMPL planner");
+  a("max_iterations", max_iterations, limits::at_least(1), "Planner iterations per request (the budget that decides)");
+  a("time_limit_s", time_limit_s, limits::positive(), "Wall-clock safety net per request [s]");
+  a("motion_check_resolution_rad", motion_check_resolution_rad, limits::positive(),
+    "Joint-space step of motion checks [rad]");
+  a("range_rad", range_rad, limits::non_negative(), "Tree extension step; 0 = the planner's default [rad]");
+  a("try_direct_first", try_direct_first, "Try the straight joint-space line before OMPL");
+  a("simplify", simplify, "Shortcut the path (deterministic, to convergence)");
+  a("max_goal_configs", max_goal_configs, limits::in(1, 8), "IK solutions handed to the planner as goals");
+  a("start_limit_tolerance_rad", start_limit_tolerance_rad, limits::non_negative(),
+    "A start this far outside the joint limits is clamped into them [rad]");
+}
 
 /// Sets OMPL's global seed; effective only before the first planner runs in the process
 /// (OMPL's rule). Returns false when it was already set (to any value) in this process.

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "canopy/common/params.h"
 #include "canopy/common/types.h"
 
 namespace canopy {
@@ -45,10 +46,28 @@ struct BaseFollowerParams {
 
   /// Limits from robot.yaml, the rest at defaults.
   static BaseFollowerParams from_robot(const RobotConfig& robot);
-  /// Reads the keys above (all optional, unknown keys rejected by the caller's finish()).
-  static BaseFollowerParams from_yaml(YamlReader& y, const BaseFollowerParams& defaults);
+
+  template <class A>
+  void visit(A& a) {
+    a("max_speed_m_s", max_speed_m_s, limits::positive(), "Forward speed limit (robot.yaml) [m/s]");
+    a("max_yaw_rate_rad_s", max_yaw_rate_rad_s, limits::positive(), "Yaw rate limit (robot.yaml) [rad/s]");
+    a("max_accel_m_s2", max_accel_m_s2, limits::positive(), "Acceleration limit (robot.yaml) [m/s^2]");
+    a("max_yaw_accel_rad_s2", max_yaw_accel_rad_s2, limits::positive(), "Yaw acceleration limit (robot.yaml) [rad/s^2]");
+    a("position_tolerance_m", position_tolerance_m, limits::positive(), "Final position tolerance [m]");
+    a("yaw_tolerance_rad", yaw_tolerance_rad, limits::positive(), "Final heading tolerance [rad]");
+    a("settle_fraction", settle_fraction, limits::open(0.0, 1.0), "The follower aims at this fraction of the tolerances");
+    a("waypoint_radius_m", waypoint_radius_m, limits::positive(), "Intermediate waypoints count as passed this close [m]");
+    a("heading_gain_per_s", heading_gain_per_s, limits::positive(), "Heading error -> yaw rate gain [1/s]");
+    a("distance_gain_per_s", distance_gain_per_s, limits::positive(), "Distance -> speed gain [1/s]");
+    a("braking_fraction", braking_fraction, limits::above_up_to(0.0, 1.0), "Braking uses this fraction of the limits");
+    a("turn_in_place_rad", turn_in_place_rad, limits::positive(), "Above this heading error the base turns in place [rad]");
+    a("reverse_max_distance_m", reverse_max_distance_m, limits::non_negative(),
+      "Targets behind the base closer than this are approached in reverse [m]");
+    a("stopped_speed_m_s", stopped_speed_m_s, limits::positive(), "Stopped below this speed [m/s]");
+    a("stopped_yaw_rate_rad_s", stopped_yaw_rate_rad_s, limits::positive(), "... and this yaw rate [rad/s]");
+  }
   /// Throws InputError naming the first invalid field.
-  void validate() const;
+  void validate() const { validate_params(*this, "base follower"); }
 };
 
 /// One control command for the base: forward speed and yaw rate.

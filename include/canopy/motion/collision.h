@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "canopy/common/params.h"
 #include "canopy/common/types.h"
 #include "canopy/motion/robot_model.h"
 
@@ -27,8 +28,15 @@ struct CollisionParams {
   bool check_ground = true;
   double ground_height_m = 0.0;
 
-  static CollisionParams from_yaml(YamlReader& y, const CollisionParams& defaults);
-  void validate() const;
+  template <class A>
+  void visit(A& a) {
+    a("environment_padding_m", environment_padding_m, limits::non_negative(),
+      "Robot shapes are inflated by this much against the map and the ground [m]");
+    a("self_padding_m", self_padding_m, limits::non_negative(), "Inflation for self-collision checks [m]");
+    a("check_ground", check_ground, "Check the robot against the ground plane");
+    a("ground_height_m", ground_height_m, limits::finite(), "Height of the ground plane [m]");
+  }
+  void validate() const { validate_params(*this, "collision"); }
 };
 
 /// The environment as occupied voxels (an FCL octree). Shared by checkers through a

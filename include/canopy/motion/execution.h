@@ -14,6 +14,7 @@
 #include <set>
 #include <string>
 
+#include "canopy/common/params.h"
 #include "canopy/common/types.h"
 #include "canopy/motion/collision.h"
 #include "canopy/motion/trajectory.h"
@@ -31,8 +32,14 @@ struct ExecutionParams {
   double settle_time_s = 1.0;                           ///< Extra time after the trajectory ends.
   double truth_check_period_s = 0.01;                   ///< Ground-truth contact check interval.
 
-  static ExecutionParams from_yaml(YamlReader& y, const ExecutionParams& defaults);
-  void validate() const;
+  template <class A>
+  void visit(A& a) {
+    a("position_tolerance_m", position_tolerance_m, limits::positive(), "Camera goal tolerance [m]");
+    a("angle_tolerance_rad", angle_tolerance_rad, limits::positive(), "Camera goal tolerance [rad]");
+    a("settle_time_s", settle_time_s, limits::non_negative(), "Extra time after the trajectory ends [s]");
+    a("truth_check_period_s", truth_check_period_s, limits::positive(), "Ground-truth contact check interval [s]");
+  }
+  void validate() const { validate_params(*this, "execution"); }
 };
 
 /// What happened during one move.

@@ -1,14 +1,12 @@
 #pragma once
 // All motion settings in one place, read from configs/motion.yaml (every section and key
-// optional; unknown keys are errors) and saved with each run as JSON.
+// optional; unknown keys are errors) and saved with each run's settings bundle.
 
 #include <cstdint>
 #include <string>
 
-#include <nlohmann/json.hpp>
-
 #include "canopy/robot/robot_config.h"
-#include "canopy/common/yaml_reader.h"
+#include "canopy/common/params.h"
 #include "canopy/motion/arm_planner.h"
 #include "canopy/motion/base_follower.h"
 #include "canopy/motion/collision.h"
@@ -32,14 +30,22 @@ struct MotionConfig {
 
   /// Defaults, with the base limits taken from robot.yaml.
   static MotionConfig defaults(const RobotConfig& robot);
-  /// Reads one mapping (the keys of motion.yaml) over the defaults; rejects unknown keys.
-  static MotionConfig from_yaml(YamlReader& y, const RobotConfig& robot);
   /// Reads a motion.yaml over the defaults; throws InputError naming file and key.
   static MotionConfig load(const std::string& path, const RobotConfig& robot);
   /// Parses YAML text (tests); `name` stands in for the file name in errors.
   static MotionConfig load_string(const std::string& text, const std::string& name, const RobotConfig& robot);
-  /// The settings in use, for run records.
-  nlohmann::json to_json() const;
+
+  template <class A>
+  void visit(A& a) {
+    a("seed", seed, limits::non_negative(), "OMPL's process-wide seed (plans are seeded per request)");
+    a.section("base", base, "The base follower");
+    a.section("collision", collision, "Collision checking");
+    a.section("planner", planner, "Arm motion planning (OMPL)");
+    a.section("trajectory", trajectory, "Time parametrisation of arm paths");
+    a.section("workspace", workspace, "The paper's workspace filter");
+    a.section("tour", tour, "Ordering a batch of views");
+    a.section("execution", execution, "Executing a move on the servos");
+  }
 };
 
 }  // namespace canopy::motion

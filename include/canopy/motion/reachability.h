@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "canopy/common/types.h"
+#include "canopy/common/view_sphere.h"
 #include "canopy/motion/arm_planner.h"
 #include "canopy/motion/workspace_filter.h"
 
@@ -19,18 +20,19 @@ namespace canopy::motion {
 
 /// The view grid (defaults: the paper's candidate sphere, docs/background/nbv_pipeline.md).
 struct ReachParams {
-  double view_radius_m = 0.4;          ///< Camera distance to its target.
-  int azimuths = 10;                   ///< In [0, 360) degrees, no duplicate at 360.
-  int polar_angles = 5;                ///< From polar_min_deg to polar_max_deg (from +z).
-  double polar_min_deg = 30.0;
-  double polar_max_deg = 150.0;
-  double max_target_distance_m = 0.9;  ///< Targets farther (horizontally) from the arm base are skipped.
-  bool plan = true;                    ///< Plan to every collision-free view (else IK/collision only).
-  void validate() const;
-};
+  ViewSphere sphere;                   ///< The views around each target.
+  double max_target_distance_m = 0.9;
+  bool plan = true;
 
-/// The grid of views around one target, each looking at it with zero roll (canopy::look_at).
-std::vector<Pose> sphere_views(const Vec3& target, const ReachParams& params);
+  template <class A>
+  void visit(A& a) {
+    sphere.visit(a);
+    a("max_target_distance_m", max_target_distance_m, limits::positive(),
+      "Targets farther (horizontally) from the arm base are skipped [m]");
+    a("plan", plan, "Plan to every collision-free view (else IK and collision only)");
+  }
+  void validate() const { validate_params(*this, "reach"); }
+};
 
 /// One evaluated view.
 struct ReachSample {

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "canopy/common/params.h"
 #include "canopy/robot/robot_config.h"
 #include "canopy/common/types.h"
 
@@ -24,8 +25,12 @@ struct TourParams {
   int exact_max_views = 12;   ///< Held-Karp up to this many views, 2-opt beyond.
   std::string cost = "joint";  ///< "joint" (Euclidean joint distance) or "cartesian".
 
-  static TourParams from_yaml(YamlReader& y, const TourParams& defaults);
-  void validate() const;
+  template <class A>
+  void visit(A& a) {
+    a("exact_max_views", exact_max_views, limits::in(0, 16), "Held-Karp up to this many views, 2-opt beyond");
+    a.one_of("cost", cost, {"joint", "cartesian"}, "Tour cost: joint-space or Cartesian camera distance");
+  }
+  void validate() const { validate_params(*this, "tour"); }
 };
 
 /// Total cost of visiting `order` (view indices 0..n-1, i.e. nodes 1..n) from node 0.

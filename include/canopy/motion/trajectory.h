@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "canopy/common/params.h"
 #include "canopy/robot/robot_config.h"
 #include "canopy/common/types.h"
 
@@ -27,8 +28,13 @@ struct TrajectoryParams {
   double velocity_scale = 1.0;      ///< Fraction of robot.yaml's max joint velocities.
   double acceleration_scale = 1.0;  ///< Fraction of robot.yaml's max joint accelerations.
 
-  static TrajectoryParams from_yaml(YamlReader& y, const TrajectoryParams& defaults);
-  void validate() const;
+  template <class A>
+  void visit(A& a) {
+    a("velocity_scale", velocity_scale, limits::above_up_to(0.0, 1.0), "Fraction of robot.yaml's max joint velocities");
+    a("acceleration_scale", acceleration_scale, limits::above_up_to(0.0, 1.0),
+      "Fraction of robot.yaml's max joint accelerations");
+  }
+  void validate() const { validate_params(*this, "trajectory"); }
 };
 
 /// Position, velocity and acceleration of the arm at one instant.

@@ -10,6 +10,7 @@
 #include <memory>
 #include <vector>
 
+#include "canopy/common/params.h"
 #include "canopy/common/point_kdtree.h"
 #include "canopy/common/types.h"
 #include "canopy/motion/robot_model.h"
@@ -32,8 +33,17 @@ struct WorkspaceParams {
   double max_backward_shift_m = 0.25;  ///< Furthest move away from the target.
   double shift_step_m = 0.01;          ///< Spacing of the positions tried along the view.
 
-  static WorkspaceParams from_yaml(YamlReader& y, const WorkspaceParams& defaults);
-  void validate() const;
+  template <class A>
+  void visit(A& a) {
+    a("samples", samples, limits::in(100, 10000000), "Random joint combinations for the workspace point set");
+    a("seed", seed, limits::non_negative(), "Seed of those samples");
+    a("membership_radius_m", membership_radius_m, limits::positive(), "In the workspace: a sample within this [m]");
+    a("min_camera_height_m", min_camera_height_m, limits::finite(), "Samples with the camera lower are dropped [m]");
+    a("max_forward_shift_m", max_forward_shift_m, limits::non_negative(), "Furthest move towards the target [m]");
+    a("max_backward_shift_m", max_backward_shift_m, limits::non_negative(), "Furthest move away from the target [m]");
+    a("shift_step_m", shift_step_m, limits::positive(), "Spacing of the positions tried along the view [m]");
+  }
+  void validate() const { validate_params(*this, "workspace"); }
 };
 
 /// Why a candidate view was dropped (or kept).

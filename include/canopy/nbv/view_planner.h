@@ -19,7 +19,10 @@
 #include <vector>
 
 #include "canopy/common/timer.h"
+#include "canopy/common/params.h"
+#include "canopy/nbv/gains.h"
 #include "canopy/nbv/planner.h"
+#include "canopy/nbv/ray_sets.h"
 
 namespace canopy::nbv {
 
@@ -66,7 +69,17 @@ struct ViewBatch {
   std::size_t clusters = 0;                ///< Clusters (ours) or targets (frontier) considered.
   std::size_t candidates = 0;              ///< Candidates scored.
   std::size_t filtered = 0;                ///< Candidates dropped by reachability.
+  bool last_of_stop = false;               ///< The stop ends once this batch is executed (`reason` says why).
   PhaseTimes times;                        ///< clustering, candidates, filtering, scoring.
+};
+
+/// What the mission controller must know about a planner; it never tests a planner's name.
+struct PlannerTraits {
+  /// Takes the stop's scripted views (ViewRequest::scripted): a scan, not a choice; its views
+  /// are recorded in the "predefined" phase.
+  bool scripted = false;
+  /// Every view of a kTour batch is attempted, even past the stop's budget of successful views.
+  bool execute_whole_batch = false;
 };
 
 /// Views already taken: a candidate within the tolerances of one of them is never taken again.
@@ -104,6 +117,8 @@ class ViewPlanner {
   virtual ~ViewPlanner() = default;
   /// Registry name.
   virtual std::string name() const = 0;
+  /// What the controller must know about this planner.
+  virtual PlannerTraits traits() const { return {}; }
   /// The next batch of views for `request`.
   virtual ViewBatch next(const ViewRequest& request) = 0;
   /// Told after each view the robot took (reached and observed), so it is not taken again.
@@ -117,12 +132,23 @@ class ViewPlanner {
   TakenViews taken_;
 };
 
+/// Which method picks the views: a view planner by name, with the gain and ray set its
+/// scoring uses (`ours`; the others ignore them). The settings bundle's `method` section.
+struct MethodChoice {
+  std::string name = "ours";
+  std::string gain = "osamcep";
+  std::string rays = "ours";
+
+  template <class A>
+  void visit(A& a);
+  bool operator==(const MethodChoice& o) const { return name == o.name && gain == o.gain && rays == o.rays; }
+};
+
 /// What a planner is built from.
 struct ViewPlannerSettings {
   NbvParams params;
   CameraIntrinsics intrinsics;
-  std::string gain = "osamcep";  ///< ours: the gain's registry name.
-  std::string rays = "ours";     ///< ours: the ray set's registry name.
+  MethodChoice method;
 };
 
 /// One registry entry.
@@ -135,9 +161,16 @@ struct ViewPlannerEntry {
 /// ours, frontier, predefined.
 const std::vector<ViewPlannerEntry>& view_planner_registry();
 std::vector<std::string> view_planner_names();
-/// The planner called `name`; throws InputError naming `where` and the valid names otherwise.
-std::unique_ptr<ViewPlanner> make_view_planner(const std::string& name, const ViewPlannerSettings& settings,
-                                               const std::string& where = "method");
+/// The planner settings.method names; throws InputError naming `where` and the valid names
+/// otherwise (or for an unknown gain or ray set).
+std::unique_ptr<ViewPlanner> make_view_planner(const ViewPlannerSettings& settings, const std::string& where = "method");
+
+template <class A>
+void MethodChoice::visit(A& a) {
+  a.one_of("name", name, view_planner_names(), "View planner");
+  a.one_of("gain", gain, gain_names(), "Information gain (ours)");
+  a.one_of("rays", rays, ray_set_names(), "Ray set (ours)");
+}
 
 /// The frontier planner's pieces, for tests.
 namespace frontier {

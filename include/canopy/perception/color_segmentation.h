@@ -9,7 +9,7 @@
 
 #include "canopy/common/classes.h"
 #include "canopy/common/image.h"
-#include "canopy/common/yaml_reader.h"
+#include "canopy/common/params.h"
 
 namespace canopy::perception {
 
@@ -30,7 +30,20 @@ struct HsvBand {
   bool contains(const Hsv& p) const {
     return p.h >= h_min && p.h <= h_max && p.s >= s_min && p.s <= s_max && p.v >= v_min && p.v <= v_max;
   }
-  bool operator==(const HsvBand& o) const;
+  template <class A>
+  void visit(A& a) {
+    a.required("class", class_name, "Class of the pixels in the band");
+    a("h_min", h_min, limits::in(0, 179), "Hue from (0..179, degrees / 2)");
+    a("h_max", h_max, limits::in(0, 179), "Hue to");
+    a("s_min", s_min, limits::in(0, 255), "Saturation from");
+    a("s_max", s_max, limits::in(0, 255), "Saturation to");
+    a("v_min", v_min, limits::in(0, 255), "Value from");
+    a("v_max", v_max, limits::in(0, 255), "Value to");
+    a.check(h_min <= h_max, "h_max", "must be >= h_min");
+    a.check(s_min <= s_max, "s_max", "must be >= s_min");
+    a.check(v_min <= v_max, "v_max", "must be >= v_min");
+  }
+  bool operator==(const HsvBand& o) const { return same_params(*this, o); }
 };
 
 /// The bands, first match wins. Defaults: the prototype's red and green bands plus a yellow
@@ -43,8 +56,10 @@ struct ColorSegmentationParams {
       {"leaf", 40, 80, 20, 255, 20, 255},     // green
   };
 
-  static ColorSegmentationParams from_yaml(YamlReader& y);
-  YAML::Node to_yaml() const;
+  template <class A>
+  void visit(A& a) {
+    a.list("bands", bands, "HSV bands, first match wins; a pixel in none is background");
+  }
   bool operator==(const ColorSegmentationParams& o) const { return bands == o.bands; }
 };
 

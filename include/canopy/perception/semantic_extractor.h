@@ -9,7 +9,7 @@
 #include "canopy/common/classes.h"
 #include "canopy/common/frame.h"
 #include "canopy/common/random.h"
-#include "canopy/common/yaml_reader.h"
+#include "canopy/common/params.h"
 #include "canopy/perception/color_segmentation.h"
 #include "canopy/perception/labelled_cloud.h"
 #include "canopy/perception/segmentation_noise.h"
@@ -30,14 +30,21 @@ LabelSource label_source_from_string(const std::string& s, const std::string& wh
 struct ExtractorParams {
   LabelSource source = LabelSource::kColor;
   ColorSegmentationParams color;
-  double p_gt = 0.7;              ///< Probability a mask keeps its class; 1 = no noise.
-  NoiseModel noise = NoiseModel::kPerClassMask;  ///< What a mask is (segmentation_noise.h).
-  double depth_noise_k = 0.0;     ///< Extra depth noise sigma = k z^2 [m]; 0 = none.
-  std::uint64_t seed = 1;         ///< Seed of the label and depth noise.
+  double p_gt = 0.7;
+  NoiseModel noise = NoiseModel::kPerClassMask;
+  double depth_noise_k = 0.0;
+  std::uint64_t seed = 1;
 
-  static ExtractorParams from_yaml(YamlReader& y);
-  YAML::Node to_yaml() const;
-  bool operator==(const ExtractorParams& o) const;
+  template <class A>
+  void visit(A& a) {
+    a.choice("source", source, kLabelSourceNames, "Pixel labels: colour segmentation or the renderer's true labels");
+    a.section("color", color, "Colour segmentation");
+    a("p_gt", p_gt, limits::in(0.0, 1.0), "P_gt: probability a mask keeps its class; 1 = no noise");
+    a.choice("noise", noise, kNoiseModelNames, "What one P_gt draw flips (segmentation_noise.h)");
+    a("depth_noise_k", depth_noise_k, limits::non_negative(), "Extra depth noise sigma = k z^2 [m]; 0 = none");
+    a("seed", seed, limits::non_negative(), "Seed of the label and depth noise (missions derive it from theirs)");
+  }
+  bool operator==(const ExtractorParams& o) const { return same_params(*this, o); }
 };
 
 /// Turns frames into labelled clouds. Holds the noise generator: the n-th frame's noise

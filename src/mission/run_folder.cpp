@@ -1,8 +1,13 @@
-// The files a mission leaves: views.csv, timing.csv and the body of summary.json.
+// The files a mission leaves, written and read back (run_folder.h).
 
-#include "canopy/mission/mission.h"
+#include "canopy/mission/run_folder.h"
 
+#include <fstream>
+#include <sstream>
+
+#include "canopy/common/error.h"
 #include "canopy/common/io.h"
+#include "canopy/mapping/map_io.h"
 
 namespace canopy::mission {
 
@@ -89,6 +94,83 @@ nlohmann::json summary_json(const MissionResult& r) {
   j["wall_time_s"] = r.wall_time_s;
   j["wall_time_by_phase_s"] = r.times.totals();
   return j;
+}
+
+nlohmann::json write_run_folder(const std::string& dir, const MissionResult& result, const Settings& settings,
+                                const mapping::SemanticOcTree& map, const RunContext& ctx) {
+  const std::string d = dir.empty() || dir.back() == '/' ? dir : dir + "/";
+  write_file_atomic(d + "views.csv", views_csv(result, settings.method.name));
+  write_file_atomic(d + "timing.csv", timing_csv(result));
+  write_file_atomic(d + "settings.yaml", settings.to_yaml_text());
+  mapping::save_map(map, d + "map.csm");
+  mapping::export_ply(map, d + "map.ply");
+  mapping::export_bt(map, d + "map.bt");
+  nlohmann::json summary = summary_json(result);
+  summary["method"] = {{"name", settings.method.name}, {"gain", settings.method.gain}, {"rays", settings.method.rays}};
+  summary["seed"] = ctx.seed;
+  summary["p_gt"] = settings.mapping.extractor.p_gt;
+  summary["labels"] = perception::to_string(settings.mapping.extractor.source);
+  if (ctx.world)
+    summary["world"] = {{"file", ctx.world_file},
+                        {"plants", ctx.world->plants.size()},
+                        {"fruits", ctx.world->truth.fruits.size()},
+                        {"triangles", ctx.world->triangle_count()},
+                        {"spec", ctx.world->spec.to_json()}};
+  summary["settings_file"] = "settings.yaml";
+  summary["files"] = {"views.csv", "timing.csv", "settings.yaml", "map.csm", "map.ply", "map.bt"};
+  if (!ctx.video.is_null()) summary["video"] = ctx.video;
+  write_json_atomic(d + "summary.json", summary);
+  return summary;
+}
+
+namespace {
+
+std::vector<std::string> split_csv_line(const std::string& line) {
+  std::vector<std::string> out;
+  std::stringstream ss(line);
+  std::string item;
+  while (std::getline(ss, item, ',')) out.push_back(item);
+  if (!line.empty() && line.back() == ',') out.emplace_back();
+  return out;
+}
+
+}  // namespace
+
+RunFolder read_run_folder(const std::string& dir) {
+  RunFolder f;
+  const std::string views_path = dir + "/views.csv";
+  f.views_csv = read_file(views_path);
+  std::stringstream in(f.views_csv);
+  std::string line;
+  std::getline(in, line);
+  const std::vector<std::string> header = split_csv_line(line);
+  auto col = [&](const std::string& name) {
+    for (std::size_t i = 0; i < header.size(); ++i)
+      if (header[i] == name) return i;
+    throw InputError(views_path + ": no column '" + name + "'");
+  };
+  const std::size_t c_success = col("success"), c_cov = col("coverage"), c_ent = col("entropy");
+  int row = 1;
+  while (std::getline(in, line)) {
+    ++row;
+    if (line.empty()) continue;
+    const std::vector<std::string> fields = split_csv_line(line);
+    if (fields.size() != header.size()) throw InputError(views_path + ": row " + std::to_string(row) + " has the wrong column count");
+    if (fields[c_success] != "1") continue;
+    try {
+      f.coverage.push_back(std::stod(fields[c_cov]));
+      f.entropy.push_back(std::stod(fields[c_ent]));
+    } catch (const std::exception&) {
+      throw InputError(views_path + ": row " + std::to_string(row) + " has a coverage or entropy that is not a number");
+    }
+  }
+  const std::string summary_path = dir + "/summary.json";
+  try {
+    f.summary = nlohmann::json::parse(read_file(summary_path));
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(summary_path + ": not valid JSON (" + e.what() + ")");
+  }
+  return f;
 }
 
 }  // namespace canopy::mission

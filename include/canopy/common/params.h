@@ -1,0 +1,443 @@
+#pragma once
+// Each parameter struct states its keys once, in a visit() function (after Drake's
+// Serialize(Archive*) and nvblox's Param<T>::Description), and that one list serves:
+//  - reading YAML strictly (YamlIn: absent keys keep their values, unknown keys and bad values
+//    are errors naming the file, the key path and the value),
+//  - writing YAML (YamlOut: every key, in the order visited, floats as the doubles they are),
+//  - validating a struct built in code (validate_params),
+//  - equality (same_params) and the reference of every setting (describe_params).
+//
+// A struct's visit names each field with its limits and a line of help:
+//
+//   template <class Archive>
+//   void visit(Archive& a) {
+//     a("resolution_m", resolution_m, limits::in(0.001, 1.0), "Voxel edge [m]");
+//     a("prune", prune, "Collapse eight identical children after each scan");
+//     a.choice("noise", noise, kNoiseModelNames, "What one P_gt draw flips");
+//     a.section("cluster", cluster, "Fruit clustering");
+//     a.check(max_m >= min_m, "max_m", "must be >= min_m");   // across fields, after both
+//   }
+
+#include <nlohmann/json.hpp>
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+#include "canopy/common/enum_names.h"
+#include "canopy/common/error.h"
+#include "canopy/common/yaml_reader.h"
+
+namespace canopy {
+
+/// What a number must satisfy. Numbers are always finite.
+struct Limits {
+  double lo = -std::numeric_limits<double>::infinity();
+  double hi = std::numeric_limits<double>::infinity();
+  bool lo_open = false, hi_open = false;
+
+  bool ok(double v) const {
+    if (!std::isfinite(v)) return false;
+    if (lo_open ? !(v > lo) : !(v >= lo)) return false;
+    if (hi_open ? !(v < hi) : !(v <= hi)) return false;
+    return true;
+  }
+  /// "must be > 0", "must be in [0, 1]", "must be a finite number", ...
+  std::string text() const;
+};
+
+namespace limits {
+inline Limits finite() { return {}; }
+inline Limits positive() { return {0.0, std::numeric_limits<double>::infinity(), true, false}; }
+inline Limits non_negative() { return {0.0, std::numeric_limits<double>::infinity(), false, false}; }
+inline Limits negative() { return {-std::numeric_limits<double>::infinity(), 0.0, false, true}; }
+/// [lo, hi].
+inline Limits in(double lo, double hi) { return {lo, hi, false, false}; }
+/// (lo, hi].
+inline Limits above_up_to(double lo, double hi) { return {lo, hi, true, false}; }
+/// [lo, hi).
+inline Limits from_below(double lo, double hi) { return {lo, hi, false, true}; }
+/// (lo, hi).
+inline Limits open(double lo, double hi) { return {lo, hi, true, true}; }
+inline Limits at_least(double lo) { return {lo, std::numeric_limits<double>::infinity(), false, false}; }
+}  // namespace limits
+
+namespace params_detail {
+template <typename T>
+constexpr bool is_number =
+    std::is_arithmetic_v<T> && !std::is_same_v<T, bool>;  // int, unsigned, float, double, ...
+
+/// The shortest decimal text that reads back to exactly `v` ("0.015", not "0.014999999999999999").
+std::string shortest(double v);
+/// The same for a float: the shortest text whose double, cast to float, is `v` ("-0.1").
+std::string shortest(float v);
+
+template <typename T>
+std::string value_text(const T& v) {
+  if constexpr (std::is_same_v<T, bool>) return v ? "true" : "false";
+  else if constexpr (std::is_same_v<T, std::string>) return v;
+  else if constexpr (std::is_floating_point_v<T>) return shortest(v);
+  else return std::to_string(v);
+}
+std::string join(const std::vector<std::string>& names);
+/// A YAML scalar of a number: floating point as its shortest exact text.
+template <typename T>
+YAML::Node number_node(const T& v) {
+  if constexpr (std::is_floating_point_v<T>) return YAML::Node(shortest(v));
+  else return YAML::Node(v);
+}
+}  // namespace params_detail
+
+// --- YAML in -------------------------------------------------------------------------------
+
+/// Reads a struct's keys from one YAML mapping over its current values. Sections given as a
+/// file name (a string) are read from that file when `section_files` is set (relative to the
+/// folder of the file that names them): the settings bundle's component files.
+class YamlIn {
+ public:
+  explicit YamlIn(YamlReader& reader, bool section_files = false, std::string dir = "")
+      : y_(reader), section_files_(section_files), dir_(std::move(dir)) {}
+
+  template <typename T>
+  void operator()(const char* key, T& value, const char* /*help*/) {
+    static_assert(!params_detail::is_number<T>, "numbers need limits: a(key, value, limits::..., help)");
+    read(key, value);
+  }
+  template <typename T>
+  void operator()(const char* key, T& value, const Limits& lim, const char* /*help*/) {
+    static_assert(params_detail::is_number<T>, "limits apply to numbers");
+    if (!y_.has(key)) {
+      y_.get<std::string>(key, "");  // marks it read
+      return;
+    }
+    T v{};
+    if constexpr (std::is_floating_point_v<T>) {
+      const double d = y_.require<double>(key);
+      y_.check(lim.ok(d), key, lim.text());
+      v = static_cast<T>(d);
+    } else {
+      // Integers: the text must be a whole number in range (yaml-cpp wraps some overflows).
+      y_.require<YAML::Node>(key);  // marks the key read
+      const std::string text = y_.value_text(key);
+      long double d = 0;
+      std::size_t used = 0;
+      try {
+        d = std::stold(text, &used);
+      } catch (const std::exception&) {
+        y_.fail(key, "must be a whole number");
+      }
+      y_.check(used == text.size() && d == std::floor(d), key, "must be a whole number");
+      y_.check(d >= static_cast<long double>(std::numeric_limits<T>::lowest()) &&
+                   d <= static_cast<long double>(std::numeric_limits<T>::max()) && lim.ok(double(d)),
+               key, lim.text());
+      v = static_cast<T>(d);
+    }
+    value = v;
+  }
+  /// A list of numbers, each within `each`.
+  template <typename T>
+  void operator()(const char* key, std::vector<T>& value, const Limits& each, const char* /*help*/) {
+    if (!y_.has(key)) {
+      y_.get<std::string>(key, "");
+      return;
+    }
+    const YAML::Node n = y_.require<YAML::Node>(key);
+    y_.check(n.IsSequence(), key, "must be a list of numbers");
+    std::vector<T> v;
+    for (const auto& item : n) {
+      double d = 0.0;
+      try {
+        d = item.as<double>();
+      } catch (const YAML::Exception&) {
+        y_.fail(key, "must be a list of numbers");
+      }
+      y_.check(each.ok(d), key, "holds a value that " + each.text());
+      if constexpr (std::is_integral_v<T>) y_.check(d == std::floor(d), key, "must hold whole numbers");
+      v.push_back(static_cast<T>(d));
+    }
+    value = std::move(v);
+  }
+  /// A string that must be present.
+  void required(const char* key, std::string& value, const char* /*help*/) { value = y_.require<std::string>(key); }
+  template <typename E, std::size_t N>
+  void choice(const char* key, E& value, const EnumName<E> (&names)[N], const char* /*help*/) {
+    value = y_.get_choice(key, value, names);
+  }
+  /// A string from `names`.
+  void one_of(const char* key, std::string& value, const std::vector<std::string>& names, const char* /*help*/) {
+    read(key, value);
+    for (const auto& n : names)
+      if (n == value) return;
+    y_.fail(key, "must be one of: " + params_detail::join(names));
+  }
+  template <typename S>
+  void section(const char* key, S& s, const char* /*help*/ = "") {
+    if (section_files_ && y_.has(key) && y_.value_is_scalar(key)) {
+      const std::string path = resolve(y_.require<std::string>(key));
+      YamlReader c = YamlReader::load_file(path);
+      YamlIn in(c, false, "");
+      s.visit(in);
+      c.finish();
+      return;
+    }
+    YamlReader c = y_.child(key);
+    YamlIn in(c, false, "");
+    s.visit(in);
+    c.finish();
+  }
+  /// A list of structs (replaces the defaults when given; at least one item).
+  template <typename S>
+  void list(const char* key, std::vector<S>& items, const char* /*help*/) {
+    if (!y_.has(key)) {
+      y_.get<std::string>(key, "");
+      return;
+    }
+    const YAML::Node n = y_.require<YAML::Node>(key);
+    y_.check(n.IsSequence() && n.size() > 0, key, "must be a non-empty list");
+    std::vector<S> out;
+    for (std::size_t i = 0; i < n.size(); ++i) {
+      YamlReader c(n[i], y_.file(), y_.key_path(key) + "[" + std::to_string(i) + "]");
+      YamlIn in(c, false, "");
+      S item{};
+      item.visit(in);
+      c.finish();
+      out.push_back(std::move(item));
+    }
+    items = std::move(out);
+  }
+  void check(bool ok, const char* key, const std::string& problem) { y_.check(ok, key, problem); }
+
+ private:
+  template <typename T>
+  void read(const char* key, T& value) {
+    value = y_.get<T>(key, value);
+  }
+  std::string resolve(const std::string& path) const;
+
+  YamlReader& y_;
+  bool section_files_;
+  std::string dir_;
+};
+
+// --- YAML out ------------------------------------------------------------------------------
+
+/// Writes every key of a struct, in visiting order.
+class YamlOut {
+ public:
+  YAML::Node node{YAML::NodeType::Map};
+
+  template <typename T>
+  void operator()(const char* key, const T& value, const char* /*help*/) {
+    node[key] = value;
+  }
+  template <typename T>
+  void operator()(const char* key, const T& value, const Limits&, const char* /*help*/) {
+    node[key] = params_detail::number_node(value);
+  }
+  template <typename T>
+  void operator()(const char* key, const std::vector<T>& value, const Limits&, const char* /*help*/) {
+    YAML::Node s(YAML::NodeType::Sequence);
+    for (const T& x : value) s.push_back(params_detail::number_node(x));
+    node[key] = s;
+  }
+  void required(const char* key, const std::string& value, const char* /*help*/) { node[key] = value; }
+  template <typename E, std::size_t N>
+  void choice(const char* key, const E& value, const EnumName<E> (&names)[N], const char* /*help*/) {
+    node[key] = std::string(enum_name(names, value));
+  }
+  void one_of(const char* key, const std::string& value, const std::vector<std::string>&, const char* /*help*/) {
+    node[key] = value;
+  }
+  template <typename S>
+  void section(const char* key, const S& s, const char* /*help*/ = "") {
+    YamlOut out;
+    const_cast<S&>(s).visit(out);
+    node[key] = out.node;
+  }
+  template <typename S>
+  void list(const char* key, const std::vector<S>& items, const char* /*help*/) {
+    YAML::Node seq(YAML::NodeType::Sequence);
+    for (const S& s : items) {
+      YamlOut out;
+      const_cast<S&>(s).visit(out);
+      seq.push_back(out.node);
+    }
+    node[key] = seq;
+  }
+  void check(bool, const char*, const std::string&) {}
+};
+
+// --- Validation of a struct built in code ---------------------------------------------------
+
+/// Checks every field's limits and every cross-field check; the first failure throws
+/// InputError "<where>: <key path> = <value> <problem>".
+class Validate {
+ public:
+  explicit Validate(std::string where, std::string path = "") : where_(std::move(where)), path_(std::move(path)) {}
+
+  template <typename T>
+  void operator()(const char*, const T&, const char*) {}
+  template <typename T>
+  void operator()(const char* key, const T& value, const Limits& lim, const char*) {
+    if (!lim.ok(double(value))) fail(key, params_detail::value_text(value), lim.text());
+  }
+  template <typename T>
+  void operator()(const char* key, const std::vector<T>& value, const Limits& each, const char*) {
+    for (const T& x : value)
+      if (!each.ok(double(x))) fail(key, params_detail::value_text(x), "holds a value that " + each.text());
+  }
+  void required(const char* key, const std::string& value, const char*) {
+    if (value.empty()) fail(key, value, "is missing");
+  }
+  template <typename E, std::size_t N>
+  void choice(const char*, const E&, const EnumName<E> (&)[N], const char*) {}
+  void one_of(const char* key, const std::string& value, const std::vector<std::string>& names, const char*) {
+    for (const auto& n : names)
+      if (n == value) return;
+    fail(key, value, "must be one of: " + params_detail::join(names));
+  }
+  template <typename S>
+  void section(const char* key, const S& s, const char* = "") {
+    Validate v(where_, path(key));
+    const_cast<S&>(s).visit(v);
+  }
+  template <typename S>
+  void list(const char* key, const std::vector<S>& items, const char*) {
+    for (std::size_t i = 0; i < items.size(); ++i) {
+      Validate v(where_, path(key) + "[" + std::to_string(i) + "]");
+      const_cast<S&>(items[i]).visit(v);
+    }
+  }
+  void check(bool ok, const char* key, const std::string& problem) {
+    if (!ok) fail(key, "", problem);
+  }
+
+ private:
+  std::string path(const char* key) const { return path_.empty() ? key : path_ + "." + key; }
+  [[noreturn]] void fail(const char* key, const std::string& value, const std::string& problem) const {
+    throw InputError(where_ + ": " + path(key) + (value.empty() ? "" : " = " + value) + " " + problem);
+  }
+  std::string where_, path_;
+};
+
+// --- The reference of every setting ---------------------------------------------------------
+
+/// One setting: its key path, default (as YAML), what it must be and what it is for.
+struct ParamDescription {
+  std::string key, value, limits, help;
+};
+
+/// Lists every key of a struct with its value, limits and help.
+class Describe {
+ public:
+  explicit Describe(std::vector<ParamDescription>* out, std::string path = "") : out_(out), path_(std::move(path)) {}
+
+  template <typename T>
+  void operator()(const char* key, const T& value, const char* help) {
+    if constexpr (std::is_same_v<T, bool>) add(key, params_detail::value_text(value), "true or false", help);
+    else add(key, params_detail::value_text(value), "", help);
+  }
+  template <typename T>
+  void operator()(const char* key, const T& value, const Limits& lim, const char* help) {
+    add(key, params_detail::value_text(value), lim.text(), help);
+  }
+  template <typename T>
+  void operator()(const char* key, const std::vector<T>& value, const Limits& each, const char* help) {
+    YamlOut o;
+    o(key, value, each, help);
+    YAML::Emitter e;
+    e << YAML::Flow << o.node[key];
+    add(key, e.c_str(), "each " + each.text(), help);
+  }
+  void required(const char* key, const std::string& value, const char* help) { add(key, value, "required", help); }
+  template <typename E, std::size_t N>
+  void choice(const char* key, const E& value, const EnumName<E> (&names)[N], const char* help) {
+    add(key, enum_name(names, value), "one of: " + enum_name_list(names), help);
+  }
+  void one_of(const char* key, const std::string& value, const std::vector<std::string>& names, const char* help) {
+    add(key, value, "one of: " + params_detail::join(names), help);
+  }
+  template <typename S>
+  void section(const char* key, const S& s, const char* = "") {
+    Describe d(out_, path(key));
+    const_cast<S&>(s).visit(d);
+  }
+  template <typename S>
+  void list(const char* key, const std::vector<S>& items, const char* help) {
+    YamlOut o;
+    o.list(key, items, help);
+    YAML::Emitter e;
+    e << YAML::Flow << o.node[key];
+    add(key, e.c_str(), "a list", help);
+  }
+  void check(bool, const char*, const std::string&) {}
+
+ private:
+  std::string path(const char* key) const { return path_.empty() ? key : path_ + "." + key; }
+  void add(const char* key, std::string value, std::string lim, const char* help) {
+    out_->push_back({path(key), std::move(value), std::move(lim), help ? help : ""});
+  }
+  std::vector<ParamDescription>* out_;
+  std::string path_;
+};
+
+// --- Entry points --------------------------------------------------------------------------
+
+/// Reads `p`'s keys from `y` over its current values (call y.finish() after to reject
+/// unknown keys at this level).
+template <typename P>
+void read_params(YamlReader& y, P& p) {
+  YamlIn in(y);
+  p.visit(in);
+}
+/// A struct read from `y` over `p` (defaults unless given).
+template <typename P>
+P params_from_yaml(YamlReader& y, P p = P{}) {
+  read_params(y, p);
+  return p;
+}
+/// A struct read from a YAML file over `p`; unknown keys are errors.
+template <typename P>
+P load_params(const std::string& path, P p = P{}) {
+  YamlReader y = YamlReader::load_file(path);
+  read_params(y, p);
+  y.finish();
+  return p;
+}
+/// `p` as a YAML mapping.
+template <typename P>
+YAML::Node params_to_yaml(const P& p) {
+  YamlOut out;
+  const_cast<P&>(p).visit(out);
+  return out.node;
+}
+/// YAML text of a node with doubles at full precision (what is saved reads back exactly).
+std::string yaml_text(const YAML::Node& node);
+/// A YAML tree as JSON, for result records that quote settings: scalars become booleans,
+/// integers or numbers where they read as one, strings otherwise.
+nlohmann::json yaml_to_json(const YAML::Node& node);
+/// Throws InputError naming `where`, the key and the value when `p` breaks a limit or check.
+template <typename P>
+void validate_params(const P& p, const std::string& where) {
+  Validate v(where);
+  const_cast<P&>(p).visit(v);
+}
+/// True when every key has the same value.
+template <typename P>
+bool same_params(const P& a, const P& b) {
+  return yaml_text(params_to_yaml(a)) == yaml_text(params_to_yaml(b));
+}
+/// Every setting of `p` (key paths under `prefix`).
+template <typename P>
+std::vector<ParamDescription> describe_params(const P& p, const std::string& prefix = "") {
+  std::vector<ParamDescription> out;
+  Describe d(&out, prefix);
+  const_cast<P&>(p).visit(d);
+  return out;
+}
+
+}  // namespace canopy

@@ -1,0 +1,54 @@
+#pragma once
+// A mission's output folder, written and read in one place (`canopy mission` writes it,
+// `canopy report` reads it back from every trial of an experiment):
+//   views.csv     one row per attempted view, no wall times: byte-identical for a seed;
+//   timing.csv    wall time per attempted view and phase;
+//   summary.json  per-stop counts and end reasons, failures, final figures, time split, the
+//                 method, seed, P_gt, labels and the world;
+//   settings.yaml the whole settings bundle (`--config` repeats the run);
+//   map.csm, map.ply, map.bt   the final map (canopy, MeshLab, octovis).
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "canopy/mapping/semantic_octree.h"
+#include "canopy/mission/mission.h"
+#include "canopy/world/world.h"
+
+namespace canopy::mission {
+
+/// views.csv (one row per attempted view, no wall times: byte-identical for a seed).
+std::string views_csv(const MissionResult& result, const std::string& method);
+/// timing.csv (wall time per attempted view and phase).
+std::string timing_csv(const MissionResult& result);
+/// summary.json body: per-stop counts, failures, final figures, time split.
+nlohmann::json summary_json(const MissionResult& result);
+
+/// What summary.json says about the run beside its result.
+struct RunContext {
+  std::uint64_t seed = 1;
+  std::string world_file;
+  const world::World* world = nullptr;
+  nlohmann::json video;  ///< {file, frames} or {file, error}; null without a video.
+};
+
+/// Writes every file of a mission folder into `dir` (each atomically) and returns the
+/// summary it wrote.
+nlohmann::json write_run_folder(const std::string& dir, const MissionResult& result, const Settings& settings,
+                                const mapping::SemanticOcTree& map, const RunContext& context);
+
+/// A mission folder read back.
+struct RunFolder {
+  std::string views_csv;                 ///< The file's text.
+  std::vector<double> coverage, entropy; ///< After each successful view (headline rule).
+  nlohmann::json summary;
+};
+
+/// Reads views.csv and summary.json of a mission folder; throws InputError naming the file on
+/// a missing or malformed one.
+RunFolder read_run_folder(const std::string& dir);
+
+}  // namespace canopy::mission

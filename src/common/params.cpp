@@ -1,0 +1,95 @@
+#include "canopy/common/params.h"
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+
+namespace canopy {
+
+namespace {
+std::string number(double v) {
+  YAML::Emitter e;
+  e.SetDoublePrecision(15);
+  e << v;
+  return e.c_str();
+}
+}  // namespace
+
+std::string Limits::text() const {
+  const bool has_lo = std::isfinite(lo), has_hi = std::isfinite(hi);
+  if (!has_lo && !has_hi) return "must be a finite number";
+  if (has_lo && !has_hi) return std::string("must be ") + (lo_open ? "> " : ">= ") + number(lo);
+  if (!has_lo) return std::string("must be ") + (hi_open ? "< " : "<= ") + number(hi);
+  return std::string("must be in ") + (lo_open ? "(" : "[") + number(lo) + ", " + number(hi) + (hi_open ? ")" : "]");
+}
+
+namespace params_detail {
+std::string shortest(double v) {
+  char b[40];
+  for (int p = 1; p <= 17; ++p) {
+    std::snprintf(b, sizeof b, "%.*g", p, v);
+    if (std::strtod(b, nullptr) == v) break;
+  }
+  return b;
+}
+
+std::string shortest(float v) {
+  char b[40];
+  for (int p = 1; p <= 9; ++p) {
+    std::snprintf(b, sizeof b, "%.*g", p, double(v));
+    if (static_cast<float>(std::strtod(b, nullptr)) == v) break;
+  }
+  return b;
+}
+
+std::string join(const std::vector<std::string>& names) {
+  std::string s;
+  for (const auto& n : names) s += (s.empty() ? "" : ", ") + n;
+  return s;
+}
+}  // namespace params_detail
+
+std::string YamlIn::resolve(const std::string& path) const {
+  std::filesystem::path p(path);
+  if (p.is_relative() && !dir_.empty()) p = std::filesystem::path(dir_) / p;
+  return p.string();
+}
+
+nlohmann::json yaml_to_json(const YAML::Node& node) {
+  if (node.IsMap()) {
+    nlohmann::json j = nlohmann::json::object();
+    for (const auto& kv : node) j[kv.first.as<std::string>()] = yaml_to_json(kv.second);
+    return j;
+  }
+  if (node.IsSequence()) {
+    nlohmann::json j = nlohmann::json::array();
+    for (const auto& v : node) j.push_back(yaml_to_json(v));
+    return j;
+  }
+  if (!node.IsScalar()) return nullptr;
+  const std::string s = node.Scalar();
+  if (s == "true") return true;
+  if (s == "false") return false;
+  try {
+    std::size_t used = 0;
+    const long long i = std::stoll(s, &used);
+    if (used == s.size()) return i;
+  } catch (const std::exception&) {
+  }
+  try {
+    std::size_t used = 0;
+    const double d = std::stod(s, &used);
+    if (used == s.size()) return d;
+  } catch (const std::exception&) {
+  }
+  return s;
+}
+
+std::string yaml_text(const YAML::Node& node) {
+  YAML::Emitter e;
+  e.SetDoublePrecision(17);
+  e << node;
+  return std::string(e.c_str()) + "\n";
+}
+
+}  // namespace canopy
