@@ -33,6 +33,9 @@ void add_report_command(CLI::App& app);
 /// `canopy ablate`: free-camera ablation of gains and ray sets (paper Fig. 5 and 6).
 void add_ablate_command(CLI::App& app);
 
+/// `canopy settings`: every setting of a bundle with its value, limits and meaning.
+void add_settings_command(CLI::App& app);
+
 /// `canopy bench render`.
 void add_bench_render(CLI::App& bench);
 /// `canopy bench map`: semantic insertion vs OctoMap insertPointCloud.

@@ -369,15 +369,11 @@ struct Mission::Impl {
     const LoopParams& loop = settings.mission.loop;
     StopRecord& s = stop_record();
     int ok = 0, attempts_left = loop.max_attempts;
-    nbv::ViewRequest req;
-    req.map = &map;
-    req.index = &index;
+    motion::NextViewsRequest req;
     req.region = stop_region(k);
-    const BasePose base = sim.base_pose();
-    req.reach = motion::reach_filter(workspace, base, [this] { return sim.arm_positions(); }, &map_checker);
-    req.in_workspace = [this, base](const Vec3& p) { return workspace.in_workspace(base, p); };
     const nbv::PlannerTraits traits = view_planner->traits();
     if (traits.scripted) req.scripted = scan_views(k, true);
+    const motion::StopArm arm{model, workspace, &map_checker, settings.motion.tour};
     std::string end = "view budget of the stop reached";
     for (;;) {
       if (ok >= loop.views_per_stop) break;
@@ -389,22 +385,22 @@ struct Mission::Impl {
         end = "attempt cap reached";
         break;
       }
-      nbv::ViewBatch batch;
-      std::vector<nbv::PlannedView> ordered, unreachable;
+      motion::NextViews next;
       {
         const Stopwatch watch;
+        req.base = sim.base_pose();
+        req.q = sim.arm_positions();
         req.T_world_camera = sim.camera_pose();
         req.budget = loop.views_per_stop - ok;
         req.seed = mix_seed(seed, 5000 + std::uint64_t(k) * 1000 + std::uint64_t(s.rounds));
-        batch = view_planner->next(req);
-        result.times.merge(batch.times);
-        if (!batch.views.empty()) {
-          if (batch.order == nbv::BatchOrder::kTour) ordered = tour(batch.views, &unreachable);
-          else ordered = batch.views;
-        }
+        next = motion::next_views(map, index, *view_planner, arm, req);
+        result.times.merge(next.batch.times);
         // The planner's own phases are in batch.times; the rest (tour, bookkeeping) here.
-        result.times.add(kNbvPlanning, std::max(0.0, watch.seconds() - batch.times.total()));
+        result.times.add(kNbvPlanning, std::max(0.0, watch.seconds() - next.batch.times.total()));
       }
+      const nbv::ViewBatch& batch = next.batch;
+      const std::vector<nbv::PlannedView>& ordered = next.ordered;
+      const std::vector<nbv::PlannedView>& unreachable = next.unreachable;
       ++s.rounds;
       if (batch.views.empty()) {
         end = batch.reason.empty() ? "nothing left to plan" : batch.reason;

@@ -1,6 +1,5 @@
 #include "canopy/motion/view_reach.h"
 
-#include "canopy/nbv/voxel_index.h"
 
 namespace canopy::motion {
 
@@ -65,33 +64,44 @@ std::vector<Vec3> occupied_voxel_centres(const mapping::SemanticOcTree& map) {
   return out;
 }
 
+NextViews next_views(const mapping::SemanticOcTree& map, nbv::VoxelIndex& index, nbv::ViewPlanner& planner,
+                     const StopArm& arm, const NextViewsRequest& request) {
+  nbv::ViewRequest req;
+  req.map = &map;
+  req.index = &index;
+  req.T_world_camera = request.T_world_camera ? *request.T_world_camera : arm.model.camera_pose(request.base, request.q);
+  req.region = request.region;
+  req.budget = request.budget;
+  req.seed = request.seed;
+  req.scripted = request.scripted;
+  const ArmConfig q = request.q;
+  req.reach = reach_filter(arm.workspace, request.base, [q] { return q; }, arm.checker);
+  req.in_workspace = [&workspace = arm.workspace, base = request.base](const Vec3& p) {
+    return workspace.in_workspace(base, p);
+  };
+  NextViews out;
+  out.batch = planner.next(req);
+  if (out.batch.views.empty()) return out;
+  if (out.batch.order == nbv::BatchOrder::kTour)
+    out.ordered = tour_order(arm.model, arm.tour, request.base, request.q, out.batch.views, &out.unreachable);
+  else
+    out.ordered = out.batch.views;
+  return out;
+}
+
 NextViews plan_next_views(const mapping::SemanticOcTree& map, nbv::ViewPlanner& planner, const RobotModel& model,
                           const MotionConfig& config, const NextViewsRequest& request) {
   const double resolution = map.params().resolution_m;
   std::shared_ptr<CollisionEnvironment> env = CollisionEnvironment::empty(resolution);
   env->update(occupied_voxel_centres(map), {});
-  NextViews out;
   // Where the robot is cannot be an obstacle (as in the mission before each plan).
-  out.cleared_voxels =
+  const std::size_t cleared =
       env->clear_robot_volume(model, request.base, request.q, config.collision.environment_padding_m);
   const CollisionChecker checker(model, config.collision, env);
   const WorkspaceFilter workspace(model, config.workspace);
   nbv::VoxelIndex index;
-  nbv::ViewRequest req;
-  req.map = &map;
-  req.index = &index;
-  req.T_world_camera = model.camera_pose(request.base, request.q);
-  req.region = request.region;
-  req.budget = request.budget;
-  req.seed = request.seed;
-  const ArmConfig q = request.q;
-  req.reach = reach_filter(workspace, request.base, [q] { return q; }, &checker);
-  req.in_workspace = [&workspace, base = request.base](const Vec3& p) { return workspace.in_workspace(base, p); };
-  out.batch = planner.next(req);
-  if (out.batch.order == nbv::BatchOrder::kTour)
-    out.ordered = tour_order(model, config.tour, request.base, request.q, out.batch.views, &out.unreachable);
-  else
-    out.ordered = out.batch.views;
+  NextViews out = next_views(map, index, planner, StopArm{model, workspace, &checker, config.tour}, request);
+  out.cleared_voxels = cleared;
   return out;
 }
 

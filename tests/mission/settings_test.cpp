@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <set>
 
 #include "canopy/common/error.h"
 #include "canopy/mission/settings.h"
@@ -50,6 +51,68 @@ TEST(Settings, BadBundlesAreInputErrors) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("azimuths_deg"), std::string::npos) << e.what();
   }
+}
+
+// Any setting is named by its key path; the value is validated like the file's.
+TEST(Settings, SetNamesAnySettingByItsKeyPath) {
+  const RobotConfig robot = default_robot_config();
+  Settings s = Settings::defaults(robot);
+  s.set("mission.loop.views_per_stop", "6", "--set");
+  s.set("nbv.gain.proximity", "per_voxel", "--set");
+  s.set("method.name", "frontier", "--method");
+  s.set("mapping.map.pass_logodds", "-0.4", "--set");
+  s.set("mission.scan.heights_m", "[0.5, 0.9]", "--set");
+  EXPECT_EQ(s.mission.loop.views_per_stop, 6);
+  EXPECT_EQ(s.nbv.gain.proximity, nbv::Proximity::kPerVoxel);
+  EXPECT_EQ(s.method.name, "frontier");
+  EXPECT_EQ(s.mapping.map.pass_logodds, -0.4f);
+  EXPECT_EQ(s.mission.scan.heights_m, (std::vector<double>{0.5, 0.9}));
+  auto error = [&](const std::string& key, const std::string& value) {
+    Settings t = s;
+    try {
+      t.set(key, value, "--set " + key + "=" + value);
+    } catch (const InputError& e) {
+      EXPECT_EQ(t.to_yaml_text(), s.to_yaml_text()) << "a failed set changed the settings";
+      return std::string(e.what());
+    }
+    return std::string("(no error)");
+  };
+  EXPECT_EQ(error("mission.loop.views_per_stp", "6"),
+            "--set mission.loop.views_per_stp=6: unknown setting 'mission.loop.views_per_stp' (settings are named by "
+            "key paths such as mission.loop.views_per_stop)");
+  EXPECT_EQ(error("mission.loop.views_per_stop", "-2"),
+            "--set mission.loop.views_per_stop=-2: key 'mission.loop.views_per_stop': value '-2' must be in [0, 10000]");
+  EXPECT_EQ(error("method.name", "magic"),
+            "--set method.name=magic: key 'method.name': value 'magic' must be one of: ours, frontier, predefined");
+  EXPECT_NE(error("nbv", "3").find("must be a mapping"), std::string::npos);
+  EXPECT_NE(error("nbv.gain.proximity", "[unclosed").find("is not valid YAML"), std::string::npos);
+  EXPECT_EQ(parse_override("a.b=c d", "--set"), (SettingOverride{"a.b", "c d"}));
+  EXPECT_THROW(parse_override("a.b", "--set"), InputError);
+  EXPECT_THROW(parse_override("=3", "--set"), InputError);
+}
+
+// The reference of every setting: each key once, with its value, limits and help.
+TEST(Settings, DescribeCoversEveryKeyOnce) {
+  const Settings s = Settings::defaults(default_robot_config());
+  const std::vector<ParamDescription> d = s.describe();
+  std::set<std::string> keys;
+  for (const ParamDescription& p : d) {
+    EXPECT_TRUE(keys.insert(p.key).second) << p.key << " twice";
+    EXPECT_FALSE(p.help.empty()) << p.key << " has no help";
+  }
+  EXPECT_GT(d.size(), 100u);
+  EXPECT_TRUE(keys.count("method.name"));
+  EXPECT_TRUE(keys.count("nbv.candidates.radius_m"));  // the view sphere's keys, inline
+  EXPECT_TRUE(keys.count("mapping.metrics.rule"));
+  EXPECT_TRUE(keys.count("motion.planner.max_iterations"));
+  // Every described key can be set to its own value.
+  Settings t = s;
+  for (const ParamDescription& p : d) {
+    if (p.limits != "a list") {
+      EXPECT_NO_THROW(t.set(p.key, p.value, p.key)) << p.key << " = " << p.value;
+    }
+  }
+  EXPECT_EQ(t.to_yaml_text(), s.to_yaml_text());
 }
 
 }  // namespace

@@ -209,7 +209,12 @@ class YamlIn {
     }
     items = std::move(out);
   }
-  void check(bool ok, const char* key, const std::string& problem) { y_.check(ok, key, problem); }
+  void check(bool ok, const char* key, const std::string& problem) {
+    if (ok) return;
+    if (y_.has(key)) y_.fail(key, problem);
+    // Not in the file: the default or earlier value is at fault, together with the key read.
+    throw InputError(y_.file() + ": key '" + y_.key_path(key) + "' (not given) " + problem);
+  }
 
  private:
   template <typename T>

@@ -6,6 +6,7 @@
 
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -14,6 +15,7 @@
 #include "canopy/motion/motion_config.h"
 #include "canopy/motion/workspace_filter.h"
 #include "canopy/nbv/view_planner.h"
+#include "canopy/nbv/voxel_index.h"
 
 namespace canopy::motion {
 
@@ -42,9 +44,21 @@ std::vector<Vec3> occupied_voxel_centres(const mapping::SemanticOcTree& map);
 struct NextViewsRequest {
   BasePose base;
   ArmConfig q{};                 ///< The arm now (tour start, IK seed).
+  /// The camera now; when unset, forward kinematics of (base, q). (The mission passes the
+  /// pose the simulator reports.)
+  std::optional<Pose> T_world_camera;
   Eigen::AlignedBox3d region;    ///< Clusters must lie in it.
   int budget = 1;                ///< Views wanted.
   std::uint64_t seed = 1;
+  std::vector<Pose> scripted;    ///< The stop's scripted views (for planners that take them).
+};
+
+/// The arm's side of a stop: what reachability and the tour are computed with.
+struct StopArm {
+  const RobotModel& model;
+  const WorkspaceFilter& workspace;
+  const CollisionChecker* checker;  ///< Candidates must be collision-free with it; may be null.
+  const TourParams& tour;
 };
 
 /// Its answer: the planner's batch and the views in execution order.
@@ -55,9 +69,15 @@ struct NextViews {
   std::size_t cleared_voxels = 0;             ///< Map voxels inside the robot, not obstacles.
 };
 
-/// The next views from `map` for the robot at request.base: the map's occupied voxels as
-/// the collision environment (minus the robot's own volume), the workspace filter as the
-/// candidate filter, `planner` for the views, then the tour. Deterministic.
+/// The step the mission takes at every planning round and `canopy nbv` once: the planner's
+/// batch for the robot at request.base against `map` (the workspace filter and IK as the
+/// candidate filter, the workspace as the position test), then the views in execution order
+/// (the open tour for kTour batches). `index` is kept beside `map`. Deterministic.
+NextViews next_views(const mapping::SemanticOcTree& map, nbv::VoxelIndex& index, nbv::ViewPlanner& planner,
+                     const StopArm& arm, const NextViewsRequest& request);
+
+/// next_views from a saved map: the map's occupied voxels as the collision environment
+/// (minus the robot's own volume).
 NextViews plan_next_views(const mapping::SemanticOcTree& map, nbv::ViewPlanner& planner, const RobotModel& model,
                           const MotionConfig& config, const NextViewsRequest& request);
 

@@ -1,12 +1,11 @@
 #pragma once
 // One interface for the methods that choose the robot's next views, chosen by name from one
-// registry (view_planner_registry), and the bookkeeping they share:
-//  - ours: the paper's cluster-centric planner (fruit clusters in reach -> candidates on a
-//    sphere -> reachability filter -> gain by name -> top-k per cluster); a batch is executed
-//    in tour order;
-//  - frontier: Zaenker et al.'s ROI / exploration frontier planner as implemented (docs/background/frontier_baseline.md
-//    ); a batch is tried in utility order until one view succeeds;
-//  - predefined: dense predefined scanning, no planning: the mission's extra scripted views.
+// registry (view_planner_registry), and the bookkeeping they share. One file per planner
+// (nbv/planners/):
+//  - ours: the paper's cluster-centric planner (planners/ours.h);
+//  - frontier: Zaenker et al.'s ROI / exploration frontier planner as implemented
+//    (planners/frontier.h);
+//  - predefined: dense predefined scanning, no planning (planners/predefined.h).
 // Planners see only the map, the robot's state and its budget (MuJoCo-free, so the same
 // planner could drive a real robot); reachability comes in as callbacks.
 
@@ -158,6 +157,9 @@ struct ViewPlannerEntry {
   std::function<std::unique_ptr<ViewPlanner>(const ViewPlannerSettings&)> make;
 };
 
+/// A PlannedView of a scored candidate (what the filter moved, the IK it found).
+PlannedView planned_view(const Candidate& candidate, double gain, const std::string& source);
+
 /// ours, frontier, predefined.
 const std::vector<ViewPlannerEntry>& view_planner_registry();
 std::vector<std::string> view_planner_names();
@@ -171,36 +173,5 @@ void MethodChoice::visit(A& a) {
   a.one_of("gain", gain, gain_names(), "Information gain (ours)");
   a.one_of("rays", rays, ray_set_names(), "Ray set (ours)");
 }
-
-/// The frontier planner's pieces, for tests.
-namespace frontier {
-/// Voxel keys of the ROI (occupied, most likely class = target) and frontier targets in `region`.
-struct Targets {
-  std::vector<Vec3> roi_contour;   ///< Free non-ROI voxels 6-adjacent to ROI with an unknown 6-neighbour.
-  std::vector<Vec3> exploration;   ///< Free voxels with an unknown and an occupied 6-neighbour.
-  std::vector<Vec3> exploration_normals;  ///< Away from the occupied neighbours, unit.
-  std::vector<Vec3> roi;           ///< ROI voxel centres.
-};
-Targets find_targets(const VoxelIndex& index, const Eigen::AlignedBox3d& region);
-/// Inflated ROI value at `p`: 1 at an ROI voxel, falling linearly to 0 at `radius_m`.
-class InflatedRoi {
- public:
-  InflatedRoi(const std::vector<Vec3>& roi, const Eigen::AlignedBox3d& region, double radius_m, double resolution_m);
-  double at(const Vec3& p) const;
-
- private:
-  Vec3 origin_ = Vec3::Zero();
-  double resolution_ = 0.05;
-  Eigen::Vector3i dims_ = Eigen::Vector3i::Zero();
-  std::vector<float> values_;
-};
-/// Utility of the ray origin -> target: unknown voxels add unknown_weight + roi_weight *
-/// inflated ROI, free ones 0; stops at the first voxel with p > unknown_high; divided by the
-/// voxels on the ray.
-double ray_utility(const VoxelIndex& index, const InflatedRoi& roi, const FrontierParams& params, const Vec3& origin,
-                   const Vec3& target);
-/// The smallest rotation of `current` that points its optical axis (z) at `target` from `eye`.
-Pose point_at(const Pose& current, const Vec3& eye, const Vec3& target);
-}  // namespace frontier
 
 }  // namespace canopy::nbv
