@@ -53,7 +53,7 @@ expect_error "excludes" render --base 0,0,0 --camera-pose 0,0,1,1,0,0,0
 expect_error "--joints: value '7,0,0,0,0,0' is outside the joint limits" render --joints 7,0,0,0,0,0
 
 # Messages tell the truth.
-expect_error "unknown command 'frobnicate' for 'canopy'; the commands are: world, render, import-plant, run, mission, map, ablate, experiment, report, reach, nbv, bench" frobnicate
+expect_error "unknown command 'frobnicate' for 'canopy'; the commands are: world, render, import-plant, run, mission, map, ablate, experiment, report, reach, nbv, settings, bench" frobnicate
 expect_error "unknown command 'frobnicate' for 'canopy bench'; the commands are: render, map, gain, motion" bench frobnicate
 expect_error "--summarize-only: no finished jobs" ablate --quick --summarize-only
 

@@ -5,6 +5,8 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include <array>
+
 namespace canopy {
 
 using Vec2 = Eigen::Vector2d;
@@ -28,6 +30,10 @@ struct BasePose {
   double y_m = 0.0;
   double yaw_rad = 0.0;
 };
+
+/// Joint angles of the 6-DOF arm [rad], in the URDF's joint order.
+constexpr int kArmDof = 6;
+using ArmConfig = std::array<double, kArmDof>;
 
 /// Wraps an angle to (-pi, pi].
 double wrap_angle(double a);

@@ -5,7 +5,6 @@
 #include <vector>
 
 #include "canopy/common/camera.h"
-#include "canopy/robot/robot_config.h"
 #include "canopy/common/types.h"
 #include "canopy/nbv/nbv_params.h"
 

@@ -7,11 +7,9 @@
 #include <vector>
 
 #include "canopy/common/data_dir.h"
+#include "canopy/common/types.h"
 
 namespace canopy {
-
-constexpr int kArmDof = 6;
-using ArmConfig = std::array<double, kArmDof>;
 
 /// Robot metadata loaded from robot.yaml (paths resolved to absolute).
 struct RobotConfig {
