@@ -11,12 +11,45 @@
 #include "canopy/common/io.h"
 #include "canopy/robot/robot_config.h"
 #include "canopy/experiments/ablation.h"
+#include "canopy/experiments/ablation_runner.h"
 #include "canopy/mission/settings.h"
 #include "canopy/sim/simulator.h"
 
 namespace canopy::experiments {
 using namespace canopy::mission;
 namespace {
+
+// The paper's matrix: every gain with our rays, OSAMCEP with the other ray sets; OSAMCEP once
+// per proximity test; everything once per value of a sweep; all at every P_gt.
+TEST(Ablation, MatrixCrossesGainsRaysProximitiesSweepsAndPgt) {
+  const std::vector<AblationConfig> c = ablation_matrix({"osamcep", "ae"}, {"ours", "dense"}, {1.0, 0.7},
+                                                        {"per_voxel", "per_segment_end"},
+                                                        {{"mapping.map.ray_range_m", {"0.8", "3"}}});
+  // Per P_gt: osamcep-ours 2 x 2, ae-ours 2, osamcep-dense 2 x 2.
+  ASSERT_EQ(c.size(), 20u);
+  std::set<std::string> ids;
+  for (const auto& x : c) ids.insert(x.id());
+  EXPECT_EQ(ids.size(), c.size());
+  EXPECT_EQ(c[0].id(), "osamcep-per_voxel-ray_range_m=0.8_ours_pgt1.00");
+  EXPECT_EQ(c[4].id(), "ae-ray_range_m=0.8_ours_pgt1.00");
+  EXPECT_EQ(c[6].id(), "osamcep-per_voxel-ray_range_m=0.8_dense_pgt1.00");
+  EXPECT_EQ(c[10].pgt, 0.7);
+  // Without proximities or sweeps: the plain matrix and the plain labels of earlier runs.
+  const std::vector<AblationConfig> plain = ablation_matrix({"osamcep", "rs"}, {"ours", "sparse"}, {1.0}, {});
+  ASSERT_EQ(plain.size(), 3u);
+  EXPECT_EQ(plain[0].id(), "osamcep_ours_pgt1.00");
+  EXPECT_EQ(plain[2].id(), "osamcep_sparse_pgt1.00");
+  // A configuration's settings: the method, P_gt, its settings and the protocol's threshold.
+  AblationSettings set;
+  set.cluster_min_logodds = 0.5;
+  const Settings s = ablation_job_settings(Settings::defaults(default_robot_config()), c[11], set);
+  EXPECT_EQ(s.method.name, "ours");
+  EXPECT_EQ(s.method.gain, "osamcep");
+  EXPECT_EQ(s.mapping.extractor.p_gt, 0.7);
+  EXPECT_EQ(s.nbv.gain.proximity, nbv::Proximity::kPerVoxel);
+  EXPECT_EQ(s.mapping.map.ray_range_m, 3.0);
+  EXPECT_EQ(s.nbv.cluster.min_logodds, 0.5);
+}
 
 TEST(Ablation, GridPosesAreThePapersTen) {
   AblationSettings set;

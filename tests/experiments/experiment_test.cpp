@@ -74,6 +74,33 @@ TEST(Experiment, ParsesTrialsInSeedMajorOrderWithStableIds) {
   // Round trip of a trial's description.
   EXPECT_EQ(TrialSpec::from_json(t[4].to_json(), "x").to_json(), t[4].to_json());
   EXPECT_EQ(load(replaced(kBase, "{first: 11, count: 2}", "[11, 12]")).manifest(), e.manifest());
+  // The trial's bundle holds its method.
+  EXPECT_EQ(e.trial_settings(t[1]).method.name, "frontier");
+  EXPECT_EQ(e.trial_settings(t[0]).method.name, "ours");
+}
+
+// A method may set any setting by its key path; only its own trials get it.
+TEST(Experiment, MethodsSetTheirOwnSettingsByKey) {
+  const Experiment e = load(replaced(kBase, "{label: ours, method: ours}",
+                                     "{label: ours-pv, method: ours, set: {nbv.gain.proximity: per_voxel, "
+                                     "mission.loop.max_rounds: 3}}"));
+  const std::vector<TrialSpec> t = e.trials();
+  ASSERT_EQ(t[0].method.label, "ours-pv");
+  const Settings s0 = e.trial_settings(t[0]);
+  EXPECT_EQ(s0.nbv.gain.proximity, nbv::Proximity::kPerVoxel);
+  EXPECT_EQ(s0.mission.loop.max_rounds, 3);
+  EXPECT_EQ(s0.mission.loop.views_per_stop, 2);  // the experiment's override stays
+  const Settings s1 = e.trial_settings(t[1]);
+  EXPECT_EQ(s1.nbv.gain.proximity, nbv::Proximity::kPerSegmentEnd);
+  EXPECT_EQ(s1.mission.loop.max_rounds, 10);
+  EXPECT_EQ(TrialSpec::from_json(t[0].to_json(), "x").to_json(), t[0].to_json());
+  // The settings differ, so the identities do, at the setting.
+  const std::string d = first_difference(e.trial_identity(t[0]), load(kBase).trial_identity(load(kBase).trials()[0]));
+  EXPECT_FALSE(d.empty());
+  expect_input_error(replaced(kBase, "{label: ours, method: ours}", "{label: ours, method: ours, set: {nbv.gain.proximty: x}}"),
+                     "unknown setting 'nbv.gain.proximty'");
+  expect_input_error(replaced(kBase, "{label: ours, method: ours}", "{label: ours, method: ours, set: {mission.loop.max_rounds: -1}}"),
+                     "mission.loop.max_rounds");
 }
 
 TEST(Experiment, TheShippedExperimentsLoad) {
