@@ -112,6 +112,11 @@ struct Mission::Impl {
     ps.params = s.nbv;
     ps.intrinsics = w.spec.camera;
     ps.method = s.method;
+    auto context = std::make_shared<MissionContext>();
+    context->world = &world;
+    context->sim = &sim;
+    context->seed = seed;
+    ps.context = context;
     view_planner = nbv::make_view_planner(ps, "method");
     if (callbacks.before_step) stepper.set_before_step([this] { callbacks.before_step(sim, current_attempt); });
     update_caption();

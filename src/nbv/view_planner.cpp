@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <deque>
+#include <mutex>
 
 #include "canopy/common/error.h"
 #include "canopy/common/random.h"
@@ -40,16 +42,57 @@ PlannedView planned_view(const Candidate& c, double gain, const std::string& sou
   return v;
 }
 
-const std::vector<ViewPlannerEntry>& view_planner_registry() {
-  static const std::vector<ViewPlannerEntry> registry = {
-      {"ours", "cluster-centric NBV: fruit clusters, candidates on a sphere, workspace filter, gain, top-k, tour",
-       [](const ViewPlannerSettings& s) { return ours::make_planner(s); }},
-      {"frontier", "Zaenker et al.'s ROI / exploration frontier planner (as implemented, docs/background/frontier_baseline.md)",
-       [](const ViewPlannerSettings& s) { return frontier::make_planner(s); }},
-      {"predefined", "dense predefined scanning: the scripted views of every stop, no planning",
-       [](const ViewPlannerSettings& s) { return predefined::make_planner(s); }},
-  };
-  return registry;
+namespace {
+
+// Built-ins first, then registered planners; entries are never removed, so pointers into the
+// deque stay valid.
+struct Registry {
+  std::mutex mutex;
+  std::deque<ViewPlannerEntry> entries;
+  Registry() {
+    entries.push_back({"ours", "cluster-centric NBV: fruit clusters, candidates on a sphere, workspace filter, gain, top-k, tour",
+                       [](const ViewPlannerSettings& s) { return ours::make_planner(s); }});
+    entries.push_back({"frontier",
+                       "Zaenker et al.'s ROI / exploration frontier planner (as implemented, docs/background/frontier_baseline.md)",
+                       [](const ViewPlannerSettings& s) { return frontier::make_planner(s); }});
+    entries.push_back({"predefined", "dense predefined scanning: the scripted views of every stop, no planning",
+                       [](const ViewPlannerSettings& s) { return predefined::make_planner(s); }});
+  }
+};
+
+Registry& registry() {
+  static Registry r;
+  return r;
+}
+
+}  // namespace
+
+std::vector<ViewPlannerEntry> view_planner_registry() {
+  Registry& r = registry();
+  std::lock_guard<std::mutex> lock(r.mutex);
+  return std::vector<ViewPlannerEntry>(r.entries.begin(), r.entries.end());
+}
+
+void register_view_planner(ViewPlannerEntry entry) {
+  const bool valid = !entry.name.empty() && entry.name.size() <= 40 &&
+                     std::all_of(entry.name.begin(), entry.name.end(), [](char c) {
+                       return (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_' || c == '-';
+                     });
+  if (!valid) throw InputError("view planner name '" + entry.name + "': use 1-40 of a-z, 0-9, '_' and '-'");
+  if (!entry.make) throw InputError("view planner '" + entry.name + "': no factory");
+  Registry& r = registry();
+  std::lock_guard<std::mutex> lock(r.mutex);
+  for (const ViewPlannerEntry& e : r.entries)
+    if (e.name == entry.name) throw InputError("view planner '" + entry.name + "' is registered already");
+  r.entries.push_back(std::move(entry));
+}
+
+const ViewPlannerEntry* find_view_planner(const std::string& name) {
+  Registry& r = registry();
+  std::lock_guard<std::mutex> lock(r.mutex);
+  for (const ViewPlannerEntry& e : r.entries)
+    if (e.name == name) return &e;
+  return nullptr;
 }
 
 std::vector<std::string> view_planner_names() {
@@ -60,8 +103,7 @@ std::vector<std::string> view_planner_names() {
 
 std::unique_ptr<ViewPlanner> make_view_planner(const ViewPlannerSettings& settings, const std::string& where) {
   const std::string& name = settings.method.name;
-  for (const auto& e : view_planner_registry())
-    if (e.name == name) return e.make(settings);
+  if (const ViewPlannerEntry* e = find_view_planner(name)) return e->make(settings);
   std::string names;
   for (const auto& n : view_planner_names()) names += (names.empty() ? "" : ", ") + n;
   throw InputError(where + ": unknown method '" + name + "' (known: " + names + ")");

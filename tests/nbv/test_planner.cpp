@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "canopy/nbv/planner.h"
+#include "canopy/nbv/view_planner.h"
 #include "scene.h"
 
 using namespace canopy;
@@ -191,4 +192,53 @@ TEST(Planner, BadViewsScoreZeroWithAStatus) {
       EXPECT_GE(e.gain, 0.0);
     }
   (void)k;
+}
+
+// A planner from outside the library joins the registry by name: settings may name it, the
+// factory gets its settings (context included), and names are unique and well formed.
+namespace {
+struct ContextProbe : canopy::nbv::PlannerContext {
+  int value = 42;
+};
+class FixedPlanner : public canopy::nbv::ViewPlanner {
+ public:
+  explicit FixedPlanner(const canopy::nbv::ViewPlannerSettings& s)
+      : ViewPlanner(s.params.views), seen_(dynamic_cast<const ContextProbe*>(s.context.get())) {}
+  std::string name() const override { return "test-fixed"; }
+  canopy::nbv::ViewBatch next(const canopy::nbv::ViewRequest&) override {
+    canopy::nbv::ViewBatch b;
+    b.finished = true;
+    b.reason = seen_ ? "context " + std::to_string(seen_->value) : "no context";
+    return b;
+  }
+
+ private:
+  const ContextProbe* seen_;
+};
+}  // namespace
+
+TEST(Planner, RegisteredPlannersAreMadeByName) {
+  using namespace canopy::nbv;
+  register_view_planner({"test-fixed", "a planner that plans nothing",
+                         [](const ViewPlannerSettings& s) { return std::unique_ptr<ViewPlanner>(new FixedPlanner(s)); }});
+  const std::vector<std::string> names = view_planner_names();
+  ASSERT_GE(names.size(), 4u);
+  EXPECT_EQ(names[0], "ours");
+  EXPECT_EQ(names.back(), "test-fixed");
+  ViewPlannerSettings s;
+  s.method.name = "test-fixed";
+  s.context = std::make_shared<ContextProbe>();
+  const auto p = make_view_planner(s);
+  EXPECT_EQ(p->name(), "test-fixed");
+  EXPECT_EQ(p->next(ViewRequest{}).reason, "context 42");
+  EXPECT_THROW(register_view_planner({"test-fixed", "again", [](const ViewPlannerSettings& x) {
+                                        return std::unique_ptr<ViewPlanner>(new FixedPlanner(x));
+                                      }}),
+               canopy::InputError);
+  EXPECT_THROW(register_view_planner({"Bad Name", "", [](const ViewPlannerSettings& x) {
+                                        return std::unique_ptr<ViewPlanner>(new FixedPlanner(x));
+                                      }}),
+               canopy::InputError);
+  s.method.name = "no-such";
+  EXPECT_THROW(make_view_planner(s), canopy::InputError);
 }

@@ -118,6 +118,16 @@ struct MissionResult {
   int successful_views() const;
 };
 
+/// What the mission gives its planner beside the settings (nbv::ViewPlannerSettings::context):
+/// the world and the simulator. The planning library's planners never read it; a planner the
+/// mission's caller registers may, and one that reads the world's ground truth (an oracle)
+/// must be registered with reads_ground_truth, so that its results say so.
+struct MissionContext : nbv::PlannerContext {
+  const world::World* world = nullptr;
+  sim::Simulator* sim = nullptr;
+  std::uint64_t seed = 1;
+};
+
 /// Hooks for the command line (progress, video, Ctrl-C) and for tests (fault injection).
 struct MissionCallbacks {
   std::function<void(const std::string& message)> progress;

@@ -143,25 +143,43 @@ struct MethodChoice {
   bool operator==(const MethodChoice& o) const { return name == o.name && gain == o.gain && rays == o.rays; }
 };
 
+/// What a caller may hand a planner beyond its settings, in a type this library does not
+/// know: the mission passes its world and simulator (mission::MissionContext) so that a
+/// planner registered by the mission (an oracle that reads the ground truth, labelled so) can
+/// use them. Planners of this library never look at it.
+struct PlannerContext {
+  virtual ~PlannerContext() = default;
+};
+
 /// What a planner is built from.
 struct ViewPlannerSettings {
   NbvParams params;
   CameraIntrinsics intrinsics;
   MethodChoice method;
+  std::shared_ptr<const PlannerContext> context;  ///< May be null (no mission: canopy nbv, tests).
 };
 
 /// One registry entry.
 struct ViewPlannerEntry {
-  std::string name;
-  std::string description;
+  std::string name;         ///< [a-z0-9_-]+, unique.
+  std::string description;  ///< One line.
   std::function<std::unique_ptr<ViewPlanner>(const ViewPlannerSettings&)> make;
+  bool reads_ground_truth = false;  ///< An oracle: reported as such wherever its results go.
 };
 
 /// A PlannedView of a scored candidate (what the filter moved, the IK it found).
 PlannedView planned_view(const Candidate& candidate, double gain, const std::string& source);
 
-/// ours, frontier, predefined.
-const std::vector<ViewPlannerEntry>& view_planner_registry();
+/// The registry: ours, frontier, predefined, then the registered planners in the order they
+/// were registered.
+std::vector<ViewPlannerEntry> view_planner_registry();
+/// Adds a planner under a new name, from outside this library (another module of canopy, or
+/// another project linking the installed package). Throws InputError when the name is taken
+/// or not made of [a-z0-9_-]. Thread-safe; register before settings naming it are loaded.
+void register_view_planner(ViewPlannerEntry entry);
+/// The registry entry called `name`, or nullptr.
+const ViewPlannerEntry* find_view_planner(const std::string& name);
+/// Names of the registry, in order.
 std::vector<std::string> view_planner_names();
 /// The planner settings.method names; throws InputError naming `where` and the valid names
 /// otherwise (or for an unknown gain or ray set).
