@@ -21,6 +21,12 @@ mission::Settings load_settings(const std::string& path) {
   return mission::Settings::load(find_data_file(path), default_robot_config());
 }
 
+world::World build_world(const world::WorldSpec& spec) {
+  world::World w = world::generate_world(spec);
+  for (const std::string& note : world::unplaced_fruit_notes(w)) spdlog::warn("world '{}': {}", spec.name, note);
+  return w;
+}
+
 YAML::Node run_record(const std::string& command, const world::WorldSpec& spec) {
   YAML::Node n;
   n["command"] = command;

@@ -7,6 +7,7 @@
 
 #include "canopy/robot/robot_config.h"
 #include "canopy/mission/settings.h"
+#include "canopy/world/world.h"
 #include "canopy/world/world_spec.h"
 
 namespace canopy::cli {
@@ -17,6 +18,9 @@ std::string default_world_path();
 /// data folder, see data_dir.h), checks that the robot's base fits its aisle (robot.yaml
 /// aisle_clearance_m) and logs what it is. Throws InputError on problems.
 world::WorldSpec load_world_spec(const std::string& path, const RobotConfig& robot = default_robot_config());
+/// Generates the world of `spec` and logs a warning for each plant whose drawn fruits did not
+/// all fit (world::unplaced_fruit_notes).
+world::World build_world(const world::WorldSpec& spec);
 /// The start of a command's run.yaml: the command, the world file and the world's resolved
 /// parameters (seed included). Commands add their own options; the settings bundle goes to
 /// settings.yaml beside it.

@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "canopy/common/error.h"
+#include "canopy/common/interrupt.h"
 #include "canopy/common/io.h"
 #include "canopy/common/process.h"
 #include "canopy/experiments/ablation_runner.h"
@@ -102,6 +103,7 @@ void add_ablate_command(CLI::App& app) {
   sub->add_flag("--no-plots", opt->no_plots, "Skip the PNG plots");
   sub->add_option("--out", opt->out, "Output folder")->required();
   sub->callback([opt, sub] {
+    const InterruptScope interrupts;  // Ctrl-C / SIGTERM: no new job starts, finished ones are kept
     Options o = *opt;
     if (o.quick) {  // small defaults; options given explicitly still win
       auto unset = [&](const char* name) { return sub->count(name) == 0; };
@@ -160,7 +162,7 @@ void add_ablate_command(CLI::App& app) {
 
     world::WorldSpec spec = load_world_spec(o.world);
     spec.camera.depth_noise_k = 0.0;  // segmentation noise only, and renderers stay stateless
-    const world::World world = world::generate_world(spec);
+    const world::World world = build_world(spec);
     plan.world_name = spec.name;
     if (o.plants > int(world.plants.size()))
       throw InputError("--plants: " + std::to_string(o.plants) + " but the world has " +
@@ -168,14 +170,20 @@ void add_ablate_command(CLI::App& app) {
 
     // Only --resume (or --summarize-only) adds to an existing folder; a fresh run replaces it.
     const bool reuse = o.resume || o.summarize_only;
-    StagedDir out_dir(o.out, reuse ? StagedDir::Mode::kResume : StagedDir::Mode::kReplace);
+    StagedDir out_dir(o.out, "ablate", reuse ? StagedDir::Mode::kResume : StagedDir::Mode::kReplace);
     experiments::AblationRunOptions run;
     run.threads = o.threads;
     run.resume = o.resume;
     run.summarize_only = o.summarize_only;
     run.coverage_target = o.coverage_target;
     run.progress = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
+    run.stop_requested = [] { return interrupt_requested(); };
     const experiments::AblationRunResult r = experiments::run_ablation(plan, bundle, world, out_dir, run);
+    if (r.interrupted) {  // the finished jobs stay; --resume continues the folder
+      out_dir.keep();
+      throw Interrupted("interrupted; the finished jobs are kept in " + out_dir.working_dir() +
+                        ", and the same command with --resume continues");
+    }
     print_table(r.rows, o.views);
     if (!o.no_plots) {
       const std::string script = find_data_file("tools/plot_ablation.py");

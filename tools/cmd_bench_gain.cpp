@@ -73,7 +73,7 @@ void add_bench_gain(CLI::App& bench) {
     const nbv::NbvParams np = bundle.nbv;
     const auto gain = nbv::make_gain(opt->gain, np.gain, "--gain");
     const world::WorldSpec spec = load_world_spec(opt->world);
-    const world::World world = world::generate_world(spec);
+    const world::World world = build_world(spec);
     const std::vector<Pose> views = evaluation::views_from_spec(opt->views, world);
 
     // The map.

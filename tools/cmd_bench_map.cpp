@@ -86,7 +86,7 @@ void add_bench_map(CLI::App& bench) {
   sub->callback([opt] {
     const mission::MappingSettings cfg = load_settings(opt->config).mapping;
     const world::WorldSpec spec = load_world_spec(opt->world);
-    const world::World world = world::generate_world(spec);
+    const world::World world = build_world(spec);
     sim::Simulator sim(world, default_robot_config());
     sim::Renderer renderer(sim, spec.camera);
     const std::vector<Pose> views = opt->views == "aisle" ? evaluation::aisle_views(world, std::max(1, opt->frames / 2))

@@ -103,7 +103,7 @@ void add_bench_motion(CLI::App& bench) {
     j["ik_solutions_per_pose"] = double(solutions) / poses06.size();
 
     // 2. Validity checks against the world's occupancy (a fully observed map).
-    const world::World world = world::generate_world(spec);
+    const world::World world = build_world(spec);
     const double res = 0.015;
     const std::vector<Vec3> voxels = evaluation::world_occupied_voxels(world, res);
     const motion::CollisionChecker checker(model, cfg.collision, motion::CollisionEnvironment::from_voxels(voxels, res));

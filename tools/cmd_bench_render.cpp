@@ -24,7 +24,7 @@ void add_bench_render(CLI::App& bench) {
   sub->add_flag("--shadows", opt->shadows, "Shadows in the RGB pass");
   sub->callback([opt] {
     const world::WorldSpec spec = load_world_spec(opt->world);
-    const world::World world = world::generate_world(spec);
+    const world::World world = build_world(spec);
     sim::Simulator sim(world, default_robot_config());
     sim::RenderOptions ro;
     ro.shadows = opt->shadows;

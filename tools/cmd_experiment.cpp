@@ -12,6 +12,7 @@
 #include <filesystem>
 
 #include "canopy/common/error.h"
+#include "canopy/common/interrupt.h"
 #include "canopy/experiments/experiment.h"
 #include "cli_util.h"
 #include "commands.h"
@@ -20,8 +21,6 @@ namespace canopy::cli {
 
 namespace {
 
-std::atomic<bool> g_stop{false};
-extern "C" void on_stop_signal(int) { g_stop = true; }
 
 // Host, pid and the SLURM job, for trial.json (provenance only).
 std::string runner_text() {
@@ -60,16 +59,15 @@ void add_experiment_command(CLI::App& app) {
     ro.resume = o->resume;
     ro.runner = runner_text();
     ro.progress = [](const std::string& line) { spdlog::info("{}", line); };
-    ro.stop_requested = [] { return g_stop.load(); };
-    g_stop = false;
-    auto old_int = std::signal(SIGINT, on_stop_signal);
-    auto old_term = std::signal(SIGTERM, on_stop_signal);
+    ro.stop_requested = [] { return interrupt_requested(); };
+    const InterruptScope interrupts;  // Ctrl-C / SIGTERM (scancel): running trials stop, left .partial
     const experiments::ExperimentRunSummary s = experiments::run_experiment(e, o->out, ro);
-    std::signal(SIGINT, old_int);
-    std::signal(SIGTERM, old_term);
     spdlog::info("experiment {} shard {}: {} trials ran ({} ok, {} failed), {} complete already, {:.0f} s; results in {}/trials/",
                  e.name, o->shard, s.ok + s.failed, s.ok, s.failed, s.skipped, s.wall_time_s, o->out);
-    if (s.interrupted) throw Interrupted();
+    if (s.interrupted) throw Interrupted("interrupted; the unfinished trials are left .partial, --resume runs them");
+    if (s.failed > 0)
+      throw std::runtime_error(std::to_string(s.failed) + " of " + std::to_string(s.ok + s.failed) +
+                               " trials failed (their trial.json and log.txt say why); --resume runs them again");
   });
 }
 

@@ -63,9 +63,9 @@ void add_import_plant_command(CLI::App& app) {
     if (sub->count("--unit-scale")) o.unit_scale = opt->unit_scale;
     o.up = opt->up;
     o.truth = opt->gt == "vertices" ? world::TruthMode::kVertices : world::TruthMode::kSurface;
-    StagedDir::check_writable(opt->out);
+    StagedDir::check_writable(opt->out, "plant");
     const world::ImportedPlant plant = world::import_plant(opt->file, o);
-    StagedDir out(opt->out);
+    StagedDir out(opt->out, "plant");
     plant.save(out.path(""));
     out.commit();
 

@@ -8,6 +8,7 @@
 #include <filesystem>
 
 #include "canopy/common/error.h"
+#include "canopy/common/interrupt.h"
 #include "canopy/common/io.h"
 #include "canopy/common/timer.h"
 #include "canopy/datasets/frame_sequence.h"
@@ -61,7 +62,7 @@ void map_recorded(const MapOptions& opt, mission::Settings bundle) {
   reader.max_time_diff_s = opt.max_dt_s;
   reader.label_images = cfg.extractor.source == perception::LabelSource::kTruth;
   const datasets::FrameSequence frames = datasets::FrameSequence::open(opt.frames, reader);
-  StagedDir out(opt.out);
+  StagedDir out(opt.out, "map");
   mapping::SemanticOcTree map(cfg.map, frames.classes());
   mapping::ScanInserter inserter(map);
   perception::SemanticExtractor extractor(cfg.extractor, frames.classes());
@@ -76,14 +77,18 @@ void map_recorded(const MapOptions& opt, mission::Settings bundle) {
   write_file_atomic(out.path("run.yaml"), yaml_text(run));
   spdlog::info("mapping {} frames ({} layout, {} skipped while pairing), labels {}", frames.size(),
                datasets::to_string(frames.layout()), frames.skipped().size(), reader.label_images ? "from images" : "color");
-  const datasets::SequenceMapResult r =
-      datasets::map_sequence(frames, extractor, inserter, [&](const mapping::FrameMapStep& s) {
+  for (const std::string& note : frames.notes()) spdlog::warn("{}: {}", opt.frames, note);
+  const datasets::SequenceMapResult r = datasets::map_sequence(
+      frames, extractor, inserter,
+      [&](const mapping::FrameMapStep& s) {
         if (s.mapped)
           std::fprintf(stderr, "frame %s: %zu points, insert %.1f ms\n", s.name.c_str(), s.extract.points,
                        s.insert.ms_total);
         else
           std::fprintf(stderr, "frame %s: skipped (%s)\n", s.name.c_str(), s.skip_reason.c_str());
-      });
+      },
+      [] { return interrupt_requested(); });
+  if (!r.complete && r.mapped == 0) throw Interrupted("interrupted before the first frame; nothing was written");
   if (r.mapped == 0) throw InputError(opt.frames + ": no frame could be mapped (" + std::to_string(r.skipped.size()) + " skipped)");
   mapping::save_map(map, out.path("map.csm"));
   const std::size_t occupied = mapping::export_ply(map, out.path("map.ply"));
@@ -97,13 +102,18 @@ void map_recorded(const MapOptions& opt, mission::Settings bundle) {
   }
   nlohmann::json skipped = nlohmann::json::array();
   for (const datasets::SkippedFrame& s : r.skipped) skipped.push_back({{"frame", s.name}, {"reason", s.reason}});
-  write_json_atomic(out.path("frames.json"), {{"frames_mapped", r.mapped},
+  write_json_atomic(out.path("frames.json"), {{"complete", r.complete},
+                                              {"notes", frames.notes()},
+                                              {"frames_mapped", r.mapped},
                                               {"frames_skipped", r.skipped.size()},
                                               {"skipped_by_reason", datasets::count_reasons(r.skipped)},
                                               {"skipped", skipped},
                                               {"occupied_voxels", occupied},
                                               {"steps", steps}});
   out.commit();
+  if (!r.complete)
+    throw Interrupted("interrupted after " + std::to_string(r.mapped) + " frames; the map so far is saved in " + opt.out +
+                      " (frames.json \"complete\": false)");
   std::printf("mapped %zu frames (%zu skipped): %zu occupied voxels; wrote %s\n", r.mapped, r.skipped.size(),
               occupied, opt.out.c_str());
 }
@@ -137,15 +147,17 @@ void add_map_command(CLI::App& app) {
       ->check(CLI::Range(0.0, 1.0));
   sub->add_option("--out", opt->out, "Output folder")->required();
   sub->callback([opt] {
+    // Ctrl-C and SIGTERM: the views mapped so far are saved, marked incomplete.
+    const InterruptScope interrupts;
     mission::Settings bundle = load_settings(opt->config);
     mission::MappingSettings& cfg = bundle.mapping;
-    if (!opt->seg.empty()) cfg.extractor.source = perception::label_source_from_string(opt->seg, "--seg");
-    if (opt->pgt >= 0.0) cfg.extractor.p_gt = opt->pgt;
+    if (!opt->seg.empty()) bundle.set("mapping.extractor.source", opt->seg, "--seg");
+    if (opt->pgt >= 0.0) bundle.set("mapping.extractor.p_gt", format_number(opt->pgt, "%.17g"), "--pgt");
     if (!opt->frames.empty()) return map_recorded(*opt, bundle);
     const world::WorldSpec spec = load_world_spec(opt->world);
-    const world::World world = world::generate_world(spec);
+    const world::World world = build_world(spec);
     const std::vector<Pose> views = evaluation::views_from_spec(opt->views, world);
-    StagedDir out(opt->out);
+    StagedDir out(opt->out, "map");
 
     sim::Simulator sim(world, default_robot_config());
     sim::Renderer renderer(sim, spec.camera);
@@ -164,7 +176,10 @@ void add_map_command(CLI::App& app) {
 
     nlohmann::json history = nlohmann::json::array();
     double insert_ms_sum = 0.0;
+    nlohmann::json last;
+    std::size_t done = 0;
     for (std::size_t i = 0; i < views.size(); ++i) {
+      if (interrupt_requested()) break;
       const Stopwatch render_watch;
       const LabelledFrame frame = renderer.render_free_camera(views[i]);
       const double ms_render = render_watch.ms();
@@ -196,11 +211,22 @@ void add_map_command(CLI::App& app) {
       j["noise"] = perception::to_string(cfg.extractor.noise);
       j["ms_per_insertion"] = insert_ms_sum / double(i + 1);
       j["history"] = history;
+      j["complete"] = i + 1 == views.size();
       write_json_atomic(out.path("metrics.json"), j);
+      last = j;
+      done = i + 1;
       std::fprintf(stderr,
                    "view %zu/%zu: %zu points, insert %.1f ms, coverage %.3f, fruit entropy %.1f, %zu occupied "
                    "voxels\n",
                    i + 1, views.size(), fs.extract.points, st.ms_total, m.coverage, m.total_entropy, occupied);
+    }
+    if (done == 0) throw Interrupted("interrupted before the first view; nothing was written");
+    if (done < views.size()) {  // interrupted: what is mapped is saved, marked incomplete
+      last["complete"] = false;
+      write_json_atomic(out.path("metrics.json"), last);
+      out.commit();
+      throw Interrupted("interrupted after " + std::to_string(done) + " of " + std::to_string(views.size()) +
+                        " views; the map so far is saved in " + opt->out + " (metrics.json \"complete\": false)");
     }
     out.commit();
     std::printf("mapped %zu views: coverage %.3f, fruit entropy %.1f, %.1f ms per insertion; wrote %s\n",

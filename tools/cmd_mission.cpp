@@ -7,11 +7,11 @@
 
 #include <atomic>
 #include <cmath>
-#include <csignal>
 #include <cstdio>
 #include <sstream>
 
 #include "canopy/common/error.h"
+#include "canopy/common/interrupt.h"
 #include "canopy/common/io.h"
 #include "canopy/common/process.h"
 #include "canopy/mission/mission.h"
@@ -24,8 +24,6 @@ namespace canopy::cli {
 
 namespace {
 
-std::atomic<bool> g_interrupted{false};
-extern "C" void on_sigint(int) { g_interrupted = true; }
 
 struct MissionCliOptions {
   std::string world = default_world_path();
@@ -67,6 +65,8 @@ void add_options(CLI::App* sub, MissionCliOptions* o, bool out_required) {
 }
 
 void run_mission(const MissionCliOptions& o, CLI::App* sub) {
+  // Ctrl-C and SIGTERM from here on: the views so far are saved, marked incomplete.
+  const InterruptScope interrupts;
   // Validate every input before any work.
   if (!o.video.empty()) mission::VideoWriter::validate_output_path(o.video);
   const world::WorldSpec spec = load_world_spec(o.world);
@@ -74,23 +74,21 @@ void run_mission(const MissionCliOptions& o, CLI::App* sub) {
   if (sub->count("--method")) settings.set("method.name", o.method, "--method");
   if (sub->count("--gain")) settings.set("method.gain", o.gain, "--gain");
   if (sub->count("--rays")) settings.set("method.rays", o.rays, "--rays");
-  if (sub->count("--pgt")) {
-    if (!(std::isfinite(o.pgt) && o.pgt >= 0.0 && o.pgt <= 1.0))
-      throw InputError("--pgt: " + std::to_string(o.pgt) + " is not a probability in [0, 1]");
-    settings.mapping.extractor.p_gt = o.pgt;
-  }
-  if (!o.seg.empty()) settings.mapping.extractor.source = perception::label_source_from_string(o.seg, "--seg");
-  if (sub->count("--views-per-stop")) {
-    if (o.views_per_stop < 0) throw InputError("--views-per-stop: must be >= 0");
-    settings.mission.loop.views_per_stop = o.views_per_stop;
-  }
+  // Flags set settings by their keys: the same limits as in a settings file.
+  if (sub->count("--pgt")) settings.set("mapping.extractor.p_gt", format_number(o.pgt, "%.17g"), "--pgt");
+  if (!o.seg.empty()) settings.set("mapping.extractor.source", o.seg, "--seg");
+  if (sub->count("--views-per-stop"))
+    settings.set("mission.loop.views_per_stop", std::to_string(o.views_per_stop), "--views-per-stop");
   if (!o.stops.empty()) {
     const std::vector<double> v = parse_numbers(o.stops, -1, "--stops");
-    if (v.size() == 1 && v[0] >= 1 && v[0] == std::floor(v[0]) && o.stops.find('.') == std::string::npos) {
-      settings.mission.stops.count = static_cast<int>(v[0]);
+    if (v.size() == 1 && o.stops.find('.') == std::string::npos) {  // a count
+      settings.set("mission.stops.count", o.stops, "--stops");
       settings.mission.stops.positions_m.clear();
-    } else {
-      settings.mission.stops.positions_m = v;
+    } else {  // arm-base x positions
+      if (v.size() > 1000) throw InputError("--stops: " + std::to_string(v.size()) + " positions, at most 1000");
+      std::string list = "[";
+      for (std::size_t i = 0; i < v.size(); ++i) list += (i ? ", " : "") + format_number(v[i], "%.17g");
+      settings.set("mission.stops.positions_m", list + "]", "--stops");
     }
   }
   for (const std::string& s : o.set) {
@@ -108,17 +106,17 @@ void run_mission(const MissionCliOptions& o, CLI::App* sub) {
       throw InputError("--video-fps: must be in (0, 120]");
   }
 
-  const world::World world = world::generate_world(spec);
+  const world::World world = build_world(spec);
   const nbv::MethodChoice& method = settings.method;
   spdlog::info("mission: method {}{}, {} plants, {} fruits, P_gt {}, seed {}", method.name,
                method.name == "ours" ? " (" + method.gain + ", rays " + method.rays + ")" : "", world.plants.size(),
                world.truth.fruits.size(), settings.mapping.extractor.p_gt, o.seed);
-  StagedDir out(o.out);
+  StagedDir out(o.out, "mission");
 
   std::unique_ptr<mission::MissionVideo> video;
   mission::MissionCallbacks cb;
   cb.progress = [](const std::string& m) { spdlog::info("{}", m); };
-  cb.stop_requested = [] { return g_interrupted.load(); };
+  cb.stop_requested = [] { return interrupt_requested(); };
   if (!o.video.empty()) {
     cb.video_period_s = 1.0 / o.video_fps;
     cb.video_tick = [&video](sim::Simulator& sim, const std::string& caption) {
@@ -133,10 +131,8 @@ void run_mission(const MissionCliOptions& o, CLI::App* sub) {
     video = std::make_unique<mission::MissionVideo>(o.video, video_w, video_h, o.video_fps, mission.simulator(),
                                                     spec.classes);
 
-  g_interrupted = false;
-  auto previous = std::signal(SIGINT, on_sigint);
+  if (interrupt_requested()) throw Interrupted("interrupted while setting up the mission; nothing was written");
   const mission::MissionResult result = mission.run();
-  std::signal(SIGINT, previous);
 
   // Results.
   mission::RunContext context;

@@ -104,7 +104,7 @@ void add_reach_command(CLI::App& app) {
     if (!model.within_limits(start)) throw InputError("--joints: outside the joint limits");
 
     motion::seed_planner_rng(cfg.seed);
-    const world::World world = world::generate_world(spec);
+    const world::World world = build_world(spec);
     const std::vector<Vec3> voxels = evaluation::world_occupied_voxels(world, opt->voxel_m);
     const motion::CollisionChecker checker(model, cfg.collision,
                                            motion::CollisionEnvironment::from_voxels(voxels, opt->voxel_m));
@@ -161,7 +161,7 @@ void add_reach_command(CLI::App& app) {
                 {"plants", rgb_json(kPlant)},
                 {"robot", rgb_json(kRobot)},
                 {"targets", rgb_json(kTarget)}};
-    StagedDir out(opt->out);
+    StagedDir out(opt->out, "reach");
     write_json_atomic(out.path("reach.json"), j);
     write_png(out.path("reach.png"), map.image());
     out.commit();

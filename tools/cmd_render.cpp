@@ -52,9 +52,9 @@ void add_render_command(CLI::App& app) {
     const bool free_camera = !opt->camera_pose.empty();
     if (free_camera) T_world_camera = parse_pose7(opt->camera_pose, "--camera-pose");
 
-    StagedDir out(opt->out);
+    StagedDir out(opt->out, "render");
 
-    const world::World world = world::generate_world(spec);
+    const world::World world = build_world(spec);
     sim::Simulator sim(world, robot_config);
     if (!base_pose) {
       // The world's robot_start sees no plant; put the home camera in front of the first one.

@@ -28,7 +28,7 @@ void add_report_command(CLI::App& app) {
     const experiments::MergedTrials merged = experiments::merge_experiment_folders(o->dirs);
     const experiments::ExperimentReport rep = experiments::make_experiment_report(merged);
     const std::string out_path = o->out.empty() ? (std::filesystem::path(o->dirs.front()) / "report").string() : o->out;
-    StagedDir out(out_path);
+    StagedDir out(out_path, "report");
     write_file_atomic(out.path("curves.csv"), rep.curves_csv);
     write_file_atomic(out.path("runtime.csv"), rep.runtime_csv);
     write_file_atomic(out.path("findings.md"), rep.findings_md);

@@ -20,11 +20,11 @@ void add_world_command(CLI::App& app) {
   sub->add_option("--out", opt->out, "Output folder")->required();
   sub->callback([opt] {
     const world::WorldSpec spec = load_world_spec(opt->world);
-    const world::World world = world::generate_world(spec);
+    const world::World world = build_world(spec);
     const RobotConfig robot_config = default_robot_config();
     const robot::RobotDescription robot = robot::RobotDescription::load_urdf(robot_config.urdf_path);
     const sim::SceneDescription scene = sim::make_scene_mjcf(world, robot, robot_config);
-    StagedDir out(opt->out);
+    StagedDir out(opt->out, "world");
     write_file_atomic(out.path("scene.xml"), scene.mjcf);
     world.truth.save(out.path(""));
     nlohmann::json summary;

@@ -10,9 +10,36 @@
 #include <string>
 
 #include "canopy/common/error.h"
+#include "canopy/common/interrupt.h"
+#include "canopy/common/io.h"
 #include "commands.h"
 
 namespace {
+
+// Every error is one line (a message quoting a multi-line value must not spill).
+std::string one_line(std::string s) {
+  for (char& c : s)
+    if (c == '\n' || c == '\r') c = ' ';
+  return s;
+}
+
+// Every --seed takes decimal digits only and fits 64 bits (CLI11 would wrap "-1" and
+// overflows around).
+void require_valid_seeds(CLI::App& app) {
+  const CLI::Validator seed(
+      [](std::string& text) -> std::string {
+        try {
+          canopy::parse_uint64(text, "--seed");
+        } catch (const canopy::InputError& e) {
+          return std::string(e.what()).substr(std::string("--seed: ").size());
+        }
+        return std::string();
+      },
+      "", "SEED");
+  for (CLI::Option* o : app.get_options())
+    if (o->get_name() == "--seed") o->check(seed);
+  for (CLI::App* s : app.get_subcommands([](CLI::App*) { return true; })) require_valid_seeds(*s);
+}
 
 std::vector<CLI::App*> subcommands(CLI::App& app) {
   return app.get_subcommands([](CLI::App*) { return true; });
@@ -56,6 +83,7 @@ void require_finite_numbers(CLI::App& app) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  canopy::install_interrupt_handlers();
   CLI::App app{"canopy: simulator and planner for active semantic mapping in greenhouses"};
   app.require_subcommand(1);
   app.set_help_all_flag("--help-all", "Show help for every subcommand");
@@ -85,6 +113,7 @@ int main(int argc, char** argv) {
   canopy::cli::add_bench_motion(*bench);
 
   require_finite_numbers(app);
+  require_valid_seeds(app);
 
   try {
     check_command_names(app, argc, argv);
@@ -93,11 +122,14 @@ int main(int argc, char** argv) {
     const int code = app.exit(e);
     return code == 0 ? 0 : 2;
   } catch (const canopy::Interrupted& e) {
-    std::fprintf(stderr, "canopy: %s\n", e.what());
-    return 130;
+    std::fprintf(stderr, "canopy: %s\n", one_line(e.what()).c_str());
+    return canopy::interrupt_exit_code();
   } catch (const canopy::InputError& e) {
-    std::fprintf(stderr, "canopy: error: %s\n", e.what());
+    std::fprintf(stderr, "canopy: error: %s\n", one_line(e.what()).c_str());
     return 2;
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr, "canopy: error: out of memory\n");
+    return 1;
   } catch (const canopy::InternalError& e) {
     std::fprintf(stderr, "canopy: internal error: %s\n", e.what());
     return 1;

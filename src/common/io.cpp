@@ -1,9 +1,14 @@
 #include "canopy/common/io.h"
 
+#include <fcntl.h>
 #include <png.h>
+#include <sys/file.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <atomic>
+#include <cerrno>
+#include <cstring>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -98,7 +103,16 @@ PngRead read_png_raw(const std::string& path) {
   png_byte sig[8];
   if (std::fread(sig, 1, 8, f.get()) != 8 || png_sig_cmp(sig, 0, 8) != 0)
     throw InputError(path + ": not a PNG file");
-  png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
+  // libpng's own handlers print to stderr; the error becomes this function's one message.
+  static thread_local std::string png_message;
+  png_message.clear();
+  png_structp png = png_create_read_struct(
+      PNG_LIBPNG_VER_STRING, nullptr,
+      [](png_structp p, png_const_charp msg) {
+        png_message = msg ? msg : "";
+        png_longjmp(p, 1);
+      },
+      [](png_structp, png_const_charp) {});
   png_infop info = png ? png_create_info_struct(png) : nullptr;
   if (!png || !info) {
     png_destroy_read_struct(&png, &info, nullptr);
@@ -108,13 +122,22 @@ PngRead read_png_raw(const std::string& path) {
   std::vector<png_bytep> rows;  // declared before setjmp (see write_png_rows)
   if (setjmp(png_jmpbuf(png))) {
     png_destroy_read_struct(&png, &info, nullptr);
-    throw InputError(path + ": corrupt PNG file");
+    throw InputError(path + ": corrupt PNG file" + (png_message.empty() ? "" : " (" + png_message + ")"));
   }
   png_init_io(png, f.get());
   png_set_sig_bytes(png, 8);
   png_read_info(png, info);
-  out.width = static_cast<int>(png_get_image_width(png, info));
-  out.height = static_cast<int>(png_get_image_height(png, info));
+  const png_uint_32 w = png_get_image_width(png, info), h = png_get_image_height(png, info);
+  // The header's size is checked before any pixel memory is allocated.
+  if (w == 0 || h == 0 || w > kMaxImageSidePx || h > kMaxImageSidePx ||
+      std::uint64_t(w) * std::uint64_t(h) > kMaxImagePixels) {
+    png_destroy_read_struct(&png, &info, nullptr);
+    throw InputError(path + ": the PNG header says " + std::to_string(w) + " x " + std::to_string(h) +
+                     " pixels; canopy reads images up to " + std::to_string(kMaxImageSidePx) + " pixels a side and " +
+                     std::to_string(kMaxImagePixels) + " pixels in all");
+  }
+  out.width = static_cast<int>(w);
+  out.height = static_cast<int>(h);
   out.bit_depth = png_get_bit_depth(png, info);
   out.color_type = png_get_color_type(png, info);
   if (out.bit_depth == 16) png_set_swap(png);  // host order (little-endian)
@@ -157,16 +180,24 @@ std::string format_number(double x, const char* printf_format) {
   return b;
 }
 
-std::string read_file(const std::string& path) {
+std::string read_file(const std::string& path, std::uintmax_t max_bytes) {
   std::error_code ec;
   // A folder opens as an empty stream on Linux: it must not read as an empty file.
   if (fs::is_directory(path, ec)) throw InputError(path + ": is a folder, not a file");
+  if (!fs::exists(path, ec)) throw InputError(path + ": cannot open file (it does not exist)");
+  // Devices and pipes have no size and may never end (/dev/zero).
+  if (!fs::is_regular_file(path, ec)) throw InputError(path + ": is not a regular file");
+  const std::uintmax_t size = fs::file_size(path, ec);
+  if (ec) throw InputError(path + ": cannot read its size (" + ec.message() + ")");
+  if (size > max_bytes)
+    throw InputError(path + ": is " + std::to_string(size) + " bytes, more than the " + std::to_string(max_bytes) +
+                     " this input may have");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path + ": cannot open file");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  if (in.bad()) throw InputError(path + ": cannot read file");
-  return ss.str();
+  std::string out(static_cast<std::size_t>(size), '\0');
+  in.read(out.data(), static_cast<std::streamsize>(size));
+  if (in.bad() || in.gcount() != static_cast<std::streamsize>(size)) throw InputError(path + ": cannot read file");
+  return out;
 }
 
 void write_png(const std::string& path, const Image<Rgb8>& image) {
@@ -222,6 +253,11 @@ std::vector<double> parse_numbers(const std::string& text, int count, const std:
   std::stringstream ss(text);
   std::string item;
   while (std::getline(ss, item, ',')) {
+    // Plain decimal numbers only: stod would also take hexadecimal ("0x10" = 16), "inf" and
+    // "nan".
+    const std::size_t first = item.find_first_not_of(" \t");
+    if (first == std::string::npos || item.find_first_not_of("0123456789+-.eE \t") != std::string::npos)
+      throw InputError(what + ": value '" + text + "': '" + item + "' is not a decimal number");
     size_t used = 0;
     double v = 0.0;
     try {
@@ -238,6 +274,16 @@ std::vector<double> parse_numbers(const std::string& text, int count, const std:
     throw InputError(what + ": value '" + text + "' must have " + std::to_string(count) +
                      " comma-separated numbers, has " + std::to_string(out.size()));
   return out;
+}
+
+std::uint64_t parse_uint64(const std::string& text, const std::string& what, std::uint64_t max) {
+  if (text.empty() || text.size() > 20 || text.find_first_not_of("0123456789") != std::string::npos)
+    throw InputError(what + ": value '" + text + "' is not a whole number >= 0");
+  errno = 0;
+  const unsigned long long v = std::strtoull(text.c_str(), nullptr, 10);
+  if (errno == ERANGE || v > max)
+    throw InputError(what + ": value '" + text + "' is larger than " + std::to_string(max));
+  return v;
 }
 
 Pose parse_pose7(const std::string& text, const std::string& what) {
@@ -276,9 +322,6 @@ bool has_marker(const std::string& dir) {
   std::error_code ec;
   return fs::exists(fs::path(dir) / kOutputMarker, ec);
 }
-void write_marker(const std::string& dir) {
-  write_file_atomic(dir + "/" + kOutputMarker, "written by canopy; a later run may replace this folder\n");
-}
 void create_dir(const std::string& dir, const std::string& option) {
   std::error_code ec;
   fs::create_directories(dir, ec);
@@ -286,22 +329,72 @@ void create_dir(const std::string& dir, const std::string& option) {
 }
 }  // namespace
 
-void StagedDir::check_writable(const std::string& dir, const std::string& option) {
+std::string output_kind(const std::string& dir) {
+  std::error_code ec;
+  const fs::path marker = fs::path(dir) / kOutputMarker;
+  if (!fs::exists(marker, ec)) return "";
+  std::ifstream in(marker);
+  std::string first;
+  std::getline(in, first);
+  if (first.rfind("canopy ", 0) == 0 && first.size() > 7) return first.substr(7);
+  return "any";  // an older marker: "written by canopy; a later run may replace this folder"
+}
+
+void write_output_marker(const std::string& dir, const std::string& kind) {
+  write_file_atomic(dir + "/" + kOutputMarker,
+                    "canopy " + kind + "\nwritten by `canopy " + kind + "`; only output of the same kind replaces it\n");
+}
+
+void StagedDir::check_writable(const std::string& dir, const std::string& kind, const std::string& option) {
   std::error_code ec;
   if (!fs::exists(dir, ec)) return;
   if (!fs::is_directory(dir, ec)) throw InputError(option + ": '" + dir + "' exists and is not a folder");
-  if (!fs::is_empty(dir, ec) && !has_marker(dir))
+  if (fs::is_empty(dir, ec)) return;
+  const std::string found = output_kind(dir);
+  if (found.empty())
     throw InputError(option + ": folder '" + dir +
                      "' is not empty and was not written by canopy; choose another folder (canopy never "
                      "replaces or adds to it)");
+  if (found != kind && found != "any")
+    throw InputError(option + ": folder '" + dir + "' holds the output of `canopy " + found + "`, not of `canopy " + kind +
+                     "`; choose another folder (canopy replaces a folder only with output of the same kind)");
 }
 
-StagedDir::StagedDir(std::string final_dir, Mode mode, std::string option)
-    : final_dir_(strip_slashes(std::move(final_dir))), option_(std::move(option)) {
+namespace {
+// An advisory lock on `<dir>.lock` for the life of the StagedDir; -1 when the folder is busy.
+int lock_output(const std::string& lock_path, const std::string& option, const std::string& dir) {
+  for (int attempt = 0; attempt < 10; ++attempt) {
+    const int fd = ::open(lock_path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+    if (fd < 0) throw InputError(option + ": cannot create the lock file '" + lock_path + "': " + std::strerror(errno));
+    if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
+      ::close(fd);
+      throw InputError(option + ": folder '" + dir +
+                       "' is busy: another canopy command is writing it now (try again when it has finished)");
+    }
+    // The holder before us may have removed the file after we opened it: lock the file that
+    // is at the path now.
+    struct stat at_path, locked;
+    if (::stat(lock_path.c_str(), &at_path) == 0 && ::fstat(fd, &locked) == 0 && at_path.st_ino == locked.st_ino &&
+        at_path.st_dev == locked.st_dev)
+      return fd;
+    ::close(fd);
+  }
+  throw InputError(option + ": cannot lock '" + lock_path + "'");
+}
+}  // namespace
+
+StagedDir::StagedDir(std::string final_dir, std::string kind, Mode mode, std::string option)
+    : final_dir_(strip_slashes(std::move(final_dir))), option_(std::move(option)), kind_(std::move(kind)) {
   if (final_dir_.empty()) throw InputError(option_ + ": the output folder name is empty");
   const std::string staging = final_dir_ + ".partial";
-  check_writable(final_dir_, option_);
-  check_writable(staging, option_);
+  check_writable(final_dir_, kind_, option_);
+  check_writable(staging, kind_, option_);
+  {
+    std::error_code ec;
+    const fs::path parent = fs::absolute(final_dir_, ec).parent_path();
+    if (!fs::is_directory(parent, ec)) create_dir(parent.string(), option_);
+  }
+  lock_fd_ = lock_output(final_dir_ + ".lock", option_, final_dir_);
   std::error_code ec;
   if (mode == Mode::kResume && fs::exists(final_dir_, ec)) {
     working_dir_ = final_dir_;
@@ -313,13 +406,17 @@ StagedDir::StagedDir(std::string final_dir, Mode mode, std::string option)
     create_dir(staging, option_);
     created_ = true;
   }
-  if (!has_marker(working_dir_)) write_marker(working_dir_);
+  if (!has_marker(working_dir_)) write_output_marker(working_dir_, kind_);
 }
 
 StagedDir::~StagedDir() {
-  if (!committed_ && created_) {
+  if (!committed_ && created_ && !keep_) {
     std::error_code ec;
     fs::remove_all(working_dir_, ec);
+  }
+  if (lock_fd_ >= 0) {
+    ::unlink((final_dir_ + ".lock").c_str());
+    ::close(lock_fd_);
   }
 }
 

@@ -1,6 +1,10 @@
 #include "canopy/common/yaml_reader.h"
 
 #include <map>
+#include <sstream>
+
+#include <yaml-cpp/eventhandler.h>
+#include <yaml-cpp/parser.h>
 
 #include "canopy/common/io.h"
 
@@ -14,9 +18,63 @@ YamlReader::YamlReader(YAML::Node node, std::string file, std::string path)
   }
 }
 
-YamlReader YamlReader::load_file(const std::string& file) { return load_string(read_file(file), file); }
+YamlReader YamlReader::load_file(const std::string& file) {
+  const std::string text = read_file(file, kMaxYamlFileBytes);
+  if (text.find_first_not_of(" \t\r\n") == std::string::npos)
+    throw InputError(file + ": is empty (write {} to take every default)");
+  return load_string(text, file);
+}
 
 namespace {
+
+// Counts the nodes of the first document with every alias expanded, from the parser's
+// events (linear in the text), and stops as soon as the count passes kMaxYamlNodes.
+class ExpandedSize : public YAML::EventHandler {
+ public:
+  explicit ExpandedSize(std::string name) : name_(std::move(name)) {}
+  void OnDocumentStart(const YAML::Mark&) override {}
+  void OnDocumentEnd() override {}
+  void OnNull(const YAML::Mark&, YAML::anchor_t anchor) override { leaf(anchor); }
+  void OnAlias(const YAML::Mark&, YAML::anchor_t anchor) override {
+    const auto it = anchored_.find(anchor);
+    add(it == anchored_.end() ? 1 : it->second);
+  }
+  void OnScalar(const YAML::Mark&, const std::string&, YAML::anchor_t anchor, const std::string&) override {
+    leaf(anchor);
+  }
+  void OnSequenceStart(const YAML::Mark&, const std::string&, YAML::anchor_t anchor, YAML::EmitterStyle::value) override {
+    open_.push_back({anchor, 1});
+  }
+  void OnSequenceEnd() override { close(); }
+  void OnMapStart(const YAML::Mark&, const std::string&, YAML::anchor_t anchor, YAML::EmitterStyle::value) override {
+    open_.push_back({anchor, 1});
+  }
+  void OnMapEnd() override { close(); }
+
+ private:
+  void leaf(YAML::anchor_t anchor) {
+    if (anchor != YAML::NullAnchor) anchored_[anchor] = 1;
+    add(1);
+  }
+  void close() {
+    const auto [anchor, size] = open_.back();
+    open_.pop_back();
+    if (anchor != YAML::NullAnchor) anchored_[anchor] = size;
+    add(size);
+  }
+  void add(std::uint64_t n) {
+    std::uint64_t& into = open_.empty() ? total_ : open_.back().second;
+    into += n;
+    if (into > kMaxYamlNodes || n > kMaxYamlNodes)
+      throw InputError(name_ + ": the YAML document expands to more than " + std::to_string(kMaxYamlNodes) +
+                       " nodes (nested aliases?); write the values out");
+  }
+  std::string name_;
+  std::vector<std::pair<YAML::anchor_t, std::uint64_t>> open_;
+  std::map<YAML::anchor_t, std::uint64_t> anchored_;
+  std::uint64_t total_ = 0;
+};
+
 // yaml-cpp keeps every pair of a mapping with a repeated key but looks up only the first:
 // a repeated key would silently lose its later value. Rejects them anywhere in the tree.
 void reject_duplicate_keys(const YAML::Node& node, const std::string& name) {
@@ -40,6 +98,10 @@ void reject_duplicate_keys(const YAML::Node& node, const std::string& name) {
 YamlReader YamlReader::load_string(const std::string& text, const std::string& name) {
   YAML::Node root;
   try {
+    std::istringstream in(text);
+    YAML::Parser parser(in);
+    ExpandedSize size(name);
+    parser.HandleNextDocument(size);
     root = YAML::Load(text);
   } catch (const YAML::Exception& e) {
     throw InputError(name + ": malformed YAML at line " + std::to_string(e.mark.line + 1) + ": " + e.msg);
@@ -56,13 +118,35 @@ std::string YamlReader::key_path(const std::string& key) const {
   return path_.empty() ? key : path_ + "." + key;
 }
 
+namespace {
+void set_flow(YAML::Node n) {
+  if (n.IsMap() || n.IsSequence()) n.SetStyle(YAML::EmitterStyle::Flow);
+  if (n.IsSequence())
+    for (YAML::Node c : n) set_flow(c);
+  if (n.IsMap())
+    for (auto kv : n) set_flow(kv.second);
+}
+}  // namespace
+
 std::string YamlReader::value_text(const std::string& key) const {
   if (!has(key)) return "";
   const YAML::Node v = node_[key];
-  if (v.IsScalar()) return v.Scalar();
-  YAML::Emitter e;
-  e << YAML::Flow << v;
-  return e.c_str();
+  std::string text;
+  if (v.IsScalar()) {
+    text = v.Scalar();
+  } else {
+    // Block lists and mappings in flow style: an error message stays on one line.
+    YAML::Node flow = YAML::Clone(v);
+    set_flow(flow);
+    YAML::Emitter e;
+    e << YAML::Flow << flow;
+    text = e.c_str();
+  }
+  for (char& c : text)
+    if (c == '\n' || c == '\r') c = ' ';
+  // A value of megabytes is named by its start.
+  if (text.size() > 200) text = text.substr(0, 200) + "...";
+  return text;
 }
 
 bool YamlReader::value_is_scalar(const std::string& key) const { return has(key) && node_[key].IsScalar(); }

@@ -314,7 +314,15 @@ FrameSequence FrameSequence::open_tum(const std::string& dir, const FrameReaderO
       RecordedCamera::load(options.intrinsics_file.empty() ? (root / "camera.yaml").string() : options.intrinsics_file);
   s.table_ = options.label_colors_file.empty() ? ClassColorTable::from_classes(SemanticClasses{})
                                                : ClassColorTable::load(options.label_colors_file);
-  const std::vector<TimedFile> rgb = read_tum_file_list((root / "rgb.txt").string());
+  std::vector<TimedFile> rgb = read_tum_file_list((root / "rgb.txt").string());
+  // Frames are mapped in time order; a list out of order is sorted, and said so.
+  std::size_t out_of_order = 0;
+  for (std::size_t i = 1; i < rgb.size(); ++i) out_of_order += rgb[i].t_s < rgb[i - 1].t_s;
+  if (out_of_order > 0) {
+    std::stable_sort(rgb.begin(), rgb.end(), [](const TimedFile& a, const TimedFile& b) { return a.t_s < b.t_s; });
+    s.notes_.push_back("rgb.txt lists frames out of time order (" + std::to_string(out_of_order) +
+                       " steps back in time); they are mapped in time order");
+  }
   const std::vector<TimedFile> depth = read_tum_file_list((root / "depth.txt").string());
   const std::vector<TimedPose> poses = read_tum_trajectory((root / "groundtruth.txt").string());
   std::vector<double> t_rgb, t_depth, t_pose;

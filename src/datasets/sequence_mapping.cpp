@@ -3,10 +3,15 @@
 namespace canopy::datasets {
 
 SequenceMapResult map_sequence(const FrameSequence& frames, perception::SemanticExtractor& extractor,
-                               mapping::ScanInserter& inserter, const std::function<void(const mapping::FrameMapStep&)>& on_frame) {
+                               mapping::ScanInserter& inserter, const std::function<void(const mapping::FrameMapStep&)>& on_frame,
+                               const std::function<bool()>& stop) {
   SequenceMapResult result;
   result.skipped = frames.skipped();
   for (std::size_t i = 0; i < frames.size(); ++i) {
+    if (stop && stop()) {
+      result.complete = false;
+      break;
+    }
     LabelledFrame frame;
     std::string why;
     mapping::FrameMapStep step;

@@ -142,6 +142,7 @@ AblationRunResult run_ablation(const AblationPlan& plan, const mission::Settings
   progress(head);
 
   std::atomic<std::size_t> next{0}, done{reused};
+  std::atomic<bool> stopped{false};
   std::mutex log_mutex;
   std::exception_ptr failure;
   auto worker = [&] {
@@ -149,6 +150,10 @@ AblationRunResult run_ablation(const AblationPlan& plan, const mission::Settings
       sim::Simulator sim(world, default_robot_config());
       sim::Renderer renderer(sim, world.spec.camera);
       for (;;) {
+        if (options.stop_requested && options.stop_requested()) {
+          stopped = true;
+          break;
+        }
         const std::size_t i = next++;
         if (i >= jobs.size()) break;
         if (!results[i].is_null()) continue;
@@ -185,6 +190,7 @@ AblationRunResult run_ablation(const AblationPlan& plan, const mission::Settings
                                    options.coverage_target);
   result.jobs = jobs.size();
   result.reused = reused;
+  result.interrupted = stopped.load() && done.load() < jobs.size();
   result.seconds = watch.seconds();
   return result;
 }

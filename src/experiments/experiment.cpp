@@ -270,12 +270,12 @@ nlohmann::json Experiment::manifest() const {
 }
 
 std::pair<int, int> parse_shard(const std::string& text, const std::string& option) {
-  int i = -1, n = -1;
-  char slash = 0, extra = 0;
-  if (std::sscanf(text.c_str(), "%d %c %d %c", &i, &slash, &n, &extra) != 3 || slash != '/' || n < 1 || i < 0 || i >= n ||
-      text.find_first_not_of("0123456789/") != std::string::npos)
-    throw InputError(option + ": '" + text + "' is not i/n with 0 <= i < n");
-  return {i, n};
+  const std::size_t slash = text.find('/');
+  if (slash == std::string::npos) throw InputError(option + ": '" + text + "' is not i/n with 0 <= i < n");
+  const std::uint64_t i = parse_uint64(text.substr(0, slash), option + " (i of i/n)", kMaxShards);
+  const std::uint64_t n = parse_uint64(text.substr(slash + 1), option + " (n of i/n)", kMaxShards);
+  if (n < 1 || i >= n) throw InputError(option + ": '" + text + "' is not i/n with 0 <= i < n");
+  return {static_cast<int>(i), static_cast<int>(n)};
 }
 
 std::vector<TrialSpec> shard_trials(const std::vector<TrialSpec>& trials, int index, int count) {

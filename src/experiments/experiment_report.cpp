@@ -196,10 +196,20 @@ MergedTrials merge_experiment_folders(const std::vector<std::string>& dirs) {
         if (r.spec.id != name) throw InputError("its trial.json describes trial " + r.spec.id);
         if (r.status != "ok" && r.status != "failed") throw InputError("unknown status '" + r.status + "'");
         r.fingerprint = r.status + (r.status == "ok" ? std::string() : "\n" + r.message);
-        if (r.status == "ok") read_mission(p / "mission", &r);
       } catch (const std::exception& e) {
         m.incomplete.push_back({p.string(), std::string("unreadable: ") + e.what()});
         continue;
+      }
+      // A trial that says it is ok but whose results are malformed (NaN, a missing column) is
+      // an error: averaging over it, or quietly leaving it out, would report wrong figures.
+      if (r.status == "ok") {
+        try {
+          read_mission(p / "mission", &r);
+        } catch (const InputError&) {
+          throw;
+        } catch (const std::exception& e) {
+          throw InputError((p / "mission").string() + ": malformed results (" + e.what() + ")");
+        }
       }
       const auto it = present.find(r.spec.id);
       if (it == present.end()) {

@@ -47,7 +47,7 @@ std::string last_line(const fs::path& log) {
 // Prepares the experiment folder: a new one gets the marker and experiment.json; an existing
 // one (resume) must list the same trials.
 void prepare_folder(const Experiment& e, const fs::path& out, bool resume) {
-  StagedDir::check_writable(out.string());
+  StagedDir::check_writable(out.string(), "experiment");
   if (!fs::exists(out / kOutputMarker)) {
     // Shards may start at once in one folder: the folder appears with its marker in a single
     // rename, so no shard ever sees it half made (a rename onto a folder someone else made
@@ -56,12 +56,12 @@ void prepare_folder(const Experiment& e, const fs::path& out, bool resume) {
                          std::to_string(std::hash<std::thread::id>()(std::this_thread::get_id()) % 100000);
     fs::remove_all(tmp);
     fs::create_directories(tmp);
-    write_file_atomic((tmp / kOutputMarker).string(), "canopy experiment\n");
+    write_output_marker(tmp.string(), "experiment");
     std::error_code ec;
     fs::rename(tmp, out, ec);
     fs::remove_all(tmp);
-    StagedDir::check_writable(out.string());
-    if (!fs::exists(out / kOutputMarker)) write_file_atomic((out / kOutputMarker).string(), "canopy experiment\n");
+    StagedDir::check_writable(out.string(), "experiment");
+    if (!fs::exists(out / kOutputMarker)) write_output_marker(out.string(), "experiment");
   }
   fs::create_directories(out / "trials");
   const fs::path manifest = out / "experiment.json";

@@ -2,6 +2,7 @@
 
 #include "canopy/mission/run_folder.h"
 
+#include <cmath>
 #include <fstream>
 #include <sstream>
 
@@ -157,12 +158,18 @@ RunFolder read_run_folder(const std::string& dir) {
     const std::vector<std::string> fields = split_csv_line(line);
     if (fields.size() != header.size()) throw InputError(views_path + ": row " + std::to_string(row) + " has the wrong column count");
     if (fields[c_success] != "1") continue;
+    double cov = 0.0, ent = 0.0;
     try {
-      f.coverage.push_back(std::stod(fields[c_cov]));
-      f.entropy.push_back(std::stod(fields[c_ent]));
+      cov = std::stod(fields[c_cov]);
+      ent = std::stod(fields[c_ent]);
     } catch (const std::exception&) {
       throw InputError(views_path + ": row " + std::to_string(row) + " has a coverage or entropy that is not a number");
     }
+    if (!std::isfinite(cov) || !std::isfinite(ent) || cov < 0.0 || cov > 1.0 || ent < 0.0)
+      throw InputError(views_path + ": row " + std::to_string(row) + " has coverage '" + fields[c_cov] + "' and entropy '" +
+                       fields[c_ent] + "' (need a coverage in [0, 1] and a finite entropy >= 0)");
+    f.coverage.push_back(cov);
+    f.entropy.push_back(ent);
   }
   const std::string summary_path = dir + "/summary.json";
   try {

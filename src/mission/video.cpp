@@ -6,6 +6,7 @@
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 
 #include "canopy/common/error.h"
 #include "canopy/common/camera.h"
@@ -17,7 +18,29 @@ namespace canopy::mission {
 
 namespace {
 std::string temp_video_path(const std::string& path) { return path + ".partial.mp4"; }
+
+// canopy's videos carry this comment in their metadata, near the start of the file (faststart).
+constexpr const char* kVideoComment = "written by canopy";
 }  // namespace
+
+bool VideoWriter::is_canopy_video(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return false;
+  std::string head(12, '\0');
+  if (!in.read(head.data(), 12) || head.compare(4, 4, "ftyp") != 0) return false;  // not an MP4
+  const std::string needle = kVideoComment;
+  std::string window = head, chunk(1 << 16, '\0');
+  std::size_t scanned = 12;
+  while (scanned < (std::size_t(16) << 20)) {
+    in.read(chunk.data(), static_cast<std::streamsize>(chunk.size()));
+    const std::size_t got = static_cast<std::size_t>(in.gcount());
+    if (got == 0) break;
+    window = window.substr(window.size() > needle.size() ? window.size() - needle.size() : 0) + chunk.substr(0, got);
+    if (window.find(needle) != std::string::npos) return true;
+    scanned += got;
+  }
+  return false;
+}
 
 void VideoWriter::validate_output_path(const std::string& path, const std::string& what) {
   if (path.empty()) throw InputError(what + ": the video file name is empty");
@@ -27,10 +50,17 @@ void VideoWriter::validate_output_path(const std::string& path, const std::strin
   const fs::path parent = fs::path(path).parent_path().empty() ? fs::path(".") : fs::path(path).parent_path();
   if (!fs::is_directory(parent, ec))
     throw InputError(what + ": cannot write '" + path + "': folder '" + parent.string() + "' does not exist");
+  // Only a video canopy wrote may be replaced: a world file or anything else named by mistake
+  // is never overwritten.
+  for (const std::string& p : {path, temp_video_path(path)})
+    if (fs::exists(p, ec) && !is_canopy_video(p))
+      throw InputError(what + ": '" + p + "' exists and is not a video canopy wrote; canopy does not overwrite it "
+                       "(remove it or choose another name)");
   // Creating the encoder's temporary file is the only reliable test (root ignores modes;
   // read-only mounts do not show in them).
   const std::string probe = temp_video_path(path);
-  const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fs::exists(probe, ec)) return;  // a video of ours, left by an interrupted run: writable as it is
+  const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
   if (fd < 0) throw InputError(what + ": cannot write '" + path + "': " + std::strerror(errno));
   ::close(fd);
   ::unlink(probe.c_str());
@@ -45,7 +75,8 @@ VideoWriter::VideoWriter(std::string path, int width, int height, double fps)
   encoder_ = std::make_unique<PipedProcess>(std::vector<std::string>{
       "ffmpeg", "-loglevel", "error", "-y", "-f", "rawvideo", "-pix_fmt", "rgb24", "-s",
       std::to_string(width) + "x" + std::to_string(height), "-r", std::to_string(fps), "-i", "-", "-c:v", "libx264",
-      "-preset", "veryfast", "-crf", "20", "-pix_fmt", "yuv420p", tmp_path_});
+      "-preset", "veryfast", "-crf", "20", "-pix_fmt", "yuv420p", "-metadata", std::string("comment=") + kVideoComment,
+      "-movflags", "+faststart", tmp_path_});
   if (!encoder_->started())
     throw InputError("--video: cannot start ffmpeg (" + encoder_->wait().error +
                      "); apt-get install ffmpeg, or run tools/deps.sh");

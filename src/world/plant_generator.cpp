@@ -220,6 +220,7 @@ Plant make_plant(const WorldSpec& spec, int index, const Vec3& base, int* next_i
 
   // Fruits hanging from peduncles, not overlapping each other.
   const int n_fruits = rng.integer(pp.fruits_min, pp.fruits_max);
+  plant.fruits_drawn = n_fruits;
   std::vector<std::pair<Vec3, double>> placed;  // bounding spheres
   for (int f = 0; f < n_fruits; ++f) {
     for (int attempt = 0; attempt < 60; ++attempt) {
@@ -244,6 +245,7 @@ Plant make_plant(const WorldSpec& spec, int index, const Vec3& base, int* next_i
       for (const auto& [c, r] : placed) clash |= (c - centre).norm() < r + radius;
       if (clash) continue;
       placed.push_back({centre, radius});
+      ++plant.fruits_placed;
       const std::string color = pick_color(rng, pp.fruit_colors);
       TriMesh mesh = make_lobed_revolution(fruit_profile(blocky, width, length), 14, blocky ? 4 : 3,
                                            blocky ? 0.10 : 0.06);
@@ -352,6 +354,15 @@ World generate_world(const WorldSpec& spec) {
                                             Vec3(p.position_m.x(), p.position_m.y(), 0.0), p.yaw_rad, &next_instance));
   world.truth = sample_ground_truth(world);
   return world;
+}
+
+std::vector<std::string> unplaced_fruit_notes(const World& world) {
+  std::vector<std::string> notes;
+  for (const Plant& p : world.plants)
+    if (p.fruits_placed < p.fruits_drawn)
+      notes.push_back("plant " + std::to_string(p.index) + ": " + std::to_string(p.fruits_placed) + " of " +
+                      std::to_string(p.fruits_drawn) + " fruits drawn fitted without overlapping (the others are left out)");
+  return notes;
 }
 
 }  // namespace canopy::world

@@ -4,6 +4,7 @@
 // the base at the origin, welds, maps materials to classes and splits fruit into instances.
 
 #include "canopy/world/plant_import.h"
+#include "canopy/world/world_spec.h"
 
 #include <assimp/Importer.hpp>
 #include <assimp/config.h>
@@ -15,6 +16,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <sstream>
 #include <functional>
 #include <limits>
 #include <map>
@@ -256,13 +258,59 @@ long ImportedPlant::triangle_count() const {
   return n;
 }
 
-ImportedPlant import_plant(const std::string& path, const ImportOptions& opt) {
-  if (opt.unit_scale && !(std::isfinite(*opt.unit_scale) && *opt.unit_scale > 0.0))
-    throw InputError("--unit-scale: value '" + std::to_string(*opt.unit_scale) + "' must be > 0");
+namespace {
+
+// The options' plausible ranges: a scale that turns a plant into a city or a speck, or a
+// negative distance, is a typo (and would give absurd meshes or no ground truth).
+void check_options(const ImportOptions& opt) {
+  auto in_range = [](double v, double lo, double hi) { return std::isfinite(v) && v >= lo && v <= hi; };
+  auto num = [](double v) {
+    std::ostringstream os;
+    os << v;
+    return os.str();
+  };
+  if (opt.unit_scale && !in_range(*opt.unit_scale, kMinUnitScale, kMaxUnitScale))
+    throw InputError("--unit-scale: value '" + num(*opt.unit_scale) + "' must be in [" + num(kMinUnitScale) + ", " +
+                     num(kMaxUnitScale) + "] metres per file unit");
   if (opt.up != "auto" && opt.up != "z" && opt.up != "y")
     throw InputError("--up: value '" + opt.up + "' must be z or y");
-  if (opt.max_triangles < 1) throw InputError("--max-triangles: must be >= 1");
-  if (!(opt.point_spacing_m >= 0.0005)) throw InputError("--spacing: must be >= 0.0005 m");
+  if (opt.max_triangles < 1 || opt.max_triangles > kMaxImportTriangles)
+    throw InputError("--max-triangles: value '" + std::to_string(opt.max_triangles) + "' must be in [1, " +
+                     std::to_string(kMaxImportTriangles) + "]");
+  if (!in_range(opt.point_spacing_m, 0.0005, 0.1)) throw InputError("--spacing: value '" + num(opt.point_spacing_m) + "' must be in [0.0005, 0.1] m");
+  if (!in_range(opt.weld_tolerance_m, 0.0, 0.01))
+    throw InputError("--weld-tolerance: value '" + num(opt.weld_tolerance_m) + "' must be in [0, 0.01] m");
+  if (!in_range(opt.min_fruit_size_m, 0.0, 1.0))
+    throw InputError("--min-fruit-size: value '" + num(opt.min_fruit_size_m) + "' must be in [0, 1] m");
+  if (!in_range(opt.merge_distance_m, 0.0, 1.0))
+    throw InputError("--merge-distance: value '" + num(opt.merge_distance_m) + "' must be in [0, 1] m");
+}
+
+// Every vertex of the scaled plant must be finite and the plant of plant size: NaN in a file,
+// or a vertex at 1e30, would reach the meshes, the ground truth and the MuJoCo scene.
+void check_geometry(const std::string& path, const std::vector<MaterialSoup>& soups) {
+  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  for (const auto& s : soups)
+    for (const auto& t : s.triangles)
+      for (const auto& v : t) {
+        if (!v.allFinite())
+          throw InputError(path + ": material '" + s.name + "' has a vertex that is not a finite number (NaN or inf)");
+        lo = lo.cwiseMin(v);
+        hi = hi.cwiseMax(v);
+      }
+  const double extent = (hi - lo).maxCoeff();
+  if (extent > kMaxPlantSizeM) {
+    std::ostringstream os;
+    os << path << ": the plant would be " << extent << " m across (at most " << kMaxPlantSizeM
+       << " m): check --unit-scale or the file's unit";
+    throw InputError(os.str());
+  }
+}
+
+}  // namespace
+
+ImportedPlant import_plant(const std::string& path, const ImportOptions& opt) {
+  check_options(opt);
   std::vector<CompiledRule> rules;
   std::vector<ClassRule> all = opt.rules;
   for (const auto& r : all) {
@@ -297,6 +345,7 @@ ImportedPlant import_plant(const std::string& path, const ImportOptions& opt) {
   std::vector<MaterialSoup> soups;
   collect_triangles(scene, T_out_file, &soups, &rep);
   if (rep.triangles_in == 0) throw InputError(path + ": the file holds no triangles");
+  check_geometry(path, soups);
   if (rep.duplicate_triangles > 0) {
     std::string nodes;
     for (size_t i = 0; i < rep.duplicate_nodes.size() && i < 3; ++i) nodes += (i ? "; " : "") + rep.duplicate_nodes[i];

@@ -32,7 +32,7 @@ void read_range(YamlReader& y, const std::string& key, double* lo, double* hi, b
   *hi = v[1];
 }
 
-void read_int_range(YamlReader& y, const std::string& key, int* lo, int* hi) {
+void read_int_range(YamlReader& y, const std::string& key, int* lo, int* hi, int max) {
   if (!y.has(key)) return;
   std::vector<int> v;
   try {
@@ -41,6 +41,7 @@ void read_int_range(YamlReader& y, const std::string& key, int* lo, int* hi) {
     y.fail(key, "must be a pair [min, max] of whole numbers");
   }
   y.check(v.size() == 2 && v[0] >= 0 && v[0] <= v[1], key, "must be a pair [min, max] with 0 <= min <= max");
+  y.check(v[1] <= max, key, "must be a pair [min, max] with max <= " + std::to_string(max) + " (a plausible plant)");
   *lo = v[0];
   *hi = v[1];
 }
@@ -120,6 +121,12 @@ WorldSpec WorldSpec::load(const std::string& path) {
   WorldSpec s;
   s.source_file = path;
   s.name = y.get("name", s.name);
+  // The name goes into folder and file names of results and into plots.
+  y.check(!s.name.empty() && s.name.size() <= 64 &&
+              s.name.find_first_not_of("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789_.-") ==
+                  std::string::npos &&
+              s.name.find("..") == std::string::npos,
+          "name", "must be 1-64 letters, digits, '_', '-' or '.' (no '..', no '/')");
   const long long seed = y.get<long long>("seed", static_cast<long long>(s.seed));
   y.check(seed >= 0, "seed", "must be >= 0");
   s.seed = static_cast<std::uint64_t>(seed);
@@ -156,11 +163,11 @@ WorldSpec WorldSpec::load(const std::string& path) {
   read_range(p, "height_m", &pp.height_min_m, &pp.height_max_m);
   read_range(p, "stem_diameter_m", &pp.stem_diameter_min_m, &pp.stem_diameter_max_m);
   read_range(p, "v_angle_deg", &pp.v_angle_min_deg, &pp.v_angle_max_deg, false);
-  read_int_range(p, "leaves_per_stem", &pp.leaves_per_stem_min, &pp.leaves_per_stem_max);
+  read_int_range(p, "leaves_per_stem", &pp.leaves_per_stem_min, &pp.leaves_per_stem_max, kMaxLeavesPerStem);
   read_range(p, "leaf_length_m", &pp.leaf_length_min_m, &pp.leaf_length_max_m);
   pp.leaf_width_ratio = read_positive(p, "leaf_width_ratio", pp.leaf_width_ratio);
   read_range(p, "petiole_length_m", &pp.petiole_length_min_m, &pp.petiole_length_max_m);
-  read_int_range(p, "fruits", &pp.fruits_min, &pp.fruits_max);
+  read_int_range(p, "fruits", &pp.fruits_min, &pp.fruits_max, kMaxFruitsPerPlant);
   read_range(p, "fruit_zone", &pp.fruit_zone_min, &pp.fruit_zone_max);
   pp.blocky_fraction = p.get("blocky_fraction", pp.blocky_fraction);
   p.check(pp.blocky_fraction >= 0.0 && pp.blocky_fraction <= 1.0, "blocky_fraction", "must be in [0, 1]");

@@ -111,18 +111,18 @@ TEST(Io, StagedDirOnlyAppearsOnCommit) {
   const std::string out = testing::TempDir() + "/staged_out";
   fs::remove_all(out);
   {
-    StagedDir d(out);
+    StagedDir d(out, "test");
     write_file_atomic(d.path("x.txt"), "x");
   }  // no commit: nothing left
   EXPECT_FALSE(fs::exists(out));
   EXPECT_FALSE(fs::exists(out + ".partial"));
-  StagedDir d(out);
+  StagedDir d(out, "test");
   write_file_atomic(d.path("x.txt"), "x");
   d.commit();
   EXPECT_TRUE(fs::exists(out + "/x.txt"));
   // A second run may replace canopy's own output...
   {
-    StagedDir again(out);
+    StagedDir again(out, "test");
     write_file_atomic(again.path("y.txt"), "y");
     again.commit();
   }
@@ -132,7 +132,7 @@ TEST(Io, StagedDirOnlyAppearsOnCommit) {
   const std::string foreign = testing::TempDir() + "/foreign_folder";
   fs::create_directories(foreign);
   write_file_atomic(foreign + "/precious.txt", "keep me");
-  EXPECT_THROW(StagedDir{foreign}, InputError);
+  EXPECT_THROW(StagedDir(foreign, "test"), InputError);
   EXPECT_TRUE(fs::exists(foreign + "/precious.txt"));
 }
 
@@ -143,20 +143,20 @@ TEST(Io, StagedDirResumeAddsToCanopyFoldersOnly) {
   fs::remove_all(out + ".partial");
   using Mode = StagedDir::Mode;
   {  // a fresh resume run that fails leaves nothing behind
-    StagedDir d(out, Mode::kResume);
+    StagedDir d(out, "test", Mode::kResume);
     write_file_atomic(d.path("a.txt"), "a");
   }
   EXPECT_FALSE(fs::exists(out));
   EXPECT_FALSE(fs::exists(out + ".partial"));
   {
-    StagedDir d(out, Mode::kResume);
+    StagedDir d(out, "test", Mode::kResume);
     EXPECT_EQ(d.working_dir(), out + ".partial");
     EXPECT_FALSE(d.resuming());
     write_file_atomic(d.path("a.txt"), "a");
     d.commit();
   }
   {  // resuming writes into the folder itself and keeps what is there, even on failure
-    StagedDir d(out, Mode::kResume);
+    StagedDir d(out, "test", Mode::kResume);
     EXPECT_EQ(d.working_dir(), out);
     EXPECT_TRUE(d.resuming());
     write_file_atomic(d.make_subdir("jobs/x") + "/b.txt", "b");
@@ -169,7 +169,7 @@ TEST(Io, StagedDirResumeAddsToCanopyFoldersOnly) {
   write_file_atomic(out + ".partial/" + kOutputMarker, "x");
   write_file_atomic(out + ".partial/c.txt", "c");
   {
-    StagedDir d(out, Mode::kResume);
+    StagedDir d(out, "test", Mode::kResume);
     EXPECT_EQ(d.working_dir(), out + ".partial");
     d.commit();
   }
@@ -180,8 +180,8 @@ TEST(Io, StagedDirResumeAddsToCanopyFoldersOnly) {
   fs::remove_all(foreign);
   fs::create_directories(foreign);
   write_file_atomic(foreign + "/metrics.json", "mine");
-  EXPECT_THROW(StagedDir(foreign, Mode::kResume), InputError);
-  EXPECT_THROW(StagedDir(foreign, Mode::kReplace), InputError);
+  EXPECT_THROW(StagedDir(foreign, "test", Mode::kResume), InputError);
+  EXPECT_THROW(StagedDir(foreign, "test", Mode::kReplace), InputError);
   EXPECT_EQ(read_file(foreign + "/metrics.json"), "mine");
   EXPECT_EQ(fs::directory_iterator(foreign)->path().filename(), "metrics.json");
   EXPECT_FALSE(fs::exists(foreign + ".partial"));
@@ -190,13 +190,131 @@ TEST(Io, StagedDirResumeAddsToCanopyFoldersOnly) {
   fs::remove_all(empty);
   fs::create_directories(empty);
   {
-    StagedDir d(empty, Mode::kResume);
+    StagedDir d(empty, "test", Mode::kResume);
     EXPECT_EQ(d.working_dir(), empty);
   }
   EXPECT_TRUE(fs::exists(empty + "/" + kOutputMarker));
   // A file is not a folder.
   write_file_atomic(testing::TempDir() + "/a_file", "f");
-  EXPECT_THROW(StagedDir(testing::TempDir() + "/a_file"), InputError);
+  EXPECT_THROW(StagedDir(testing::TempDir() + "/a_file", "test"), InputError);
+}
+
+// Each folder's marker names its kind; output of another kind never replaces or joins it
+// (an experiment is never replaced by a report), and two commands never write one folder.
+TEST(Io, StagedDirKeepsKindsApartAndOneWriterAtATime) {
+  namespace fs = std::filesystem;
+  const std::string exp = testing::TempDir() + "/kind_experiment";
+  fs::remove_all(exp);
+  fs::create_directories(exp + "/trials/t1");
+  write_output_marker(exp, "experiment");
+  write_file_atomic(exp + "/experiment.json", "{}");
+  EXPECT_EQ(output_kind(exp), "experiment");
+  try {
+    StagedDir d(exp, "report");
+    FAIL() << "a report replaced an experiment";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("holds the output of `canopy experiment`"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(StagedDir(exp, "mission", StagedDir::Mode::kResume), InputError);
+  EXPECT_TRUE(fs::exists(exp + "/experiment.json"));
+  EXPECT_TRUE(fs::exists(exp + "/trials/t1"));
+  EXPECT_NO_THROW(StagedDir::check_writable(exp, "experiment"));
+  // An older marker without a kind may be replaced by any kind (as before).
+  const std::string old = testing::TempDir() + "/kind_legacy";
+  fs::remove_all(old);
+  fs::create_directories(old);
+  write_file_atomic(old + "/" + kOutputMarker, "written by canopy; a later run may replace this folder\n");
+  EXPECT_EQ(output_kind(old), "any");
+  EXPECT_NO_THROW(StagedDir::check_writable(old, "map"));
+  EXPECT_EQ(output_kind(testing::TempDir()), "");
+  // One writer: a second StagedDir on the same folder is refused while the first lives.
+  const std::string out = testing::TempDir() + "/busy_out";
+  fs::remove_all(out);
+  {
+    StagedDir first(out, "mission");
+    write_file_atomic(first.path("views.csv"), "a");
+    try {
+      StagedDir second(out, "mission");
+      FAIL() << "two writers";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("is busy"), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(read_file(first.path("views.csv")), "a");  // the first one's files are untouched
+    first.commit();
+  }
+  EXPECT_FALSE(fs::exists(out + ".lock"));
+  EXPECT_NO_THROW(StagedDir(out, "mission"));  // free again
+  // keep(): an interrupted run's folder stays for --resume.
+  const std::string kept = testing::TempDir() + "/kept_out";
+  fs::remove_all(kept);
+  fs::remove_all(kept + ".partial");
+  {
+    StagedDir d(kept, "ablate");
+    write_file_atomic(d.path("job.json"), "{}");
+    d.keep();
+  }
+  EXPECT_TRUE(fs::exists(kept + ".partial/job.json"));
+}
+
+// Inputs that never end or claim absurd sizes are refused before anything is allocated.
+TEST(Io, ReadFileAndPngRefuseDevicesAndAbsurdSizes) {
+  EXPECT_THROW(read_file("/dev/zero"), InputError);
+  const std::string big = testing::TempDir() + "/big.txt";
+  write_file_atomic(big, std::string(2000, 'x'));
+  EXPECT_THROW(read_file(big, 1000), InputError);
+  EXPECT_EQ(read_file(big).size(), 2000u);
+  // A PNG whose header claims 100000 x 100000 pixels (signature, IHDR and nothing else).
+  const unsigned char png[] = {0x89, 'P', 'N', 'G', 0x0d, 0x0a, 0x1a, 0x0a, 0, 0, 0, 13, 'I', 'H', 'D', 'R',
+                               0, 1, 0x86, 0xa0, 0, 1, 0x86, 0xa0, 16, 0, 0, 0, 0, 0xdd, 0xa9, 0x88, 0x57};
+  const std::string path = testing::TempDir() + "/huge_header.png";
+  write_file_atomic(path, std::string(reinterpret_cast<const char*>(png), sizeof png));
+  try {
+    read_png_gray16(path);
+    FAIL() << "a 100000 x 100000 header was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("100000 x 100000"), std::string::npos) << e.what();
+  }
+}
+
+TEST(Io, WholeNumbersAndShardsDoNotWrapAround) {
+  EXPECT_EQ(parse_uint64("18446744073709551615", "--seed"), 18446744073709551615ull);
+  EXPECT_EQ(parse_uint64("0", "--seed"), 0u);
+  for (const char* bad : {"-1", "99999999999999999999", "18446744073709551616", "1e3", " 1", "", "0x10", "+5"})
+    EXPECT_THROW(parse_uint64(bad, "--seed"), InputError) << bad;
+  EXPECT_THROW(parse_uint64("11", "x", 10), InputError);
+  EXPECT_THROW(parse_numbers("0x10,0,0", 3, "--base"), InputError);
+  EXPECT_THROW(parse_numbers("inf,0,0", 3, "--base"), InputError);
+  EXPECT_EQ(parse_numbers("-1.5e2, 2 ,3", 3, "--base")[0], -150.0);
+}
+
+// Nested aliases that expand to billions of nodes are refused while parsing, in linear time.
+TEST(YamlReader, AliasBombsAndEmptyFilesAreRefused) {
+  std::string bomb = "a0: &a0 [x, x, x, x, x, x, x, x, x, x]\n";
+  for (int i = 1; i <= 9; ++i) {
+    bomb += "a" + std::to_string(i) + ": &a" + std::to_string(i) + " [";
+    for (int k = 0; k < 10; ++k) bomb += std::string(k ? ", " : "") + "*a" + std::to_string(i - 1);
+    bomb += "]\n";
+  }
+  try {
+    YamlReader::load_string(bomb, "bomb.yaml");
+    FAIL() << "an alias bomb was parsed";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("expands to more than"), std::string::npos) << e.what();
+  }
+  // A few aliases are fine.
+  EXPECT_NO_THROW(YamlReader::load_string("base: &b {x: 1}\none: *b\ntwo: *b\n", "ok.yaml"));
+  const std::string empty = testing::TempDir() + "/empty.yaml";
+  write_file_atomic(empty, "  \n");
+  EXPECT_THROW(YamlReader::load_file(empty), InputError);
+  EXPECT_THROW(YamlReader::load_file("/dev/zero"), InputError);
+  // A bad block list is named on one line.
+  YamlReader y = YamlReader::load_string("fruits:\n  - 1\n  - .nan\n", "w.yaml");
+  try {
+    y.fail("fruits", "must be finite");
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("[1, .nan]"), std::string::npos) << e.what();
+  }
 }
 
 TEST(Io, FailedRenameReportsTheRealError) {

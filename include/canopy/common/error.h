@@ -16,11 +16,12 @@ class InputError : public std::runtime_error {
   explicit InputError(const std::string& what) : std::runtime_error(what) {}
 };
 
-/// The user stopped a run (Ctrl-C) after its partial results were saved; the CLI exits
-/// with code 130.
+/// The user stopped a run (Ctrl-C, SIGTERM) after its partial results were saved; the CLI
+/// exits with 128 + the signal (130, 143).
 class Interrupted : public std::runtime_error {
  public:
   Interrupted() : std::runtime_error("interrupted; partial results saved and marked incomplete") {}
+  explicit Interrupted(const std::string& what) : std::runtime_error(what) {}
 };
 
 /// A broken internal invariant (a bug, not bad input).

@@ -5,6 +5,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <cstdint>
 #include <set>
 #include <string>
 #include <vector>
@@ -14,13 +15,21 @@
 
 namespace canopy {
 
+/// Largest YAML input (world, settings, experiment files): these are hand-written files.
+constexpr std::uintmax_t kMaxYamlFileBytes = std::uintmax_t(4) << 20;
+/// Most nodes a YAML document may have once its aliases are expanded (a few hundred in
+/// canopy's own files): nested aliases can otherwise describe billions of nodes in a few
+/// hundred bytes.
+constexpr std::uint64_t kMaxYamlNodes = 100000;
+
 /// Reads one YAML mapping with key tracking. Throws InputError on any problem.
 class YamlReader {
  public:
   YamlReader(YAML::Node node, std::string file, std::string path);
 
-  /// Loads and parses `file`; throws InputError when it is missing, a folder, malformed or
-  /// has a repeated key in any mapping (the message names both lines).
+  /// Loads and parses `file`; throws InputError when it is missing, a folder, empty, larger
+  /// than kMaxYamlFileBytes, malformed, expands (through aliases) to more than kMaxYamlNodes
+  /// nodes, or has a repeated key in any mapping (the message names both lines).
   static YamlReader load_file(const std::string& file);
   /// Parses YAML text (for tests and embedded configs); `name` stands in for the file.
   static YamlReader load_string(const std::string& text, const std::string& name);

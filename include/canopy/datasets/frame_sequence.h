@@ -105,6 +105,8 @@ class FrameSequence {
   const std::string& name(std::size_t i) const { return frames_[i].name; }
   /// Frames dropped while opening (no depth partner, no pose).
   const std::vector<SkippedFrame>& skipped() const { return skipped_; }
+  /// What the reader changed or assumed (e.g. frames sorted into time order), for the log.
+  const std::vector<std::string>& notes() const { return notes_; }
 
   /// Reads frame i into `frame` (labels in class_id when label_images is set). Returns false
   /// with `why` when the frame has no valid depth in range; throws InputError on a bad file
@@ -125,6 +127,7 @@ class FrameSequence {
   ClassColorTable table_;
   std::vector<Entry> frames_;
   std::vector<SkippedFrame> skipped_;
+  std::vector<std::string> notes_;
 
   static FrameSequence open_canopy(const std::string& dir, const std::vector<std::string>& folders,
                                    const FrameReaderOptions& options);

@@ -17,12 +17,14 @@ struct SequenceMapResult {
   std::vector<mapping::FrameMapStep> steps;
   std::vector<SkippedFrame> skipped;  ///< Skipped while opening and while reading.
   std::size_t mapped = 0;
+  bool complete = true;               ///< False when `stop` ended it early.
 };
 
 /// Maps every frame of `frames` into the inserter's map; `on_frame` (may be null) is called
-/// after each. Throws InputError on a bad file (frame_sequence.h).
+/// after each; `stop` (may be null) is polled before each and ends the run early when true. Throws InputError on a bad file (frame_sequence.h).
 SequenceMapResult map_sequence(const FrameSequence& frames, perception::SemanticExtractor& extractor,
                                mapping::ScanInserter& inserter,
-                               const std::function<void(const mapping::FrameMapStep&)>& on_frame = nullptr);
+                               const std::function<void(const mapping::FrameMapStep&)>& on_frame = nullptr,
+                               const std::function<bool()>& stop = nullptr);
 
 }  // namespace canopy::datasets

@@ -45,12 +45,14 @@ struct AblationRunOptions {
   bool summarize_only = false;   ///< Run nothing; summarize the finished jobs.
   double coverage_target = 0.8;  ///< For the views-to-target table.
   std::function<void(const std::string& line)> progress;
+  std::function<bool()> stop_requested;  ///< Polled before each job; true: no further job starts.
 };
 
 /// What it did.
 struct AblationRunResult {
   std::vector<AblationRow> rows;
   std::size_t jobs = 0, reused = 0;
+  bool interrupted = false;  ///< stop_requested ended the run; the finished jobs are written.
   double seconds = 0.0;
 };
 

@@ -83,7 +83,9 @@ struct Experiment {
   nlohmann::json manifest() const;
 };
 
-/// Parses "i/n" (0 <= i < n); throws InputError naming `option`.
+/// Most shards an experiment may be split into.
+constexpr std::uint64_t kMaxShards = 1000000;
+/// Parses "i/n" (0 <= i < n <= kMaxShards, decimal digits only); throws InputError naming `option`.
 std::pair<int, int> parse_shard(const std::string& text, const std::string& option = "--shard");
 /// Trials of shard i of n: the k-th trial of `trials` belongs to shard k mod n, so the n
 /// shards are disjoint and together hold every trial once.

@@ -30,9 +30,12 @@ class VideoWriter {
   VideoWriter& operator=(const VideoWriter&) = delete;
 
   /// Throws InputError (prefixed with `what`, naming the path) unless `path` can be
-  /// written as a video: not a folder, in an existing folder where a file can be created.
+  /// written as a video: not a folder, in an existing folder where a file can be created, and
+  /// either absent or a video canopy wrote (anything else is never overwritten).
   /// Call it before a long run so a bad path fails at once.
   static void validate_output_path(const std::string& path, const std::string& what = "--video");
+  /// True when `path` is an MP4 this class wrote (its metadata carries canopy's comment).
+  static bool is_canopy_video(const std::string& path);
 
   /// Appends one frame (must match the size given at construction). After an encoder
   /// failure the frame is dropped; nothing throws.

@@ -30,6 +30,11 @@ enum class TruthMode {
   kVertices,  ///< The fruit meshes' own (welded) vertices, as published evaluations of these models do.
 };
 
+/// Plausible ranges of the import options (metres per file unit; triangles).
+constexpr double kMinUnitScale = 1e-6;
+constexpr double kMaxUnitScale = 1e3;
+constexpr long kMaxImportTriangles = 10000000;
+
 /// Everything `import_plant` needs besides the file.
 struct ImportOptions {
   std::vector<ClassRule> rules;              ///< First match wins.

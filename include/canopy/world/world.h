@@ -37,6 +37,8 @@ struct Plant {
   double height_m = 0.0;
   std::string import_dir;           ///< Imported plants: their plant folder ("" for procedural).
   std::vector<PlantPart> parts;
+  int fruits_drawn = 0;             ///< Procedural plants: fruits drawn from the spec's range.
+  int fruits_placed = 0;            ///< ... of which fitted without overlapping (the rest are dropped).
 };
 
 /// A generated greenhouse world.
@@ -47,6 +49,10 @@ struct World {
 
   size_t triangle_count() const;
 };
+
+/// One line per plant whose drawn fruits did not all fit without overlapping ("plant 3: 12
+/// of 20 fruits fitted"); empty when every fruit was placed.
+std::vector<std::string> unplaced_fruit_notes(const World& world);
 
 /// Samples every fruit's surface uniformly by area, about spec.gt_point_spacing_m apart.
 GroundTruth sample_ground_truth(const World& world);

@@ -19,6 +19,11 @@ namespace canopy::world {
 constexpr double kMaxPlantSizeM = 10.0;
 /// Largest distance from the origin that rows and the robot start may reach [m].
 constexpr double kMaxWorldExtentM = 1000.0;
+/// Most leaves per stem and fruits per plant a world file may ask for (a sweet-pepper stem
+/// has tens of leaves and a plant a handful of fruits; more is a typo that would hang the
+/// generator or exhaust memory).
+constexpr int kMaxLeavesPerStem = 200;
+constexpr int kMaxFruitsPerPlant = 50;
 
 /// Plants in rows parallel to the world x axis, on both sides of an aisle along y = 0.
 struct RowLayout {
