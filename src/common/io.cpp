@@ -414,10 +414,14 @@ StagedDir::~StagedDir() {
     std::error_code ec;
     fs::remove_all(working_dir_, ec);
   }
-  if (lock_fd_ >= 0) {
-    ::unlink((final_dir_ + ".lock").c_str());
-    ::close(lock_fd_);
-  }
+  unlock();
+}
+
+void StagedDir::unlock() {
+  if (lock_fd_ < 0) return;
+  ::unlink((final_dir_ + ".lock").c_str());
+  ::close(lock_fd_);
+  lock_fd_ = -1;
 }
 
 std::string StagedDir::path(const std::string& name) const { return working_dir_ + "/" + name; }
@@ -431,6 +435,7 @@ std::string StagedDir::make_subdir(const std::string& name) const {
 void StagedDir::commit() {
   if (working_dir_ == final_dir_) {
     committed_ = true;
+    unlock();
     return;
   }
   // Move the previous output aside, move the new one in, then delete the old one: <dir>
@@ -447,6 +452,7 @@ void StagedDir::commit() {
   }
   committed_ = true;
   if (had_previous) fs::remove_all(old, ec);
+  unlock();
 }
 
 }  // namespace canopy

@@ -116,9 +116,11 @@ TEST(Io, StagedDirOnlyAppearsOnCommit) {
   }  // no commit: nothing left
   EXPECT_FALSE(fs::exists(out));
   EXPECT_FALSE(fs::exists(out + ".partial"));
-  StagedDir d(out, "test");
-  write_file_atomic(d.path("x.txt"), "x");
-  d.commit();
+  {
+    StagedDir d(out, "test");
+    write_file_atomic(d.path("x.txt"), "x");
+    d.commit();
+  }
   EXPECT_TRUE(fs::exists(out + "/x.txt"));
   // A second run may replace canopy's own output...
   {
@@ -263,9 +265,12 @@ TEST(Io, ReadFileAndPngRefuseDevicesAndAbsurdSizes) {
   write_file_atomic(big, std::string(2000, 'x'));
   EXPECT_THROW(read_file(big, 1000), InputError);
   EXPECT_EQ(read_file(big).size(), 2000u);
-  // A PNG whose header claims 100000 x 100000 pixels (signature, IHDR and nothing else).
-  const unsigned char png[] = {0x89, 'P', 'N', 'G', 0x0d, 0x0a, 0x1a, 0x0a, 0, 0, 0, 13, 'I', 'H', 'D', 'R',
-                               0, 1, 0x86, 0xa0, 0, 1, 0x86, 0xa0, 16, 0, 0, 0, 0, 0xdd, 0xa9, 0x88, 0x57};
+  // A PNG whose header claims 100000 x 100000 16-bit pixels (signature, IHDR, a token IDAT, IEND).
+  const unsigned char png[] = {0x89, 0x50, 0x4e, 0x47, 0x0d, 0x0a, 0x1a, 0x0a, 0x00, 0x00, 0x00, 0x0d, 0x49, 0x48,
+                               0x44, 0x52, 0x00, 0x01, 0x86, 0xa0, 0x00, 0x01, 0x86, 0xa0, 0x10, 0x00, 0x00, 0x00,
+                               0x00, 0xdd, 0xa9, 0x88, 0x57, 0x00, 0x00, 0x00, 0x0b, 0x49, 0x44, 0x41, 0x54, 0x78,
+                               0x9c, 0x63, 0x60, 0x80, 0x00, 0x00, 0x00, 0x08, 0x00, 0x01, 0xb7, 0x58, 0x73, 0x95,
+                               0x00, 0x00, 0x00, 0x00, 0x49, 0x45, 0x4e, 0x44, 0xae, 0x42, 0x60, 0x82};
   const std::string path = testing::TempDir() + "/huge_header.png";
   write_file_atomic(path, std::string(reinterpret_cast<const char*>(png), sizeof png));
   try {

@@ -105,7 +105,7 @@ set +e
 wait "$pid"
 code=$?
 set -e
-[[ $code -eq 130 ]] || { cat "$dir/kill.log"; fail "killed sweep: exit $code, expected 130"; }
+[[ $code -eq 143 ]] || { cat "$dir/kill.log"; fail "killed sweep (SIGTERM): exit $code, expected 143"; }
 complete=0
 for t in "$dir/kill/trials"/*; do
   case "$t" in

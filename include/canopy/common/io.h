@@ -115,6 +115,7 @@ class StagedDir {
   void keep() { keep_ = true; }
 
  private:
+  void unlock();
   std::string final_dir_;
   std::string working_dir_;
   std::string option_;
