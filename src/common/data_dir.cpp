@@ -1,5 +1,6 @@
 #include "canopy/common/data_dir.h"
 
+#include <dlfcn.h>
 #include <unistd.h>
 
 #include <cstdlib>
@@ -23,6 +24,16 @@ fs::path executable_dir() {
   return ec ? fs::path() : exe.parent_path();
 }
 
+// The folder of the binary this code is linked into: the executable, or a shared object
+// loaded by another program (the Python module inside python3).
+fs::path code_dir() {
+  Dl_info info{};
+  if (dladdr(reinterpret_cast<const void*>(&executable_dir), &info) == 0 || !info.dli_fname) return {};
+  std::error_code ec;
+  const fs::path object = fs::canonical(info.dli_fname, ec);
+  return ec ? fs::path() : object.parent_path();
+}
+
 // The pointer file's first line, resolved against the pointer's folder.
 fs::path follow_pointer(const fs::path& dir) {
   std::ifstream in(dir / kDataDirPointer);
@@ -37,14 +48,21 @@ std::string find_data_dir() {
     const fs::path p = fs::absolute(env).lexically_normal();
     return is_data_dir(p) ? p.string() : std::string();
   }
-  const fs::path exe_dir = executable_dir();
-  if (exe_dir.empty()) return {};
-  const fs::path installed = (exe_dir / ".." / "share" / "canopy").lexically_normal();
-  if (is_data_dir(installed)) return installed.string();
-  for (fs::path d = exe_dir; !d.empty(); d = d.parent_path()) {
-    const fs::path p = follow_pointer(d);
-    if (is_data_dir(p)) return p.string();
-    if (d == d.root_path()) break;
+  // From the folder of the binary holding this code (the executable, or the Python module in
+  // <prefix>/lib/python3/dist-packages/canopy/ or <build>/python/canopy/), then from the
+  // executable's: that folder and its parents, for an installed prefix (<parent>/share/canopy)
+  // or a build tree's pointer file.
+  for (const fs::path& start : {code_dir(), executable_dir()}) {
+    if (start.empty()) continue;
+    for (fs::path d = start; !d.empty(); d = d.parent_path()) {
+      if (d != start) {
+        const fs::path installed = (d / "share" / "canopy").lexically_normal();
+        if (is_data_dir(installed)) return installed.string();
+      }
+      const fs::path p = follow_pointer(d);
+      if (is_data_dir(p)) return p.string();
+      if (d == d.root_path()) break;
+    }
   }
   return {};
 }
