@@ -175,8 +175,9 @@ it with zero roll: {'pose': (N, 4, 4), 'target': (N, 3), 'polar_deg', 'azimuth_d
       }, py::arg("map"), py::arg("poses"), py::arg("targets"), py::arg("gain") = "osamcep", py::arg("rays") = "ours",
       py::arg("settings") = py::none(), py::arg("intrinsics") = py::none(), py::arg("seed") = 1,
       R"(Scores views by a gain chosen by name (gain_names(); rays: ray_set_names()): poses (N, 4, 4)
-looking at targets (N, 3). Returns {'gain', 'status' (ok, no_rays, target_behind,
-inside_occupied, outside_map), 'rays', 'voxels'}: arrays of N. seed feeds the rs gain
+looking at targets (N, 3). Returns {'gain', 'status' ('ok' or why the view scores 0: 'no rays
+in the window', 'target not in front of the camera', 'camera inside an occupied voxel',
+'camera outside the map'), 'rays', 'voxels'}: arrays of N. seed feeds the rs gain
 (view i gets a seed mixed from seed and i). Builds the map's voxel index for the call; a
 planner in the loop scores against the mission's index with request.gains.)");
 

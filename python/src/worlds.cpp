@@ -4,6 +4,7 @@
 
 #include "canopy/common/data_dir.h"
 #include "canopy/common/error.h"
+#include "canopy/evaluation/view_presets.h"
 #include "canopy/robot/robot_description.h"
 #include "objects.h"
 
@@ -126,6 +127,10 @@ center, bbox_min, bbox_max (N, 3) [m], surface_area_m2, surface_points (sample c
           }
         return py::dict(py::arg("points") = points_array(points), py::arg("instance_id") = array_of(ids));
       }, "Every fruit's surface samples (what coverage is scored on): {'points': (M, 3), 'instance_id': (M,)}.")
+      .def("views", [](const PyWorld& w, const std::string& spec) {
+        return poses_array(evaluation::views_from_spec(spec, w.world()));
+      }, py::arg("spec") = "ring", R"(Camera poses around the plants, as `canopy map --views`: 'ring' (around each plant),
+'aisle' (along each row, from the aisle) or a file of 'x y z qw qx qy qz' lines: (N, 4, 4).)")
       .def("render", [](PyWorld& w, const py::object& pose) {
         const Pose T = pose_from(pose, "pose");
         PyFrame f;
