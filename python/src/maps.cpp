@@ -44,23 +44,22 @@ bool PyMap::identical(const PyMap& a, const PyMap& b) {
   return a.get().identical(b.get());
 }
 
+void PyMap::make_inserter() {
+  mapping::SemanticOcTree& map = owned();
+  if (inserter_) return;
+  inserter_ = std::make_unique<mapping::ScanInserter>(map);
+  extractor_ = std::make_unique<perception::SemanticExtractor>(settings_.extractor, map.classes());
+}
+
 mapping::FrameMapStep PyMap::insert(const LabelledFrame& frame) {
   std::lock_guard<std::mutex> lock(mutex_);
-  mapping::SemanticOcTree& map = owned();
-  if (!inserter_) {
-    inserter_ = std::make_unique<mapping::ScanInserter>(map);
-    extractor_ = std::make_unique<perception::SemanticExtractor>(settings_.extractor, map.classes());
-  }
+  make_inserter();
   return mapping::map_frame(frame, *extractor_, *inserter_);
 }
 
 mapping::InsertStats PyMap::insert_cloud(const perception::LabelledCloud& cloud) {
   std::lock_guard<std::mutex> lock(mutex_);
-  mapping::SemanticOcTree& map = owned();
-  if (!inserter_) {
-    inserter_ = std::make_unique<mapping::ScanInserter>(map);
-    extractor_ = std::make_unique<perception::SemanticExtractor>(settings_.extractor, map.classes());
-  }
+  make_inserter();
   return inserter_->insert(cloud);
 }
 

@@ -155,13 +155,16 @@ truth_contacts, self_contacts.)")
           if (!progress.is_none())
             cb.progress = [&progress](const std::string& message) {
               py::gil_scoped_acquire gil;
-              progress(message);
+              call_noting_interrupt([&] { progress(message); });
             };
           // Ctrl-C: Python's signal handler only sets a flag while the mission runs without the
-          // GIL; it is polled a few times a second between simulation steps.
+          // GIL; it is polled a few times a second between simulation steps, and noted when
+          // Python code the mission called (planner, progress) raised KeyboardInterrupt.
+          take_interrupt();
           bool interrupted = false;
           Stopwatch since_poll;
           cb.stop_requested = [&interrupted, &since_poll] {
+            if (take_interrupt()) interrupted = true;
             if (interrupted || since_poll.seconds() < 0.2) return interrupted;
             since_poll.restart();
             py::gil_scoped_acquire gil;
@@ -193,6 +196,11 @@ truth_contacts, self_contacts.)")
               recorder = std::make_unique<mission::MissionVideo>(video_path, video_w, video_h, video_fps,
                                                                  mission.simulator(), world.world().spec.classes);
             result->result = mission.run();
+            if (take_interrupt()) interrupted = true;  // noted after the last poll (the last stop's planner)
+            if (interrupted) {
+              result->result.complete = false;
+              result->result.end_reason = "interrupted";
+            }
             mission::RunContext context;
             context.seed = seed;
             context.world_file = world.file();
@@ -212,7 +220,7 @@ truth_contacts, self_contacts.)")
           if (staged) staged->commit();
           if (interrupted) {
             PyErr_SetString(PyExc_KeyboardInterrupt,
-                            out.is_none() ? "mission interrupted" : "mission interrupted; partial results saved and marked incomplete");
+                            out.is_none() ? "mission interrupted" : "mission interrupted; the results so far are in the out folder");
             throw py::error_already_set();
           }
           if (!video_error.empty())

@@ -89,6 +89,7 @@ class PyMap {
   PyMap() = default;
   const mapping::SemanticOcTree& get() const;
   mapping::SemanticOcTree& owned();
+  void make_inserter();  // the first insert's (owned maps only; mutex_ held)
 
   std::unique_ptr<mapping::SemanticOcTree> owned_;
   const mapping::SemanticOcTree* borrowed_ = nullptr;

@@ -198,6 +198,7 @@ planner in the loop scores against the mission's index with request.gains.)");
         ps.method = s.method;
         const motion::MotionConfig motion = s.motion;
         motion::NextViews next;
+        take_interrupt();
         {
           const PendingPlanner pending(planner, s.mapping);
           py::gil_scoped_release release;
@@ -205,6 +206,10 @@ planner in the loop scores against the mission's index with request.gains.)");
           next = map.read([&](const mapping::SemanticOcTree& tree) {
             return motion::plan_next_views(tree, *p, robot_model(), motion, req);
           });
+        }
+        if (take_interrupt()) {  // Ctrl-C in the planner
+          PyErr_SetNone(PyExc_KeyboardInterrupt);
+          throw py::error_already_set();
         }
         py::dict out(py::arg("views") = planned_views_dict(next.ordered, next.unreachable),
                      py::arg("method") = s.method.name, py::arg("region") = box_array(req.region),

@@ -12,6 +12,7 @@ namespace canopy::python {
 namespace {
 
 thread_local const PendingPlanner* g_pending = nullptr;
+thread_local bool g_interrupted = false;
 
 class PythonPlanner;
 
@@ -62,7 +63,13 @@ class PythonPlanner final : public nbv::ViewPlanner {
     request->alive = alive;
     request->map = PyMap::borrow(*req.map, alive, mapping_);
     request->stop = stop_;
-    const py::object result = fn_(request);
+    py::object result;
+    if (!call_noting_interrupt([&] { result = fn_(request); })) {
+      nbv::ViewBatch batch;  // the stop ends; the mission stops at its next step
+      batch.finished = true;
+      batch.reason = "interrupted";
+      return batch;
+    }
     return batch_from(result);
   }
 
@@ -75,7 +82,7 @@ class PythonPlanner final : public nbv::ViewPlanner {
     ++stop_;
     if (begin_stop_.is_none()) return;
     py::gil_scoped_acquire gil;
-    begin_stop_();
+    call_noting_interrupt([&] { begin_stop_(); });
   }
 
   const std::vector<Pose>& taken_poses() const { return taken_poses_; }
@@ -180,6 +187,14 @@ class PythonPlanner final : public nbv::ViewPlanner {
 };
 
 }  // namespace
+
+void note_interrupt() { g_interrupted = true; }
+
+bool take_interrupt() {
+  const bool was = g_interrupted;
+  g_interrupted = false;
+  return was;
+}
 
 void choose_method(mission::Settings& settings, const py::object& method, const py::object& planner) {
   if (!planner.is_none()) {

@@ -33,6 +33,26 @@ class PendingPlanner {
   const PendingPlanner* previous_;
 };
 
+/// Ctrl-C inside Python code a mission calls (the planner, a progress callback) on this thread
+/// ends the mission as Ctrl-C between steps does: the KeyboardInterrupt is caught and noted
+/// here, the mission polls the note (stop_requested), stops at its next step and keeps its
+/// partial results; the caller raises KeyboardInterrupt afterwards.
+void note_interrupt();
+/// True once noted; clears the note.
+bool take_interrupt();
+/// Runs f() (GIL held); a KeyboardInterrupt it raises is noted instead. False when one was.
+template <typename F>
+bool call_noting_interrupt(F&& f) {
+  try {
+    f();
+    return true;
+  } catch (py::error_already_set& e) {
+    if (!e.matches(PyExc_KeyboardInterrupt)) throw;
+    note_interrupt();
+    return false;
+  }
+}
+
 /// canopy.PlannerRequest, and the registry entry "python" (added once).
 void bind_python_planner(py::module_& m);
 

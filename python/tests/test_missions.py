@@ -4,6 +4,7 @@ for a seed; the example runs; the GIL is released while the mission runs."""
 
 import importlib.util
 import json
+import signal
 import subprocess
 import sys
 import threading
@@ -111,3 +112,46 @@ def test_the_mission_releases_the_gil(world):
         done.set()
         thread.join()
     assert counts[0] > 100000, f"the counting thread ran {counts[0]} times during the mission"
+
+
+INTERRUPTED = """
+import sys, canopy
+world = canopy.World("worlds/small.yaml")
+settings = canopy.Settings().set("mission.loop.views_per_stop", 12)
+try:
+    canopy.run_mission(world, settings, out=sys.argv[1], progress=lambda line: print(line, flush=True))
+except KeyboardInterrupt:
+    print("KeyboardInterrupt", flush=True)
+    sys.exit(3)
+"""
+
+
+def test_ctrl_c_stops_the_mission_and_keeps_the_partial_run(tmp_path):
+    p = subprocess.Popen([sys.executable, "-c", INTERRUPTED, str(tmp_path / "run")], stdout=subprocess.PIPE,
+                         text=True, cwd=SOURCE)
+    lines = []
+    for line in p.stdout:
+        lines.append(line)
+        if "initial view 2 " in line:
+            p.send_signal(signal.SIGINT)
+            break
+    out, _ = p.communicate(timeout=120)
+    assert p.returncode == 3 and "KeyboardInterrupt" in out, "".join(lines) + out
+    summary = json.load(open(tmp_path / "run" / "summary.json"))
+    assert summary["complete"] is False and summary["end_reason"] == "interrupted"
+    rows = (tmp_path / "run" / "views.csv").read_text().splitlines()[1:]
+    assert 2 <= len(rows) < 24 and summary["views_attempted"] == len(rows)
+
+
+def test_ctrl_c_in_the_planner_stops_the_mission(world, tmp_path):
+    def interrupted(request):
+        raise KeyboardInterrupt  # what Ctrl-C does while Python code runs
+
+    try:
+        canopy.run_mission(world, small_settings(), planner=interrupted, out=str(tmp_path / "run"))
+        raise AssertionError("no KeyboardInterrupt")
+    except KeyboardInterrupt:
+        pass
+    summary = json.load(open(tmp_path / "run" / "summary.json"))
+    assert summary["complete"] is False and summary["stops"][0]["end_reason"] == "interrupted"
+    assert summary["views_attempted"] == 12  # the initial scan, then the planner's first call
