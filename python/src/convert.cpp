@@ -177,6 +177,15 @@ py::object yaml_to_py(const YAML::Node& node) {
 
 py::object json_to_py(const nlohmann::json& j) { return py::module_::import("json").attr("loads")(j.dump()); }
 
+std::string path_from(const py::object& path, const std::string& what) {
+  if (py::isinstance<py::str>(path)) return path.cast<std::string>();
+  if (py::hasattr(path, "__fspath__")) {
+    const py::object p = path.attr("__fspath__")();
+    if (py::isinstance<py::str>(p)) return p.cast<std::string>();
+  }
+  throw InputError(what + ": " + describe(path) + " is not a file name (str or path)");
+}
+
 std::uint64_t seed_from(const py::object& seed, const std::string& what) {
   const bool integer = py::isinstance<py::int_>(seed) && !py::isinstance<py::bool_>(seed);
   if (integer && seed.cast<py::int_>() >= py::int_(0)) {
@@ -192,10 +201,8 @@ mission::Settings settings_from(const py::object& settings) {
   if (settings.is_none())
     return mission::Settings::load(find_data_file(mission::default_settings_path()), default_robot_config());
   if (py::isinstance<mission::Settings>(settings)) return settings.cast<mission::Settings>();
-  if (py::isinstance<py::str>(settings) || py::hasattr(settings, "__fspath__")) {
-    const std::string path = py::str(py::module_::import("os").attr("fspath")(settings));
-    return mission::Settings::load(find_data_file(path), default_robot_config());
-  }
+  if (py::isinstance<py::str>(settings) || py::hasattr(settings, "__fspath__"))
+    return mission::Settings::load(find_data_file(path_from(settings, "settings")), default_robot_config());
   throw InputError("settings: " + describe(settings) + " is not a canopy.Settings, a bundle file or None");
 }
 

@@ -70,6 +70,9 @@ py::object yaml_to_py(const YAML::Node& node);
 /// JSON as Python objects (dicts, lists, numbers, strings).
 py::object json_to_py(const nlohmann::json& j);
 
+/// A file or folder name: a str or an os.PathLike.
+std::string path_from(const py::object& path, const std::string& what);
+
 /// A seed: an integer in [0, 2^64).
 std::uint64_t seed_from(const py::object& seed, const std::string& what);
 

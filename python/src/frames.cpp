@@ -3,7 +3,8 @@
 
 #include <pybind11/stl.h>
 
-#include <cstring>
+#include <cmath>
+#include <limits>
 
 #include "canopy/common/data_dir.h"
 #include "canopy/common/error.h"
@@ -28,21 +29,33 @@ py::object image_view(const Image<T>& image, const py::object& owner, int channe
   return std::move(a);
 }
 
-// An image from a numpy array of the camera's size (copied).
+// An image from a numpy array of the camera's size (copied). Integer images (labels, instances,
+// rgb) must hold integers within their type's range: nothing wraps around silently.
 template <typename T>
 Image<T> image_from(const py::object& obj, const CameraIntrinsics& K, const std::string& what) {
   using Elem = std::conditional_t<std::is_same_v<T, Rgb8>, std::uint8_t, T>;
   Image<T> image;
   if (obj.is_none()) return image;
   const int channels = std::is_same_v<T, Rgb8> ? 3 : 1;
-  auto a = py::array_t<Elem, py::array::c_style | py::array::forcecast>::ensure(obj);
+  using Source = std::conditional_t<std::is_floating_point_v<Elem>, Elem, double>;
+  auto a = py::array_t<Source, py::array::c_style | py::array::forcecast>::ensure(obj);
   const bool shaped = a && a.ndim() == (channels == 3 ? 3 : 2) && a.shape(0) == K.height_px &&
                       a.shape(1) == K.width_px && (channels == 1 || a.shape(2) == 3);
   if (!shaped)
     throw InputError(what + ": " + describe(obj) + " is not an image of " + std::to_string(K.height_px) + " x " +
                      std::to_string(K.width_px) + (channels == 3 ? " x 3" : "") + " (the intrinsics' height x width)");
   image = Image<T>(K.width_px, K.height_px);
-  std::memcpy(static_cast<void*>(image.data.data()), a.data(), image.data.size() * sizeof(T));
+  Elem* out = reinterpret_cast<Elem*>(image.data.data());
+  const Source* in = a.data();
+  for (py::ssize_t i = 0; i < a.size(); ++i) {
+    if constexpr (!std::is_floating_point_v<Elem>) {
+      constexpr double lo = std::numeric_limits<Elem>::min(), hi = std::numeric_limits<Elem>::max();
+      if (!(in[i] == std::floor(in[i]) && in[i] >= lo && in[i] <= hi))
+        throw InputError(what + ": value " + py::repr(py::float_(in[i])).cast<std::string>() + " is not an integer in [" +
+                         std::to_string(static_cast<long long>(lo)) + ", " + std::to_string(static_cast<long long>(hi)) + "]");
+    }
+    out[i] = static_cast<Elem>(in[i]);
+  }
   return image;
 }
 
@@ -131,12 +144,15 @@ Which of labels / rgb a map needs depends on its settings' mapping.extractor.sou
       }, "(H, W) int32 fruit instance ids (-1 = none), or None.");
 
   m.def("read_frames",
-        [](const std::string& folder, bool labels, const std::string& intrinsics_file, const std::string& label_colors,
+        [](const py::object& folder_arg, bool labels, const py::object& intrinsics_file, const py::object& label_colors,
            double max_dt_s) {
+          const std::string folder = path_from(folder_arg, "folder");
+          if (!(std::isfinite(max_dt_s) && max_dt_s > 0.0))
+            throw InputError("max_dt: " + std::to_string(max_dt_s) + " is not a positive number of seconds");
           datasets::FrameReaderOptions options;
           options.label_images = labels;
-          options.intrinsics_file = intrinsics_file;
-          options.label_colors_file = label_colors;
+          if (!intrinsics_file.is_none()) options.intrinsics_file = path_from(intrinsics_file, "intrinsics");
+          if (!label_colors.is_none()) options.label_colors_file = path_from(label_colors, "label_colors");
           options.max_time_diff_s = max_dt_s;
           std::vector<PyFrame> frames;
           std::vector<datasets::SkippedFrame> skipped;
@@ -161,7 +177,7 @@ Which of labels / rgb a map needs depends on its settings' mapping.extractor.sou
           return py::dict(py::arg("frames") = out, py::arg("skipped") = skipped_out,
                           py::arg("classes") = classes.names);
         },
-        py::arg("folder"), py::arg("labels") = false, py::arg("intrinsics") = "", py::arg("label_colors") = "",
+        py::arg("folder"), py::arg("labels") = false, py::arg("intrinsics") = py::none(), py::arg("label_colors") = py::none(),
         py::arg("max_dt") = datasets::FrameReaderOptions{}.max_time_diff_s,
         R"(Reads a recorded sequence as `canopy map --frames` does.
 

@@ -148,7 +148,8 @@ settings: canopy.Settings or a bundle file (default: configs/canopy.yaml), whose
 section gives the map, extractor and metrics settings; classes: a canopy.World (its classes)
 or a list of names starting with "background" (default: background, leaf, fruit); target:
 the target class (default: fruit).)")
-      .def_static("load", [](const std::string& path, const py::object& settings) {
+      .def_static("load", [](const py::object& path_arg, const py::object& settings) {
+        const std::string path = path_from(path_arg, "path");
         mapping::SemanticOcTree map = [&] {
           py::gil_scoped_release release;
           return mapping::load_map(path);
@@ -196,7 +197,8 @@ out_of_range, bad_label, bad_point, masks, masks_flipped, ms_insert.)")
       }, py::arg("points"), py::arg("labels"), py::arg("origin"),
       R"(Inserts labelled points (N, 3) [m, world] seen from origin (3,), no extractor: labels are
 class indices (out-of-range ones are skipped and counted as bad_label).)")
-      .def("save", [](const PyMap& self, const std::string& path) {
+      .def("save", [](const PyMap& self, const py::object& path_arg) {
+        const std::string path = path_from(path_arg, "path");
         py::gil_scoped_release release;
         self.read([&](const mapping::SemanticOcTree& map) {
           mapping::save_map(map, path);
@@ -207,11 +209,13 @@ class indices (out-of-range ones are skipped and counted as bad_label).)")
         const std::string bytes = self.read([](const mapping::SemanticOcTree& map) { return mapping::serialize_map(map); });
         return py::bytes(bytes);
       }, "The .csm bytes.")
-      .def("export_ply", [](const PyMap& self, const std::string& path) {
+      .def("export_ply", [](const PyMap& self, const py::object& path_arg) {
+        const std::string path = path_from(path_arg, "path");
         py::gil_scoped_release release;
         return self.read([&](const mapping::SemanticOcTree& map) { return mapping::export_ply(map, path); });
       }, py::arg("path"), "Occupied voxels as a binary PLY (class colours); returns their count.")
-      .def("export_bt", [](const PyMap& self, const std::string& path) {
+      .def("export_bt", [](const PyMap& self, const py::object& path_arg) {
+        const std::string path = path_from(path_arg, "path");
         py::gil_scoped_release release;
         self.read([&](const mapping::SemanticOcTree& map) {
           mapping::export_bt(map, path);

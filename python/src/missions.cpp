@@ -90,8 +90,6 @@ py::dict views_dict(const mission::MissionResult& r) {
   return d;
 }
 
-std::string path_of(const py::object& path) { return py::str(py::module_::import("os").attr("fspath")(path)); }
-
 }  // namespace
 
 void bind_missions(py::module_& m) {
@@ -138,7 +136,7 @@ truth_contacts, self_contacts.)")
           const std::uint64_t seed = seed_from(seed_arg, "seed");
           if (!progress.is_none() && !PyCallable_Check(progress.ptr()))
             throw InputError("progress: " + describe(progress) + " is not callable");
-          const std::string video_path = video.is_none() ? "" : path_of(video);
+          const std::string video_path = video.is_none() ? "" : path_from(video, "video");
           const auto [video_w, video_h] = video_size;
           if (!video_path.empty()) {
             if (video_w < 64 || video_h < 64 || video_w > 1920 || video_h > 1080 || video_w % 2 || video_h % 2)
@@ -149,7 +147,7 @@ truth_contacts, self_contacts.)")
             mission::VideoWriter::validate_output_path(video_path, "video");
           }
           std::unique_ptr<StagedDir> staged;
-          if (!out.is_none()) staged = std::make_unique<StagedDir>(path_of(out), StagedDir::Mode::kReplace, "out");
+          if (!out.is_none()) staged = std::make_unique<StagedDir>(path_from(out, "out"), StagedDir::Mode::kReplace, "out");
 
           mission::MissionCallbacks cb;
           if (!progress.is_none())

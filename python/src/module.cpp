@@ -52,7 +52,9 @@ ValueError names an unknown key or a bad value. Returns the settings (calls chai
         }
         return yaml_to_py(node);
       }, py::arg("key"), "The value at a key path (a section as a dict).")
-      .def("save", [](const mission::Settings& s, const std::string& path) { write_file_atomic(path, s.to_yaml_text()); },
+      .def("save", [](const mission::Settings& s, const py::object& path) {
+        write_file_atomic(path_from(path, "path"), s.to_yaml_text());
+      },
            py::arg("path"), "Writes the bundle (a loadable --config) atomically.")
       .def("describe", [](const mission::Settings& s) {
         py::list out;

@@ -79,7 +79,10 @@ void bind_worlds(py::module_& m) {
 
 The simulator and renderer are made on the first render and kept (one OSMesa context per
 world); renders of one world from several threads take turns.)")
-      .def(py::init<const std::string&, const py::object&>(), py::arg("path") = "worlds/default.yaml",
+      .def(py::init([](const py::object& path, const py::object& seed) {
+             return std::make_shared<PyWorld>(path_from(path, "path"), seed);
+           }),
+           py::arg("path") = "worlds/default.yaml",
            py::arg("seed") = py::none(),
            R"(Generates the world of a world file.
 

@@ -48,6 +48,10 @@ def test_maps_and_frames(world, tmp_path):
     raises("depth", canopy.Frame, np.zeros((10, 10)), pose)  # not the intrinsics' 400 x 400
     raises("pose", canopy.Frame, np.zeros((400, 400)), np.ones((4, 4)))
     raises("width_px", canopy.Intrinsics, width_px=0)
+    raises("labels", canopy.Frame, np.zeros((400, 400)), pose, labels=np.full((400, 400), 258))  # would wrap to 2
+    raises("rgb", canopy.Frame, np.zeros((400, 400)), pose, rgb=np.full((400, 400, 3), 0.5))
+    raises("max_dt", canopy.read_frames, str(tmp_path), max_dt=0.0)
+    raises("path", canopy.Map.load, 3)
     frame = canopy.Frame(np.full((400, 400), 0.5), pose, labels=np.zeros((400, 400)))
     raises("rgb", m.insert, frame)  # the default extractor segments colour
     raises("labels", m.insert_cloud, np.zeros((3, 3)), [1, 2], [0, 0, 0])

@@ -47,6 +47,8 @@ def test_files_round_trip(world, tmp_path):
     assert (tmp_path / "a.csm").read_bytes() == m.to_bytes()
     loaded = canopy.Map.load(str(tmp_path / "a.csm"))
     assert loaded == m and canopy.Map.from_bytes(m.to_bytes()) == m
+    m.save(tmp_path / "b.csm")  # paths as pathlib paths too
+    assert canopy.Map.load(tmp_path / "b.csm") == m
     assert loaded.classes == world.classes and loaded.resolution == RES
     assert m.export_ply(str(tmp_path / "a.ply")) == m.counts()["occupied"]
     m.export_bt(str(tmp_path / "a.bt"))
