@@ -21,5 +21,10 @@ Bad input raises ValueError naming the value. Long calls release the GIL. Arrays
 are copies, or read-only views that keep their owner alive.
 """
 
+from . import _canopy
 from ._canopy import *  # noqa: F401,F403
-from ._canopy import __doc__ as _library_doc  # noqa: F401
+
+for _type in list(vars(_canopy).values()):
+    if isinstance(_type, type):
+        _type.__module__ = __name__  # canopy.World, not canopy._canopy.World, in help() and reprs
+del _type

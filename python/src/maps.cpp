@@ -52,13 +52,13 @@ void PyMap::make_inserter() {
 }
 
 mapping::FrameMapStep PyMap::insert(const LabelledFrame& frame) {
-  std::lock_guard<std::mutex> lock(mutex_);
+  std::lock_guard<std::recursive_mutex> lock(mutex_);
   make_inserter();
   return mapping::map_frame(frame, *extractor_, *inserter_);
 }
 
 mapping::InsertStats PyMap::insert_cloud(const perception::LabelledCloud& cloud) {
-  std::lock_guard<std::mutex> lock(mutex_);
+  std::lock_guard<std::recursive_mutex> lock(mutex_);
   make_inserter();
   return inserter_->insert(cloud);
 }

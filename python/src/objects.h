@@ -72,7 +72,7 @@ class PyMap {
   /// has ended.
   template <typename F>
   auto read(F&& f) const {
-    std::lock_guard<std::mutex> lock(mutex_);
+    std::lock_guard<std::recursive_mutex> lock(mutex_);
     return f(get());
   }
   /// Labels and inserts a frame (mapping::map_frame, the extractor of the settings). Owned maps only.
@@ -97,7 +97,9 @@ class PyMap {
   mission::MappingSettings settings_;
   std::unique_ptr<mapping::ScanInserter> inserter_;  // made by the first insert
   std::unique_ptr<perception::SemanticExtractor> extractor_;
-  mutable std::mutex mutex_;
+  // Recursive: a Python planner given to next_views(map) may query that same map while
+  // next_views reads it, on the same thread.
+  mutable std::recursive_mutex mutex_;
 };
 
 void bind_settings(py::module_& m);

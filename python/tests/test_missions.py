@@ -155,3 +155,15 @@ def test_ctrl_c_in_the_planner_stops_the_mission(world, tmp_path):
     summary = json.load(open(tmp_path / "run" / "summary.json"))
     assert summary["complete"] is False and summary["stops"][0]["end_reason"] == "interrupted"
     assert summary["views_attempted"] == 12  # the initial scan, then the planner's first call
+
+
+def test_the_video_is_recorded_and_changes_nothing(world, tmp_path):
+    plain = canopy.run_mission(world, small_settings(0), seed=1)
+    filmed = canopy.run_mission(world, small_settings(0), seed=1, video=tmp_path / "run.mp4", video_size=(128, 96),
+                                video_fps=4)
+    assert filmed.views_csv == plain.views_csv
+    assert filmed.summary["video"]["frames"] > 10 and (tmp_path / "run.mp4").stat().st_size > 1000
+    probe = subprocess.run(["ffprobe", "-v", "error", "-select_streams", "v:0", "-show_entries",
+                            "stream=codec_name,width,height", "-of", "csv=p=0", str(tmp_path / "run.mp4")],
+                           capture_output=True, text=True)
+    assert probe.stdout.strip() == "h264,128,96"

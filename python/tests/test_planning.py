@@ -134,6 +134,7 @@ def test_a_python_planner_in_the_next_views_step(mapped):
 
     def first_reachable(request):
         seen["request"] = request
+        seen["same map"] = request.map.counts() == m.counts()  # the caller's map, queried during the call
         seen["region"] = request.region
         seen["budget"] = request.budget
         seen["camera"] = request.camera
@@ -147,7 +148,7 @@ def test_a_python_planner_in_the_next_views_step(mapped):
         return []
 
     got = canopy.next_views(m, base, planner=first_reachable)
-    assert got["method"] == "python" and len(got["views"]["pose"]) == 1
+    assert got["method"] == "python" and len(got["views"]["pose"]) == 1 and seen["same map"]
     assert np.array_equal(got["views"]["pose"][0], seen["reached"]["pose"])
     assert np.array_equal(got["views"]["joints"][0], seen["reached"]["joints"])
     robot = canopy.Robot()
