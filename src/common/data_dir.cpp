@@ -1,11 +1,12 @@
 #include "canopy/common/data_dir.h"
 
-#include <dlfcn.h>
 #include <unistd.h>
 
+#include <cstdint>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 
 namespace fs = std::filesystem;
 
@@ -25,13 +26,23 @@ fs::path executable_dir() {
 }
 
 // The folder of the binary this code is linked into: the executable, or a shared object
-// loaded by another program (the Python module inside python3).
+// loaded by another program (the Python module inside python3). Found from the file mapped at
+// this function's address in /proc/self/maps (absolute; dladdr names the main program by its
+// argv[0], which may be relative to another folder).
 fs::path code_dir() {
-  Dl_info info{};
-  if (dladdr(reinterpret_cast<const void*>(&executable_dir), &info) == 0 || !info.dli_fname) return {};
-  std::error_code ec;
-  const fs::path object = fs::canonical(info.dli_fname, ec);
-  return ec ? fs::path() : object.parent_path();
+  const auto here = reinterpret_cast<std::uintptr_t>(&executable_dir);
+  std::ifstream maps("/proc/self/maps");
+  std::string line;
+  while (std::getline(maps, line)) {
+    std::uintptr_t lo = 0, hi = 0;
+    char dash = 0;
+    std::istringstream in(line);
+    if (!(in >> std::hex >> lo >> dash >> hi) || dash != '-' || here < lo || here >= hi) continue;
+    const std::size_t slash = line.find('/');
+    if (slash == std::string::npos) return {};
+    return fs::path(line.substr(slash)).parent_path();
+  }
+  return {};
 }
 
 // The pointer file's first line, resolved against the pointer's folder.
