@@ -13,6 +13,7 @@ PACKAGES=(
   libgtest-dev libgmock-dev libbenchmark-dev
   ffmpeg
   python3-matplotlib python3-yaml
+  pybind11-dev python3-dev python3-numpy python3-pytest
   slurm-wlm munge parallel
 )
 

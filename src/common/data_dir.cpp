@@ -2,9 +2,11 @@
 
 #include <unistd.h>
 
+#include <cstdint>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 
 namespace fs = std::filesystem;
 
@@ -23,6 +25,26 @@ fs::path executable_dir() {
   return ec ? fs::path() : exe.parent_path();
 }
 
+// The folder of the binary this code is linked into: the executable, or a shared object
+// loaded by another program (the Python module inside python3). Found from the file mapped at
+// this function's address in /proc/self/maps (absolute; dladdr names the main program by its
+// argv[0], which may be relative to another folder).
+fs::path code_dir() {
+  const auto here = reinterpret_cast<std::uintptr_t>(&executable_dir);
+  std::ifstream maps("/proc/self/maps");
+  std::string line;
+  while (std::getline(maps, line)) {
+    std::uintptr_t lo = 0, hi = 0;
+    char dash = 0;
+    std::istringstream in(line);
+    if (!(in >> std::hex >> lo >> dash >> hi) || dash != '-' || here < lo || here >= hi) continue;
+    const std::size_t slash = line.find('/');
+    if (slash == std::string::npos) return {};
+    return fs::path(line.substr(slash)).parent_path();
+  }
+  return {};
+}
+
 // The pointer file's first line, resolved against the pointer's folder.
 fs::path follow_pointer(const fs::path& dir) {
   std::ifstream in(dir / kDataDirPointer);
@@ -37,14 +59,21 @@ std::string find_data_dir() {
     const fs::path p = fs::absolute(env).lexically_normal();
     return is_data_dir(p) ? p.string() : std::string();
   }
-  const fs::path exe_dir = executable_dir();
-  if (exe_dir.empty()) return {};
-  const fs::path installed = (exe_dir / ".." / "share" / "canopy").lexically_normal();
-  if (is_data_dir(installed)) return installed.string();
-  for (fs::path d = exe_dir; !d.empty(); d = d.parent_path()) {
-    const fs::path p = follow_pointer(d);
-    if (is_data_dir(p)) return p.string();
-    if (d == d.root_path()) break;
+  // From the folder of the binary holding this code (the executable, or the Python module in
+  // <prefix>/lib/python3/dist-packages/canopy/ or <build>/python/canopy/), then from the
+  // executable's: that folder and its parents, for an installed prefix (<parent>/share/canopy)
+  // or a build tree's pointer file.
+  for (const fs::path& start : {code_dir(), executable_dir()}) {
+    if (start.empty()) continue;
+    for (fs::path d = start; !d.empty(); d = d.parent_path()) {
+      if (d != start) {
+        const fs::path installed = (d / "share" / "canopy").lexically_normal();
+        if (is_data_dir(installed)) return installed.string();
+      }
+      const fs::path p = follow_pointer(d);
+      if (is_data_dir(p)) return p.string();
+      if (d == d.root_path()) break;
+    }
   }
   return {};
 }

@@ -74,6 +74,8 @@ void check_size(const Image<T>& image, const CameraIntrinsics& K, const std::str
                      " but the camera is " + std::to_string(K.width_px) + "x" + std::to_string(K.height_px));
 }
 
+}  // namespace
+
 void validate_recorded_intrinsics(const CameraIntrinsics& K, const std::string& where) {
   auto bad = [&](const std::string& key, double value, const std::string& problem) {
     std::ostringstream os;
@@ -90,8 +92,6 @@ void validate_recorded_intrinsics(const CameraIntrinsics& K, const std::string& 
   if (!(K.max_range_m > K.min_range_m) || !std::isfinite(K.max_range_m))
     bad("max_range_m", K.max_range_m, "must be > min_range_m");
 }
-
-}  // namespace
 
 const char* to_string(FrameLayout layout) { return layout == FrameLayout::kTum ? "tum" : "canopy"; }
 

@@ -97,15 +97,7 @@ nlohmann::json summary_json(const MissionResult& r) {
   return j;
 }
 
-nlohmann::json write_run_folder(const std::string& dir, const MissionResult& result, const Settings& settings,
-                                const mapping::SemanticOcTree& map, const RunContext& ctx) {
-  const std::string d = dir.empty() || dir.back() == '/' ? dir : dir + "/";
-  write_file_atomic(d + "views.csv", views_csv(result, settings.method.name));
-  write_file_atomic(d + "timing.csv", timing_csv(result));
-  write_file_atomic(d + "settings.yaml", settings.to_yaml_text());
-  mapping::save_map(map, d + "map.csm");
-  mapping::export_ply(map, d + "map.ply");
-  mapping::export_bt(map, d + "map.bt");
+nlohmann::json run_summary(const MissionResult& result, const Settings& settings, const RunContext& ctx) {
   nlohmann::json summary = summary_json(result);
   summary["method"] = {{"name", settings.method.name}, {"gain", settings.method.gain}, {"rays", settings.method.rays}};
   summary["seed"] = ctx.seed;
@@ -120,6 +112,19 @@ nlohmann::json write_run_folder(const std::string& dir, const MissionResult& res
   summary["settings_file"] = "settings.yaml";
   summary["files"] = {"views.csv", "timing.csv", "settings.yaml", "map.csm", "map.ply", "map.bt"};
   if (!ctx.video.is_null()) summary["video"] = ctx.video;
+  return summary;
+}
+
+nlohmann::json write_run_folder(const std::string& dir, const MissionResult& result, const Settings& settings,
+                                const mapping::SemanticOcTree& map, const RunContext& ctx) {
+  const std::string d = dir.empty() || dir.back() == '/' ? dir : dir + "/";
+  write_file_atomic(d + "views.csv", views_csv(result, settings.method.name));
+  write_file_atomic(d + "timing.csv", timing_csv(result));
+  write_file_atomic(d + "settings.yaml", settings.to_yaml_text());
+  mapping::save_map(map, d + "map.csm");
+  mapping::export_ply(map, d + "map.ply");
+  mapping::export_bt(map, d + "map.bt");
+  const nlohmann::json summary = run_summary(result, settings, ctx);
   write_json_atomic(d + "summary.json", summary);
   return summary;
 }

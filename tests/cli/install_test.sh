@@ -3,10 +3,14 @@
 # CLI finds its data from outside any source tree and shows relative defaults; the example
 # consumer (examples/plan_from_frames) configures with find_package(canopy COMPONENTS
 # mapping nbv motion), builds without MuJoCo or OSMesa on its link line, and maps frames the
-# installed CLI rendered. Usage: install_test.sh BUILD_DIR SOURCE_DIR
+# installed CLI rendered. Issue 23: a consumer's own C++ planner (examples/own_planner, the
+# mission component) runs the full mission; the installed Python module imports from the
+# prefix's lib/python3/dist-packages and finds its data there.
+# Usage: install_test.sh BUILD_DIR SOURCE_DIR [PYTHON]   (PYTHON: "" when the module is not built)
 set -u
 build="$1"
 src="$2"
+python="${3:-}"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 prefix="$tmp/prefix"
@@ -66,6 +70,33 @@ endif()
 CM
 cmake -S "$tmp/sim_consumer" -B "$tmp/sim_consumer/build" -DCMAKE_PREFIX_PATH="$prefix" >"$tmp/sim.log" 2>&1 ||
   { cat "$tmp/sim.log"; fail "the sim component does not configure"; }
+
+# A planner from outside the tree (issue 23): registered by the consumer, run in the full mission.
+cmake -S "$src/examples/own_planner" -B "$tmp/own" -G Ninja -DCMAKE_BUILD_TYPE=Release \
+  -DCMAKE_PREFIX_PATH="$prefix" "${launcher[@]}" >"$tmp/own_configure.log" 2>&1 ||
+  { cat "$tmp/own_configure.log"; echo "FAIL: configure own_planner"; exit 1; }
+cmake --build "$tmp/own" -j2 >"$tmp/own_build.log" 2>&1 || { cat "$tmp/own_build.log"; echo "FAIL: build own_planner"; exit 1; }
+out=$(CANOPY_DATA_DIR="$prefix/share/canopy" "$tmp/own/own_planner" worlds/small.yaml "$tmp/own_run" 2>&1) ||
+  fail "own_planner failed: $out"
+echo "$out" | tail -2
+[[ "$out" == *"planner 'nearest':"* ]] || fail "own_planner did not run its planner"
+grep -q '"name": "nearest"' "$tmp/own_run/summary.json" || fail "the run folder does not name the planner 'nearest'"
+nbv_ok=$(awk -F, 'NR > 1 && $3 == "nearest" && $4 == "nbv" && $6 == 1' "$tmp/own_run/views.csv" | wc -l)
+((nbv_ok > 0)) || fail "no successful view of the planner 'nearest' in views.csv"
+
+# The Python module, from the prefix, outside any source tree: data found beside it.
+if [[ -n "$python" ]]; then
+  ls "$prefix"/lib/python3/dist-packages/canopy/_canopy*.so >/dev/null 2>&1 || fail "not installed: the Python module"
+  pyout=$(cd "$tmp" && env -u CANOPY_DATA_DIR PYTHONPATH="$prefix/lib/python3/dist-packages" PYTHONDONTWRITEBYTECODE=1 \
+    "$python" -c '
+import os, sys, canopy
+assert os.path.samefile(canopy.data_dir(), sys.argv[1]), canopy.data_dir()
+world = canopy.World("worlds/small.yaml")
+assert "python" in canopy.planner_names()
+print("python module:", len(world.plants), "plants from", canopy.data_dir())
+' "$prefix/share/canopy" 2>&1) || fail "the installed Python module: $pyout"
+  echo "$pyout"
+fi
 
 if ((failures)); then echo "$failures failure(s)"; exit 1; fi
 echo "install: all checks passed"

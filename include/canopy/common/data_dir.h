@@ -2,9 +2,12 @@
 // Where canopy's shipped data (models/, worlds/, configs/, plot scripts) lives at run time.
 // Nothing is baked in as an absolute path: the folder is found, in this order, from
 //  1. the CANOPY_DATA_DIR environment variable;
-//  2. the running executable: `<exe>/../share/canopy` (an installed prefix);
-//  3. a build tree: a `canopy-data-dir` pointer file in the executable's folder or one of
-//     its parents, holding the source tree's path relative to the pointer's folder.
+//  2. the binary holding canopy's code (the executable, or the Python module loaded by
+//     python3), then the running executable: walking up from its folder, either an installed
+//     prefix `<parent>/share/canopy` (`<exe>/../share/canopy`; the module's
+//     `<prefix>/lib/python3/dist-packages/canopy/` finds `<prefix>/share/canopy`) or a build
+//     tree's `canopy-data-dir` pointer file, holding the source tree's path relative to the
+//     pointer's folder.
 
 #include <string>
 

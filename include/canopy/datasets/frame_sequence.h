@@ -45,6 +45,10 @@ struct RecordedCamera {
   static RecordedCamera load(const std::string& path);
 };
 
+/// Checks the intrinsics of a recorded camera (any principal point in the image, unlike the
+/// renderer's); throws InputError naming `where` and the key.
+void validate_recorded_intrinsics(const CameraIntrinsics& K, const std::string& where);
+
 /// Class names and the colour of each in label images.
 struct ClassColorTable {
   SemanticClasses classes;

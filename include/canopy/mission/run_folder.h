@@ -35,6 +35,9 @@ struct RunContext {
   nlohmann::json video;  ///< {file, frames} or {file, error}; null without a video.
 };
 
+/// summary.json: summary_json and what the run was (method, seed, P_gt, labels, the world, files).
+nlohmann::json run_summary(const MissionResult& result, const Settings& settings, const RunContext& context);
+
 /// Writes every file of a mission folder into `dir` (each atomically) and returns the
 /// summary it wrote.
 nlohmann::json write_run_folder(const std::string& dir, const MissionResult& result, const Settings& settings,

@@ -1,0 +1,30 @@
+"""canopy from Python: worlds, maps, planning and the closed-loop mission of canopy's C++ library.
+
+Quick start (docs/python.md)::
+
+    import canopy
+    world = canopy.World("worlds/small.yaml")
+    result = canopy.run_mission(world, seed=1)
+    curve = result.sc_curve()
+    print(curve["views"], curve["coverage"])
+
+- Worlds: World (generate from a world file and a seed; plants, fruits and fruit_points are
+  the ground truth; render / render_robot give a Frame with rgb, depth, labels, instances).
+- Maps: Map (insert a Frame or labelled points; save / load .csm; occupancy, known, entropy,
+  class_probabilities, voxels in bulk as numpy arrays; metrics against a World), read_frames.
+- Planning: find_clusters, sample_candidates, gains (by name: gain_names()), next_views (as
+  `canopy nbv`), Robot (camera_pose, ik, stop_region).
+- Missions: run_mission with a Settings bundle and any planner_names() method, or with a
+  planner written in Python (planner=f, where f(request: PlannerRequest) returns views).
+
+Bad input raises ValueError naming the value. Long calls release the GIL. Arrays handed back
+are copies, or read-only views that keep their owner alive.
+"""
+
+from . import _canopy
+from ._canopy import *  # noqa: F401,F403
+
+for _type in list(vars(_canopy).values()):
+    if isinstance(_type, type):
+        _type.__module__ = __name__  # canopy.World, not canopy._canopy.World, in help() and reprs
+del _type

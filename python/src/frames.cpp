@@ -1,0 +1,190 @@
+// canopy.Intrinsics, canopy.Frame (a labelled RGB-D frame; numpy views of its images) and
+// canopy.read_frames (recorded sequences, as `canopy map --frames` reads them).
+
+#include <pybind11/stl.h>
+
+#include <cmath>
+#include <limits>
+
+#include "canopy/common/data_dir.h"
+#include "canopy/common/error.h"
+#include "canopy/datasets/frame_sequence.h"
+#include "objects.h"
+
+namespace canopy::python {
+
+namespace {
+
+static_assert(sizeof(Rgb8) == 3, "Rgb8 must be three packed bytes to be viewed as (H, W, 3)");
+
+// A read-only numpy view of an image of `frame`, which `owner` (the Python Frame) keeps alive.
+template <typename T>
+py::object image_view(const Image<T>& image, const py::object& owner, int channels = 1) {
+  if (image.empty()) return py::none();
+  std::vector<py::ssize_t> shape = {image.height, image.width};
+  if (channels > 1) shape.push_back(channels);
+  using Elem = std::conditional_t<std::is_same_v<T, Rgb8>, std::uint8_t, T>;
+  py::array_t<Elem> a(shape, reinterpret_cast<const Elem*>(image.data.data()), owner);
+  a.attr("setflags")(py::arg("write") = false);
+  return std::move(a);
+}
+
+// An image from a numpy array of the camera's size (copied). Integer images (labels, instances,
+// rgb) must hold integers within their type's range: nothing wraps around silently.
+template <typename T>
+Image<T> image_from(const py::object& obj, const CameraIntrinsics& K, const std::string& what) {
+  using Elem = std::conditional_t<std::is_same_v<T, Rgb8>, std::uint8_t, T>;
+  Image<T> image;
+  if (obj.is_none()) return image;
+  const int channels = std::is_same_v<T, Rgb8> ? 3 : 1;
+  using Source = std::conditional_t<std::is_floating_point_v<Elem>, Elem, double>;
+  auto a = py::array_t<Source, py::array::c_style | py::array::forcecast>::ensure(obj);
+  const bool shaped = a && a.ndim() == (channels == 3 ? 3 : 2) && a.shape(0) == K.height_px &&
+                      a.shape(1) == K.width_px && (channels == 1 || a.shape(2) == 3);
+  if (!shaped)
+    throw InputError(what + ": " + describe(obj) + " is not an image of " + std::to_string(K.height_px) + " x " +
+                     std::to_string(K.width_px) + (channels == 3 ? " x 3" : "") + " (the intrinsics' height x width)");
+  image = Image<T>(K.width_px, K.height_px);
+  Elem* out = reinterpret_cast<Elem*>(image.data.data());
+  const Source* in = a.data();
+  for (py::ssize_t i = 0; i < a.size(); ++i) {
+    if constexpr (!std::is_floating_point_v<Elem>) {
+      constexpr double lo = std::numeric_limits<Elem>::min(), hi = std::numeric_limits<Elem>::max();
+      if (!(in[i] == std::floor(in[i]) && in[i] >= lo && in[i] <= hi))
+        throw InputError(what + ": value " + py::repr(py::float_(in[i])).cast<std::string>() + " is not an integer in [" +
+                         std::to_string(static_cast<long long>(lo)) + ", " + std::to_string(static_cast<long long>(hi)) + "]");
+    }
+    out[i] = static_cast<Elem>(in[i]);
+  }
+  return image;
+}
+
+}  // namespace
+
+py::object frame_object(PyFrame frame) { return py::cast(std::make_shared<PyFrame>(std::move(frame))); }
+
+void bind_frames(py::module_& m) {
+  py::class_<CameraIntrinsics>(m, "Intrinsics", R"(Pinhole camera intrinsics and valid depth range.
+
+Optical frame: x right, y down, z forward; pixel (i, j) has its centre at (i + 0.5, j + 0.5).
+Defaults are the wrist camera of configs (RealSense D405 at 400 x 400).)")
+      .def(py::init([](int width_px, int height_px, double fx_px, double fy_px, double cx_px, double cy_px,
+                       double min_range_m, double max_range_m) {
+             CameraIntrinsics K;
+             K.width_px = width_px;
+             K.height_px = height_px;
+             K.fx_px = fx_px;
+             K.fy_px = fy_px;
+             K.cx_px = cx_px;
+             K.cy_px = cy_px;
+             K.min_range_m = min_range_m;
+             K.max_range_m = max_range_m;
+             datasets::validate_recorded_intrinsics(K, "Intrinsics");
+             return K;
+           }),
+           py::arg("width_px") = CameraIntrinsics{}.width_px, py::arg("height_px") = CameraIntrinsics{}.height_px,
+           py::arg("fx_px") = CameraIntrinsics{}.fx_px, py::arg("fy_px") = CameraIntrinsics{}.fy_px,
+           py::arg("cx_px") = CameraIntrinsics{}.cx_px, py::arg("cy_px") = CameraIntrinsics{}.cy_px,
+           py::arg("min_range_m") = CameraIntrinsics{}.min_range_m,
+           py::arg("max_range_m") = CameraIntrinsics{}.max_range_m,
+           "Intrinsics; ValueError names a value out of range.")
+      .def_readonly("width_px", &CameraIntrinsics::width_px)
+      .def_readonly("height_px", &CameraIntrinsics::height_px)
+      .def_readonly("fx_px", &CameraIntrinsics::fx_px)
+      .def_readonly("fy_px", &CameraIntrinsics::fy_px)
+      .def_readonly("cx_px", &CameraIntrinsics::cx_px)
+      .def_readonly("cy_px", &CameraIntrinsics::cy_px)
+      .def_readonly("min_range_m", &CameraIntrinsics::min_range_m)
+      .def_readonly("max_range_m", &CameraIntrinsics::max_range_m)
+      .def("__repr__", [](const CameraIntrinsics& K) {
+        return "canopy.Intrinsics(width_px=" + std::to_string(K.width_px) + ", height_px=" +
+               std::to_string(K.height_px) + ", fx_px=" + py::repr(py::float_(K.fx_px)).cast<std::string>() + ")";
+      });
+
+  py::class_<PyFrame, std::shared_ptr<PyFrame>>(m, "Frame", R"(A labelled RGB-D frame: what the renderer (or a camera and a segmenter) hands to mapping.
+
+The image attributes are read-only numpy views of the frame's memory; an array keeps its
+frame alive, so it stays valid after the frame object is deleted.)")
+      .def(py::init([](const py::object& depth, const py::object& pose, const py::object& intrinsics,
+                       const py::object& labels, const py::object& rgb, const py::object& instances) {
+             PyFrame f;
+             f.frame.intrinsics = intrinsics_from(intrinsics, CameraIntrinsics{});
+             f.frame.T_world_camera = pose_from(pose, "pose");
+             f.frame.depth_m = image_from<float>(depth, f.frame.intrinsics, "depth");
+             f.frame.class_id = image_from<std::uint8_t>(labels, f.frame.intrinsics, "labels");
+             f.frame.rgb = image_from<Rgb8>(rgb, f.frame.intrinsics, "rgb");
+             f.frame.instance = image_from<std::int32_t>(instances, f.frame.intrinsics, "instances");
+             if (f.frame.depth_m.empty()) throw InputError("depth: a frame needs a depth image");
+             return f;
+           }),
+           py::arg("depth"), py::arg("pose"), py::arg("intrinsics") = py::none(), py::arg("labels") = py::none(),
+           py::arg("rgb") = py::none(), py::arg("instances") = py::none(),
+           R"(A frame from arrays (copied).
+
+depth: (H, W) planar z-depth [m], 0 where invalid; pose: 4x4 T_world_camera (optical frame);
+intrinsics: canopy.Intrinsics (default: the D405 of configs); labels: (H, W) class indices
+(uint8); rgb: (H, W, 3) uint8; instances: (H, W) fruit instance ids (int32, -1 = none).
+Which of labels / rgb a map needs depends on its settings' mapping.extractor.source
+(truth: labels, color: rgb).)")
+      .def_readonly("name", &PyFrame::name, "The frame's name in its sequence ('' when rendered or built).")
+      .def_property_readonly("pose", [](const PyFrame& f) { return pose_array(f.frame.T_world_camera); },
+                             "4x4 T_world_camera (a copy).")
+      .def_property_readonly("intrinsics", [](const PyFrame& f) { return f.frame.intrinsics; })
+      .def_property_readonly("depth", [](const py::object& self) {
+        return image_view(self.cast<const PyFrame&>().frame.depth_m, self);
+      }, "(H, W) float32 planar depth [m]; 0 = invalid.")
+      .def_property_readonly("labels", [](const py::object& self) {
+        return image_view(self.cast<const PyFrame&>().frame.class_id, self);
+      }, "(H, W) uint8 class indices, or None.")
+      .def_property_readonly("rgb", [](const py::object& self) {
+        return image_view(self.cast<const PyFrame&>().frame.rgb, self, 3);
+      }, "(H, W, 3) uint8, or None.")
+      .def_property_readonly("instances", [](const py::object& self) {
+        return image_view(self.cast<const PyFrame&>().frame.instance, self);
+      }, "(H, W) int32 fruit instance ids (-1 = none), or None.");
+
+  m.def("read_frames",
+        [](const py::object& folder_arg, bool labels, const py::object& intrinsics_file, const py::object& label_colors,
+           double max_dt_s) {
+          const std::string folder = path_from(folder_arg, "folder");
+          if (!(std::isfinite(max_dt_s) && max_dt_s > 0.0))
+            throw InputError("max_dt: " + std::to_string(max_dt_s) + " is not a positive number of seconds");
+          datasets::FrameReaderOptions options;
+          options.label_images = labels;
+          if (!intrinsics_file.is_none()) options.intrinsics_file = path_from(intrinsics_file, "intrinsics");
+          if (!label_colors.is_none()) options.label_colors_file = path_from(label_colors, "label_colors");
+          options.max_time_diff_s = max_dt_s;
+          std::vector<PyFrame> frames;
+          std::vector<datasets::SkippedFrame> skipped;
+          SemanticClasses classes;
+          {
+            py::gil_scoped_release release;
+            const datasets::FrameSequence seq = datasets::FrameSequence::open(find_data_file(folder), options);
+            classes = seq.classes();
+            skipped = seq.skipped();
+            for (std::size_t i = 0; i < seq.size(); ++i) {
+              PyFrame f;
+              f.name = seq.name(i);
+              std::string why;
+              if (seq.read(i, &f.frame, &why)) frames.push_back(std::move(f));
+              else skipped.push_back({seq.name(i), why});
+            }
+          }
+          py::list out;
+          for (PyFrame& f : frames) out.append(frame_object(std::move(f)));
+          py::list skipped_out;
+          for (const auto& s : skipped) skipped_out.append(py::dict(py::arg("frame") = s.name, py::arg("reason") = s.reason));
+          return py::dict(py::arg("frames") = out, py::arg("skipped") = skipped_out,
+                          py::arg("classes") = classes.names);
+        },
+        py::arg("folder"), py::arg("labels") = false, py::arg("intrinsics") = py::none(), py::arg("label_colors") = py::none(),
+        py::arg("max_dt") = datasets::FrameReaderOptions{}.max_time_diff_s,
+        R"(Reads a recorded sequence as `canopy map --frames` does.
+
+folder: canopy frame folders (what `canopy render` writes) or a TUM RGB-D folder; labels: read
+the label images too; intrinsics: TUM camera YAML (default folder/camera.yaml); label_colors:
+class-colour table YAML; max_dt: TUM pairing tolerance [s].
+Returns {"frames": [Frame], "skipped": [{"frame", "reason"}], "classes": [names]}.)");
+}
+
+}  // namespace canopy::python

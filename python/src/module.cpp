@@ -1,0 +1,95 @@
+// The extension module canopy._canopy (imported by canopy/__init__.py): error translation,
+// canopy.Settings, and the binding files' parts.
+
+#include <pybind11/stl.h>
+
+#include "canopy/common/data_dir.h"
+#include "canopy/common/error.h"
+#include "canopy/common/io.h"
+#include "canopy/robot/robot_config.h"
+#include "objects.h"
+#include "python_planner.h"
+
+namespace canopy::python {
+
+void bind_settings(py::module_& m) {
+  py::class_<mission::Settings>(m, "Settings", R"(The settings bundle: sections method, mapping, nbv, motion and mission.
+
+Every setting is named by its key path ("mission.loop.views_per_stop"); docs/settings.md
+lists them all with their defaults, limits and help (so does describe()).)")
+      .def(py::init([](const py::object& path) { return settings_from(path); }), py::arg("path") = py::none(),
+           "Loads a bundle file (default: configs/canopy.yaml, found like the command line's --config).")
+      .def_static("defaults", [] { return mission::Settings::defaults(default_robot_config()); },
+                  "The struct defaults (equal to configs/canopy.yaml).")
+      .def_static("from_yaml", [](const std::string& text, const std::string& folder) {
+        return mission::Settings::load_string(text, "settings text", folder, default_robot_config());
+      }, py::arg("text"), py::arg("folder") = ".", "Parses bundle text; component files are read relative to folder.")
+      .def("set", [](mission::Settings& s, const std::string& key, const py::object& value) -> mission::Settings& {
+        s.set(key, yaml_value(value), "settings");
+        return s;
+      }, py::arg("key"), py::arg("value"), py::return_value_policy::reference_internal,
+      R"(Sets the setting at key path `key` (str values are YAML text) and validates the bundle;
+ValueError names an unknown key or a bad value. Returns the settings (calls chain).)")
+      .def("update", [](mission::Settings& s, const py::dict& values) -> mission::Settings& {
+        for (const auto& kv : values) s.set(py::str(kv.first), yaml_value(kv.second), "settings");
+        return s;
+      }, py::arg("values"), py::return_value_policy::reference_internal, "set() for each key: value of a dict, in order.")
+      .def("to_yaml", &mission::Settings::to_yaml_text, "Every section inline: what settings.yaml holds.")
+      .def("to_dict", [](const mission::Settings& s) { return yaml_to_py(s.to_yaml()); }, "Every section as nested dicts.")
+      .def("get", [](const mission::Settings& s, const std::string& key) {
+        YAML::Node node = s.to_yaml();
+        std::size_t start = 0;
+        for (;;) {
+          const std::size_t dot = key.find('.', start);
+          const std::string part = key.substr(start, dot == std::string::npos ? std::string::npos : dot - start);
+          const YAML::Node& parent = node;  // const: a lookup must not add the key
+          if (part.empty() || !parent.IsMap() || !parent[part])
+            throw InputError("settings: unknown setting '" + key + "' (settings are named by key paths such as "
+                             "mission.loop.views_per_stop)");
+          node.reset(parent[part]);
+          if (dot == std::string::npos) break;
+          start = dot + 1;
+        }
+        return yaml_to_py(node);
+      }, py::arg("key"), "The value at a key path (a section as a dict).")
+      .def("save", [](const mission::Settings& s, const py::object& path) {
+        write_file_atomic(path_from(path, "path"), s.to_yaml_text());
+      },
+           py::arg("path"), "Writes the bundle (a loadable --config) atomically.")
+      .def("describe", [](const mission::Settings& s) {
+        py::list out;
+        for (const ParamDescription& d : s.describe())
+          out.append(py::dict(py::arg("key") = d.key, py::arg("value") = d.value, py::arg("limits") = d.limits,
+                              py::arg("help") = d.help));
+        return out;
+      }, "Every setting: key, value (YAML text), limits and help.")
+      .def("copy", [](const mission::Settings& s) { return s; })
+      .def("__eq__", [](const mission::Settings& a, const mission::Settings& b) { return a == b; }, py::is_operator())
+      .def("__repr__", [](const mission::Settings& s) {
+        return "<canopy.Settings method=" + s.method.name + " gain=" + s.method.gain + " rays=" + s.method.rays + ">";
+      });
+}
+
+}  // namespace canopy::python
+
+PYBIND11_MODULE(_canopy, m) {
+  using namespace canopy::python;
+  m.doc() = "canopy's C++ library (the canopy package re-exports it; help(canopy) for the overview).";
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const canopy::InputError& e) {
+      PyErr_SetString(PyExc_ValueError, e.what());
+    } catch (const canopy::Interrupted& e) {
+      PyErr_SetString(PyExc_KeyboardInterrupt, e.what());
+    }
+  });
+  m.def("data_dir", &canopy::data_dir, "canopy's data folder (models/, configs/, worlds/), as every canopy program finds it.");
+  bind_settings(m);
+  bind_frames(m);
+  bind_worlds(m);
+  bind_maps(m);
+  bind_planning(m);
+  bind_python_planner(m);
+  bind_missions(m);
+}
