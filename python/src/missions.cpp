@@ -147,7 +147,7 @@ truth_contacts, self_contacts.)")
             mission::VideoWriter::validate_output_path(video_path, "video");
           }
           std::unique_ptr<StagedDir> staged;
-          if (!out.is_none()) staged = std::make_unique<StagedDir>(path_from(out, "out"), StagedDir::Mode::kReplace, "out");
+          if (!out.is_none()) staged = std::make_unique<StagedDir>(path_from(out, "out"), "mission", StagedDir::Mode::kReplace, "out");
 
           mission::MissionCallbacks cb;
           if (!progress.is_none())
