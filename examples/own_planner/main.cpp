@@ -97,7 +97,7 @@ int main(int argc, char** argv) {
                 settings.method.name.c_str(), result.successful_views(), result.views.size(),
                 result.final_metrics.coverage, result.sim_time_s);
     if (argc > 2) {
-      StagedDir out(argv[2]);
+      StagedDir out(argv[2], "mission");
       mission::RunContext context;
       context.world_file = world_file;
       context.world = &world;
