@@ -163,6 +163,7 @@ void add_ablate_command(CLI::App& app) {
     world::WorldSpec spec = load_world_spec(o.world);
     spec.camera.depth_noise_k = 0.0;  // segmentation noise only, and renderers stay stateless
     const world::World world = build_world(spec);
+    check_world_colours(world, bundle.mapping.extractor);
     plan.world_name = spec.name;
     if (o.plants > int(world.plants.size()))
       throw InputError("--plants: " + std::to_string(o.plants) + " but the world has " +
@@ -193,6 +194,22 @@ void add_ablate_command(CLI::App& app) {
     out_dir.commit();
     std::printf("ablation done in %.0f s; wrote %s (summary.csv, table.csv, trials/, jobs/, *.png)\n", r.seconds,
                 o.out.c_str());
+    // A zero never goes unexplained.
+    long zero = 0, blind = 0;
+    for (const auto& row : r.rows) zero += row.final_coverage == 0.0, blind += row.target_points == 0;
+    if (!r.rows.empty() && zero == long(r.rows.size())) {
+      const std::string target = "'" + world.spec.classes.target + "'";
+      if (blind == long(r.rows.size()))
+        std::printf("fruit coverage is 0 in every configuration: no view labelled a single pixel %s (labels: %s)%s\n",
+                    target.c_str(), perception::to_string(bundle.mapping.extractor.source).c_str(),
+                    bundle.mapping.extractor.source == perception::LabelSource::kColor
+                        ? "; the fruit's rendered colours fall outside the colour bands (imported plants: check their "
+                          "colours with canopy world; --seg truth maps with the renderer's labels)"
+                        : "");
+      else
+        std::printf("fruit coverage is 0 in every configuration although views labelled %s points: none was kept on a "
+                    "target fruit's surface\n", target.c_str());
+    }
   });
 }
 

@@ -288,7 +288,9 @@ struct Mission::Impl {
     // Mapping: segmentation, insertion, the planner's collision environment.
     {
       ScopedPhase phase_time(rec.times, kMapping);
-      inserter.insert(extractor.extract(frame));
+      const perception::LabelledCloud cloud = extractor.extract(frame);
+      rec.target_points = static_cast<long>(cloud.stats.target_points);
+      inserter.insert(cloud);
       update_map_environment();
     }
     view_planner->taken(frame.T_world_camera);
@@ -309,6 +311,7 @@ struct Mission::Impl {
     if (v.phase == ViewPhase::kInitial) {
       ++s.initial_attempted;
       s.initial_ok += v.success;
+      s.initial_target_points += v.target_points;
     } else {
       ++s.nbv_attempted;
       s.nbv_ok += v.success;
@@ -429,6 +432,25 @@ struct Mission::Impl {
     s.end_reason = end;
   }
 
+  // Why the final coverage is 0 ("" when it is not).
+  std::string zero_coverage_reason() const {
+    if (result.final_metrics.coverage > 0.0) return "";
+    long target_points = 0;
+    for (const auto& v : result.views) target_points += v.target_points;
+    const std::string target = "'" + world.spec.classes.target + "'";
+    if (result.final_metrics.fruits.empty()) return "the world has no target fruit";
+    if (result.successful_views() == 0) return "no view succeeded";
+    if (target_points == 0) {
+      if (settings.mapping.extractor.source == perception::LabelSource::kColor)
+        return "no view's colour segmentation labelled a single pixel " + target +
+               ": the fruit's rendered colours fall outside the colour bands (imported plants: check their colours with "
+               "canopy world; --seg truth maps with the renderer's labels)";
+      return "no view saw a pixel of a target fruit";
+    }
+    return std::to_string(target_points) + " points were labelled " + target +
+           " but none was kept on a target fruit's surface";
+  }
+
   MissionResult run() {
     elapsed_.restart();
     try {
@@ -442,6 +464,11 @@ struct Mission::Impl {
           continue;
         }
         scripted(scan_views(k, false), ViewPhase::kInitial);
+        const StopRecord& s = stop_record();
+        if (s.initial_ok > 0 && s.initial_target_points == 0)
+          progress("stop " + std::to_string(k + 1) + "/" + std::to_string(stops_x.size()) + ": WARNING: the initial scan's " +
+                   std::to_string(s.initial_ok) + " views segmented no '" + world.spec.classes.target + "' pixel (labels: " +
+                   perception::to_string(settings.mapping.extractor.source) + ")");
         nbv_loop(k);
         stop_record().sim_time_s = sim.time() - t0;
       }
@@ -451,6 +478,7 @@ struct Mission::Impl {
       if (!result.stops.empty() && result.stops.back().end_reason.empty()) result.stops.back().end_reason = "interrupted";
     }
     result.final_metrics = evaluation::evaluate_map(map, world.truth, settings.mapping.metrics);
+    result.zero_coverage_reason = zero_coverage_reason();
     result.sim_time_s = sim.time();
     result.wall_time_s = elapsed_.seconds();
     return result;

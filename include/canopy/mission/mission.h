@@ -86,6 +86,7 @@ struct ViewRecord {
   double move_time_s = 0.0;      ///< Simulated time of the move.
   int truth_contacts = 0;        ///< Executed states in contact with the true plants.
   int self_contacts = 0;         ///< Steps with a robot-robot contact in MuJoCo.
+  long target_points = 0;        ///< Points of its cloud labelled the target class (kept out of views.csv).
   PhaseTimes times;              ///< Wall time by phase (kept out of views.csv).
 };
 
@@ -96,6 +97,9 @@ struct StopRecord {
   bool reached_goal = false;     ///< Reached within tolerance without touching the plants.
   int base_truth_contacts = 0;   ///< Base-vs-plant contacts seen while driving here (geometric).
   int initial_attempted = 0, initial_ok = 0;
+  /// Points the initial scan's views labelled the target class; 0 after successful views
+  /// means the segmentation saw no target at the stop (noted in the log and summary.json).
+  long initial_target_points = 0;
   int nbv_attempted = 0, nbv_ok = 0;
   int rounds = 0;
   std::map<std::string, int> failures;
@@ -115,6 +119,9 @@ struct MissionResult {
   evaluation::MapMetrics final_metrics;
   int unstable_faults = 0;
   std::map<std::string, int> failures;
+  /// When the final fruit coverage is 0: why (no successful view, no target pixel segmented,
+  /// ...); empty otherwise.
+  std::string zero_coverage_reason;
   int successful_views() const;
 };
 
