@@ -15,6 +15,7 @@
 #include "canopy/common/io.h"
 #include "canopy/common/process.h"
 #include "canopy/experiments/ablation_runner.h"
+#include "canopy/mission/mission.h"
 #include "canopy/nbv/gains.h"
 #include "canopy/nbv/ray_sets.h"
 #include "cli_util.h"
@@ -195,21 +196,17 @@ void add_ablate_command(CLI::App& app) {
     std::printf("ablation done in %.0f s; wrote %s (summary.csv, table.csv, trials/, jobs/, *.png)\n", r.seconds,
                 o.out.c_str());
     // A zero never goes unexplained.
-    long zero = 0, blind = 0;
-    for (const auto& row : r.rows) zero += row.final_coverage == 0.0, blind += row.target_points == 0;
-    if (!r.rows.empty() && zero == long(r.rows.size())) {
-      const std::string target = "'" + world.spec.classes.target + "'";
-      if (blind == long(r.rows.size()))
-        std::printf("fruit coverage is 0 in every configuration: no view labelled a single pixel %s (labels: %s)%s\n",
-                    target.c_str(), perception::to_string(bundle.mapping.extractor.source).c_str(),
-                    bundle.mapping.extractor.source == perception::LabelSource::kColor
-                        ? "; the fruit's rendered colours fall outside the colour bands (imported plants: check their "
-                          "colours with canopy world; --seg truth maps with the renderer's labels)"
-                        : "");
-      else
-        std::printf("fruit coverage is 0 in every configuration although views labelled %s points: none was kept on a "
-                    "target fruit's surface\n", target.c_str());
+    bool all_zero = !r.rows.empty();
+    long target_points = 0, true_pixels = 0;
+    for (const auto& row : r.rows) {
+      all_zero = all_zero && row.final_coverage == 0.0;
+      target_points += row.target_points;
+      true_pixels += row.true_target_pixels;
     }
+    if (all_zero)
+      std::printf("fruit coverage is 0 in every configuration: %s\n",
+                  mission::zero_coverage_cause(world.spec.classes.target, bundle.mapping.extractor.source, target_points,
+                                               true_pixels).c_str());
   });
 }
 

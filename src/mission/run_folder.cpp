@@ -73,6 +73,7 @@ nlohmann::json summary_json(const MissionResult& r) {
                      {"initial_attempted", s.initial_attempted},
                      {"initial_successful", s.initial_ok},
                      {"initial_target_points", s.initial_target_points},
+                     {"initial_true_target_pixels", s.initial_true_target_pixels},
                      {"initial_scan_saw_no_target", s.initial_ok > 0 && s.initial_target_points == 0},
                      {"nbv_attempted", s.nbv_attempted},
                      {"nbv_successful", s.nbv_ok},

@@ -148,11 +148,21 @@ TEST(Mission, AStopWhoseScanSegmentsNoTargetPixelSaysSoAndAZeroCoverageSaysWhy) 
   EXPECT_EQ(r.stops[0].initial_target_points, 0);
   EXPECT_TRUE(summary_json(r)["stops"][0]["initial_scan_saw_no_target"].get<bool>());
   bool warned = false;
-  for (const auto& line : log) warned = warned || line.find("segmented no 'fruit' pixel (labels: color)") != std::string::npos;
+  for (const auto& line : log)
+    warned = warned || line.find("segmented no 'fruit' pixel (labels: color); the renderer's true labels show") != std::string::npos;
   EXPECT_TRUE(warned);
   EXPECT_EQ(r.final_metrics.coverage, 0.0);
-  EXPECT_NE(r.zero_coverage_reason.find("no view's colour segmentation labelled a single pixel 'fruit'"), std::string::npos)
+  EXPECT_GT(r.stops[0].initial_true_target_pixels, 0);
+  EXPECT_NE(r.zero_coverage_reason.find("'fruit' pixels (the renderer's true labels) but the segmentation (labels: color) "
+                                        "labelled none 'fruit': the fruit's rendered colours fall outside the colour bands"),
+            std::string::npos)
       << r.zero_coverage_reason;
+  // The causes told apart: no fruit in view, fruit seen but not segmented, segmented but not kept.
+  EXPECT_NE(zero_coverage_cause("fruit", perception::LabelSource::kColor, 0, 0).find("the views miss the fruit"),
+            std::string::npos);
+  EXPECT_NE(zero_coverage_cause("fruit", perception::LabelSource::kTruth, 0, 10).find("labelled none 'fruit'"),
+            std::string::npos);
+  EXPECT_NE(zero_coverage_cause("fruit", perception::LabelSource::kColor, 5, 10).find("none was kept"), std::string::npos);
   EXPECT_EQ(summary_json(r)["zero_coverage_reason"].get<std::string>(), r.zero_coverage_reason);
 }
 

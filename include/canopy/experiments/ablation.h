@@ -92,6 +92,7 @@ struct AblationRow {
   double raycast_ms_per_view = 0.0;
   double final_coverage = 0.0, final_entropy = 0.0;
   long target_points = 0;            ///< Points its views labelled the target class, over every run.
+  long true_target_pixels = 0;       ///< Target-class pixels in its frames' true labels, over every run.
 };
 
 /// Summarises finished jobs (`results[i]` of `jobs[i]`, null when missing): writes per-trial
