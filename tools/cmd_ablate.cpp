@@ -197,13 +197,17 @@ void add_ablate_command(CLI::App& app) {
                 o.out.c_str());
     // A zero never goes unexplained.
     bool all_zero = !r.rows.empty();
-    long target_points = 0, true_pixels = 0;
+    long target_points = 0, true_pixels = 0, uncounted = 0;
     for (const auto& row : r.rows) {
       all_zero = all_zero && row.final_coverage == 0.0;
       target_points += row.target_points;
       true_pixels += row.true_target_pixels;
+      uncounted += row.steps_without_counts;
     }
-    if (all_zero)
+    if (all_zero && uncounted > 0)
+      std::printf("fruit coverage is 0 in every configuration; %ld views come from job files of an older canopy that "
+                  "did not count target pixels: rerun without --resume to learn why\n", uncounted);
+    else if (all_zero)
       std::printf("fruit coverage is 0 in every configuration: %s\n",
                   mission::zero_coverage_cause(world.spec.classes.target, bundle.mapping.extractor.source, target_points,
                                                true_pixels).c_str());

@@ -248,6 +248,7 @@ std::vector<AblationRow> summarize_ablation(const std::string& out, const std::v
         for (const auto& s : (*r)["steps"]) {
           row.target_points += s.value("target_points", 0L);
           row.true_target_pixels += s.value("true_target_pixels", 0L);
+          row.steps_without_counts += s.contains("pose") && !s.contains("true_target_pixels");
         }
         for (const auto& s : (*r)["steps"])
           if (s.contains("ms_raycast_per_view") && s.value("candidates", 0) > 0)
