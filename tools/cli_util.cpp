@@ -2,6 +2,8 @@
 
 #include <spdlog/spdlog.h>
 
+#include "canopy/common/error.h"
+#include "canopy/evaluation/segmentation_check.h"
 #include "canopy/robot/robot_description.h"
 
 namespace canopy::cli {
@@ -25,6 +27,23 @@ world::World build_world(const world::WorldSpec& spec) {
   world::World w = world::generate_world(spec);
   for (const std::string& note : world::unplaced_fruit_notes(w)) spdlog::warn("world '{}': {}", spec.name, note);
   return w;
+}
+
+void check_world_colours(const world::World& world, const perception::ExtractorParams& extractor) {
+  const bool colour = extractor.source == perception::LabelSource::kColor;
+  for (const auto& m : evaluation::check_color_segmentation(world, extractor.color)) {
+    const std::string what = m.plant + ": material '" + m.material + "'";
+    if (m.problem.empty()) {
+      spdlog::info("{} ({}{}): colour segmentation labels its {} {}", what, m.class_name, m.target ? "" : ", unripe",
+                   m.textured ? "texture" : "colour", m.shares(world.spec.classes));
+      continue;
+    }
+    const bool blind_target = m.class_name == world.spec.classes.target && m.target;
+    if (colour && blind_target)
+      throw InputError(what + ": " + m.problem + " (labels: color; give the plant fruit-coloured materials, or map with "
+                       "--seg truth)");
+    spdlog::warn("{}: {}", what, m.problem);
+  }
 }
 
 YAML::Node run_record(const std::string& command, const world::WorldSpec& spec) {

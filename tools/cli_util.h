@@ -21,6 +21,12 @@ world::WorldSpec load_world_spec(const std::string& path, const RobotConfig& rob
 /// Generates the world of `spec` and logs a warning for each plant whose drawn fruits did not
 /// all fit (world::unplaced_fruit_notes).
 world::World build_world(const world::WorldSpec& spec);
+/// Checks the colours of every imported plant of `world` against the colour segmentation of
+/// `extractor` (evaluation/segmentation_check.h) and logs what it gives per material. Under
+/// colour segmentation a target-fruit material it would not label fruit is an InputError
+/// naming the plant and the material; other problems (a leaf material labelled fruit, or any
+/// problem under --seg truth) are warnings.
+void check_world_colours(const world::World& world, const perception::ExtractorParams& extractor);
 /// The start of a command's run.yaml: the command, the world file and the world's resolved
 /// parameters (seed included). Commands add their own options; the settings bundle goes to
 /// settings.yaml beside it.

@@ -15,6 +15,7 @@
 #include "canopy/common/io.h"
 #include "canopy/common/process.h"
 #include "canopy/experiments/ablation_runner.h"
+#include "canopy/mission/mission.h"
 #include "canopy/nbv/gains.h"
 #include "canopy/nbv/ray_sets.h"
 #include "cli_util.h"
@@ -163,6 +164,7 @@ void add_ablate_command(CLI::App& app) {
     world::WorldSpec spec = load_world_spec(o.world);
     spec.camera.depth_noise_k = 0.0;  // segmentation noise only, and renderers stay stateless
     const world::World world = build_world(spec);
+    check_world_colours(world, bundle.mapping.extractor);
     plan.world_name = spec.name;
     if (o.plants > int(world.plants.size()))
       throw InputError("--plants: " + std::to_string(o.plants) + " but the world has " +
@@ -193,6 +195,22 @@ void add_ablate_command(CLI::App& app) {
     out_dir.commit();
     std::printf("ablation done in %.0f s; wrote %s (summary.csv, table.csv, trials/, jobs/, *.png)\n", r.seconds,
                 o.out.c_str());
+    // A zero never goes unexplained.
+    bool all_zero = !r.rows.empty();
+    long target_points = 0, true_pixels = 0, uncounted = 0;
+    for (const auto& row : r.rows) {
+      all_zero = all_zero && row.final_coverage == 0.0;
+      target_points += row.target_points;
+      true_pixels += row.true_target_pixels;
+      uncounted += row.steps_without_counts;
+    }
+    if (all_zero && uncounted > 0)
+      std::printf("fruit coverage is 0 in every configuration; %ld views come from job files of an older canopy that "
+                  "did not count target pixels: rerun without --resume to learn why\n", uncounted);
+    else if (all_zero)
+      std::printf("fruit coverage is 0 in every configuration: %s\n",
+                  mission::zero_coverage_cause(world.spec.classes.target, bundle.mapping.extractor.source, target_points,
+                                               true_pixels).c_str());
   });
 }
 

@@ -7,14 +7,18 @@
 
 #include "canopy/common/error.h"
 #include "canopy/common/io.h"
+#include "canopy/evaluation/segmentation_check.h"
 #include "canopy/world/plant_import.h"
+#include "cli_util.h"
 #include "commands.h"
 
 namespace canopy::cli {
 
 void add_import_plant_command(CLI::App& app) {
   struct Options {
-    std::string file, out, preset, up = "auto", gt = "surface";
+    std::string file, out, preset, up = "auto", gt = "surface", texture = "image";
+    std::string config = mission::default_settings_path();
+    bool strict = false;
     std::vector<std::string> classes;
     double unit_scale = 0.0;
     world::ImportOptions import;
@@ -37,6 +41,16 @@ void add_import_plant_command(CLI::App& app) {
   sub->add_option("--gt", opt->gt, "Ground truth: surface (sampled by area) or vertices (the mesh's own)")
       ->check(CLI::IsMember({"surface", "vertices"}))
       ->capture_default_str();
+  sub->add_option("--texture", opt->texture,
+                  "Diffuse textures: image (rendered with them) or mean (each material's mean texel colour, weighted "
+                  "by UV area, as its flat colour)")
+      ->check(CLI::IsMember({"image", "mean"}))
+      ->capture_default_str();
+  sub->add_option("--config", opt->config, "Settings bundle whose colour segmentation (mapping.extractor.color) the "
+                  "colour check uses")->capture_default_str();
+  sub->add_flag("--strict", opt->strict,
+                "Refuse the plant (exit 2, nothing written) when colour segmentation would not label a ripe-fruit "
+                "material fruit, or would label much of another material fruit");
   sub->add_option("--spacing", opt->import.point_spacing_m, "Ground-truth point spacing [m] (surface)")->capture_default_str();
   sub->add_option("--min-fruit-size", opt->import.min_fruit_size_m,
                   "Fruit components with a smaller bounding-box diagonal [m] are fragments")->capture_default_str();
@@ -63,14 +77,36 @@ void add_import_plant_command(CLI::App& app) {
     if (sub->count("--unit-scale")) o.unit_scale = opt->unit_scale;
     o.up = opt->up;
     o.truth = opt->gt == "vertices" ? world::TruthMode::kVertices : world::TruthMode::kSurface;
+    o.texture = opt->texture == "mean" ? world::TextureMode::kMean : world::TextureMode::kImage;
     StagedDir::check_writable(opt->out, "plant");
-    const world::ImportedPlant plant = world::import_plant(opt->file, o);
+    const perception::ColorSegmentationParams bands = load_settings(opt->config).mapping.extractor.color;
+    world::ImportedPlant plant = world::import_plant(opt->file, o);
+    // The colour check: what the world's colour segmentation labels each material's colours.
+    const SemanticClasses classes;  // background, leaf, fruit: the class list of worlds by default
+    std::vector<std::string> problems;
+    for (const auto& m : evaluation::check_color_segmentation(plant.parts, opt->file, bands, classes)) {
+      for (auto& r : plant.report.materials)
+        if (r.name == m.material) r.color_segmentation = m.shares(classes), r.color_problem = m.problem;
+      if (!m.problem.empty()) problems.push_back("material '" + m.material + "': " + m.problem);
+    }
+    if (opt->strict && !problems.empty())
+      throw InputError(opt->file + ": " + problems.front() + (problems.size() > 1 ? " (and " + std::to_string(problems.size() - 1) + " more)" : "") + " (--strict)");
     StagedDir out(opt->out, "plant");
     plant.save(out.path(""));
     out.commit();
 
     const world::ImportReport& r = plant.report;
     for (const auto& w : r.warnings) spdlog::warn("{}", w);
+    for (const auto& m : r.materials) {
+      std::string colour = m.colour;
+      if (!m.texture_source.empty())
+        colour += " (texture " + m.texture_source +
+                  (m.texture_width > 0 ? ", " + std::to_string(m.texture_width) + " x " + std::to_string(m.texture_height) + " px" : "") + ")";
+      spdlog::info("  material '{}' ({}{}, {} triangles): colour {}, mean rgb {:.2f} {:.2f} {:.2f}; colour segmentation: {}",
+                   m.name, m.class_name, m.target ? "" : ", unripe", m.triangles, colour, m.rgba[0], m.rgba[1], m.rgba[2],
+                   m.color_segmentation);
+    }
+    for (const auto& p : problems) spdlog::warn("COLOUR CHECK: {} (the plant is written; --strict refuses it)", p);
     spdlog::info("{}: {} ({}), unit {} m, scale {} m per unit, up {}", opt->file, r.format.empty() ? "?" : r.format,
                  plant.source_sha256.substr(0, 12), r.file_unit_m, r.unit_scale, r.up);
     spdlog::info("size {:.3f} x {:.3f} x {:.3f} m (height {:.3f} m, reach {:.3f} m from the base); {} triangles in, "

@@ -156,6 +156,7 @@ void add_map_command(CLI::App& app) {
     if (!opt->frames.empty()) return map_recorded(*opt, bundle);
     const world::WorldSpec spec = load_world_spec(opt->world);
     const world::World world = build_world(spec);
+    check_world_colours(world, cfg.extractor);
     const std::vector<Pose> views = evaluation::views_from_spec(opt->views, world);
     StagedDir out(opt->out, "map");
 

@@ -107,6 +107,7 @@ void run_mission(const MissionCliOptions& o, CLI::App* sub) {
   }
 
   const world::World world = build_world(spec);
+  check_world_colours(world, settings.mapping.extractor);
   const nbv::MethodChoice& method = settings.method;
   spdlog::info("mission: method {}{}, {} plants, {} fruits, P_gt {}, seed {}", method.name,
                method.name == "ours" ? " (" + method.gain + ", rays " + method.rays + ")" : "", world.plants.size(),
@@ -165,6 +166,7 @@ void run_mission(const MissionCliOptions& o, CLI::App* sub) {
   for (const auto& [phase, s] : result.times.totals()) split += " " + phase + " " + std::to_string(s).substr(0, 5) + " s;";
   spdlog::info("wall time by phase:{}", split);
   spdlog::info("wrote {}/ (views.csv, timing.csv, summary.json, settings.yaml, map.csm, map.ply, map.bt)", o.out);
+  if (!result.zero_coverage_reason.empty()) spdlog::warn("fruit SC is 0: {}", result.zero_coverage_reason);
   if (!result.complete) throw Interrupted();
   if (!video_ok)
     throw std::runtime_error("the video " + o.video + " is missing (" + video->writer().error() + "); the other results are in " +

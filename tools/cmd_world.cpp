@@ -2,6 +2,8 @@
 
 #include <spdlog/spdlog.h>
 
+#include <filesystem>
+
 #include "canopy/common/io.h"
 #include "canopy/sim/scene_mjcf.h"
 #include "cli_util.h"
@@ -13,19 +15,32 @@ void add_world_command(CLI::App& app) {
   struct Options {
     std::string world = default_world_path();
     std::string out;
+    std::string config = mission::default_settings_path();
+    std::string seg;
   };
   auto opt = std::make_shared<Options>();
   CLI::App* sub = app.add_subcommand("world", "Generate a world: MuJoCo scene (scene.xml) and fruit ground truth");
   sub->add_option("--world", opt->world, "World file (YAML)")->capture_default_str();
   sub->add_option("--out", opt->out, "Output folder")->required();
+  sub->add_option("--config", opt->config, kConfigHelp)->capture_default_str();
+  sub->add_option("--seg", opt->seg,
+                  "Labels the world will be mapped with: color (refuses imported plants whose target fruit colour "
+                  "segmentation would not see) or truth (default: the config's)")
+      ->check(CLI::IsMember({"color", "truth"}));
   sub->callback([opt] {
     const world::WorldSpec spec = load_world_spec(opt->world);
     const world::World world = build_world(spec);
+    mission::Settings settings = load_settings(opt->config);
+    if (!opt->seg.empty()) settings.set("mapping.extractor.source", opt->seg, "--seg");
+    check_world_colours(world, settings.mapping.extractor);
     const RobotConfig robot_config = default_robot_config();
     const robot::RobotDescription robot = robot::RobotDescription::load_urdf(robot_config.urdf_path);
     const sim::SceneDescription scene = sim::make_scene_mjcf(world, robot, robot_config);
     StagedDir out(opt->out, "world");
     write_file_atomic(out.path("scene.xml"), scene.mjcf);
+    // The plant textures scene.xml names (file="textures/NAME"), so that it loads on its own.
+    if (!scene.files.empty()) std::filesystem::create_directories(out.path("textures"));
+    for (const auto& [name, disk_path] : scene.files) write_file_atomic(out.path("textures/" + name), read_file(disk_path));
     world.truth.save(out.path(""));
     nlohmann::json summary;
     summary["world"] = spec.name;

@@ -9,7 +9,7 @@ PACKAGES=(
   libeigen3-dev liboctomap-dev libompl-dev libfcl-dev liburdfdom-dev
   libboost-serialization-dev libboost-filesystem-dev libboost-system-dev
   libyaml-cpp-dev libcli11-dev libspdlog-dev libfmt-dev nlohmann-json3-dev
-  libnanoflann-dev libtbb-dev libpng-dev libassimp-dev libssl-dev
+  libnanoflann-dev libtbb-dev libpng-dev libassimp-dev libssl-dev libstb-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   ffmpeg
   python3-matplotlib python3-yaml

@@ -117,8 +117,10 @@ nlohmann::json run_ablation_job(const AblationConfig& cfg, int trial, int plant,
       planner->taken(*T);
       request.T_world_camera = *T;
       const LabelledFrame frame = renderer.render_free_camera(*T);  // the renderer serialises draws
-      mapping::map_frame(frame, extractor, inserter);
+      const mapping::FrameMapStep mapped = mapping::map_frame(frame, extractor, inserter);
       step["pose"] = pose_to_json(*T);
+      step["target_points"] = mapped.extract.target_points;
+      step["true_target_pixels"] = mapped.extract.true_target_pixels;
     }
     const evaluation::MapMetrics m = evaluation::evaluate_map(map, truth, s.mapping.metrics);
     step["view"] = steps.size() + 1;
@@ -243,6 +245,11 @@ std::vector<AblationRow> summarize_ablation(const std::string& out, const std::v
     for (int t : complete)
       for (const auto& [p, r] : by_trial[t]) {
         ++row.runs;
+        for (const auto& s : (*r)["steps"]) {
+          row.target_points += s.value("target_points", 0L);
+          row.true_target_pixels += s.value("true_target_pixels", 0L);
+          row.steps_without_counts += s.contains("pose") && !s.contains("true_target_pixels");
+        }
         for (const auto& s : (*r)["steps"])
           if (s.contains("ms_raycast_per_view") && s.value("candidates", 0) > 0)
             ray_ms.push_back(s["ms_raycast_per_view"].get<double>());

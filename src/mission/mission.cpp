@@ -288,7 +288,10 @@ struct Mission::Impl {
     // Mapping: segmentation, insertion, the planner's collision environment.
     {
       ScopedPhase phase_time(rec.times, kMapping);
-      inserter.insert(extractor.extract(frame));
+      const perception::LabelledCloud cloud = extractor.extract(frame);
+      rec.target_points = static_cast<long>(cloud.stats.target_points);
+      rec.true_target_pixels = static_cast<long>(cloud.stats.true_target_pixels);
+      inserter.insert(cloud);
       update_map_environment();
     }
     view_planner->taken(frame.T_world_camera);
@@ -309,6 +312,8 @@ struct Mission::Impl {
     if (v.phase == ViewPhase::kInitial) {
       ++s.initial_attempted;
       s.initial_ok += v.success;
+      s.initial_target_points += v.target_points;
+      s.initial_true_target_pixels += v.true_target_pixels;
     } else {
       ++s.nbv_attempted;
       s.nbv_ok += v.success;
@@ -429,6 +434,16 @@ struct Mission::Impl {
     s.end_reason = end;
   }
 
+  // Why the final coverage is 0 ("" when it is not).
+  std::string zero_coverage_reason() const {
+    if (result.final_metrics.coverage > 0.0) return "";
+    long target_points = 0, true_pixels = 0;
+    for (const auto& v : result.views) target_points += v.target_points, true_pixels += v.true_target_pixels;
+    if (result.final_metrics.fruits.empty()) return "the world has no target fruit";
+    if (result.successful_views() == 0) return "no view succeeded";
+    return zero_coverage_cause(world.spec.classes.target, settings.mapping.extractor.source, target_points, true_pixels);
+  }
+
   MissionResult run() {
     elapsed_.restart();
     try {
@@ -442,6 +457,14 @@ struct Mission::Impl {
           continue;
         }
         scripted(scan_views(k, false), ViewPhase::kInitial);
+        const StopRecord& s = stop_record();
+        if (s.initial_ok > 0 && s.initial_target_points == 0)
+          progress("stop " + std::to_string(k + 1) + "/" + std::to_string(stops_x.size()) + ": WARNING: the initial scan's " +
+                   std::to_string(s.initial_ok) + " views segmented no '" + world.spec.classes.target + "' pixel (labels: " +
+                   perception::to_string(settings.mapping.extractor.source) + "); the renderer's true labels show " +
+                   (s.initial_true_target_pixels > 0
+                        ? std::to_string(s.initial_true_target_pixels) + " such pixels in them"
+                        : std::string("none either: no fruit in view")));
         nbv_loop(k);
         stop_record().sim_time_s = sim.time() - t0;
       }
@@ -451,6 +474,7 @@ struct Mission::Impl {
       if (!result.stops.empty() && result.stops.back().end_reason.empty()) result.stops.back().end_reason = "interrupted";
     }
     result.final_metrics = evaluation::evaluate_map(map, world.truth, settings.mapping.metrics);
+    result.zero_coverage_reason = zero_coverage_reason();
     result.sim_time_s = sim.time();
     result.wall_time_s = elapsed_.seconds();
     return result;
@@ -458,6 +482,23 @@ struct Mission::Impl {
 
   Stopwatch elapsed_;
 };
+
+std::string zero_coverage_cause(const std::string& target, perception::LabelSource labels, long target_points,
+                                long true_target_pixels) {
+  const std::string t = "'" + target + "'";
+  if (true_target_pixels == 0)
+    return "no view saw a " + t + " pixel (the renderer's true labels show none in any frame): the views miss the fruit";
+  if (target_points == 0) {
+    std::string why = "the views saw " + std::to_string(true_target_pixels) + " " + t +
+                      " pixels (the renderer's true labels) but the segmentation (labels: " + perception::to_string(labels) +
+                      ") labelled none " + t;
+    if (labels == perception::LabelSource::kColor)
+      why += ": the fruit's rendered colours fall outside the colour bands (imported plants: check their colours with "
+             "canopy world; --seg truth maps with the renderer's labels)";
+    return why;
+  }
+  return std::to_string(target_points) + " points were labelled " + t + " but none was kept on a target fruit's surface";
+}
 
 Mission::Mission(const world::World& world, const Settings& settings, std::uint64_t seed, MissionCallbacks callbacks)
     : impl_(std::make_unique<Impl>(world, settings, seed, std::move(callbacks))) {}

@@ -59,6 +59,7 @@ nlohmann::json summary_json(const MissionResult& r) {
   j["views_successful"] = r.successful_views();
   j["failures"] = r.failures;
   j["unstable_faults"] = r.unstable_faults;
+  if (!r.zero_coverage_reason.empty()) j["zero_coverage_reason"] = r.zero_coverage_reason;
   int truth_contacts = 0, base_contacts = 0;
   for (const auto& v : r.views) truth_contacts += v.truth_contacts;
   nlohmann::json stops = nlohmann::json::array();
@@ -71,6 +72,9 @@ nlohmann::json summary_json(const MissionResult& r) {
                      {"base_truth_contacts", s.base_truth_contacts},
                      {"initial_attempted", s.initial_attempted},
                      {"initial_successful", s.initial_ok},
+                     {"initial_target_points", s.initial_target_points},
+                     {"initial_true_target_pixels", s.initial_true_target_pixels},
+                     {"initial_scan_saw_no_target", s.initial_ok > 0 && s.initial_target_points == 0},
                      {"nbv_attempted", s.nbv_attempted},
                      {"nbv_successful", s.nbv_ok},
                      {"rounds", s.rounds},

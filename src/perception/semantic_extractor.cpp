@@ -1,5 +1,7 @@
 #include "canopy/perception/semantic_extractor.h"
 
+#include <algorithm>
+
 #include <cmath>
 
 #include "canopy/common/error.h"
@@ -47,6 +49,10 @@ LabelledCloud SemanticExtractor::extract(const LabelledFrame& frame) {
   }
   cloud.stats.masks = stats.masks;
   cloud.stats.masks_flipped = stats.masks_flipped;
+  const auto target = static_cast<std::uint8_t>(classes_.target_index());
+  cloud.stats.target_points = static_cast<std::size_t>(std::count(cloud.labels.begin(), cloud.labels.end(), target));
+  cloud.stats.true_target_pixels =
+      static_cast<std::size_t>(std::count(frame.class_id.data.begin(), frame.class_id.data.end(), target));
   return cloud;
 }
 

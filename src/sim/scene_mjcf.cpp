@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <charconv>
 #include <functional>
+#include <map>
+#include <tuple>
 #include <set>
 #include <sstream>
 
@@ -170,6 +172,35 @@ void write_mesh_asset(std::ostream& os, const std::string& name, const world::Tr
   os << "\"/>\n";
 }
 
+// A textured mesh: MuJoCo 2.2.2 takes one texture coordinate per vertex, so a vertex is
+// repeated for every distinct texture coordinate its faces give it. MuJoCo's textures start
+// at the image's top row, the coordinates' v = 0 at its bottom: v is written as 1 - v.
+void write_textured_mesh_asset(std::ostream& os, const std::string& name, const world::TriMesh& mesh,
+                               const std::vector<world::FaceUv>& uv) {
+  CANOPY_CHECK(uv.size() == mesh.faces.size(), "a textured part has one texture coordinate triple per face");
+  std::map<std::tuple<int, double, double>, int> index;
+  std::vector<std::pair<int, Vec2>> corners;
+  std::vector<std::array<int, 3>> faces;
+  for (size_t k = 0; k < mesh.faces.size(); ++k) {
+    std::array<int, 3> f{};
+    for (size_t c = 0; c < 3; ++c) {
+      const int v = mesh.faces[k][c];
+      const Vec2 t = uv[k][c];
+      const auto [it, fresh] = index.try_emplace({v, t.x(), t.y()}, static_cast<int>(corners.size()));
+      if (fresh) corners.push_back({v, t});
+      f[c] = it->second;
+    }
+    faces.push_back(f);
+  }
+  os << "    <mesh name=\"" << name << "\" vertex=\"";
+  for (const auto& [v, t] : corners) os << vec3(mesh.vertices[static_cast<size_t>(v)]) << ' ';
+  os << "\" texcoord=\"";
+  for (const auto& [v, t] : corners) os << num(t.x()) << ' ' << num(1.0 - t.y()) << ' ';
+  os << "\" face=\"";
+  for (const auto& f : faces) os << f[0] << " " << f[1] << " " << f[2] << " ";
+  os << "\"/>\n";
+}
+
 }  // namespace
 
 std::string frame_site_name(const std::string& link) { return std::string(kRobotPrefix) + "frame/" + link; }
@@ -199,9 +230,25 @@ SceneDescription make_scene_mjcf(const world::World& world, const robot::RobotDe
      << "    <texture name=\"ground\" type=\"2d\" builtin=\"checker\" rgb1=\"0.42 0.36 0.30\" rgb2=\"0.46 0.40 0.33\" width=\"64\" height=\"64\"/>\n"
      << "    <material name=\"ground\" texture=\"ground\" texrepeat=\"20 20\" specular=\"0\"/>\n"
      << "    <material name=\"plant\" specular=\"0.08\" shininess=\"0.1\"/>\n";
+  // Plant textures: one texture and one material per texture file (shared by the parts and
+  // the plants that use it).
+  std::map<std::string, std::string> texture_of_file;
   if (options.include_plants)
     for (const auto& plant : world.plants)
-      for (const auto& part : plant.parts) write_mesh_asset(os, part.name, part.mesh);
+      for (const auto& part : plant.parts) {
+        if (part.texture) {
+          auto [it, fresh] = texture_of_file.try_emplace(part.texture_file, "plant_tex_" + std::to_string(texture_of_file.size()));
+          if (fresh) {
+            os << "    <texture name=\"" << it->second << "\" type=\"2d\" file=\"textures/" << it->second << ".png\"/>\n"
+               << "    <material name=\"" << it->second << "\" texture=\"" << it->second
+               << "\" specular=\"0.08\" shininess=\"0.1\"/>\n";
+            scene.files[it->second + ".png"] = part.texture_file;
+          }
+          write_textured_mesh_asset(os, part.name, part.mesh, part.uv);
+        } else {
+          write_mesh_asset(os, part.name, part.mesh);
+        }
+      }
   os << "  </asset>\n  <worldbody>\n"
      << "    <light name=\"sun\" directional=\"true\" pos=\"0 0 5\" dir=\"-0.3 0.2 -1\" diffuse=\"0.55 0.55 0.55\" specular=\"0.05 0.05 0.05\" castshadow=\"true\"/>\n"
      << "    <geom name=\"ground\" type=\"plane\" size=\"30 30 0.1\" material=\"ground\" group=\"" << kGroupGround
@@ -210,9 +257,13 @@ SceneDescription make_scene_mjcf(const world::World& world, const robot::RobotDe
   for (const auto& plant : world.plants)
     for (const auto& part : plant.parts) {
       if (!options.include_plants) break;
-      os << "    <geom name=\"" << part.name << "\" type=\"mesh\" mesh=\"" << part.name << "\" material=\"plant\" rgba=\""
-         << part.rgba[0] << " " << part.rgba[1] << " " << part.rgba[2] << " 1\" group=\"" << kGroupPlants
-         << "\" contype=\"0\" conaffinity=\"0\"/>\n";
+      if (part.texture)
+        os << "    <geom name=\"" << part.name << "\" type=\"mesh\" mesh=\"" << part.name << "\" material=\""
+           << texture_of_file.at(part.texture_file) << "\" group=\"" << kGroupPlants << "\" contype=\"0\" conaffinity=\"0\"/>\n";
+      else
+        os << "    <geom name=\"" << part.name << "\" type=\"mesh\" mesh=\"" << part.name << "\" material=\"plant\" rgba=\""
+           << part.rgba[0] << " " << part.rgba[1] << " " << part.rgba[2] << " 1\" group=\"" << kGroupPlants
+           << "\" contype=\"0\" conaffinity=\"0\"/>\n";
       scene.labels[part.name] = GeomLabel{part.class_id, part.instance_id, false};
     }
   RobotWriter(robot, cfg, spec.class_of("robot"), spec.camera.fovy_deg(), &scene).write(os);

@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "canopy/common/error.h"
+#include "canopy/common/io.h"
 
 namespace canopy::sim {
 
@@ -66,13 +67,27 @@ Simulator::~Simulator() = default;
 
 void Simulator::load(const std::string& mjcf) {
   install_mujoco_error_handler();
-  auto vfs = std::make_unique<mjVFS>();
+  // The files added are freed however load() ends.
+  struct VfsFree {
+    void operator()(mjVFS* v) const {
+      mj_deleteVFS(v);
+      delete v;
+    }
+  };
+  std::unique_ptr<mjVFS, VfsFree> vfs(new mjVFS);
   mj_defaultVFS(vfs.get());
   const char* name = "canopy_scene.xml";
   if (mj_makeEmptyFileVFS(vfs.get(), name, static_cast<int>(mjcf.size())) != 0)
     throw std::runtime_error("MuJoCo: cannot create the in-memory scene file");
   const int idx = mj_findFileVFS(vfs.get(), name);
   std::memcpy(vfs->filedata[idx], mjcf.data(), mjcf.size());
+  // Files the scene names (plant textures), under the names it gives them.
+  for (const auto& [file, disk_path] : scene_.files) {
+    const std::string bytes = read_file(disk_path);
+    if (mj_makeEmptyFileVFS(vfs.get(), file.c_str(), static_cast<int>(bytes.size())) != 0)
+      throw std::runtime_error("MuJoCo: cannot add " + disk_path + " to the in-memory files");
+    std::memcpy(vfs->filedata[mj_findFileVFS(vfs.get(), file.c_str())], bytes.data(), bytes.size());
+  }
   char error[1024] = "";
   {
     // MuJoCo 2.2's XML loader keeps global state (the last loaded model); load one at a time.
@@ -80,7 +95,7 @@ void Simulator::load(const std::string& mjcf) {
     std::lock_guard<std::mutex> lock(load_mutex);
     model_.reset(mj_loadXML(name, vfs.get(), error, sizeof(error)));
   }
-  mj_deleteVFS(vfs.get());
+  vfs.reset();
   if (!model_) throw std::runtime_error(std::string("MuJoCo could not compile the scene: ") + error);
   data_.reset(mj_makeData(model_.get()));
   geom_labels_.assign(static_cast<size_t>(model_->ngeom), GeomLabel{});

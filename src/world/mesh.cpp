@@ -186,7 +186,7 @@ TriMesh compact(const TriMesh& in) {
   return out;
 }
 
-TriMesh cluster_vertices(const TriMesh& in, double cell) {
+TriMesh cluster_vertices(const TriMesh& in, double cell, std::vector<size_t>* kept) {
   std::unordered_map<CellKey, int, CellHash> cell_index;
   std::vector<Vec3> sum;
   std::vector<int> count, remap(in.vertices.size());
@@ -203,7 +203,9 @@ TriMesh cluster_vertices(const TriMesh& in, double cell) {
   TriMesh out;
   for (size_t c = 0; c < sum.size(); ++c) out.vertices.push_back(sum[c] / count[c]);
   std::set<std::array<int, 3>> seen;
-  for (const auto& f : in.faces) {
+  if (kept) kept->clear();
+  for (size_t k = 0; k < in.faces.size(); ++k) {
+    const auto& f = in.faces[k];
     const std::array<int, 3> g = {remap[static_cast<size_t>(f[0])], remap[static_cast<size_t>(f[1])],
                                   remap[static_cast<size_t>(f[2])]};
     if (g[0] == g[1] || g[1] == g[2] || g[0] == g[2]) continue;
@@ -211,6 +213,7 @@ TriMesh cluster_vertices(const TriMesh& in, double cell) {
     std::sort(key.begin(), key.end());
     if (!seen.insert(key).second) continue;
     out.faces.push_back(g);
+    if (kept) kept->push_back(k);
   }
   return compact(out);
 }

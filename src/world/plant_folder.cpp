@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <map>
 #include <set>
 
 #include "canopy/common/error.h"
@@ -42,6 +43,21 @@ std::string obj_text(const ImportedPart& p) {
   for (const auto& v : p.mesh.vertices) {
     std::snprintf(line, sizeof(line), "v %.9g %.9g %.9g\n", v.x(), v.y(), v.z());
     s += line;
+  }
+  if (p.texture) {
+    // One texture coordinate per face corner (OBJ's v = 0 is the image's bottom row).
+    for (const auto& f : p.uv)
+      for (const auto& t : f) {
+        std::snprintf(line, sizeof(line), "vt %.9g %.9g\n", t.x(), t.y());
+        s += line;
+      }
+    for (size_t k = 0; k < p.mesh.faces.size(); ++k) {
+      const auto& f = p.mesh.faces[k];
+      const size_t t = 3 * k + 1;
+      std::snprintf(line, sizeof(line), "f %d/%zu %d/%zu %d/%zu\n", f[0] + 1, t, f[1] + 1, t + 1, f[2] + 1, t + 2);
+      s += line;
+    }
+    return s;
   }
   for (const auto& f : p.mesh.faces) {
     std::snprintf(line, sizeof(line), "f %d %d %d\n", f[0] + 1, f[1] + 1, f[2] + 1);
@@ -79,13 +95,28 @@ void ImportedPlant::save(const std::string& dir) const {
   y << YAML::Key << "fragments_dropped" << YAML::Value << report.fragments_dropped;
   y << YAML::Key << "simplify_cell_m" << YAML::Value << report.simplify_cell_m;
   y << YAML::EndMap;
-  // The class of every material (one entry per material, fruit instances folded in).
+  y << YAML::Key << "texture_mode" << YAML::Value << (options.texture == TextureMode::kMean ? "mean" : "image");
+  // The class of every material and what became of its colour (one entry per material,
+  // fruit instances folded in).
   y << YAML::Key << "materials" << YAML::Value << YAML::BeginMap;
   std::set<std::string> listed;
   for (const auto& p : parts)
     if (listed.insert(p.material).second) {
       y << YAML::Key << p.material << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key << "class" << YAML::Value
-        << p.class_name << YAML::Key << "target" << YAML::Value << p.target << YAML::EndMap;
+        << p.class_name << YAML::Key << "target" << YAML::Value << p.target;
+      for (const auto& m : report.materials) {
+        if (m.name != p.material) continue;
+        y << YAML::Key << "colour" << YAML::Value << m.colour;
+        if (!m.texture_source.empty())
+          y << YAML::Key << "texture_source" << YAML::Value << m.texture_source << YAML::Key << "texture_px" << YAML::Value
+            << YAML::Flow << YAML::BeginSeq << m.texture_width << m.texture_height << YAML::EndSeq;
+        y << YAML::Key << (m.colour == "image" ? "mean_rgb" : "rgb") << YAML::Value << YAML::Flow << YAML::BeginSeq
+          << m.rgba[0] << m.rgba[1] << m.rgba[2] << YAML::EndSeq;
+        if (!m.color_segmentation.empty()) y << YAML::Key << "color_segmentation" << YAML::Value << m.color_segmentation;
+        if (!m.color_problem.empty()) y << YAML::Key << "color_problem" << YAML::Value << m.color_problem;
+        break;
+      }
+      y << YAML::EndMap;
     }
   y << YAML::EndMap;
   y << YAML::Key << "parts" << YAML::Value << YAML::BeginSeq;
@@ -95,7 +126,9 @@ void ImportedPlant::save(const std::string& dir) const {
       << YAML::Value << p.material << YAML::Key << "class" << YAML::Value << p.class_name;
     if (p.fruit >= 0) y << YAML::Key << "fruit" << YAML::Value << p.fruit << YAML::Key << "target" << YAML::Value << p.target;
     y << YAML::Key << "rgba" << YAML::Value << YAML::Flow << YAML::BeginSeq << p.rgba[0] << p.rgba[1] << p.rgba[2]
-      << p.rgba[3] << YAML::EndSeq << YAML::Key << "triangles" << YAML::Value << p.mesh.faces.size() << YAML::EndMap;
+      << p.rgba[3] << YAML::EndSeq;
+    if (p.texture) y << YAML::Key << "texture" << YAML::Value << p.texture_file;
+    y << YAML::Key << "triangles" << YAML::Value << p.mesh.faces.size() << YAML::EndMap;
   }
   y << YAML::EndSeq;
   y << YAML::Key << "fruits" << YAML::Value << YAML::BeginSeq;
@@ -106,6 +139,12 @@ void ImportedPlant::save(const std::string& dir) const {
       << YAML::Key << "points" << YAML::Value << f.surface_points.size() << YAML::EndMap;
   y << YAML::EndSeq;
   y << YAML::EndMap;
+  std::set<std::string> textures;
+  for (const auto& p : parts)
+    if (p.texture && textures.insert(p.texture_file).second) {
+      fs::create_directories(dir + "/textures");
+      write_png(dir + "/" + p.texture_file, *p.texture);
+    }
   for (size_t i = 0; i < parts.size(); ++i) write_file_atomic(dir + "/" + part_file(parts[i], i), obj_text(parts[i]));
   truth.save(dir);
   write_file_atomic(dir + "/" + kPlantFile, std::string(y.c_str()) + "\n");
@@ -134,6 +173,7 @@ PlantAsset load_plant_asset(const std::string& dir) {
   }
   if (!parts.IsSequence() || parts.size() == 0) throw InputError(file + ": key 'parts' must be a non-empty list");
   std::set<int> fruits;
+  std::map<std::string, std::shared_ptr<const Image<Rgb8>>> textures;  // each file read once
   for (size_t i = 0; i < parts.size(); ++i) {
     YamlReader p(parts[i], file, "parts[" + std::to_string(i) + "]");
     ImportedPart part;
@@ -151,8 +191,19 @@ PlantAsset load_plant_asset(const std::string& dir) {
       part.rgba[k] = static_cast<float>(rgba[static_cast<size_t>(k)]);
     }
     const long triangles = p.require<long>("triangles");
+    part.texture_file = p.get("texture", std::string());
+    p.check(part.texture_file.find("..") == std::string::npos && !fs::path(part.texture_file).is_absolute(), "texture",
+            "must be a path inside the plant folder");
     p.finish();
-    part.mesh = read_mesh_file(dir + "/" + mesh_file);
+    if (part.texture_file.empty()) {
+      part.mesh = read_mesh_file(dir + "/" + mesh_file);
+    } else {
+      part.mesh = read_mesh_file(dir + "/" + mesh_file, &part.uv);
+      auto it = textures.find(part.texture_file);
+      if (it == textures.end())
+        it = textures.emplace(part.texture_file, std::make_shared<const Image<Rgb8>>(read_png_rgb(dir + "/" + part.texture_file))).first;
+      part.texture = it->second;
+    }
     if (static_cast<long>(part.mesh.faces.size()) != triangles)
       throw InputError(dir + "/" + mesh_file + ": " + std::to_string(part.mesh.faces.size()) + " triangles, but " + file +
                        " says " + std::to_string(triangles));

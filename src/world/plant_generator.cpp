@@ -3,6 +3,7 @@
 // peduncles in the fruit zone. Every part is a closed low-poly mesh in world coordinates.
 
 #include <algorithm>
+#include <filesystem>
 #include <cmath>
 #include <map>
 #include <sstream>
@@ -288,10 +289,16 @@ Plant place_imported(const WorldSpec& spec, const PlantAsset& asset, int index, 
       throw InputError(asset.dir + "/plant.yaml: class '" + ip.class_name + "' of material '" + ip.material +
                        "' is not in the world's class list (" + (spec.source_file.empty() ? "world" : spec.source_file) + ")");
     part.kind = ip.fruit >= 0 ? "fruit" : "imported";
+    part.material = ip.material;
     part.name = prefix + (ip.fruit >= 0 ? "fruit_" + std::to_string(ip.fruit) : "part_" + std::to_string(k));
     std::copy(ip.rgba, ip.rgba + 4, part.rgba);
     part.mesh = ip.mesh;
     part.mesh.transform(T);
+    if (ip.texture) {
+      part.texture = ip.texture;
+      part.texture_file = std::filesystem::absolute(asset.dir + "/" + ip.texture_file).lexically_normal().string();
+      part.uv = ip.uv;
+    }
     if (ip.fruit >= 0) {
       part.instance_id = (*next_instance)++;
       part.fruit_target = ip.target;

@@ -26,6 +26,7 @@
 #include <unordered_map>
 
 #include "canopy/common/error.h"
+#include "canopy/common/io.h"
 #include "canopy/common/random.h"
 
 namespace canopy::world {
@@ -92,6 +93,9 @@ struct MaterialSoup {
   std::string name;
   std::vector<std::array<Vec3, 3>> triangles;
   std::vector<bool> duplicate;
+  std::vector<FaceUv> uv;    // per triangle; NaN where its mesh has no texture coordinates
+  long without_uv = 0;       // triangles without texture coordinates
+  std::string texture_ref;   // its diffuse texture as the material names it ("" for none)
   bool has_texture = false;
   bool has_color = false;
   float rgba[4] = {0.5f, 0.5f, 0.5f, 1.f};
@@ -166,10 +170,20 @@ void collect_triangles(const aiScene* scene, const Eigen::Matrix4d& T_out_file, 
           continue;
         }
         std::array<Vec3, 3> t;
+        FaceUv uv;
+        const bool has_uv = mesh->HasTextureCoords(0);
         for (int c = 0; c < 3; ++c) {
           const aiVector3D& v = mesh->mVertices[face.mIndices[c]];
           t[static_cast<size_t>(c)] = (T * Eigen::Vector4d(v.x, v.y, v.z, 1.0)).head<3>();
+          if (has_uv) {
+            const aiVector3D& w = mesh->mTextureCoords[0][face.mIndices[c]];
+            uv[static_cast<size_t>(c)] = Vec2(w.x, w.y);
+          } else {
+            uv[static_cast<size_t>(c)] = Vec2::Constant(std::numeric_limits<double>::quiet_NaN());
+          }
         }
+        soup.uv.push_back(uv);
+        if (!has_uv) ++soup.without_uv;
         ++report->triangles_in;
         const auto [it, fresh] = first_node.try_emplace(triangle_key(t), node_name);
         soup.duplicate.push_back(!fresh);
@@ -194,7 +208,10 @@ void collect_triangles(const aiScene* scene, const Eigen::Matrix4d& T_out_file, 
       s.rgba[1] = std::clamp(c.g, 0.f, 1.f);
       s.rgba[2] = std::clamp(c.b, 0.f, 1.f);
     }
-    s.has_texture = m->GetTextureCount(aiTextureType_DIFFUSE) > 0;
+    aiString texture;
+    if (m->GetTextureCount(aiTextureType_DIFFUSE) > 0 && m->GetTexture(aiTextureType_DIFFUSE, 0, &texture) == AI_SUCCESS)
+      s.texture_ref = texture.C_Str();
+    s.has_texture = !s.texture_ref.empty();
   }
 }
 
@@ -218,6 +235,45 @@ std::string scene_format(const aiScene* scene) {
   aiString f;
   if (scene->mMetaData && scene->mMetaData->Get("SourceAsset_Format", f)) return f.C_Str();
   return "";
+}
+
+// Largest texture file read [bytes].
+constexpr std::uintmax_t kMaxTextureFileBytes = std::uintmax_t(256) << 20;
+
+// A name usable as a file name.
+std::string texture_stem(const std::string& s) {
+  std::string out;
+  for (char c : s) out += (std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_') ? c : '_';
+  return out.empty() ? std::string("material") : out;
+}
+
+// The diffuse texture `ref` of a material of the model at `model_path`, decoded: embedded in
+// the file (glTF, "*0") or an image file beside it (as named, relative to the model's folder,
+// or its bare file name there). nullopt when no such file exists; InputError when it is not
+// an image.
+std::optional<Image<Rgb8>> load_texture(const aiScene* scene, const std::string& model_path, const std::string& ref) {
+  if (const aiTexture* t = scene->GetEmbeddedTexture(ref.c_str())) {
+    const std::string what = model_path + ": embedded texture '" + ref + "'";
+    if (t->mHeight == 0)  // compressed (PNG, JPEG, ...): mWidth bytes
+      return decode_image(std::string(reinterpret_cast<const char*>(t->pcData), t->mWidth), what);
+    if (t->mWidth > static_cast<unsigned>(kMaxTextureSidePx) || t->mHeight > static_cast<unsigned>(kMaxTextureSidePx))
+      throw InputError(what + ": larger than " + std::to_string(kMaxTextureSidePx) + " px a side");
+    Image<Rgb8> image(static_cast<int>(t->mWidth), static_cast<int>(t->mHeight));
+    for (size_t i = 0; i < image.data.size(); ++i) image.data[i] = Rgb8{t->pcData[i].r, t->pcData[i].g, t->pcData[i].b};
+    return image;
+  }
+  std::string rel = ref;
+  std::replace(rel.begin(), rel.end(), '\\', '/');
+  if (rel.rfind("file://", 0) == 0) rel = rel.substr(7);
+  const fs::path dir = fs::path(model_path).parent_path();
+  std::vector<fs::path> candidates;
+  if (fs::path(rel).is_absolute()) candidates.push_back(rel);
+  else candidates.push_back(dir / rel);
+  candidates.push_back(dir / fs::path(rel).filename());
+  std::error_code ec;
+  for (const auto& c : candidates)
+    if (fs::is_regular_file(c, ec)) return decode_image(read_file(c.string(), kMaxTextureFileBytes), c.string());
+  return std::nullopt;
 }
 
 }  // namespace
@@ -398,11 +454,78 @@ ImportedPlant import_plant(const std::string& path, const ImportOptions& opt) {
     throw InputError(path + ": no material maps to the fruit class '" + opt.fruit_class + "' (materials: " + list + ")");
   }
 
+  // Colour of every material: its texture (as an image or its UV-area-weighted mean), else
+  // its diffuse colour, else its class colour.
+  struct Look {
+    std::shared_ptr<const Image<Rgb8>> texture;  // rendered with it (TextureMode::kImage)
+    std::string file;                            // its PNG in the plant folder
+    float rgba[4] = {0.5f, 0.5f, 0.5f, 1.f};
+  };
+  std::vector<Look> looks(soups.size());
+  for (size_t i = 0; i < soups.size(); ++i) {
+    if (!class_of[i]) continue;
+    const MaterialSoup& s = soups[i];
+    const ClassRule& cls = *class_of[i];
+    Look& look = looks[i];
+    MaterialReport mr;
+    mr.name = s.name;
+    mr.class_name = cls.class_name;
+    mr.target = cls.target;
+    mr.triangles = static_cast<long>(s.triangles.size());
+    mr.texture_source = s.texture_ref;
+    if (s.has_color) std::copy(s.rgba, s.rgba + 4, look.rgba);
+    else default_rgba(cls.class_name, cls.target, look.rgba);
+    if (s.has_texture) {
+      std::optional<Image<Rgb8>> image = load_texture(scene, path, s.texture_ref);
+      if (!image) {
+        mr.colour = "missing";
+        rep.warnings.push_back("material '" + s.name + "': its texture '" + s.texture_ref +
+                               "' is not found beside the model; rendered in its flat " +
+                               (s.has_color ? "diffuse colour" : "class colour"));
+      } else {
+        mr.texture_width = image->width;
+        mr.texture_height = image->height;
+        const bool has_uv = s.without_uv == 0;
+        std::vector<double> weights;
+        if (has_uv) weights = texel_weights(image->width, image->height, s.uv);
+        const std::array<float, 3> mean = mean_color(*image, weights);
+        std::copy(mean.begin(), mean.end(), look.rgba);
+        look.rgba[3] = 1.f;
+        if (!has_uv) {
+          mr.colour = "no-uv";
+          rep.warnings.push_back("material '" + s.name + "': " + std::to_string(s.without_uv) +
+                                 " of its triangles have no texture coordinates; rendered in the plain mean colour of "
+                                 "its texture '" + s.texture_ref + "'");
+        } else if (opt.texture == TextureMode::kMean) {
+          mr.colour = "mean";
+        } else {
+          mr.colour = "image";
+          look.texture = std::make_shared<const Image<Rgb8>>(std::move(*image));
+          look.file = "textures/" + std::to_string(i) + "_" + texture_stem(s.name) + ".png";
+        }
+      }
+    }
+    std::copy(look.rgba, look.rgba + 4, mr.rgba);
+    rep.materials.push_back(std::move(mr));
+  }
+  auto paint = [&](size_t material, ImportedPart* part) {
+    const Look& look = looks[material];
+    if (look.texture) {
+      part->texture = look.texture;
+      part->texture_file = look.file;
+      std::fill(part->rgba, part->rgba + 4, 1.f);  // the texture replaces the diffuse colour
+    } else {
+      std::copy(look.rgba, look.rgba + 4, part->rgba);
+      part->uv.clear();
+    }
+  };
+
   // Parts: one per material, fruit materials split into connected components.
   struct Component {
     size_t material;
     TriMesh mesh;
     std::vector<bool> duplicate;
+    std::vector<FaceUv> uv;
     Vec3 lo = Vec3::Zero(), hi = Vec3::Zero();
     bool fragment = false;
   };
@@ -415,21 +538,18 @@ ImportedPlant import_plant(const std::string& path, const ImportOptions& opt) {
     std::vector<size_t> kept;
     TriMesh mesh = weld_triangles(s.triangles, opt.weld_tolerance_m, &dropped, &kept);
     std::vector<bool> dup;
-    for (size_t k : kept) dup.push_back(s.duplicate[k]);
+    std::vector<FaceUv> uv;
+    for (size_t k : kept) dup.push_back(s.duplicate[k]), uv.push_back(s.uv[k]);
     rep.degenerate_dropped += dropped;
     if (mesh.faces.empty()) continue;
-    if (s.has_texture) {
-      rep.warnings.push_back("material '" + s.name + "': its texture is not used; rendered in its flat " +
-                             (s.has_color ? "diffuse colour" : "class colour"));
-    }
     ImportedPart part;
     part.material = s.name;
     part.class_name = cls.class_name;
     part.target = cls.target;
-    if (s.has_color) std::copy(s.rgba, s.rgba + 4, part.rgba);
-    else default_rgba(cls.class_name, cls.target, part.rgba);
     if (cls.class_name != opt.fruit_class) {
       part.mesh = std::move(mesh);
+      part.uv = std::move(uv);
+      paint(i, &part);
       plant.parts.push_back(std::move(part));
       continue;
     }
@@ -440,12 +560,13 @@ ImportedPlant import_plant(const std::string& path, const ImportOptions& opt) {
       const int root = uf.find(mesh.faces[t][0]);
       auto [it, fresh] = comp_of_root.try_emplace(root, fruits.size());
       if (fresh) {
-        fruits.push_back(Component{i, {}, {}, Vec3::Zero(), Vec3::Zero(), false});
+        fruits.push_back(Component{i, {}, {}, {}, Vec3::Zero(), Vec3::Zero(), false});
         fruits.back().mesh.vertices = mesh.vertices;  // compacted below
       }
       Component& c = fruits[it->second];
       c.mesh.faces.push_back(mesh.faces[t]);
       c.duplicate.push_back(dup[t]);
+      c.uv.push_back(uv[t]);
     }
   }
   for (auto& c : fruits) {
@@ -473,6 +594,7 @@ ImportedPlant import_plant(const std::string& path, const ImportOptions& opt) {
     Component& into = whole[static_cast<size_t>(best)];
     into.mesh.append(c.mesh);
     into.duplicate.insert(into.duplicate.end(), c.duplicate.begin(), c.duplicate.end());
+    into.uv.insert(into.uv.end(), c.uv.begin(), c.uv.end());
     ++rep.fragments_merged;
   }
   if (rep.fragments_dropped + rep.fragments_merged > 0)
@@ -515,9 +637,9 @@ ImportedPlant import_plant(const std::string& path, const ImportOptions& opt) {
     part.class_name = cls.class_name;
     part.target = cls.target;
     part.fruit = static_cast<int>(k);
-    if (s.has_color) std::copy(s.rgba, s.rgba + 4, part.rgba);
-    else default_rgba(cls.class_name, cls.target, part.rgba);
     part.mesh = std::move(c.mesh);
+    part.uv = std::move(c.uv);
+    paint(c.material, &part);
     plant.parts.push_back(std::move(part));
   }
 
@@ -526,8 +648,15 @@ ImportedPlant import_plant(const std::string& path, const ImportOptions& opt) {
   if (plant.triangle_count() > opt.max_triangles) {
     const std::vector<ImportedPart> original = plant.parts;
     for (double cell : kSimplifyCellsM) {
-      for (size_t p = 0; p < plant.parts.size(); ++p)
-        if (plant.parts[p].fruit < 0) plant.parts[p].mesh = cluster_vertices(original[p].mesh, cell);
+      for (size_t p = 0; p < plant.parts.size(); ++p) {
+        if (plant.parts[p].fruit >= 0) continue;
+        std::vector<size_t> kept;
+        plant.parts[p].mesh = cluster_vertices(original[p].mesh, cell, &kept);
+        if (!original[p].uv.empty()) {
+          plant.parts[p].uv.clear();
+          for (size_t k : kept) plant.parts[p].uv.push_back(original[p].uv[k]);
+        }
+      }
       rep.simplify_cell_m = cell;
       if (plant.triangle_count() <= opt.max_triangles) break;
     }
@@ -557,16 +686,30 @@ ImportedPlant import_plant(const std::string& path, const ImportOptions& opt) {
   return plant;
 }
 
-TriMesh read_mesh_file(const std::string& path) {
+TriMesh read_mesh_file(const std::string& path, std::vector<FaceUv>* uv) {
   Assimp::Importer importer;
   const aiScene* scene = read_scene(importer, path);
   std::vector<MaterialSoup> soups;
   ImportReport rep;
   collect_triangles(scene, Eigen::Matrix4d::Identity(), &soups, &rep);
   std::vector<std::array<Vec3, 3>> all;
-  for (const auto& s : soups) all.insert(all.end(), s.triangles.begin(), s.triangles.end());
+  std::vector<FaceUv> all_uv;
+  long without_uv = 0;
+  for (const auto& s : soups) {
+    all.insert(all.end(), s.triangles.begin(), s.triangles.end());
+    all_uv.insert(all_uv.end(), s.uv.begin(), s.uv.end());
+    without_uv += s.without_uv;
+  }
+  if (uv && without_uv > 0)
+    throw InputError(path + ": " + std::to_string(without_uv) + " triangles have no texture coordinates");
   long degenerate = 0;
-  return weld_triangles(all, 0.0, &degenerate);
+  std::vector<size_t> kept;
+  TriMesh mesh = weld_triangles(all, 0.0, &degenerate, &kept);
+  if (uv) {
+    uv->clear();
+    for (size_t k : kept) uv->push_back(all_uv[k]);
+  }
+  return mesh;
 }
 
 }  // namespace canopy::world

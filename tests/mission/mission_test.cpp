@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -65,6 +66,9 @@ TEST(Mission, OursTakesTheRequestedViewsFromTheReachedPose) {
   ASSERT_EQ(r.stops.size(), 1u);
   EXPECT_TRUE(r.stops[0].reached_goal);
   EXPECT_EQ(r.stops[0].initial_attempted, 12);
+  EXPECT_GT(r.stops[0].initial_target_points, 1000);
+  EXPECT_TRUE(r.zero_coverage_reason.empty());
+  EXPECT_FALSE(summary_json(r)["stops"][0]["initial_scan_saw_no_target"].get<bool>());
   EXPECT_EQ(successes(r, ViewPhase::kNbv), 3) << r.stops[0].end_reason;
   EXPECT_EQ(frames, r.successful_views());
   EXPECT_LT(worst_m, 1e-6);
@@ -122,6 +126,44 @@ TEST(Mission, SameSeedSameViews) {
   const std::string b = views_csv(Mission(w.world, s, 1).run(), "ours");
   EXPECT_EQ(a, b);
   EXPECT_NE(a, views_csv(Mission(w.world, s, 2).run(), "ours"));
+}
+
+// Colour segmentation that sees no fruit (its fruit bands removed): the stop's initial scan
+// segments no target pixel, which the log and summary.json say per stop, and the final
+// coverage of 0 comes with its reason.
+TEST(Mission, AStopWhoseScanSegmentsNoTargetPixelSaysSoAndAZeroCoverageSaysWhy) {
+  const SmallWorld& w = small();
+  Settings s = w.settings;
+  s.mapping.extractor.source = perception::LabelSource::kColor;
+  auto& bands = s.mapping.extractor.color.bands;
+  bands.erase(std::remove_if(bands.begin(), bands.end(), [](const perception::HsvBand& b) { return b.class_name == "fruit"; }),
+              bands.end());
+  s.mission.loop.views_per_stop = 1;
+  std::vector<std::string> log;
+  MissionCallbacks cb;
+  cb.progress = [&](const std::string& m) { log.push_back(m); };
+  const MissionResult r = Mission(w.world, s, 1, cb).run();
+  ASSERT_EQ(r.stops.size(), 1u);
+  ASSERT_GT(r.stops[0].initial_ok, 0);
+  EXPECT_EQ(r.stops[0].initial_target_points, 0);
+  EXPECT_TRUE(summary_json(r)["stops"][0]["initial_scan_saw_no_target"].get<bool>());
+  bool warned = false;
+  for (const auto& line : log)
+    warned = warned || line.find("segmented no 'fruit' pixel (labels: color); the renderer's true labels show") != std::string::npos;
+  EXPECT_TRUE(warned);
+  EXPECT_EQ(r.final_metrics.coverage, 0.0);
+  EXPECT_GT(r.stops[0].initial_true_target_pixels, 0);
+  EXPECT_NE(r.zero_coverage_reason.find("'fruit' pixels (the renderer's true labels) but the segmentation (labels: color) "
+                                        "labelled none 'fruit': the fruit's rendered colours fall outside the colour bands"),
+            std::string::npos)
+      << r.zero_coverage_reason;
+  // The causes told apart: no fruit in view, fruit seen but not segmented, segmented but not kept.
+  EXPECT_NE(zero_coverage_cause("fruit", perception::LabelSource::kColor, 0, 0).find("the views miss the fruit"),
+            std::string::npos);
+  EXPECT_NE(zero_coverage_cause("fruit", perception::LabelSource::kTruth, 0, 10).find("labelled none 'fruit'"),
+            std::string::npos);
+  EXPECT_NE(zero_coverage_cause("fruit", perception::LabelSource::kColor, 5, 10).find("none was kept"), std::string::npos);
+  EXPECT_EQ(summary_json(r)["zero_coverage_reason"].get<std::string>(), r.zero_coverage_reason);
 }
 
 // --- Faults ------------------------------------------------------------------------------

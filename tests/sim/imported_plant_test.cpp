@@ -9,6 +9,7 @@
 
 #include "canopy/robot/robot_config.h"
 #include "canopy/common/yaml_reader.h"
+#include "canopy/perception/color_segmentation.h"
 #include "canopy/sim/renderer.h"
 #include "canopy/world/plant_import.h"
 #include "canopy/world/world.h"
@@ -115,6 +116,62 @@ TEST(ImportedPlant, PlacedInAWorldItRendersNextToProceduralPlantsWithWorldInstan
   for (const auto& t : w.truth.fruits)
     if (t.plant_index == 0) targets += t.target;
   EXPECT_EQ(targets, 1);
+}
+
+
+// The textured test plant (white diffuse colours; TGA textures: fruit red where their UVs
+// point, blue elsewhere; leaves green) imported with `mode`, placed in a world and seen from
+// the aisle: the fruit render red (not blue: the texture is not flipped) and colour
+// segmentation labels them fruit.
+void expect_textured_fruit_red(world::TextureMode mode, const std::string& name) {
+  const std::string dir = testing::TempDir() + "/textured_plant_" + name;
+  fs::remove_all(dir);
+  fs::create_directories(dir + "/src");
+  write_text(dir + "/src/plant.dae", collada_textured(true));
+  write_tga(dir + "/src/Capsicum_frt1.tga", 8, 8, 4, {200, 30, 20}, {20, 30, 200});
+  write_tga(dir + "/src/Capsicum_frt0.tga", 8, 8, 4, {200, 200, 40}, {20, 30, 200});
+  write_tga(dir + "/src/Capsicum_lef.tga", 8, 8, 8, {40, 160, 40}, {40, 160, 40});
+  world::ImportOptions o;
+  o.rules = world::class_preset("capsicum");
+  o.texture = mode;
+  world::import_plant(dir + "/src/plant.dae", o).save(dir + "/plant");
+  write_text(dir + "/w.yaml", "name: textured\nseed: 3\nrows: {rows: 1, plants_per_row: 1, position_jitter_m: 0.0}\n"
+                              "plants: [{plant: {import: " + dir + "/plant}, slot: [0, 0], yaw_deg: 0}]\n");
+  const world::World w = world::generate_world(world::WorldSpec::load(dir + "/w.yaml"));
+  Simulator sim(w, default_robot_config());
+  Renderer renderer(sim, w.spec.camera);
+  const Vec3 eye(0.0, 0.0, 0.57);
+  const LabelledFrame f = renderer.render_free_camera(look_at(eye, eye + Vec3(0, 1, 0)));
+  const Image<std::uint8_t> seg = perception::segment_by_color(f.rgb, {}, w.spec.classes);
+  int target = -1;
+  for (const auto& part : w.plants[0].parts)
+    if (part.instance_id != kNoInstance && part.fruit_target) target = part.instance_id;
+  long n = 0, red = 0, as_fruit = 0, leaf_px = 0, leaf_as_leaf = 0;
+  for (int v = 0; v < f.rgb.height; ++v)
+    for (int u = 0; u < f.rgb.width; ++u) {
+      const Rgb8 c = f.rgb.at(u, v);
+      if (f.instance.at(u, v) == target) {
+        ++n;
+        red += c.r > 2 * c.g && c.r > 2 * c.b;
+        as_fruit += seg.at(u, v) == w.spec.classes.index_of("fruit");
+      } else if (f.class_id.at(u, v) == w.spec.classes.index_of("leaf")) {
+        ++leaf_px;
+        leaf_as_leaf += seg.at(u, v) == w.spec.classes.index_of("leaf");
+      }
+    }
+  ASSERT_GT(n, 200);
+  EXPECT_GT(red, 0.95 * n) << red << " of " << n;
+  EXPECT_GT(as_fruit, 0.95 * n) << as_fruit << " of " << n;
+  ASSERT_GT(leaf_px, 50);
+  EXPECT_GT(leaf_as_leaf, 0.9 * leaf_px) << leaf_as_leaf << " of " << leaf_px;
+}
+
+TEST(ImportedPlant, TexturedFruitRendersInItsTextureColourAndSegmentsAsFruit) {
+  expect_textured_fruit_red(world::TextureMode::kImage, "image");
+}
+
+TEST(ImportedPlant, TextureMeanFruitRendersInTheMeanColourAndSegmentsAsFruit) {
+  expect_textured_fruit_red(world::TextureMode::kMean, "mean");
 }
 
 }  // namespace

@@ -122,6 +122,98 @@ inline std::string collada(bool new_style, bool b_unripe = false) {
   return o.str();
 }
 
+/// An uncompressed 24-bit TGA (rows stored top first): the top `top_rows` rows `top`, the
+/// rest `bottom`.
+inline void write_tga(const std::string& path, int w, int h, int top_rows, std::array<unsigned char, 3> top,
+                      std::array<unsigned char, 3> bottom) {
+  std::string b(18, '\0');
+  b[2] = 2;  // uncompressed true colour
+  b[12] = static_cast<char>(w & 255), b[13] = static_cast<char>(w >> 8);
+  b[14] = static_cast<char>(h & 255), b[15] = static_cast<char>(h >> 8);
+  b[16] = 24;
+  b[17] = 0x20;  // origin at the top left
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const auto& c = y < top_rows ? top : bottom;
+      b += static_cast<char>(c[2]), b += static_cast<char>(c[1]), b += static_cast<char>(c[0]);  // BGR
+    }
+  std::ofstream(path, std::ios::binary) << b;
+}
+
+/// UV rectangle [u0, u1] x [v0, v1] of a material group of the textured plant: fruit use
+/// only the upper part of their texture (v >= 0.55: the image's top rows), leaves all of it.
+inline std::array<double, 4> uv_rect(const std::string& material) {
+  if (material.find("frt") != std::string::npos) return {0.05, 0.95, 0.55, 0.95};
+  return {0.0, 1.0, 0.0, 1.0};
+}
+
+/// The plant of collada(true, b_unripe) with white diffuse colours and a diffuse texture per
+/// material, "<material>.tga" beside the file (write them with write_tga), and texture
+/// coordinates on every triangle: the two triangles of each box face span uv_rect.
+inline std::string collada_textured(bool b_unripe = false) {
+  const std::vector<Group> gs = groups(b_unripe);
+  std::ostringstream o;
+  o.precision(17);
+  o << "<?xml version=\"1.0\" encoding=\"utf-8\"?>\n"
+    << "<COLLADA xmlns=\"http://www.collada.org/2005/11/COLLADASchema\" version=\"1.4.1\">\n"
+    << "<asset><unit name=\"meter\" meter=\"1\"/><up_axis>Z_UP</up_axis></asset>\n<library_images>\n";
+  for (const auto& g : gs)
+    o << "<image id=\"img_" << g.material << "\" name=\"img_" << g.material << "\"><init_from>" << g.material
+      << ".tga</init_from></image>\n";
+  o << "</library_images>\n<library_effects>\n";
+  for (const auto& g : gs)
+    o << "<effect id=\"e_" << g.material << "\"><profile_COMMON><newparam sid=\"s_" << g.material
+      << "\"><surface type=\"2D\"><init_from>img_" << g.material << "</init_from></surface></newparam><newparam sid=\"t_"
+      << g.material << "\"><sampler2D><source>s_" << g.material
+      << "</source></sampler2D></newparam><technique sid=\"common\"><lambert><diffuse><texture texture=\"t_" << g.material
+      << "\" texcoord=\"UVSET0\"/></diffuse></lambert></technique></profile_COMMON></effect>\n";
+  o << "</library_effects>\n<library_materials>\n";
+  for (const auto& g : gs)
+    o << "<material id=\"m_" << g.material << "\" name=\"" << g.material << "\"><instance_effect url=\"#e_" << g.material
+      << "\"/></material>\n";
+  o << "</library_materials>\n<library_geometries><geometry id=\"plant\" name=\"plant\"><mesh>\n";
+  size_t n = 0;
+  for (const auto& g : gs) n += 3 * g.tris.size();
+  o << "<source id=\"pos\"><float_array id=\"pos-a\" count=\"" << 3 * n << "\">";
+  for (const auto& g : gs)
+    for (const auto& t : g.tris)
+      for (const auto& p : t) o << p[0] << " " << p[1] << " " << p[2] << " ";
+  o << "</float_array><technique_common><accessor source=\"#pos-a\" count=\"" << n
+    << "\" stride=\"3\"><param name=\"X\" type=\"float\"/><param name=\"Y\" type=\"float\"/><param name=\"Z\" "
+       "type=\"float\"/></accessor></technique_common></source>\n";
+  o << "<source id=\"uv\"><float_array id=\"uv-a\" count=\"" << 2 * n << "\">";
+  for (const auto& g : gs) {
+    const auto r = uv_rect(g.material);
+    const double corner[4][2] = {{r[0], r[2]}, {r[1], r[2]}, {r[1], r[3]}, {r[0], r[3]}};
+    for (size_t t = 0; t < g.tris.size(); ++t) {
+      const int c[2][3] = {{0, 1, 2}, {0, 2, 3}};
+      for (int k = 0; k < 3; ++k) o << corner[c[t % 2][k]][0] << " " << corner[c[t % 2][k]][1] << " ";
+    }
+  }
+  o << "</float_array><technique_common><accessor source=\"#uv-a\" count=\"" << n
+    << "\" stride=\"2\"><param name=\"S\" type=\"float\"/><param name=\"T\" type=\"float\"/></accessor>"
+       "</technique_common></source>\n"
+    << "<vertices id=\"verts\"><input semantic=\"POSITION\" source=\"#pos\"/></vertices>\n";
+  size_t base = 0;
+  for (const auto& g : gs) {
+    o << "<triangles material=\"" << g.material << "\" count=\"" << g.tris.size()
+      << "\"><input semantic=\"VERTEX\" source=\"#verts\" offset=\"0\"/><input semantic=\"TEXCOORD\" source=\"#uv\" "
+         "offset=\"1\" set=\"0\"/><p>";
+    for (size_t i = 0; i < 3 * g.tris.size(); ++i) o << base + i << " " << base + i << " ";
+    base += 3 * g.tris.size();
+    o << "</p></triangles>\n";
+  }
+  o << "</mesh></geometry></library_geometries>\n<library_visual_scenes><visual_scene id=\"scene\">\n"
+    << "<node id=\"plant_node\" name=\"plant_node\"><matrix>" << kInch << " 0 0 0 0 " << kInch << " 0 0 0 0 " << kInch
+    << " 0 0 0 0 1</matrix><instance_geometry url=\"#plant\"><bind_material><technique_common>";
+  for (const auto& g : gs)
+    o << "<instance_material symbol=\"" << g.material << "\" target=\"#m_" << g.material
+      << "\"><bind_vertex_input semantic=\"UVSET0\" input_semantic=\"TEXCOORD\" input_set=\"0\"/></instance_material>";
+  o << "</technique_common></bind_material></instance_geometry></node>\n"
+    << "</visual_scene></library_visual_scenes><scene><instance_visual_scene url=\"#scene\"/></scene>\n</COLLADA>\n";
+  return o.str();
+}
+
 /// The same plant as OBJ + MTL, in metres and Y-up (x, z, -y), as OBJ files usually are.
 inline void write_obj(const std::string& obj_path, const std::string& mtl_name, bool b_unripe = false) {
   const std::vector<Group> gs = groups(b_unripe);

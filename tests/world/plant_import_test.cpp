@@ -3,8 +3,10 @@
 // density, duplicates, budgets, round trips through the plant folder and placement in worlds.
 
 #include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
 
 #include <filesystem>
+#include <fstream>
 
 #include "canopy/common/error.h"
 #include "canopy/world/plant_import.h"
@@ -317,6 +319,157 @@ TEST(PlantImport, SavedFolderReadsBackAndWorldsPlaceItInSlotsAndAtPositions) {
   import_plant(write_collada("stem", true), stems).save(stem_dir);
   EXPECT_NE(load_error("plants: [{plant: {import: " + stem_dir + "}, slot: [0, 0]}]\n").find("class 'stem'"),
             std::string::npos);
+}
+
+
+// ---- textures -----------------------------------------------------------------------------
+
+constexpr std::array<unsigned char, 3> kRed = {200, 30, 20}, kBlue = {20, 30, 200}, kGreen = {40, 160, 40};
+
+// The textured plant (white diffuse colours, a TGA per material) in its own folder: fruit
+// textures red in their top half (the part their UVs use) and blue below, unless
+// `fruit_top` says otherwise; the leaf texture green.
+std::string write_textured(const std::string& name, std::array<unsigned char, 3> fruit_top = kRed) {
+  const std::string dir = temp_dir(name);
+  write_text(dir + "/plant.dae", collada_textured(true));
+  write_tga(dir + "/Capsicum_frt1.tga", 8, 8, 4, fruit_top, kBlue);
+  write_tga(dir + "/Capsicum_frt0.tga", 8, 8, 4, {200, 200, 40}, kBlue);
+  write_tga(dir + "/Capsicum_lef.tga", 8, 8, 8, kGreen, kGreen);
+  return dir + "/plant.dae";
+}
+
+const MaterialReport* material(const ImportedPlant& p, const std::string& name) {
+  for (const auto& m : p.report.materials)
+    if (m.name == name) return &m;
+  return nullptr;
+}
+
+TEST(PlantTexture, TexelWeightsCountTheTexelCentresUnderEachFaceAndWrap) {
+  // The lower-left half of a 4 x 4 texture: texel centres (i + 0.5, j + 0.5) with i + j <= 3.
+  const FaceUv half = {Vec2(0, 0), Vec2(1, 0), Vec2(0, 1)};
+  std::vector<double> w = texel_weights(4, 4, {half});
+  double sum = 0.0;
+  for (double x : w) sum += x;
+  EXPECT_DOUBLE_EQ(sum, 10.0);
+  EXPECT_EQ(w[3 * 4 + 0], 1.0);  // bottom-left texel: image row 3, column 0
+  EXPECT_EQ(w[0 * 4 + 3], 0.0);  // top-right texel
+  // The same face one repeat further covers the same texels.
+  EXPECT_EQ(texel_weights(4, 4, {{Vec2(1, 2), Vec2(2, 2), Vec2(1, 3)}}), w);
+  // A face holding no texel centre adds its area (in texels) under its centroid.
+  w = texel_weights(4, 4, {{Vec2(0.30, 0.80), Vec2(0.32, 0.80), Vec2(0.30, 0.82)}});
+  EXPECT_NEAR(w[0 * 4 + 1], 0.5 * 0.08 * 0.08, 1e-12);
+  // Mean colour: a texture red on the left, blue on the right, under the left half only.
+  Image<Rgb8> img(4, 4, Rgb8{0, 0, 255});
+  for (int y = 0; y < 4; ++y)
+    for (int x = 0; x < 2; ++x) img.at(x, y) = Rgb8{255, 0, 0};
+  const auto mean = mean_color(img, texel_weights(4, 4, {{Vec2(0, 0), Vec2(0.5, 0), Vec2(0.5, 1)}, {Vec2(0, 0), Vec2(0.5, 1), Vec2(0, 1)}}));
+  EXPECT_FLOAT_EQ(mean[0], 1.f);
+  EXPECT_FLOAT_EQ(mean[2], 0.f);
+}
+
+TEST(PlantTexture, DecodingRejectsWhatIsNoImage) {
+  EXPECT_THROW(decode_image("not an image", "x.tga"), InputError);
+  EXPECT_THROW(decode_image("", "x.tga"), InputError);
+}
+
+TEST(PlantImport, TexturedColladaKeepsItsTgaTexturesAndTextureCoordinatesThroughTheFolder) {
+  const ImportedPlant p = import_plant(write_textured("textured"), capsicum());
+  ASSERT_EQ(p.report.materials.size(), 3u);
+  const MaterialReport* fruit = material(p, "Capsicum_frt1");
+  ASSERT_TRUE(fruit);
+  EXPECT_EQ(fruit->colour, "image");
+  EXPECT_EQ(fruit->texture_source, "Capsicum_frt1.tga");
+  EXPECT_EQ(fruit->texture_width, 8);
+  // Its UVs cover only the red top half: the UV-weighted mean is the red, exactly.
+  EXPECT_NEAR(fruit->rgba[0], kRed[0] / 255.0, 1e-6);
+  EXPECT_NEAR(fruit->rgba[1], kRed[1] / 255.0, 1e-6);
+  EXPECT_NEAR(fruit->rgba[2], kRed[2] / 255.0, 1e-6);
+  for (const auto& part : p.parts) {
+    ASSERT_TRUE(part.texture) << part.material;
+    EXPECT_EQ(part.uv.size(), part.mesh.faces.size());
+    EXPECT_EQ(part.rgba[0], 1.f);
+    if (part.fruit < 0) continue;
+    for (const auto& f : part.uv)
+      for (const auto& t : f) {
+        EXPECT_TRUE(t.y() >= 0.55 - 1e-6 && t.y() <= 0.95 + 1e-6) << t.transpose();
+      }
+  }
+  for (const auto& w : p.report.warnings) EXPECT_EQ(w.find("texture"), std::string::npos) << w;
+
+  const std::string dir = temp_dir("textured_folder");
+  p.save(dir);
+  const PlantAsset a = load_plant_asset(dir);
+  ASSERT_EQ(a.parts.size(), p.parts.size());
+  for (size_t i = 0; i < a.parts.size(); ++i) {
+    const ImportedPart &in = p.parts[i], &out = a.parts[i];
+    ASSERT_TRUE(out.texture);
+    EXPECT_EQ(out.texture->data, in.texture->data);  // PNG is lossless
+    ASSERT_EQ(out.uv.size(), in.uv.size());
+    ASSERT_EQ(out.mesh.faces.size(), in.mesh.faces.size());
+    for (size_t k = 0; k < out.uv.size(); ++k)
+      for (size_t c = 0; c < 3; ++c) {
+        EXPECT_NEAR((out.uv[k][c] - in.uv[k][c]).norm(), 0.0, 1e-6);
+        EXPECT_NEAR((out.mesh.vertices[static_cast<size_t>(out.mesh.faces[k][c])] -
+                     in.mesh.vertices[static_cast<size_t>(in.mesh.faces[k][c])]).norm(), 0.0, 1e-6);
+      }
+  }
+  const YAML::Node y = YAML::LoadFile(dir + "/plant.yaml");
+  EXPECT_EQ(y["texture_mode"].as<std::string>(), "image");
+  EXPECT_EQ(y["materials"]["Capsicum_frt1"]["colour"].as<std::string>(), "image");
+  EXPECT_EQ(y["materials"]["Capsicum_frt1"]["texture_source"].as<std::string>(), "Capsicum_frt1.tga");
+
+  // A world places the textured plant with its texture and coordinates.
+  const std::string world_dir = temp_dir("textured_world");
+  write_text(world_dir + "/w.yaml", "rows: {rows: 1, plants_per_row: 1, position_jitter_m: 0.0}\nplants: [{plant: {import: " +
+                                        dir + "}, slot: [0, 0]}]\n");
+  const World w = generate_world(WorldSpec::load(world_dir + "/w.yaml"));
+  for (const auto& part : w.plants[0].parts) {
+    ASSERT_TRUE(part.texture);
+    EXPECT_TRUE(fs::is_regular_file(part.texture_file)) << part.texture_file;
+    EXPECT_EQ(part.uv.size(), part.mesh.faces.size());
+  }
+}
+
+TEST(PlantImport, TextureMeanBakesTheUvWeightedMeanColourAndMissingTexturesAreReported) {
+  ImportOptions o = capsicum();
+  o.texture = TextureMode::kMean;
+  const ImportedPlant p = import_plant(write_textured("mean"), o);
+  for (const auto& part : p.parts) {
+    EXPECT_FALSE(part.texture);
+    EXPECT_TRUE(part.uv.empty());
+    if (part.material == "Capsicum_frt1") {
+      EXPECT_NEAR(part.rgba[0], kRed[0] / 255.0, 1e-6);
+      EXPECT_NEAR(part.rgba[2], kRed[2] / 255.0, 1e-6);
+    } else if (part.material == "Capsicum_lef") {
+      EXPECT_NEAR(part.rgba[1], kGreen[1] / 255.0, 1e-6);
+    }
+  }
+  EXPECT_EQ(material(p, "Capsicum_lef")->colour, "mean");
+  const std::string dir = temp_dir("mean_folder");
+  p.save(dir);
+  EXPECT_FALSE(fs::exists(dir + "/textures"));
+  std::ifstream obj(dir + "/meshes/fruit_1.obj");
+  const std::string text((std::istreambuf_iterator<char>(obj)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(text.find("vt "), std::string::npos);
+  const PlantAsset a = load_plant_asset(dir);
+  for (const auto& part : a.parts) EXPECT_FALSE(part.texture);
+
+  // The leaf texture missing: flat colour, a warning naming it, "missing" in the report.
+  const std::string path = write_textured("missing");
+  fs::remove(fs::path(path).parent_path() / "Capsicum_lef.tga");
+  const ImportedPlant m = import_plant(path, capsicum());
+  EXPECT_EQ(material(m, "Capsicum_lef")->colour, "missing");
+  bool warned = false;
+  for (const auto& w : m.report.warnings) warned = warned || w.find("'Capsicum_lef.tga' is not found") != std::string::npos;
+  EXPECT_TRUE(warned);
+  // A texture that is no image is an input error naming the file.
+  write_text((fs::path(path).parent_path() / "Capsicum_lef.tga").string(), "garbage");
+  try {
+    import_plant(path, capsicum());
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("Capsicum_lef.tga"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

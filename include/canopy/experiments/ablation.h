@@ -91,6 +91,9 @@ struct AblationRow {
   std::size_t runs_reaching = 0, runs = 0;
   double raycast_ms_per_view = 0.0;
   double final_coverage = 0.0, final_entropy = 0.0;
+  long target_points = 0;            ///< Points its views labelled the target class, over every run.
+  long true_target_pixels = 0;       ///< Target-class pixels in its frames' true labels, over every run.
+  long steps_without_counts = 0;     ///< Steps of job files written before these counts existed.
 };
 
 /// Summarises finished jobs (`results[i]` of `jobs[i]`, null when missing): writes per-trial

@@ -86,6 +86,8 @@ struct ViewRecord {
   double move_time_s = 0.0;      ///< Simulated time of the move.
   int truth_contacts = 0;        ///< Executed states in contact with the true plants.
   int self_contacts = 0;         ///< Steps with a robot-robot contact in MuJoCo.
+  long target_points = 0;        ///< Points of its cloud labelled the target class (kept out of views.csv).
+  long true_target_pixels = 0;   ///< Target-class pixels in its frame's true labels (kept out of views.csv).
   PhaseTimes times;              ///< Wall time by phase (kept out of views.csv).
 };
 
@@ -96,6 +98,10 @@ struct StopRecord {
   bool reached_goal = false;     ///< Reached within tolerance without touching the plants.
   int base_truth_contacts = 0;   ///< Base-vs-plant contacts seen while driving here (geometric).
   int initial_attempted = 0, initial_ok = 0;
+  /// Points the initial scan's views labelled the target class; 0 after successful views
+  /// means the segmentation saw no target at the stop (noted in the log and summary.json).
+  long initial_target_points = 0;
+  long initial_true_target_pixels = 0;  ///< Target-class pixels in those views' true labels.
   int nbv_attempted = 0, nbv_ok = 0;
   int rounds = 0;
   std::map<std::string, int> failures;
@@ -115,6 +121,9 @@ struct MissionResult {
   evaluation::MapMetrics final_metrics;
   int unstable_faults = 0;
   std::map<std::string, int> failures;
+  /// When the final fruit coverage is 0: why (no successful view, no target pixel segmented,
+  /// ...); empty otherwise.
+  std::string zero_coverage_reason;
   int successful_views() const;
 };
 
@@ -127,6 +136,13 @@ struct MissionContext : nbv::PlannerContext {
   sim::Simulator* sim = nullptr;
   std::uint64_t seed = 1;
 };
+
+/// Why a run whose views succeeded ended at coverage 0, from the points its segmentation
+/// labelled `target` and the target pixels of the renderer's true labels in its frames: no
+/// fruit in view, a segmentation that labelled none of the fruit it saw (colour: the fruit's
+/// colours outside the bands), or target points none of which was kept on a fruit.
+std::string zero_coverage_cause(const std::string& target, perception::LabelSource labels, long target_points,
+                                long true_target_pixels);
 
 /// Hooks for the command line (progress, video, Ctrl-C) and for tests (fault injection).
 struct MissionCallbacks {

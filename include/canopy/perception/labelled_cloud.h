@@ -18,6 +18,8 @@ struct ExtractStats {
   std::size_t bad_label = 0;          ///< Label outside the class list (skipped).
   std::size_t masks = 0;              ///< Non-background masks seen by the noise model.
   std::size_t masks_flipped = 0;      ///< Masks given a wrong class.
+  std::size_t target_points = 0;      ///< Points labelled the target class (SemanticExtractor::extract).
+  std::size_t true_target_pixels = 0; ///< Pixels of the target class in the frame's true labels (0 without them).
 };
 
 /// Points in the world frame with one class label each, and the sensor origin.

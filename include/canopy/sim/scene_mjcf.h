@@ -28,6 +28,9 @@ struct SceneDescription {
   std::string mjcf;
   std::map<std::string, GeomLabel> labels;
   bool has_robot = false;
+  /// Files the MJCF names (plant textures, file="textures/NAME"): NAME -> the file on disk.
+  /// The simulator hands them to MuJoCo in memory; `canopy world` copies them beside scene.xml.
+  std::map<std::string, std::string> files;
 };
 
 /// Name of the MuJoCo camera on the wrist and of the sites marking robot frames.

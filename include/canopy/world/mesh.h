@@ -37,7 +37,8 @@ TriMesh weld_triangles(const std::vector<std::array<Vec3, 3>>& soup, double tol,
 /// Drops vertices no face uses (keeps the order of the rest).
 TriMesh compact(const TriMesh& mesh);
 /// Vertex clustering: every vertex moves to the mean of its `cell`-sized grid cell; faces
-/// that collapse or repeat are removed.
-TriMesh cluster_vertices(const TriMesh& mesh, double cell);
+/// that collapse or repeat are removed. `kept`, when given, receives the input index of every
+/// face of the result.
+TriMesh cluster_vertices(const TriMesh& mesh, double cell, std::vector<size_t>* kept = nullptr);
 
 }  // namespace canopy::world

@@ -6,12 +6,14 @@
 // world files place by name next to procedural plants. Free of MuJoCo.
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "canopy/world/ground_truth.h"
 #include "canopy/world/mesh.h"
+#include "canopy/world/texture.h"
 
 namespace canopy::world {
 
@@ -28,6 +30,12 @@ struct ClassRule {
 enum class TruthMode {
   kSurface,   ///< Points sampled uniformly by area, about point_spacing_m apart (as procedural worlds).
   kVertices,  ///< The fruit meshes' own (welded) vertices, as published evaluations of these models do.
+};
+
+/// What becomes of a material's diffuse texture.
+enum class TextureMode {
+  kImage,  ///< Rendered with the texture (converted to PNG, texture coordinates in the meshes).
+  kMean,   ///< Its mean texel colour (weighted by UV area) becomes the material's flat colour.
 };
 
 /// Plausible ranges of the import options (metres per file unit; triangles).
@@ -49,6 +57,7 @@ struct ImportOptions {
   double min_fruit_size_m = 0.02;            ///< Fruit components with a smaller bounding-box diagonal are fragments.
   double merge_distance_m = 0.02;            ///< Fragments this close to a fruit join it; farther ones are dropped.
   std::uint64_t seed = 1;                    ///< Seed of the surface sampling.
+  TextureMode texture = TextureMode::kImage;
 };
 
 /// The rules of a named preset ("capsicum": the community's Gazebo sweet-pepper models,
@@ -64,8 +73,34 @@ struct ImportedPart {
   std::string class_name;
   bool target = true;            ///< Fruits only: counts in the coverage metric.
   int fruit = -1;                ///< Index of the fruit instance in the plant, -1 for other parts.
-  float rgba[4] = {0.5f, 0.5f, 0.5f, 1.f};
+  float rgba[4] = {0.5f, 0.5f, 0.5f, 1.f};  ///< Flat colour (white under a texture).
   TriMesh mesh;                  ///< Plant frame: metres, +z up, base at the origin.
+  /// Textured parts: the texture (shared by the parts of one material), its file in the
+  /// plant folder ("textures/NAME.png") and the texture coordinates of every face.
+  std::shared_ptr<const Image<Rgb8>> texture;
+  std::string texture_file;
+  std::vector<FaceUv> uv;
+};
+
+/// What the import did with one material's colour.
+struct MaterialReport {
+  std::string name;
+  std::string class_name;
+  bool target = true;
+  long triangles = 0;
+  /// Its diffuse texture as the file names it ("VG07frt1.tga"; "*0" for the first texture
+  /// embedded in the file, as in glTF);
+  /// "" when it has none.
+  std::string texture_source;
+  int texture_width = 0, texture_height = 0;
+  /// "image" (rendered with it), "mean" (its mean colour baked in), "flat" (no texture:
+  /// the file's diffuse colour or the class colour), "missing" (the texture file was not
+  /// found: flat colour), "no-uv" (no texture coordinates: the texture's plain mean).
+  std::string colour = "flat";
+  float rgba[4] = {0.5f, 0.5f, 0.5f, 1.f};  ///< Flat colour rendered; under a texture, its mean.
+  /// What colour segmentation labels its colours ("fruit 0.97, background 0.03"), and the
+  /// problem with that ("" for none): filled by the import command's check.
+  std::string color_segmentation, color_problem;
 };
 
 /// What the import found, for the report and plant.yaml.
@@ -85,6 +120,7 @@ struct ImportReport {
   long fragments_merged = 0;     ///< Small fruit components merged into their nearest fruit.
   long fragments_dropped = 0;    ///< Small fruit components dropped (no fruit nearby).
   std::vector<std::string> warnings;
+  std::vector<MaterialReport> materials;  ///< Materials with triangles, in the file's order.
 };
 
 /// An imported plant: parts, fruit ground truth (plant frame, plant_index 0) and the report.
@@ -122,8 +158,9 @@ void read_plant_size(const std::string& dir, double* height_m, double* radius_m)
 PlantAsset load_plant_asset(const std::string& dir);
 
 /// Reads a mesh file (any format assimp reads, e.g. a part's OBJ) into one mesh, node
-/// transforms applied, coincident vertices merged.
-TriMesh read_mesh_file(const std::string& path);
+/// transforms applied, coincident vertices merged. `uv`, when given, receives every face's
+/// texture coordinates (channel 0; InputError when the file has none).
+TriMesh read_mesh_file(const std::string& path, std::vector<FaceUv>* uv = nullptr);
 
 /// Hex SHA-256 of a file's bytes (InputError when it cannot be read).
 std::string file_sha256(const std::string& path);

@@ -2,12 +2,14 @@
 // A generated world: triangle meshes of every plant part with its semantic class and fruit
 // instance, plus the fruit ground truth. Free of MuJoCo; sim/ turns it into an MJCF scene.
 
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "canopy/common/frame.h"
 #include "canopy/world/ground_truth.h"
 #include "canopy/world/mesh.h"
+#include "canopy/world/texture.h"
 #include "canopy/world/world_spec.h"
 
 namespace canopy::world {
@@ -16,6 +18,7 @@ namespace canopy::world {
 struct PlantPart {
   std::string name;                 ///< Unique, e.g. "p3_leaf_12".
   std::string kind;                 ///< "stem", "petiole", "leaf", "peduncle", "fruit".
+  std::string material;             ///< Imported plants: the model's material ("" for procedural parts).
   int class_id = 0;                 ///< Index into WorldSpec::classes.
   int instance_id = kNoInstance;    ///< Fruit instance id (fruits only).
   std::string fruit_color;          ///< Fruits only: "red", "yellow", ...
@@ -28,6 +31,11 @@ struct PlantPart {
   double truth_area_m2 = 0.0;
   float rgba[4] = {0.f, 0.f, 0.f, 1.f};
   TriMesh mesh;                     ///< World-frame vertices.
+  /// Textured parts of imported plants: the texture (shared), its PNG file (absolute path)
+  /// and the texture coordinates of every face of `mesh`.
+  std::shared_ptr<const Image<Rgb8>> texture;
+  std::string texture_file;
+  std::vector<FaceUv> uv;
 };
 
 /// One plant: its base position on the ground and its parts.
