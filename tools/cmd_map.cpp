@@ -213,7 +213,11 @@ void add_map_command(CLI::App& app) {
                              {"coverage_paper", m.paper.coverage},
                              {"coverage_prototype", m.prototype.coverage},
                              {"entropy_paper", m.paper.entropy},
-                             {"entropy_prototype", m.prototype.entropy}};
+                             {"entropy_prototype", m.prototype.entropy},
+                             {"fruits_sc50", m.fruits_sc50},
+                             {"fruits_sc80", m.fruits_sc80},
+                             {"detection_f1", m.detection.f1},
+                             {"fruit_voxel_precision", m.voxel_precision.precision}};
       history.push_back(step);
       nlohmann::json j = m.to_json();
       j["world"] = spec.name;
