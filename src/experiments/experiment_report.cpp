@@ -493,7 +493,7 @@ ExperimentReport make_experiment_report(const MergedTrials& m) {
   f += "\n## 5. The field's metrics at the end\n\n";
   f += "Fruit detection (map clusters matched one-to-one to the true ripe fruits), shape errors of the matched "
        "fruits, fruit-level completeness, the voxel precision of the fruit class, and motion cost "
-       "(docs/background/evaluation.md). Mean ± std over the trials that have the figure (n); a centre or volume "
+       "(docs/metrics.md). Mean ± std over the trials that have the figure (n); a centre or volume "
        "error needs a matched fruit. All of them per group in field.csv.\n\n";
   const std::vector<std::pair<std::string, std::vector<std::string>>> tables = {
       {"Detection and shape",
