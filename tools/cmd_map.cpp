@@ -17,6 +17,7 @@
 #include "canopy/mapping/frame_mapping.h"
 #include "canopy/mapping/scan_inserter.h"
 #include "canopy/evaluation/view_presets.h"
+#include "canopy/mission/dataset_export.h"
 #include "canopy/sim/renderer.h"
 #include "cli_util.h"
 #include "commands.h"
@@ -50,6 +51,7 @@ struct MapOptions {
   double pgt = -1.0;
   std::string out;
   std::string frames, intrinsics, label_colors;
+  std::string export_dir;
   double max_dt_s = datasets::FrameReaderOptions{}.max_time_diff_s;
 };
 
@@ -146,6 +148,10 @@ void add_map_command(CLI::App& app) {
   sub->add_option("--pgt", opt->pgt, "Probability a mask keeps its class (1 = no noise); default from config")
       ->check(CLI::Range(0.0, 1.0));
   sub->add_option("--out", opt->out, "Output folder")->required();
+  sub->add_option("--export", opt->export_dir,
+                  "Also write a NeRF / Gaussian-splatting dataset (nerfstudio layout) of the views, with held-out "
+                  "ring views, into this folder")
+      ->excludes(frames);
   sub->callback([opt] {
     // Ctrl-C and SIGTERM: the views mapped so far are saved, marked incomplete.
     const InterruptScope interrupts;
@@ -159,6 +165,12 @@ void add_map_command(CLI::App& app) {
     check_world_colours(world, cfg.extractor);
     const std::vector<Pose> views = evaluation::views_from_spec(opt->views, world);
     StagedDir out(opt->out, "map");
+    std::unique_ptr<StagedDir> export_out;
+    std::unique_ptr<mission::DatasetExport> dataset;
+    if (!opt->export_dir.empty()) {
+      export_out = std::make_unique<StagedDir>(opt->export_dir, "dataset", StagedDir::Mode::kReplace, "--export");
+      dataset = std::make_unique<mission::DatasetExport>(export_out->working_dir(), spec.classes, spec.camera);
+    }
 
     sim::Simulator sim(world, default_robot_config());
     sim::Renderer renderer(sim, spec.camera);
@@ -185,6 +197,7 @@ void add_map_command(CLI::App& app) {
       const LabelledFrame frame = renderer.render_free_camera(views[i]);
       const double ms_render = render_watch.ms();
       const mapping::FrameMapStep fs = mapping::map_frame(frame, extractor, inserter);
+      if (dataset) dataset->add_train(frame);
       const mapping::InsertStats& st = fs.insert;
       insert_ms_sum += st.ms_total;
       const evaluation::MapMetrics m = evaluation::evaluate_map(map, world.truth, cfg.metrics);
@@ -201,7 +214,11 @@ void add_map_command(CLI::App& app) {
                              {"coverage_paper", m.paper.coverage},
                              {"coverage_prototype", m.prototype.coverage},
                              {"entropy_paper", m.paper.entropy},
-                             {"entropy_prototype", m.prototype.entropy}};
+                             {"entropy_prototype", m.prototype.entropy},
+                             {"fruits_sc50", m.fruits_sc50},
+                             {"fruits_sc80", m.fruits_sc80},
+                             {"detection_f1", m.detection.f1},
+                             {"fruit_voxel_precision", m.voxel_precision.precision}};
       history.push_back(step);
       nlohmann::json j = m.to_json();
       j["world"] = spec.name;
@@ -228,6 +245,13 @@ void add_map_command(CLI::App& app) {
       out.commit();
       throw Interrupted("interrupted after " + std::to_string(done) + " of " + std::to_string(views.size()) +
                         " views; the map so far is saved in " + opt->out + " (metrics.json \"complete\": false)");
+    }
+    if (dataset) {
+      dataset->render_test_views(sim, world, mission::default_test_ring());
+      dataset->finish({{"command", "map"}, {"world", opt->world}, {"views", opt->views}});
+      export_out->commit();
+      std::printf("wrote %s (nerfstudio dataset: %zu training views, %zu held-out views)\n", opt->export_dir.c_str(),
+                  dataset->train_count(), dataset->test_count());
     }
     out.commit();
     std::printf("mapped %zu views: coverage %.3f, fruit entropy %.1f, %.1f ms per insertion; wrote %s\n",

@@ -14,6 +14,7 @@
 #include "canopy/common/interrupt.h"
 #include "canopy/common/io.h"
 #include "canopy/common/process.h"
+#include "canopy/mission/dataset_export.h"
 #include "canopy/mission/mission.h"
 #include "canopy/mission/run_folder.h"
 #include "canopy/mission/video.h"
@@ -30,7 +31,7 @@ struct MissionCliOptions {
   std::string config = mission::default_settings_path();
   std::string method = "ours", gain = "osamcep", rays = "ours";  // override the bundle's `method` when given
   std::vector<std::string> set;
-  std::string seg, stops, out, video, video_size = "640x480";
+  std::string seg, stops, out, video, video_size = "640x480", export_dir;
   double pgt = -1.0;  // < 0: the config's
   int views_per_stop = -1;
   std::uint64_t seed = 1;
@@ -62,6 +63,9 @@ void add_options(CLI::App* sub, MissionCliOptions* o, bool out_required) {
   sub->add_option("--video-size", o->video_size, "Video frame size WxH")->capture_default_str();
   sub->add_option("--video-fps", o->video_fps, "Video frames per simulated second")->capture_default_str();
   sub->add_flag("--no-plots", o->no_plots, "Skip sc_entropy.png and runtime.png");
+  sub->add_option("--export", o->export_dir,
+                  "Also write a NeRF / Gaussian-splatting dataset (nerfstudio layout) of every successful view, "
+                  "with held-out ring views, into this folder");
 }
 
 void run_mission(const MissionCliOptions& o, CLI::App* sub) {
@@ -113,6 +117,12 @@ void run_mission(const MissionCliOptions& o, CLI::App* sub) {
                method.name == "ours" ? " (" + method.gain + ", rays " + method.rays + ")" : "", world.plants.size(),
                world.truth.fruits.size(), settings.mapping.extractor.p_gt, o.seed);
   StagedDir out(o.out, "mission");
+  std::unique_ptr<StagedDir> export_out;
+  std::unique_ptr<mission::DatasetExport> dataset;
+  if (!o.export_dir.empty()) {
+    export_out = std::make_unique<StagedDir>(o.export_dir, "dataset", StagedDir::Mode::kReplace, "--export");
+    dataset = std::make_unique<mission::DatasetExport>(export_out->working_dir(), spec.classes, spec.camera);
+  }
 
   std::unique_ptr<mission::MissionVideo> video;
   mission::MissionCallbacks cb;
@@ -123,10 +133,11 @@ void run_mission(const MissionCliOptions& o, CLI::App* sub) {
     cb.video_tick = [&video](sim::Simulator& sim, const std::string& caption) {
       if (video) video->tick(sim, caption);
     };
-    cb.on_view = [&video](const mission::ViewRecord&, const LabelledFrame& f, const sim::Simulator&) {
-      if (video) video->set_wrist(f);
-    };
   }
+  cb.on_view = [&video, &dataset](const mission::ViewRecord&, const LabelledFrame& f, const sim::Simulator&) {
+    if (video) video->set_wrist(f);
+    if (dataset) dataset->add_train(f);
+  };
   mission::Mission mission(world, settings, o.seed, cb);
   if (!o.video.empty())
     video = std::make_unique<mission::MissionVideo>(o.video, video_w, video_h, o.video_fps, mission.simulator(),
@@ -156,6 +167,13 @@ void run_mission(const MissionCliOptions& o, CLI::App* sub) {
     const std::string script = find_data_file("tools/plot_mission.py");
     const ProcessStatus plot = run_process({"/usr/bin/python3", script, out.working_dir()});
     if (!plot.ok()) spdlog::warn("plots failed (needs python3-matplotlib): {}: {}", script, plot.describe());
+  }
+  if (dataset && result.complete) {
+    dataset->render_test_views(mission.simulator(), world, mission::default_test_ring());
+    dataset->finish({{"command", "mission"}, {"world", o.world}, {"method", settings.method.name}, {"seed", o.seed}});
+    export_out->commit();
+    spdlog::info("wrote {}/ (nerfstudio dataset: {} training views, {} held-out views)", o.export_dir,
+                 dataset->train_count(), dataset->test_count());
   }
   out.commit();
   spdlog::info("{}: {} of {} views successful, fruit SC {:.3f}, entropy {:.1f} nats, {:.1f} s simulated, {:.1f} s wall",

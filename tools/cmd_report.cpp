@@ -32,6 +32,7 @@ void add_report_command(CLI::App& app) {
     write_file_atomic(out.path("curves.csv"), rep.curves_csv);
     write_file_atomic(out.path("runtime.csv"), rep.runtime_csv);
     write_file_atomic(out.path("findings.md"), rep.findings_md);
+    write_file_atomic(out.path("field.csv"), rep.field_csv);
     write_json_atomic(out.path("trials.json"), rep.trials_json);
     if (!o->no_plots) {
       const std::string script = find_data_file("tools/plot_experiment.py");

@@ -161,6 +161,18 @@ MapMetrics evaluate_map(const SemanticOcTree& map, const world::GroundTruth& tru
   const RuleScores& chosen = params.rule == EvaluationRule::kPaper ? m.paper : m.prototype;
   m.coverage = chosen.coverage;
   m.total_entropy = chosen.entropy;
+  int sc50 = 0, sc80 = 0;
+  for (const FruitMetrics& f : m.fruits) {
+    sc50 += f.coverage >= 0.5;
+    sc80 += f.coverage >= 0.8;
+  }
+  m.fruits_sc50 = m.fruits.empty() ? 0.0 : double(sc50) / double(m.fruits.size());
+  m.fruits_sc80 = m.fruits.empty() ? 0.0 : double(sc80) / double(m.fruits.size());
+  const std::vector<Vec3>& fruit_voxels = params.rule == EvaluationRule::kPaper ? paper_centers : prototype_centers;
+  const double res = map.getResolution();
+  m.detection = detect_fruits(fruit_clusters(fruit_voxels, res, params.detection_min_voxels), truth,
+                              params.match_size_fraction);
+  m.voxel_precision = fruit_voxel_precision(fruit_voxels, res, truth);
   return m;
 }
 
@@ -194,6 +206,13 @@ nlohmann::json MapMetrics::to_json() const {
                       {"prototype", rule_json(f.prototype)}});
   }
   j["fruits"] = fruits;
+  j["fruits_sc50"] = fruits_sc50;
+  j["fruits_sc80"] = fruits_sc80;
+  j["detection"] = detection.to_json();
+  j["fruit_voxel_precision"] = {{"true_voxels", voxel_precision.true_voxels},
+                                {"false_voxels", voxel_precision.false_voxels},
+                                {"precision", voxel_precision.precision},
+                                {"false_volume_m3", voxel_precision.false_volume_m3}};
   return j;
 }
 

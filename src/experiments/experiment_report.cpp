@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -41,6 +42,32 @@ void read_mission(const fs::path& mission, TrialResult* r) {
   r->views_attempted = s.at("views_attempted").get<int>();
   for (auto it = s.at("failures").begin(); it != s.at("failures").end(); ++it) r->failures[it.key()] = it.value().get<int>();
   r->fingerprint += "\n" + f.views_csv;
+  // The field's metrics (summaries written before them have none).
+  const auto take = [&](const std::string& name, const nlohmann::json& v) {
+    if (v.is_number()) r->field[name] = v.get<double>();
+  };
+  const nlohmann::json none;
+  const auto at = [&](const nlohmann::json& j, const char* k) -> const nlohmann::json& {
+    return j.is_object() && j.contains(k) ? j.at(k) : none;
+  };
+  const nlohmann::json& fin = at(s, "final");
+  const nlohmann::json& det = at(fin, "detection");
+  take("fruits_sc50", at(fin, "fruits_sc50"));
+  take("fruits_sc80", at(fin, "fruits_sc80"));
+  for (const char* k : {"precision", "recall", "f1", "centre_error_m", "voxel_volume_error", "ellipsoid_volume_error"})
+    take(std::string("detection_") + k, at(det, k));
+  take("fruit_voxel_precision", at(at(fin, "fruit_voxel_precision"), "precision"));
+  take("false_fruit_volume_cm3", at(at(fin, "fruit_voxel_precision"), "false_volume_m3"));
+  if (r->field.count("false_fruit_volume_cm3")) r->field["false_fruit_volume_cm3"] *= 1e6;
+  const nlohmann::json& mc = at(s, "motion_cost");
+  take("arm_path_rad", at(mc, "arm_path_rad"));
+  take("base_travel_m", at(mc, "base_travel_m"));
+  take("simulated_time_s", at(mc, "simulated_time_s"));
+  const nlohmann::json& cat = at(mc, "coverage_at_time");
+  if (cat.is_array())
+    for (const nlohmann::json& e : cat)
+      if (e.is_object() && e.contains("time_s") && e.contains("coverage"))
+        take("sc_at_" + format_number(e.at("time_s").get<double>(), "%.6g") + "s", e.at("coverage"));
 }
 
 using Stat = SampleStats;
@@ -134,6 +161,23 @@ const Group* find_group(const std::vector<Group>& gs, const std::string& method,
 }
 
 }  // namespace
+
+std::vector<std::string> field_metric_names(const std::vector<TrialResult>& trials) {
+  std::vector<std::string> names = {"detection_precision", "detection_recall", "detection_f1", "detection_centre_error_m",
+                                    "detection_voxel_volume_error", "detection_ellipsoid_volume_error", "fruits_sc50",
+                                    "fruits_sc80", "fruit_voxel_precision", "false_fruit_volume_cm3", "arm_path_rad",
+                                    "base_travel_m", "simulated_time_s"};
+  std::vector<std::pair<double, std::string>> budgets;
+  for (const TrialResult& t : trials)
+    for (const auto& [k, v] : t.field)
+      if (k.rfind("sc_at_", 0) == 0 && std::find_if(budgets.begin(), budgets.end(), [&, &key = k](const auto& b) {
+                                         return b.second == key;
+                                       }) == budgets.end())
+        budgets.emplace_back(std::atof(k.c_str() + 6), k);
+  std::sort(budgets.begin(), budgets.end());
+  for (const auto& b : budgets) names.push_back(b.second);
+  return names;
+}
 
 const std::vector<std::pair<std::string, std::vector<std::string>>>& runtime_categories() {
   static const std::vector<std::pair<std::string, std::vector<std::string>>> c = {
@@ -419,6 +463,61 @@ ExperimentReport make_experiment_report(const MergedTrials& m) {
          pm(over(g, [&](const TrialResult& t) { return per_stop(t.views_ok, t); }), "%.1f") + " | " +
          pm(over(g, [&](const TrialResult& t) { return per_stop(t.views_attempted, t); }), "%.1f") + " | " +
          (by_cause.empty() ? std::string("none") : by_cause) + " |\n";
+  }
+
+  // The field's metrics: mean ± std over the trials that have each (docs/background/evaluation.md).
+  std::vector<TrialResult> ok_trials;
+  for (const TrialResult& t : m.trials)
+    if (t.status == "ok") ok_trials.push_back(t);
+  const std::vector<std::string> field = field_metric_names(ok_trials);
+  const auto field_stat = [](const Group& g, const std::string& k) {
+    std::vector<double> v;
+    for (const TrialResult* t : g.trials) {
+      const auto it = t->field.find(k);
+      if (it != t->field.end() && std::isfinite(it->second)) v.push_back(it->second);
+    }
+    return stat(v);
+  };
+  std::string fc = "method,label,p_gt,trials";
+  for (const std::string& k : field) fc += "," + k + "_mean," + k + "_std," + k + "_n";
+  fc += "\n";
+  for (const Group& g : groups) {
+    fc += g.method.choice.name + "," + g.method.label + "," + pgt_text(g.p_gt) + "," + std::to_string(g.trials.size());
+    for (const std::string& k : field) {
+      const Stat s = field_stat(g, k);
+      fc += "," + (s.n ? num(s.mean) : "") + "," + (s.n ? num(s.std) : "") + "," + std::to_string(s.n);
+    }
+    fc += "\n";
+  }
+  rep.field_csv = fc;
+  f += "\n## 5. The field's metrics at the end\n\n";
+  f += "Fruit detection (map clusters matched one-to-one to the true ripe fruits), shape errors of the matched "
+       "fruits, fruit-level completeness, the voxel precision of the fruit class, and motion cost "
+       "(docs/metrics.md). Mean ± std over the trials that have the figure (n); a centre or volume "
+       "error needs a matched fruit. All of them per group in field.csv.\n\n";
+  const std::vector<std::pair<std::string, std::vector<std::string>>> tables = {
+      {"Detection and shape",
+       {"detection_precision", "detection_recall", "detection_f1", "detection_centre_error_m",
+        "detection_voxel_volume_error", "detection_ellipsoid_volume_error"}},
+      {"Completeness and voxel precision", {"fruits_sc50", "fruits_sc80", "fruit_voxel_precision", "false_fruit_volume_cm3"}},
+      {"Motion cost", {"arm_path_rad", "base_travel_m", "simulated_time_s"}}};
+  std::vector<std::string> budget_keys;
+  for (const std::string& k : field)
+    if (k.rfind("sc_at_", 0) == 0) budget_keys.push_back(k);
+  std::vector<std::pair<std::string, std::vector<std::string>>> all_tables = tables;
+  if (!budget_keys.empty()) all_tables.push_back({"Coverage reached by a simulated time budget", budget_keys});
+  for (const auto& [title, keys] : all_tables) {
+    f += "**" + title + "**\n\n| P_gt | method";
+    for (const std::string& k : keys) f += " | " + k;
+    f += " |\n|---|---";
+    for (std::size_t i = 0; i < keys.size(); ++i) f += "|---";
+    f += "|\n";
+    for (const Group& g : groups) {
+      f += "| " + pgt_text(g.p_gt) + " | " + g.method.label;
+      for (const std::string& k : keys) f += " | " + pm(field_stat(g, k), k == "false_fruit_volume_cm3" || k == "base_travel_m" ? "%.2f" : "%.3f");
+      f += " |\n";
+    }
+    f += "\n";
   }
 
   f += "\n## Failed, missing and incomplete trials\n\n";

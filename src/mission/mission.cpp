@@ -169,6 +169,7 @@ struct Mission::Impl {
              std::to_string(rec.goal.x_m));
     const Stopwatch watch;
     const sim::SimState before = sim.snapshot();
+    const BasePose start = sim.base_pose();
     DriveReport d;
     try {
       d = drive_base(stepper, settings.motion.base, rec.goal, settings.mission.stops.timeout_s,
@@ -181,6 +182,7 @@ struct Mission::Impl {
     }
     result.times.add(kControl, watch.seconds());
     rec.reached = sim.base_pose();
+    result.base_travel_m += std::hypot(rec.reached.x_m - start.x_m, rec.reached.y_m - start.y_m);
     // A base that touched the true plants on the way failed its stop, wherever it ended.
     rec.reached_goal = d.reached && d.contacts == 0;
     rec.base_truth_contacts = d.contacts;
@@ -228,6 +230,20 @@ struct Mission::Impl {
     rec.coverage_prototype = last_metrics.prototype.coverage;
     rec.entropy_prototype = last_metrics.prototype.entropy;
     rec.sim_time_s = sim.time();
+    rec.base_travel_m = result.base_travel_m;
+    const evaluation::MapMetrics& m = last_metrics;
+    rec.fruits_sc50 = m.fruits_sc50;
+    rec.fruits_sc80 = m.fruits_sc80;
+    rec.fruit_clusters = static_cast<int>(m.detection.clusters.size());
+    rec.fruits_matched = static_cast<int>(m.detection.matches.size());
+    rec.detection_precision = m.detection.precision;
+    rec.detection_recall = m.detection.recall;
+    rec.detection_f1 = m.detection.f1;
+    rec.centre_error_m = m.detection.centre_error_m;
+    rec.voxel_volume_error = m.detection.voxel_volume_error;
+    rec.ellipsoid_volume_error = m.detection.ellipsoid_volume_error;
+    rec.fruit_voxel_precision = m.voxel_precision.precision;
+    rec.false_fruit_volume_m3 = m.voxel_precision.false_volume_m3;
     if (!rec.success) ++result.failures[cause];
     result.times.merge(rec.times);
     ++current_attempt;
@@ -259,6 +275,13 @@ struct Mission::Impl {
       const sim::SimState before = sim.snapshot();
       SteppedSim<motion::RobotModel> stepped(stepper, model);
       const double t0 = sim.time();
+      const std::vector<ArmConfig>& w = plan.trajectory.waypoints();
+      for (std::size_t i = 1; i < w.size(); ++i) {
+        double d2 = 0.0;
+        for (int j = 0; j < kArmDof; ++j) d2 += (w[i][j] - w[i - 1][j]) * (w[i][j] - w[i - 1][j]);
+        rec.arm_path_rad += std::sqrt(d2);
+      }
+      result.arm_path_rad += rec.arm_path_rad;
       try {
         move = motion::execute_arm_move(stepped, plan.trajectory, view.T_world_camera, settings.motion.execution,
                                         &truth_checker);

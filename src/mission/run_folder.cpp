@@ -18,7 +18,10 @@ std::string views_csv(const MissionResult& r, const std::string& method) {
       "attempt,stop,method,phase,source,success,failure,goal_x,goal_y,goal_z,reached_x,reached_y,reached_z,"
       "reached_qw,reached_qx,reached_qy,reached_qz,position_error_m,angle_error_deg,gain,cluster,successful_views,"
       "coverage,entropy,sim_time_s,move_time_s,truth_contacts,self_contacts,coverage_paper,entropy_paper,"
-      "coverage_prototype,entropy_prototype\n";
+      "coverage_prototype,entropy_prototype,arm_path_rad,base_travel_m,fruits_sc50,fruits_sc80,fruit_clusters,"
+      "fruits_matched,detection_precision,detection_recall,detection_f1,centre_error_m,voxel_volume_error,"
+      "ellipsoid_volume_error,fruit_voxel_precision,false_fruit_volume_m3\n";
+  const auto opt = [&](double x) { return std::isfinite(x) ? num(x) : std::string(); };  // NaN: no match yet
   for (const ViewRecord& v : r.views) {
     const Vec3 g = v.T_goal.translation(), p = v.T_reached.translation();
     const Quat q(v.T_reached.linear());
@@ -31,7 +34,12 @@ std::string views_csv(const MissionResult& r, const std::string& method) {
          std::to_string(v.cluster) + "," + std::to_string(v.successful_views) + "," + num(v.coverage) + "," +
          num(v.entropy) + "," + num(v.sim_time_s) + "," + num(v.move_time_s) + "," + std::to_string(v.truth_contacts) +
          "," + std::to_string(v.self_contacts) + "," + num(v.coverage_paper) + "," + num(v.entropy_paper) + "," +
-         num(v.coverage_prototype) + "," + num(v.entropy_prototype) + "\n";
+         num(v.coverage_prototype) + "," + num(v.entropy_prototype) + "," + num(v.arm_path_rad) + "," +
+         num(v.base_travel_m) + "," + num(v.fruits_sc50) + "," + num(v.fruits_sc80) + "," +
+         std::to_string(v.fruit_clusters) + "," + std::to_string(v.fruits_matched) + "," + num(v.detection_precision) +
+         "," + num(v.detection_recall) + "," + num(v.detection_f1) + "," + opt(v.centre_error_m) + "," +
+         opt(v.voxel_volume_error) + "," + opt(v.ellipsoid_volume_error) + "," + num(v.fruit_voxel_precision) + "," +
+         num(v.false_fruit_volume_m3) + "\n";
   }
   return s;
 }
@@ -94,15 +102,39 @@ nlohmann::json summary_json(const MissionResult& r) {
                 {"fruit_points", r.final_metrics.points},
                 {"target_fruits", r.final_metrics.fruits.size()},
                 {"non_target_fruits", r.final_metrics.non_target_fruits},
-                {"rules", metrics["rules"]}};
+                {"rules", metrics["rules"]},
+                {"fruits_sc50", metrics["fruits_sc50"]},
+                {"fruits_sc80", metrics["fruits_sc80"]},
+                {"detection", metrics["detection"]},
+                {"fruit_voxel_precision", metrics["fruit_voxel_precision"]}};
+  j["motion_cost"] = {{"arm_path_rad", r.arm_path_rad},
+                      {"base_travel_m", r.base_travel_m},
+                      {"simulated_time_s", r.sim_time_s}};
   j["simulated_time_s"] = r.sim_time_s;
   j["wall_time_s"] = r.wall_time_s;
   j["wall_time_by_phase_s"] = r.times.totals();
   return j;
 }
 
+std::vector<double> coverage_at_times(const MissionResult& r, const std::vector<double>& times_s) {
+  std::vector<double> out;
+  for (double T : times_s) {
+    double c = 0.0;
+    for (const ViewRecord& v : r.views)
+      if (v.sim_time_s <= T) c = v.coverage;
+    if (r.sim_time_s <= T) c = r.final_metrics.coverage;
+    out.push_back(c);
+  }
+  return out;
+}
+
 nlohmann::json run_summary(const MissionResult& result, const Settings& settings, const RunContext& ctx) {
   nlohmann::json summary = summary_json(result);
+  const std::vector<double>& budgets = settings.mission.record.time_budgets_s;
+  const std::vector<double> reached = coverage_at_times(result, budgets);
+  nlohmann::json at = nlohmann::json::array();
+  for (std::size_t i = 0; i < budgets.size(); ++i) at.push_back({{"time_s", budgets[i]}, {"coverage", reached[i]}});
+  summary["motion_cost"]["coverage_at_time"] = at;
   summary["method"] = {{"name", settings.method.name}, {"gain", settings.method.gain}, {"rays", settings.method.rays}};
   summary["seed"] = ctx.seed;
   summary["p_gt"] = settings.mapping.extractor.p_gt;

@@ -8,6 +8,7 @@
 #include "canopy/common/error.h"
 #include "canopy/common/random.h"
 #include "canopy/nbv/planners/frontier.h"
+#include "canopy/nbv/planners/global.h"
 #include "canopy/nbv/planners/ours.h"
 #include "canopy/nbv/planners/predefined.h"
 
@@ -57,6 +58,10 @@ struct Registry {
                        [](const ViewPlannerSettings& s) { return frontier::make_planner(s); }});
     entries.push_back({"predefined", "dense predefined scanning: the scripted views of every stop, no planning",
                        [](const ViewPlannerSettings& s) { return predefined::make_planner(s); }});
+    entries.push_back({"global",
+                       "global view planning: weighted set cover of the uncertain voxels near the clusters by the "
+                       "stop's reachable candidates, costed by arm motion, then a tour",
+                       [](const ViewPlannerSettings& s) { return global::make_planner(s); }});
   }
 };
 

@@ -67,6 +67,7 @@ GroundTruth sample_ground_truth(const World& world) {
       part.mesh.bounds(&f.bbox_min, &f.bbox_max);
       f.center = 0.5 * (f.bbox_min + f.bbox_max);
       f.surface_area_m2 = part.mesh.area();
+      f.volume_m3 = std::abs(part.mesh.volume());
       // Imported plants bring their own ground truth (their folder's, placed in the world).
       f.surface_points = part.has_truth_points
                              ? part.truth_points
@@ -97,6 +98,7 @@ void GroundTruth::save(const std::string& dir) const {
                            {"bbox_min", vec_json(f.bbox_min)},
                            {"bbox_max", vec_json(f.bbox_max)},
                            {"surface_area_m2", f.surface_area_m2},
+                           {"volume_m3", f.volume_m3},
                            {"num_points", f.surface_points.size()}});
   }
   write_json_atomic(dir + "/fruits.json", j);
@@ -127,6 +129,7 @@ GroundTruth GroundTruth::load(const std::string& dir) {
       f.bbox_min = vec_from(jf.at("bbox_min"));
       f.bbox_max = vec_from(jf.at("bbox_max"));
       f.surface_area_m2 = jf.at("surface_area_m2").get<double>();
+      f.volume_m3 = jf.value("volume_m3", 0.0);  // files written before the volume: unknown
       gt.fruits.push_back(f);
     }
   } catch (const nlohmann::json::exception& e) {

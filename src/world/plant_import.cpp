@@ -628,6 +628,7 @@ ImportedPlant import_plant(const std::string& path, const ImportOptions& opt) {
     unique.bounds(&f.bbox_min, &f.bbox_max);
     f.center = 0.5 * (f.bbox_min + f.bbox_max);
     f.surface_area_m2 = unique.area();
+    f.volume_m3 = std::abs(unique.volume());
     f.surface_points = opt.truth == TruthMode::kVertices
                            ? unique.vertices
                            : sample_surface_points(unique, opt.point_spacing_m, mix_seed(opt.seed, 1000000 + k));

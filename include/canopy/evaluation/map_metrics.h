@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "canopy/common/params.h"
+#include "canopy/evaluation/fruit_metrics.h"
 #include "canopy/mapping/semantic_octree.h"
 #include "canopy/world/ground_truth.h"
 
@@ -43,6 +44,8 @@ struct MetricsParams {
   double entropy_box_m = 0.1;
   double prototype_min_logodds = 1.0;
   double prototype_entropy_radius_m = 0.05;
+  double match_size_fraction = 0.5;
+  int detection_min_voxels = 1;
 
   template <class A>
   void visit(A& a) {
@@ -55,6 +58,10 @@ struct MetricsParams {
       "Prototype rule: a fruit voxel needs target log-odds above this");
     a("prototype_entropy_radius_m", prototype_entropy_radius_m, limits::above_up_to(0.0, 1.0),
       "Prototype rule: radius of the entropy sphere around each fruit's centroid [m]");
+    a("match_size_fraction", match_size_fraction, limits::above_up_to(0.0, 5.0),
+      "Fruit detection: a cluster matches a fruit when its centroid lies within this fraction of the fruit's size");
+    a("detection_min_voxels", detection_min_voxels, limits::in(1, 1000000),
+      "Fruit detection: clusters of fewer fruit voxels are not detections");
   }
   bool operator==(const MetricsParams& o) const { return same_params(*this, o); }
 };
@@ -90,6 +97,12 @@ struct MapMetrics {
   std::size_t non_target_fruits = 0;       ///< Unripe fruits left out.
   std::vector<FruitMetrics> fruits;
   VoxelCounts counts;
+  /// Shares of the target fruits whose coverage (under `rule`) reaches 50 % and 80 %.
+  double fruits_sc50 = 0.0, fruits_sc80 = 0.0;
+  /// Fruit detection and shape, of the fruit voxels counted under `rule` (fruit_metrics.h).
+  FruitDetection detection;
+  /// Fruit voxels (under `rule`) on a true fruit and elsewhere.
+  FruitVoxelPrecision voxel_precision;
 
   nlohmann::json to_json() const;
 };

@@ -30,6 +30,9 @@ struct TrialResult {
   double wall_s = 0.0, sim_s = 0.0;
   int stops = 0, views_ok = 0, views_attempted = 0;
   std::map<std::string, int> failures;   ///< Failed view attempts by cause.
+  /// The field's metrics at the end (field_metric_names(); absent or null in summary.json:
+  /// not in the map, e.g. a centre error without a matched fruit).
+  std::map<std::string, double> field;
   std::string fingerprint;               ///< What must agree between two copies of the trial.
 };
 
@@ -57,11 +60,16 @@ struct ExperimentReport {
   std::string curves_csv;   ///< method,label,p_gt,view,trials,sc_mean,sc_std,entropy_mean,entropy_std
   std::string runtime_csv;  ///< per method and P_gt: trials and mean/std of each Fig. 4 phase, totals, views
   std::string findings_md;  ///< The paper's headline findings beside ours.
+  std::string field_csv;    ///< per method and P_gt: trials, mean and std of each of the field's metrics
   nlohmann::json trials_json;  ///< Every trial: id, status, message, source folder; missing; incomplete.
 };
 
 /// Aggregates merged trials (only trials with status ok enter the statistics).
 ExperimentReport make_experiment_report(const MergedTrials& merged);
+
+/// The field's metrics a trial's summary.json gives at the end (its "final" and "motion_cost"
+/// sections; the coverage at each time budget as sc_at_<T>s), in report order.
+std::vector<std::string> field_metric_names(const std::vector<TrialResult>& trials);
 
 /// The paper's Fig. 4 categories and the mission phases they sum.
 const std::vector<std::pair<std::string, std::vector<std::string>>>& runtime_categories();

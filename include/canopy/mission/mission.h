@@ -88,6 +88,14 @@ struct ViewRecord {
   int self_contacts = 0;         ///< Steps with a robot-robot contact in MuJoCo.
   long target_points = 0;        ///< Points of its cloud labelled the target class (kept out of views.csv).
   long true_target_pixels = 0;   ///< Target-class pixels in its frame's true labels (kept out of views.csv).
+  double arm_path_rad = 0.0;     ///< Joint-space length of the trajectory executed (sum of |dq| over its waypoints).
+  double base_travel_m = 0.0;    ///< Base travel of the mission so far (straight lines between stops).
+  /// The field's figures of the map after this view (evaluation::MapMetrics, headline rule).
+  double fruits_sc50 = 0.0, fruits_sc80 = 0.0;
+  int fruit_clusters = 0, fruits_matched = 0;
+  double detection_precision = 0.0, detection_recall = 0.0, detection_f1 = 0.0;
+  double centre_error_m = 0.0, voxel_volume_error = 0.0, ellipsoid_volume_error = 0.0;  ///< NaN without a match.
+  double fruit_voxel_precision = 0.0, false_fruit_volume_m3 = 0.0;
   PhaseTimes times;              ///< Wall time by phase (kept out of views.csv).
 };
 
@@ -117,6 +125,8 @@ struct MissionResult {
   std::string end_reason = "all stops done";
   double sim_time_s = 0.0;
   double wall_time_s = 0.0;
+  double arm_path_rad = 0.0;     ///< Joint-space path of every executed trajectory.
+  double base_travel_m = 0.0;    ///< Base travel between stops.
   PhaseTimes times;              ///< mapping, nbv_planning, motion_planning, control, rendering, evaluation.
   evaluation::MapMetrics final_metrics;
   int unstable_faults = 0;

@@ -85,6 +85,7 @@ struct RecordParams {
   double truth_voxel_m = 0.01;
   double base_check_period_s = 0.02;
   bool metrics_every_view = true;
+  std::vector<double> time_budgets_s = {60.0, 120.0, 240.0, 480.0};
 
   template <class A>
   void visit(A& a) {
@@ -93,6 +94,8 @@ struct RecordParams {
     a("base_check_period_s", base_check_period_s, limits::positive(),
       "Base-vs-plants checks while driving, simulated seconds [s]");
     a("metrics_every_view", metrics_every_view, "Coverage and entropy after every view (else only per stop)");
+    a("time_budgets_s", time_budgets_s, limits::positive(),
+      "Simulated times T at which summary.json and the report give the coverage reached by T [s]");
   }
 };
 

@@ -27,6 +27,10 @@ std::string timing_csv(const MissionResult& result);
 /// summary.json body: per-stop counts, failures, final figures, time split.
 nlohmann::json summary_json(const MissionResult& result);
 
+/// Coverage reached by simulated time T: that of the last attempt ending at or before T (0
+/// before the first; the final coverage when the mission ended before T), for each T.
+std::vector<double> coverage_at_times(const MissionResult& result, const std::vector<double>& times_s);
+
 /// What summary.json says about the run beside its result.
 struct RunContext {
   std::uint64_t seed = 1;

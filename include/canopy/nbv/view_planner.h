@@ -5,7 +5,8 @@
 //  - ours: the paper's cluster-centric planner (planners/ours.h);
 //  - frontier: Zaenker et al.'s ROI / exploration frontier planner as implemented
 //    (planners/frontier.h);
-//  - predefined: dense predefined scanning, no planning (planners/predefined.h).
+//  - predefined: dense predefined scanning, no planning (planners/predefined.h);
+//  - global: a weighted set cover of the stop's candidates (planners/global.h).
 // Planners see only the map, the robot's state and its budget (MuJoCo-free, so the same
 // planner could drive a real robot); reachability comes in as callbacks.
 
@@ -48,6 +49,8 @@ struct ViewRequest {
   const mapping::SemanticOcTree* map = nullptr;
   VoxelIndex* index = nullptr;             ///< Kept beside `map`; planners refresh it.
   Pose T_world_camera = Pose::Identity();  ///< The camera now.
+  bool has_q = false;                      ///< q holds the arm's joints now.
+  ArmConfig q{};
   Eigen::AlignedBox3d region;              ///< Targets (fruit clusters, frontiers) must lie in it.
   int budget = 1;                          ///< Successful views still wanted at this stop.
   std::uint64_t seed = 1;                  ///< Seeds the planner's random draws for this request.

@@ -22,6 +22,7 @@ struct FruitTruth {
   Vec3 bbox_min = Vec3::Zero();     ///< Axis-aligned bounding box [m, world].
   Vec3 bbox_max = Vec3::Zero();
   double surface_area_m2 = 0.0;
+  double volume_m3 = 0.0;           ///< Enclosed by the fruit's mesh (0 when unknown).
   std::vector<Vec3> surface_points; ///< World-frame surface samples, about spacing_m apart.
 };
 

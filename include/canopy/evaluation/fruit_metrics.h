@@ -1,0 +1,84 @@
+#pragma once
+// The metrics the field reports on a semantic map besides coverage and entropy
+// (docs/background/evaluation.md, "Fruit detection and shape"), against the world's ground
+// truth; only target (ripe) fruits are ground-truth fruits:
+//  - detection: the map's fruit voxels (occupied, likeliest class = target) grouped into
+//    clusters, 26-connected components of voxels (clusters smaller than min_voxels dropped);
+//    clusters matched one-to-one to the fruits, closest pairs first, a pair matching when the
+//    cluster centroid lies within match_size_fraction x the fruit's size (the largest side of
+//    its bounding box) of the fruit's centre; precision = matched / clusters, recall =
+//    matched / fruits, F1 their harmonic mean (0 when both are 0);
+//  - per matched fruit: the centre error |centroid - centre|, and the relative volume errors
+//    |V - V_true| / V_true of the voxel volume (voxels x resolution^3) and of an ellipsoid
+//    fitted by moments to the voxel centres (semi-axes sqrt(3 lambda_i) of the covariance's
+//    eigenvalues: exact for points spread evenly on a sphere, as a map holds a fruit's
+//    surface), V_true the volume enclosed by the fruit's mesh;
+//  - voxel precision: a fruit voxel is true when a target fruit's surface sample lies within
+//    half the voxel diagonal plus the samples' spacing of its centre, false elsewhere (what
+//    segmentation noise costs: false fruit volume).
+
+#include <cstddef>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "canopy/common/types.h"
+#include "canopy/world/ground_truth.h"
+
+namespace canopy::evaluation {
+
+/// One cluster of mapped fruit voxels.
+struct FruitCluster {
+  Vec3 centroid = Vec3::Zero();     ///< Mean of the voxel centres.
+  std::size_t voxels = 0;
+  double voxel_volume_m3 = 0.0;     ///< voxels x resolution^3.
+  double ellipsoid_volume_m3 = 0.0; ///< 4/3 pi a b c of the moment-fitted ellipsoid.
+  Vec3 semi_axes = Vec3::Zero();    ///< a >= b >= c [m].
+};
+
+/// One cluster matched to one ground-truth fruit.
+struct FruitMatch {
+  int cluster = 0;                  ///< Index into FruitDetection::clusters.
+  int instance_id = 0;              ///< The fruit's instance id.
+  double centre_error_m = 0.0;
+  double true_volume_m3 = 0.0;
+  double voxel_volume_error = 0.0;      ///< |V_voxels - V_true| / V_true (NaN without V_true).
+  double ellipsoid_volume_error = 0.0;  ///< |V_ellipsoid - V_true| / V_true (NaN without V_true).
+};
+
+/// Fruit detection and shape over a whole map.
+struct FruitDetection {
+  std::size_t fruits = 0;           ///< Ground-truth (target) fruits.
+  std::vector<FruitCluster> clusters;
+  std::vector<FruitMatch> matches;
+  double precision = 0.0, recall = 0.0, f1 = 0.0;
+  /// Means over the matches (NaN without a match; volume errors over matches with V_true).
+  double centre_error_m = 0.0, voxel_volume_error = 0.0, ellipsoid_volume_error = 0.0;
+
+  nlohmann::json to_json() const;
+};
+
+/// Fruit voxels on a true fruit and elsewhere.
+struct FruitVoxelPrecision {
+  std::size_t true_voxels = 0, false_voxels = 0;
+  double precision = 0.0;           ///< true / (true + false); 0 without fruit voxels.
+  double false_volume_m3 = 0.0;     ///< false_voxels x resolution^3.
+};
+
+/// 26-connected components of voxels given by their centres on a grid of `resolution_m`
+/// (members of a component touch by a face, an edge or a corner), components of fewer than
+/// `min_voxels` dropped; in order of their first voxel in `centres`.
+std::vector<FruitCluster> fruit_clusters(const std::vector<Vec3>& centres, double resolution_m, int min_voxels);
+
+/// The moment-fitted ellipsoid of points: semi-axes sqrt(3 lambda_i) (descending) and volume.
+void fit_ellipsoid(const std::vector<Vec3>& points, Vec3* semi_axes, double* volume_m3);
+
+/// Matches clusters to the target fruits of `truth` (see the file comment).
+FruitDetection detect_fruits(std::vector<FruitCluster> clusters, const world::GroundTruth& truth,
+                             double match_size_fraction);
+
+/// Voxel precision of fruit voxels (centres) against the target fruits' surface samples.
+FruitVoxelPrecision fruit_voxel_precision(const std::vector<Vec3>& centres, double resolution_m,
+                                          const world::GroundTruth& truth);
+
+}  // namespace canopy::evaluation

@@ -1,0 +1,196 @@
+// Fruit detection, shape and voxel precision against the ground truth (fruit_metrics.h).
+
+#include "canopy/evaluation/fruit_metrics.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <tuple>
+#include <unordered_map>
+
+#include <Eigen/Eigenvalues>
+
+#include "canopy/common/point_kdtree.h"
+
+namespace canopy::evaluation {
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// Grid cell of a voxel centre, packed into one integer (21 bits per axis, offset to positive).
+std::int64_t cell_of(const Vec3& c, double res, int* ix, int* iy, int* iz) {
+  *ix = static_cast<int>(std::floor(c.x() / res));
+  *iy = static_cast<int>(std::floor(c.y() / res));
+  *iz = static_cast<int>(std::floor(c.z() / res));
+  const std::int64_t o = std::int64_t(1) << 20;
+  return ((std::int64_t(*ix) + o) << 42) | ((std::int64_t(*iy) + o) << 21) | (std::int64_t(*iz) + o);
+}
+
+double mean_finite(const std::vector<double>& v) {
+  double s = 0.0;
+  int n = 0;
+  for (double x : v)
+    if (std::isfinite(x)) {
+      s += x;
+      ++n;
+    }
+  return n ? s / n : kNaN;
+}
+
+nlohmann::json number_or_null(double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr); }
+
+}  // namespace
+
+void fit_ellipsoid(const std::vector<Vec3>& points, Vec3* semi_axes, double* volume_m3) {
+  *semi_axes = Vec3::Zero();
+  *volume_m3 = 0.0;
+  if (points.size() < 2) return;
+  Vec3 mean = Vec3::Zero();
+  for (const Vec3& p : points) mean += p;
+  mean /= double(points.size());
+  Mat3 cov = Mat3::Zero();
+  for (const Vec3& p : points) cov += (p - mean) * (p - mean).transpose();
+  cov /= double(points.size());
+  const Eigen::SelfAdjointEigenSolver<Mat3> eig(cov, Eigen::EigenvaluesOnly);
+  Vec3 l = eig.eigenvalues().cwiseMax(0.0);  // ascending
+  *semi_axes = Vec3(std::sqrt(3.0 * l[2]), std::sqrt(3.0 * l[1]), std::sqrt(3.0 * l[0]));
+  *volume_m3 = 4.0 / 3.0 * M_PI * semi_axes->prod();
+}
+
+std::vector<FruitCluster> fruit_clusters(const std::vector<Vec3>& centres, double res, int min_voxels) {
+  std::unordered_map<std::int64_t, std::size_t> index;
+  index.reserve(centres.size() * 2);
+  std::vector<std::array<int, 3>> cells(centres.size());
+  for (std::size_t i = 0; i < centres.size(); ++i)
+    index.emplace(cell_of(centres[i], res, &cells[i][0], &cells[i][1], &cells[i][2]), i);
+  std::vector<int> label(centres.size(), -1);
+  std::vector<FruitCluster> out;
+  std::vector<std::size_t> stack, members;
+  std::vector<Vec3> pts;
+  for (std::size_t seed = 0; seed < centres.size(); ++seed) {
+    if (label[seed] >= 0) continue;
+    members.clear();
+    stack.assign(1, seed);
+    label[seed] = 1;
+    while (!stack.empty()) {
+      const std::size_t i = stack.back();
+      stack.pop_back();
+      members.push_back(i);
+      for (int dz = -1; dz <= 1; ++dz)
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dx = -1; dx <= 1; ++dx) {
+            if (!dx && !dy && !dz) continue;
+            int a, b, c;
+            const Vec3 n((cells[i][0] + dx + 0.5) * res, (cells[i][1] + dy + 0.5) * res, (cells[i][2] + dz + 0.5) * res);
+            const auto it = index.find(cell_of(n, res, &a, &b, &c));
+            if (it == index.end() || label[it->second] >= 0) continue;
+            label[it->second] = 1;
+            stack.push_back(it->second);
+          }
+    }
+    if (static_cast<int>(members.size()) < min_voxels) continue;
+    std::sort(members.begin(), members.end());  // the sum in input order: independent of the walk
+    FruitCluster cl;
+    pts.clear();
+    for (std::size_t i : members) pts.push_back(centres[i]);
+    for (const Vec3& p : pts) cl.centroid += p;
+    cl.centroid /= double(pts.size());
+    cl.voxels = pts.size();
+    cl.voxel_volume_m3 = double(pts.size()) * res * res * res;
+    fit_ellipsoid(pts, &cl.semi_axes, &cl.ellipsoid_volume_m3);
+    out.push_back(cl);
+  }
+  return out;
+}
+
+FruitDetection detect_fruits(std::vector<FruitCluster> clusters, const world::GroundTruth& truth,
+                             double match_size_fraction) {
+  FruitDetection d;
+  d.clusters = std::move(clusters);
+  std::vector<const world::FruitTruth*> fruits;
+  for (const world::FruitTruth& f : truth.fruits)
+    if (f.target) fruits.push_back(&f);
+  d.fruits = fruits.size();
+  // Every pair within its fruit's threshold, closest first (ties: cluster, then fruit order).
+  std::vector<std::tuple<double, std::size_t, std::size_t>> pairs;
+  for (std::size_t c = 0; c < d.clusters.size(); ++c)
+    for (std::size_t f = 0; f < fruits.size(); ++f) {
+      const double size = (fruits[f]->bbox_max - fruits[f]->bbox_min).maxCoeff();
+      const double dist = (d.clusters[c].centroid - fruits[f]->center).norm();
+      if (dist <= match_size_fraction * size) pairs.emplace_back(dist, c, f);
+    }
+  std::sort(pairs.begin(), pairs.end());
+  std::vector<bool> cluster_used(d.clusters.size(), false), fruit_used(fruits.size(), false);
+  std::vector<double> centre, vox, ell;
+  for (const auto& [dist, c, f] : pairs) {
+    if (cluster_used[c] || fruit_used[f]) continue;
+    cluster_used[c] = fruit_used[f] = true;
+    FruitMatch m;
+    m.cluster = static_cast<int>(c);
+    m.instance_id = fruits[f]->instance_id;
+    m.centre_error_m = dist;
+    m.true_volume_m3 = fruits[f]->volume_m3;
+    const double v = m.true_volume_m3;
+    m.voxel_volume_error = v > 0.0 ? std::abs(d.clusters[c].voxel_volume_m3 - v) / v : kNaN;
+    m.ellipsoid_volume_error = v > 0.0 ? std::abs(d.clusters[c].ellipsoid_volume_m3 - v) / v : kNaN;
+    d.matches.push_back(m);
+    centre.push_back(m.centre_error_m);
+    vox.push_back(m.voxel_volume_error);
+    ell.push_back(m.ellipsoid_volume_error);
+  }
+  const double tp = double(d.matches.size());
+  d.precision = d.clusters.empty() ? 0.0 : tp / double(d.clusters.size());
+  d.recall = fruits.empty() ? 0.0 : tp / double(fruits.size());
+  d.f1 = d.precision + d.recall > 0.0 ? 2.0 * d.precision * d.recall / (d.precision + d.recall) : 0.0;
+  d.centre_error_m = mean_finite(centre);
+  d.voxel_volume_error = mean_finite(vox);
+  d.ellipsoid_volume_error = mean_finite(ell);
+  return d;
+}
+
+FruitVoxelPrecision fruit_voxel_precision(const std::vector<Vec3>& centres, double res, const world::GroundTruth& truth) {
+  FruitVoxelPrecision p;
+  std::vector<Vec3> samples;
+  for (const world::FruitTruth& f : truth.fruits)
+    if (f.target) samples.insert(samples.end(), f.surface_points.begin(), f.surface_points.end());
+  const PointKdTree tree(std::move(samples));
+  const double reach = 0.5 * std::sqrt(3.0) * res + truth.point_spacing_m;
+  for (const Vec3& c : centres) {
+    std::size_t i = 0;
+    double d2 = 0.0;
+    if (tree.nearest(c, &i, &d2) && d2 <= reach * reach) ++p.true_voxels;
+    else ++p.false_voxels;
+  }
+  const std::size_t n = p.true_voxels + p.false_voxels;
+  p.precision = n ? double(p.true_voxels) / double(n) : 0.0;
+  p.false_volume_m3 = double(p.false_voxels) * res * res * res;
+  return p;
+}
+
+nlohmann::json FruitDetection::to_json() const {
+  nlohmann::json m = nlohmann::json::array();
+  for (const FruitMatch& x : matches)
+    m.push_back({{"cluster", x.cluster},
+                 {"instance_id", x.instance_id},
+                 {"centre_error_m", x.centre_error_m},
+                 {"true_volume_m3", x.true_volume_m3},
+                 {"voxel_volume_m3", clusters[static_cast<std::size_t>(x.cluster)].voxel_volume_m3},
+                 {"ellipsoid_volume_m3", clusters[static_cast<std::size_t>(x.cluster)].ellipsoid_volume_m3},
+                 {"voxel_volume_error", number_or_null(x.voxel_volume_error)},
+                 {"ellipsoid_volume_error", number_or_null(x.ellipsoid_volume_error)}});
+  return {{"fruits", fruits},
+          {"clusters", clusters.size()},
+          {"matched", matches.size()},
+          {"precision", precision},
+          {"recall", recall},
+          {"f1", f1},
+          {"centre_error_m", number_or_null(centre_error_m)},
+          {"voxel_volume_error", number_or_null(voxel_volume_error)},
+          {"ellipsoid_volume_error", number_or_null(ellipsoid_volume_error)},
+          {"matches", m}};
+}
+
+}  // namespace canopy::evaluation
