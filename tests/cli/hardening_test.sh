@@ -143,7 +143,9 @@ code=$?
   "$tmp/map11/metrics.json" || fail "SIGINT to map: no metrics.json marked incomplete"
 "$canopy" mission --world worlds/default.yaml --out "$tmp/m11b" > "$tmp/m11b.log" 2>&1 &
 pid=$!
-sleep 0.3
+# A background job of a non-interactive shell starts with SIGINT ignored until canopy installs
+# its handler, so wait for a line printed after that (still in set-up), not for a fixed time.
+for _ in $(seq 1 600); do grep -q "^.*mission: method" "$tmp/m11b.log" && break; sleep 0.05; done
 kill -INT $pid
 wait $pid
 code=$?
