@@ -30,6 +30,7 @@ nlohmann::json insert_json(const mapping::InsertStats& s, const perception::Extr
   return {{"points", s.points},
           {"skipped_bad_depth", e.bad_depth},
           {"skipped_out_of_range", e.out_of_range},
+          {"carved_missing_depth", e.missing_depth},
           {"skipped_bad_label", e.bad_label + s.bad_label},
           {"skipped_bad_point", s.bad_point + s.outside_map},
           {"masks", e.masks},

@@ -80,6 +80,69 @@ void run_in_arena(int threads, F&& f) {
   }
 }
 
+// The per_endpoint insertion's voxel filter: cells of `res` on the camera's axes with a corner
+// at the camera; one point per cell at the centroid of its points, with their majority label
+// (ties: the smaller class). Points that are not finite or have a bad label pass unchanged
+// (the inserter counts them). Deterministic: cells in order of their index.
+void camera_voxel_filter(const perception::LabelledCloud& in, double res, int num_classes,
+                         perception::LabelledCloud* out) {
+  struct Entry {
+    std::uint64_t cell;
+    std::uint8_t label;
+    std::uint32_t index;
+  };
+  out->clear();
+  out->origin_world = in.origin_world;
+  out->R_world_camera = in.R_world_camera;
+  const Eigen::Matrix3d Rt = in.R_world_camera.transpose();
+  constexpr std::int64_t kHalf = std::int64_t(1) << 20;
+  std::vector<Entry> entries;
+  entries.reserve(in.points_world.size());
+  for (std::size_t i = 0; i < in.points_world.size(); ++i) {
+    const Vec3f& p = in.points_world[i];
+    bool ok = std::isfinite(p.x()) && std::isfinite(p.y()) && std::isfinite(p.z()) && in.labels[i] < num_classes;
+    std::uint64_t cell = 0;
+    if (ok) {
+      const Vec3 c = Rt * (p.cast<double>() - in.origin_world) / res;
+      for (int a = 0; a < 3 && ok; ++a) {
+        const double f = std::floor(c[a]);
+        ok = f > double(-kHalf) && f < double(kHalf - 1);
+        if (ok) cell |= std::uint64_t(std::int64_t(f) + kHalf) << (21 * a);
+      }
+    }
+    if (!ok) {  // passed through as it is
+      out->points_world.push_back(p);
+      out->labels.push_back(in.labels[i]);
+      continue;
+    }
+    entries.push_back({cell, in.labels[i], static_cast<std::uint32_t>(i)});
+  }
+  std::sort(entries.begin(), entries.end(), [](const Entry& a, const Entry& b) {
+    return a.cell != b.cell ? a.cell < b.cell : (a.label != b.label ? a.label < b.label : a.index < b.index);
+  });
+  for (std::size_t i = 0; i < entries.size();) {
+    std::size_t j = i;
+    Vec3 sum = Vec3::Zero();
+    int best_label = -1;
+    std::size_t best_count = 0;
+    while (j < entries.size() && entries[j].cell == entries[i].cell) {
+      const std::uint8_t label = entries[j].label;
+      std::size_t count = 0;
+      for (; j < entries.size() && entries[j].cell == entries[i].cell && entries[j].label == label; ++j) {
+        sum += in.points_world[entries[j].index].cast<double>();
+        ++count;
+      }
+      if (count > best_count) {
+        best_count = count;
+        best_label = label;
+      }
+    }
+    out->points_world.push_back((sum / double(j - i)).cast<float>());
+    out->labels.push_back(static_cast<std::uint8_t>(best_label));
+    i = j;
+  }
+}
+
 }  // namespace
 
 bool ray_free_keys(const SemanticOcTree& map, const Vec3& origin, const Vec3& end, std::vector<octomap::OcTreeKey>* keys) {
@@ -93,22 +156,34 @@ bool ray_free_keys(const SemanticOcTree& map, const Vec3& origin, const Vec3& en
 
 ScanInserter::ScanInserter(SemanticOcTree& map) : map_(map) {}
 
-void ScanInserter::compute_updates(const perception::LabelledCloud& cloud, std::vector<VoxelUpdate>* updates,
+void ScanInserter::compute_updates(const perception::LabelledCloud& input, std::vector<VoxelUpdate>* updates,
                                    InsertStats* stats) {
   const SemanticMapParams& P = map_.params();
   const int num_classes = map_.num_classes();
-  const std::size_t n = cloud.points_world.size();
-  CANOPY_CHECK(cloud.labels.size() == n, "cloud has " << n << " points but " << cloud.labels.size() << " labels");
-  stats->points = n;
+  CANOPY_CHECK(input.labels.size() == input.points_world.size(),
+               "cloud has " << input.points_world.size() << " points but " << input.labels.size() << " labels");
+  stats->points = input.points_world.size();
   updates->clear();
+  for (auto& layer : extra_) layer.clear();
+  const bool per_endpoint = P.insertion == Insertion::kPerEndpoint;
+  if (per_endpoint && std::isfinite(input.origin_world.x()) && std::isfinite(input.origin_world.y()) &&
+      std::isfinite(input.origin_world.z()))
+    camera_voxel_filter(input, map_.getResolution(), num_classes, &filtered_);
+  const perception::LabelledCloud& cloud = per_endpoint ? filtered_ : input;
+  const std::size_t n = per_endpoint ? cloud.points_world.size() : input.points_world.size();
+  if (per_endpoint && !(std::isfinite(input.origin_world.x()) && std::isfinite(input.origin_world.y()) &&
+                        std::isfinite(input.origin_world.z()))) {
+    stats->bad_point = stats->points;
+    return;
+  }
   if (!std::isfinite(cloud.origin_world.x()) || !std::isfinite(cloud.origin_world.y()) ||
       !std::isfinite(cloud.origin_world.z())) {
-    stats->bad_point = n;
+    stats->bad_point = stats->points;
     return;
   }
   octomap::OcTreeKey origin_key;
   if (!map_.key_of(cloud.origin_world, &origin_key)) {
-    stats->outside_map = n;
+    stats->outside_map = stats->points;
     return;
   }
   const Stopwatch t0;
@@ -184,13 +259,19 @@ void ScanInserter::compute_updates(const perception::LabelledCloud& cloud, std::
 
   // 2. Voxel filter: one ray target per voxel; a hit with the majority label when any point
   //    in it is within range (ties go to the smaller class index).
+  //    per_endpoint: every point left by the camera-frame filter is a hit of its voxel: the
+  //    voxel's labels by count (most first, ties to the smaller class), each as often as it
+  //    was seen; the first goes with the free cells, the others into extra_ layers.
   hits_.clear();
   ray_targets_.clear();
+  std::size_t hit_updates = 0;
+  std::vector<std::pair<std::uint64_t, std::uint8_t>> seen;  // (count, label) of one voxel
   for (std::size_t i = 0; i < values_.size();) {
     const std::uint64_t code = (values_[i] & kLow56) >> 8;
     int best_label = -1;
     std::uint64_t best_count = 0;
     std::size_t j = i;
+    seen.clear();
     while (j < values_.size() && ((values_[j] & kLow56) >> 8) == code) {
       const std::uint64_t v = values_[j] & kLow56;
       const std::uint8_t label = v & 0xff;
@@ -200,13 +281,28 @@ void ScanInserter::compute_updates(const perception::LabelledCloud& cloud, std::
         best_count = count;
         best_label = label;
       }
+      if (label != kBeyond) seen.emplace_back(count, label);
     }
-    if (best_label >= 0) hits_.push_back({code, static_cast<std::uint8_t>(best_label)});
+    if (best_label >= 0) {
+      hits_.push_back({code, static_cast<std::uint8_t>(best_label)});
+      ++hit_updates;
+    }
+    if (per_endpoint && best_label >= 0) {
+      std::stable_sort(seen.begin(), seen.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+      std::size_t layer = 0;
+      for (const auto& [count, label] : seen)
+        for (std::uint64_t c = (label == best_label ? 1 : 0); c < count; ++c) {
+          if (extra_.size() <= layer) extra_.emplace_back();
+          extra_[layer++].push_back({code, label});
+          ++hit_updates;
+        }
+    }
     ray_targets_.push_back(best_label >= 0 ? code : (code | kBeyondFlag));
     i = j;
   }
   stats->rays = ray_targets_.size();
   stats->hit_voxels = hits_.size();
+  stats->hit_updates = hit_updates;
   stats->ms_filter = t0.ms();
   const Stopwatch t1;
 
@@ -320,6 +416,14 @@ InsertStats ScanInserter::insert(const perception::LabelledCloud& cloud) {
   compute_updates(cloud, &updates_, &stats);
   const Stopwatch t1;
   stats.tree = map_.apply_sorted_updates(updates_);
+  for (const std::vector<VoxelUpdate>& layer : extra_) {
+    if (layer.empty()) continue;
+    const UpdateCounts c = map_.apply_sorted_updates(layer);
+    stats.tree.applied += c.applied;
+    stats.tree.saturated += c.saturated;
+    stats.tree.created += c.created;
+    stats.tree.pruned += c.pruned;
+  }
   stats.ms_update = t1.ms();
   stats.ms_total = t0.ms();
   return stats;

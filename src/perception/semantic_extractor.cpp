@@ -36,6 +36,7 @@ LabelledCloud SemanticExtractor::extract(const LabelledFrame& frame) {
   ExtractStats stats;
   Image<std::uint8_t> labels = label(frame, &stats);
   LabelledCloud cloud;
+  const double missing = params_.missing_depth == MissingDepth::kCarve ? params_.missing_depth_m : 0.0;
   if (params_.depth_noise_k > 0.0) {
     Image<float> depth = frame.depth_m;
     for (float& z : depth.data) {
@@ -43,9 +44,9 @@ LabelledCloud SemanticExtractor::extract(const LabelledFrame& frame) {
       const double g = rng_.normal();
       z = static_cast<float>(z + g * params_.depth_noise_k * double(z) * double(z));
     }
-    cloud = depth_to_cloud(frame.intrinsics, frame.T_world_camera, depth, labels, classes_.size());
+    cloud = depth_to_cloud(frame.intrinsics, frame.T_world_camera, depth, labels, classes_.size(), missing);
   } else {
-    cloud = depth_to_cloud(frame.intrinsics, frame.T_world_camera, frame.depth_m, labels, classes_.size());
+    cloud = depth_to_cloud(frame.intrinsics, frame.T_world_camera, frame.depth_m, labels, classes_.size(), missing);
   }
   cloud.stats.masks = stats.masks;
   cloud.stats.masks_flipped = stats.masks_flipped;
@@ -57,13 +58,14 @@ LabelledCloud SemanticExtractor::extract(const LabelledFrame& frame) {
 }
 
 LabelledCloud depth_to_cloud(const CameraIntrinsics& K, const Pose& T_world_camera, const Image<float>& depth_m,
-                             const Image<std::uint8_t>& labels, int num_classes) {
+                             const Image<std::uint8_t>& labels, int num_classes, double missing_depth_m) {
   if (depth_m.width != labels.width || depth_m.height != labels.height)
     throw InputError("semantic extractor: depth image is " + std::to_string(depth_m.width) + "x" +
                      std::to_string(depth_m.height) + " but the label image is " + std::to_string(labels.width) +
                      "x" + std::to_string(labels.height));
   LabelledCloud cloud;
   cloud.origin_world = T_world_camera.translation();
+  cloud.R_world_camera = T_world_camera.linear();
   cloud.points_world.reserve(depth_m.data.size());
   cloud.labels.reserve(depth_m.data.size());
   const Eigen::Matrix3f R = T_world_camera.linear().cast<float>();
@@ -72,16 +74,21 @@ LabelledCloud depth_to_cloud(const CameraIntrinsics& K, const Pose& T_world_came
   for (int j = 0; j < depth_m.height; ++j) {
     for (int i = 0; i < depth_m.width; ++i) {
       ++s.pixels;
-      const float z = depth_m.at(i, j);
+      float z = depth_m.at(i, j);
+      std::uint8_t c = labels.at(i, j);
       if (!std::isfinite(z) || z <= 0.f) {
-        ++s.bad_depth;
-        continue;
-      }
-      if (z < K.min_range_m || z > K.max_range_m) {
+        if (!(missing_depth_m > 0.0)) {
+          ++s.bad_depth;
+          continue;
+        }
+        // No return: a point far along the pixel's ray, whose ray carves free space.
+        ++s.missing_depth;
+        z = static_cast<float>(missing_depth_m);
+        c = 0;
+      } else if (z < K.min_range_m || z > K.max_range_m) {
         ++s.out_of_range;
         continue;
       }
-      const std::uint8_t c = labels.at(i, j);
       if (c >= num_classes) {
         ++s.bad_label;
         continue;

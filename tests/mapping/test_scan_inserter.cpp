@@ -228,3 +228,192 @@ TEST(ScanInserter, LongRaysUseTheFallbackWithTheSameCells) {
   EXPECT_GT(got.size(), 500u);
   EXPECT_EQ(st.hit_voxels, 1u);
 }
+
+// --- Protocol options of issue 19 -------------------------------------------------------------
+
+namespace {
+// A 5 x 5 frame looking along world +x from (0, 0, 1): the centre pixel sees a fruit 0.5 m
+// away, every other pixel has no depth return (0) or an invalid one (NaN, inf).
+LabelledFrame no_return_frame() {
+  LabelledFrame f;
+  f.intrinsics.width_px = f.intrinsics.height_px = 5;
+  f.intrinsics.fx_px = f.intrinsics.fy_px = 10.0;  // wide pixels: 0.1 rad apart
+  f.intrinsics.cx_px = f.intrinsics.cy_px = 2.5;
+  Eigen::Matrix3d R;  // camera z = world x, camera x = world -y, camera y = world -z
+  R << 0, 0, 1, -1, 0, 0, 0, -1, 0;
+  f.T_world_camera = Pose::Identity();
+  f.T_world_camera.linear() = R;
+  f.T_world_camera.translation() = Vec3(0.0, 0.0, 1.0);
+  f.depth_m = Image<float>(5, 5, 0.f);
+  f.depth_m.at(0, 0) = std::numeric_limits<float>::quiet_NaN();
+  f.depth_m.at(4, 4) = std::numeric_limits<float>::infinity();
+  f.depth_m.at(2, 2) = 0.5f;
+  f.class_id = Image<std::uint8_t>(5, 5, 0);
+  f.class_id.at(2, 2) = kFruitLabel;
+  f.instance = Image<std::int32_t>(5, 5, -1);
+  f.rgb = Image<Rgb8>(5, 5, Rgb8{0, 0, 0});
+  return f;
+}
+}  // namespace
+
+// missing_depth: carve. A pixel without a return becomes a point 3.0 m along its ray, beyond
+// the 1.0 m max range: no hit, and its ray carves free space to the 0.8 m ray range, exactly
+// the cells OctoMap's computeRayKeys gives for that segment; with skip they stay unknown.
+TEST(ScanInserter, MissingDepthCarvesItsRaysToTheRayRange) {
+  const LabelledFrame f = no_return_frame();
+  perception::ExtractorParams ep;
+  ep.source = perception::LabelSource::kTruth;
+  ep.p_gt = 1.0;
+  EXPECT_EQ(ep.missing_depth, perception::MissingDepth::kCarve);  // the default: the released code's
+  EXPECT_EQ(ep.missing_depth_m, 3.0);
+  perception::SemanticExtractor carve(ep, SemanticClasses{});
+  const LabelledCloud c = carve.extract(f);
+  EXPECT_EQ(c.stats.missing_depth, 24u);
+  EXPECT_EQ(c.stats.bad_depth, 0u);
+  ASSERT_EQ(c.size(), 25u);
+
+  SemanticOcTree map = make_inserter_tree();
+  ScanInserter ins(map);
+  std::vector<VoxelUpdate> updates;
+  InsertStats st;
+  ins.compute_updates(c, &updates, &st);
+  EXPECT_EQ(st.beyond_range, 24u);
+  EXPECT_EQ(st.hit_voxels, 1u);
+  // The expected free cells: every pixel's segment (no return: to 0.8 m towards its 3.0 m
+  // point's voxel centre; the fruit: to its voxel's centre), less the fruit's voxel.
+  std::set<std::uint64_t> expected;
+  octomap::OcTreeKey fruit_key;
+  ASSERT_TRUE(map.key_of(c.points_world[12].cast<double>(), &fruit_key));
+  const octomap::point3d of(0.f, 0.f, 1.f);
+  for (std::size_t i = 0; i < c.size(); ++i) {
+    octomap::OcTreeKey k;
+    ASSERT_TRUE(map.key_of(c.points_world[i].cast<double>(), &k));
+    const Vec3 centre = map.center_of(k);
+    const octomap::point3d cf(float(centre.x()), float(centre.y()), float(centre.z()));
+    octomap::point3d e = cf;
+    if (i != 12) {
+      EXPECT_NEAR((c.points_world[i].cast<double>() - Vec3(0, 0, 1)).x(), 3.0, 1e-5);  // planar depth 3.0 along x
+      e = of + (cf - of).normalized() * 0.8f;
+    }
+    std::vector<octomap::OcTreeKey> keys;
+    ASSERT_TRUE(ray_free_keys(map, Vec3(0, 0, 1), Vec3(e.x(), e.y(), e.z()), &keys));
+    for (const std::uint64_t code : codes(keys)) expected.insert(code);
+  }
+  expected.erase(morton_code(fruit_key));
+  std::set<std::uint64_t> got;
+  for (const auto& up : updates)
+    if (up.label == VoxelUpdate::kFree) got.insert(up.code);
+  EXPECT_EQ(got, expected);
+  EXPECT_GT(got.size(), 24u * 40u);  // 24 rays of about 53 cells, shared near the camera
+
+  // In the map: a cell on a no-return ray before 0.8 m is free, one beyond it unknown.
+  ins.insert(c);
+  const Vec3 dir = (c.points_world[0].cast<double>() - Vec3(0, 0, 1)).normalized();
+  const SemanticState* near = map.find(Vec3(0, 0, 1) + 0.7 * dir);
+  ASSERT_NE(near, nullptr);
+  EXPECT_EQ(near->count, 0);
+  EXPECT_EQ(near->others, -0.1f);
+  EXPECT_EQ(map.find(Vec3(0, 0, 1) + 0.85 * dir), nullptr);
+  EXPECT_EQ(map.find(Vec3(0, 0, 1) + 2.99 * dir), nullptr);
+
+  // skip: the same frame carves only the fruit pixel's ray.
+  ep.missing_depth = perception::MissingDepth::kSkip;
+  perception::SemanticExtractor skip(ep, SemanticClasses{});
+  const LabelledCloud s = skip.extract(f);
+  EXPECT_EQ(s.stats.bad_depth, 24u);
+  EXPECT_EQ(s.stats.missing_depth, 0u);
+  ASSERT_EQ(s.size(), 1u);
+  SemanticOcTree map2 = make_inserter_tree();
+  ScanInserter ins2(map2);
+  ins2.insert(s);
+  EXPECT_EQ(map2.find(Vec3(0, 0, 1) + 0.7 * dir), nullptr);
+  ASSERT_NE(map2.find(c.points_world[12].cast<double>()), nullptr);
+  EXPECT_EQ(map2.find(c.points_world[12].cast<double>())->logodds[0], 1.0f);
+}
+
+// insertion: per_endpoint. The camera at a voxel centre puts the filter's cell corners half a
+// voxel off the map's, so one map voxel overlaps 8 filter cells: k points in k different cells
+// of one voxel are k hits, l_fruit = k psi and l_others = k phi; two points in one cell
+// are one hit; mixed labels are applied most frequent first, as k sequential SSMI updates.
+TEST(ScanInserter, PerEndpointInsertionGivesOneHitPerFilteredPoint) {
+  SemanticMapParams p;
+  p.threads = 1;
+  p.insertion = Insertion::kPerEndpoint;
+  const double r = p.resolution_m;
+  // The camera at a voxel's centre, the voxel 20 voxels ahead of it (R = identity: along x).
+  Vec3 origin;
+  octomap::OcTreeKey vk;
+  {
+    SemanticOcTree probe(p, SemanticClasses{});
+    octomap::OcTreeKey ok;
+    ASSERT_TRUE(probe.key_of(Vec3(0.0, 0.0, 1.0), &ok));
+    origin = probe.center_of(ok);
+    vk = ok;
+    vk[0] = static_cast<octomap::key_type>(ok[0] + 20);
+  }
+  // The 8 sub-cubes of the voxel: each lies in a different filter cell.
+  const auto sub_point = [&](const SemanticOcTree& m, int o) {
+    const Vec3 c = m.center_of(vk);
+    Vec3 q;
+    for (int a = 0; a < 3; ++a) q[a] = c[a] + ((o >> a) & 1 ? 0.25 * r : -0.25 * r);
+    return q;
+  };
+  for (int k = 1; k <= 8; ++k) {
+    SemanticOcTree map(p, SemanticClasses{});
+    ScanInserter ins(map);
+    LabelledCloud c;
+    c.origin_world = origin;
+    for (int o = 0; o < k; ++o) {
+      c.points_world.push_back(sub_point(map, o).cast<float>());
+      c.labels.push_back(kFruitLabel);
+    }
+    const InsertStats st = ins.insert(c);
+    EXPECT_EQ(st.hit_voxels, 1u);
+    EXPECT_EQ(st.hit_updates, std::size_t(k));
+    const SemanticState* s = map.find(vk);
+    ASSERT_NE(s, nullptr);
+    ASSERT_EQ(s->count, 1);
+    EXPECT_EQ(s->class_id[0], kFruitLabel);
+    EXPECT_NEAR(s->logodds[0], k * 1.0, 1e-5) << k;
+    EXPECT_NEAR(s->others, k * -0.1, 1e-5) << k;  // each hit adds phi to the others bucket
+    // per_voxel: the same cloud is one hit.
+    SemanticMapParams pv = p;
+    pv.insertion = Insertion::kPerVoxel;
+    SemanticOcTree map_pv(pv, SemanticClasses{});
+    ScanInserter ins_pv(map_pv);
+    ins_pv.insert(c);
+    EXPECT_EQ(map_pv.find(vk)->logodds[0], 1.0f);
+  }
+  // Four points inside one sub-cube: one filter cell, one point (their centroid), one hit.
+  {
+    SemanticOcTree map(p, SemanticClasses{});
+    ScanInserter ins(map);
+    LabelledCloud c;
+    c.origin_world = origin;
+    for (int i = 0; i < 4; ++i) {
+      Vec3 q = sub_point(map, 0);
+      q.x() += 0.05 * r * i;
+      c.points_world.push_back(q.cast<float>());
+      c.labels.push_back(kFruitLabel);
+    }
+    EXPECT_EQ(ins.insert(c).hit_updates, 1u);
+    EXPECT_EQ(map.find(vk)->logodds[0], 1.0f);
+  }
+  // Mixed labels: 3 fruit cells and 2 leaf cells = 5 SSMI hits, fruit first.
+  {
+    SemanticOcTree map(p, SemanticClasses{});
+    ScanInserter ins(map);
+    LabelledCloud c;
+    c.origin_world = origin;
+    const std::uint8_t leaf = 1;
+    for (int o = 0; o < 5; ++o) {
+      c.points_world.push_back(sub_point(map, o).cast<float>());
+      c.labels.push_back(o == 1 || o == 3 ? leaf : kFruitLabel);
+    }
+    EXPECT_EQ(ins.insert(c).hit_updates, 5u);
+    SemanticState ref;
+    for (int c_ : {int(kFruitLabel), int(kFruitLabel), int(kFruitLabel), int(leaf), int(leaf)}) ref.apply_hit(c_, p.rule());
+    EXPECT_EQ(*map.find(vk), ref);
+    EXPECT_EQ(map.find(vk)->most_likely_class(), kFruitLabel);
+  }
+}

@@ -11,6 +11,18 @@
 
 namespace canopy::mapping {
 
+/// How many SSMI hit updates a scan gives a voxel.
+///  - kPerVoxel: the cloud is voxel-filtered on the map's own grid: one hit per voxel per scan,
+///    with the majority label (OctoMap's discretised insertion).
+///  - kPerEndpoint: the cloud is voxel-filtered at the map resolution on a grid of the camera's
+///    axes with its corner at the camera (a filter run on the camera-frame cloud, as a PCL
+///    voxel grid would); each remaining point (a cell's centroid, with the cell's majority
+///    label) is one hit update of the map voxel it falls in, so a voxel that the filter's
+///    cells overlap can get several hits from one scan.
+enum class Insertion { kPerVoxel, kPerEndpoint };
+inline constexpr EnumName<Insertion> kInsertionNames[] = {{Insertion::kPerVoxel, "per_voxel"},
+                                                          {Insertion::kPerEndpoint, "per_endpoint"}};
+
 /// Semantic octree and insertion settings.
 struct SemanticMapParams {
   double resolution_m = 0.015;
@@ -22,6 +34,7 @@ struct SemanticMapParams {
   double ray_range_m = 0.8;
   float unseen_logodds = -0.1f;
   bool prune = true;
+  Insertion insertion = Insertion::kPerVoxel;
   EntropyCategories entropy_categories = EntropyCategories::kPaper;
   int threads = 0;
 
@@ -38,6 +51,8 @@ struct SemanticMapParams {
     a("ray_range_m", ray_range_m, limits::positive(), "Free space is carved up to this distance [m]");
     a("unseen_logodds", unseen_logodds, limits::finite(), "SSMI's prior chi of never-observed voxels (entropy)");
     a("prune", prune, "Collapse eight identical children after each scan");
+    a.choice("insertion", insertion, kInsertionNames,
+             "Hits per scan: one per map voxel (per_voxel) or one per point left by a camera-frame voxel filter (per_endpoint)");
     a.choice("entropy_categories", entropy_categories, kEntropyCategoriesNames,
              "What the multi-class entropy H(x) runs over (gains and the paper rule's metrics)");
     a("threads", threads, limits::in(0, 256), "Worker threads for insertion; 0 = all cores");

@@ -26,6 +26,7 @@ struct InsertStats {
   std::size_t outside_map = 0;     ///< Outside the octree's addressable range (skipped).
   std::size_t beyond_range = 0;    ///< Farther than max_range_m: ray only, no hit.
   std::size_t hit_voxels = 0;      ///< Distinct voxels updated as hits.
+  std::size_t hit_updates = 0;     ///< Hit updates (= hit_voxels, or more with per_endpoint insertion).
   std::size_t free_voxels = 0;     ///< Distinct voxels updated as free.
   std::size_t rays = 0;            ///< Rays cast (one per distinct endpoint voxel).
   UpdateCounts tree;               ///< Applied, saturated, created, pruned.
@@ -58,9 +59,14 @@ class ScanInserter {
   InsertStats insert(const perception::LabelledCloud& cloud);
 
   /// The hit and free updates insert() would apply, sorted by code (for tests and the
-  /// benchmark). Fills `stats` up to the ray casting.
+  /// benchmark). Fills `stats` up to the ray casting. With per_endpoint insertion these are
+  /// every voxel's first update; a voxel's further hits of the scan are in extra_hits().
   void compute_updates(const perception::LabelledCloud& cloud, std::vector<VoxelUpdate>* updates,
                        InsertStats* stats);
+  /// per_endpoint insertion: the further hits of the last compute_updates(), in layers (layer
+  /// m holds the (m+2)-th hit of every voxel hit more than m+1 times, sorted by code), which
+  /// insert() applies after the first batch, one layer after another.
+  const std::vector<std::vector<VoxelUpdate>>& extra_hits() const { return extra_; }
 
   /// The voxel updates the last insert() applied (hits and pass-throughs, sorted by code):
   /// what caches beside the map (a collision environment) must look at again.
@@ -71,6 +77,8 @@ class ScanInserter {
   std::vector<std::uint64_t> values_, scratch_;  // per-point (code << 8 | label), sort buffer
   std::vector<std::uint64_t> free_codes_;
   std::vector<VoxelUpdate> hits_, updates_;
+  std::vector<std::vector<VoxelUpdate>> extra_;  // per_endpoint: further hits, in layers
+  perception::LabelledCloud filtered_;           // per_endpoint: the camera-frame voxel filter's points
   std::vector<std::uint64_t> ray_targets_;       // endpoint voxel codes, bit 63: beyond range
   std::vector<std::uint8_t> grid_;               // free-space marks over the rays' box
   std::vector<RaySegment> segments_;

@@ -68,7 +68,7 @@ struct ViewRecord {
   int attempt = 0;               ///< Attempt number over the mission (0-based).
   int stop = 0;
   ViewPhase phase = ViewPhase::kInitial;
-  std::string source;            ///< "initial", "nbv", "roi", "exploration", "predefined".
+  std::string source;            ///< "initial", "nbv", "roi", "exploration", "predefined", "replacement".
   bool success = false;
   std::string failure;           ///< A failure:: cause, empty on success.
   std::string message;           ///< Details of the failure.
@@ -111,6 +111,8 @@ struct StopRecord {
   long initial_target_points = 0;
   long initial_true_target_pixels = 0;  ///< Target-class pixels in those views' true labels.
   int nbv_attempted = 0, nbv_ok = 0;
+  int scripted_replaced = 0;     ///< Failed scripted views replaced by a successful pattern neighbour (predefined).
+  int replacement_attempts = 0;  ///< Replacement views attempted (counted in initial_ / nbv_attempted too).
   int rounds = 0;
   std::map<std::string, int> failures;
   std::string end_reason;        ///< Why the stop's loop ended.

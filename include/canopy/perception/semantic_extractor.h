@@ -26,13 +26,22 @@ std::string to_string(LabelSource s);
 /// Parses "color" / "truth"; throws InputError naming `where` otherwise.
 LabelSource label_source_from_string(const std::string& s, const std::string& where);
 
-/// Extractor settings; defaults are the paper's (colour segmentation, P_gt = 0.7 per class mask).
+/// What becomes of pixels without a depth return (depth 0, NaN or inf: nothing within the
+/// camera's range, or the robot's own pixels removed by the renderer's self filter).
+enum class MissingDepth { kSkip, kCarve };
+inline constexpr EnumName<MissingDepth> kMissingDepthNames[] = {{MissingDepth::kSkip, "skip"},
+                                                                {MissingDepth::kCarve, "carve"}};
+
+/// Extractor settings; defaults are the paper's (colour segmentation, P_gt = 0.7 per class mask,
+/// missing depth carved as the released code does).
 struct ExtractorParams {
   LabelSource source = LabelSource::kColor;
   ColorSegmentationParams color;
   double p_gt = 0.7;
   NoiseModel noise = NoiseModel::kPerClassMask;
   double depth_noise_k = 0.0;
+  MissingDepth missing_depth = MissingDepth::kCarve;
+  double missing_depth_m = 3.0;
   std::uint64_t seed = 1;
 
   template <class A>
@@ -42,6 +51,11 @@ struct ExtractorParams {
     a("p_gt", p_gt, limits::in(0.0, 1.0), "P_gt: probability a mask keeps its class; 1 = no noise");
     a.choice("noise", noise, kNoiseModelNames, "What one P_gt draw flips (segmentation_noise.h)");
     a("depth_noise_k", depth_noise_k, limits::non_negative(), "Extra depth noise sigma = k z^2 [m]; 0 = none");
+    a.choice("missing_depth", missing_depth, kMissingDepthNames,
+             "Pixels without depth: carve (a point at missing_depth_m, beyond the map's max range: its ray "
+             "carves free space to the ray range, as the released code) or skip");
+    a("missing_depth_m", missing_depth_m, limits::in(0.01, 100.0),
+      "Depth given to pixels without a return by missing_depth: carve [m]");
     a("seed", seed, limits::non_negative(), "Seed of the label and depth noise (missions derive it from theirs)");
   }
   bool operator==(const ExtractorParams& o) const { return same_params(*this, o); }
@@ -67,8 +81,10 @@ class SemanticExtractor {
 };
 
 /// Unprojects valid pixels of `depth_m` with `labels` into the world frame: the cloud part of
-/// the extractor, without noise. Skips and counts bad depths and labels >= num_classes.
+/// the extractor, without noise. Skips and counts labels >= num_classes; pixels without a
+/// return (depth 0, NaN or inf) are skipped and counted (bad_depth) when `missing_depth_m` is
+/// 0, else unprojected at that depth with label 0 (background) and counted (missing_depth).
 LabelledCloud depth_to_cloud(const CameraIntrinsics& K, const Pose& T_world_camera, const Image<float>& depth_m,
-                             const Image<std::uint8_t>& labels, int num_classes);
+                             const Image<std::uint8_t>& labels, int num_classes, double missing_depth_m = 0.0);
 
 }  // namespace canopy::perception
