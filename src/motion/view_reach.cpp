@@ -74,6 +74,7 @@ NextViews next_views(const mapping::SemanticOcTree& map, nbv::VoxelIndex& index,
   req.budget = request.budget;
   req.seed = request.seed;
   req.scripted = request.scripted;
+  req.on_scored = request.on_scored;
   const ArmConfig q = request.q;
   req.reach = reach_filter(arm.workspace, request.base, [q] { return q; }, arm.checker);
   req.in_workspace = [&workspace = arm.workspace, base = request.base](const Vec3& p) {

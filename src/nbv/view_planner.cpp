@@ -10,6 +10,7 @@
 #include "canopy/nbv/planners/frontier.h"
 #include "canopy/nbv/planners/ours.h"
 #include "canopy/nbv/planners/predefined.h"
+#include "canopy/nbv/planners/reveal.h"
 
 namespace canopy::nbv {
 
@@ -57,6 +58,10 @@ struct Registry {
                        [](const ViewPlannerSettings& s) { return frontier::make_planner(s); }});
     entries.push_back({"predefined", "dense predefined scanning: the scripted views of every stop, no planning",
                        [](const ViewPlannerSettings& s) { return predefined::make_planner(s); }});
+    entries.push_back({"reveal",
+                       "canopy's own: ours' clusters and reach test, one view at a time on the latest map, the gain "
+                       "that ranks views closest to the truth, a relative done rule (docs/experiments/)",
+                       [](const ViewPlannerSettings& s) { return reveal::make_planner(s); }});
   }
 };
 

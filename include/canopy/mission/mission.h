@@ -25,6 +25,7 @@
 #include "canopy/common/timer.h"
 #include "canopy/evaluation/map_metrics.h"
 #include "canopy/mapping/semantic_octree.h"
+#include "canopy/mission/oracle.h"
 #include "canopy/mission/settings.h"
 #include "canopy/motion/robot_model.h"
 #include "canopy/nbv/view_planner.h"
@@ -115,6 +116,9 @@ struct MissionResult {
   evaluation::MapMetrics final_metrics;
   int unstable_faults = 0;
   std::map<std::string, int> failures;
+  /// Every candidate of every planning round scored by every gain and the truth
+  /// (mission.record.candidates; empty otherwise).
+  std::vector<CandidateRecord> candidates;
   int successful_views() const;
 };
 
@@ -126,6 +130,8 @@ struct MissionContext : nbv::PlannerContext {
   const world::World* world = nullptr;
   sim::Simulator* sim = nullptr;
   std::uint64_t seed = 1;
+  evaluation::MetricsParams metrics;  ///< The headline rule of "covered" (the oracle's score).
+  OracleParams oracle;
 };
 
 /// Hooks for the command line (progress, video, Ctrl-C) and for tests (fault injection).

@@ -5,6 +5,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <string>
+#include <vector>
 
 #include "canopy/common/params.h"
 #include "canopy/common/view_sphere.h"
@@ -149,6 +150,19 @@ struct FrontierParams {
   }
 };
 
+/// canopy's own planner "reveal" (planners/reveal.h): ours' clusters and reach test, one view
+/// at a time on the latest map, a gain chosen from how well gains rank views against the
+/// truth (docs/experiments/), a relative "done" rule.
+struct RevealParams {
+  std::string gain = "uvc";
+  std::vector<double> radii_m = {0.4};
+  double done_fraction = 0.1;
+  int max_views = 5;
+
+  template <class A>
+  void visit(A& a);
+};
+
 /// All next-best-view settings (configs/nbv.yaml sections).
 struct NbvParams {
   ClusterParams cluster;
@@ -158,6 +172,7 @@ struct NbvParams {
   PlannerParams planner;
   ViewRules views;
   FrontierParams frontier;
+  RevealParams reveal;
 
   template <class A>
   void visit(A& a) {
@@ -168,8 +183,21 @@ struct NbvParams {
     a.section("planner", planner, "The cluster planner");
     a.section("views", views, "Taken views and done clusters");
     a.section("frontier", frontier, "The frontier baseline");
+    a.section("reveal", reveal, "canopy's own planner (method reveal)");
   }
   bool operator==(const NbvParams& o) const { return same_params(*this, o); }
 };
+
+/// All gains' names (gains.h).
+std::vector<std::string> gain_names();
+
+template <class A>
+void RevealParams::visit(A& a) {
+  a.one_of("gain", gain, gain_names(), "Gain that scores the candidates");
+  a("radii_m", radii_m, limits::in(0.05, 2.0), "Candidate spheres around each cluster (each like nbv.candidates.sphere) [m]");
+  a("done_fraction", done_fraction, limits::in(0.0, 1.0),
+    "A cluster is done when its best gain falls to this fraction of its first best gain");
+  a("max_views", max_views, limits::in(1, 1000), "Views per round, best first, tried until one succeeds");
+}
 
 }  // namespace canopy::nbv
