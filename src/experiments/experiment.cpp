@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <set>
 
@@ -102,23 +103,46 @@ std::vector<double> read_pgt(YamlReader& y) {
   return v;
 }
 
-std::vector<std::uint64_t> read_seeds(YamlReader& y) {
-  y.check(y.has("seeds"), "seeds", "is missing (a list, or {first, count})");
-  const YAML::Node n = y.require<YAML::Node>("seeds");
+// A list of distinct seeds, or {first, count}, under `key`, each at most `max_seed`.
+std::vector<std::uint64_t> read_seeds(YamlReader& y, const std::string& key, std::uint64_t max_seed) {
+  const std::string range = "[0, " + std::to_string(max_seed) + "]";
+  const YAML::Node n = y.require<YAML::Node>(key);
   std::vector<std::uint64_t> out;
   if (n.IsMap()) {
-    YamlReader r = y.child("seeds");
-    const std::uint64_t first = r.require<std::uint64_t>("first");
+    YamlReader r = y.child(key);
+    const long long first = r.require<long long>("first");
+    r.check(first >= 0 && static_cast<std::uint64_t>(first) <= max_seed, "first", "must be in " + range);
     const int count = get_count(r, "count", 0, 1, 100000);
+    r.check(static_cast<std::uint64_t>(count - 1) <= max_seed - static_cast<std::uint64_t>(first), "count",
+            "takes the seeds past " + std::to_string(max_seed));
     r.finish();
-    for (int i = 0; i < count; ++i) out.push_back(first + static_cast<std::uint64_t>(i));
+    for (int i = 0; i < count; ++i) out.push_back(static_cast<std::uint64_t>(first) + static_cast<std::uint64_t>(i));
   } else {
-    out = y.require<std::vector<std::uint64_t>>("seeds");
-    y.check(!out.empty(), "seeds", "must be a non-empty list");
+    y.check(n.IsSequence(), key, "must be a list of seeds or {first, count}");
+    for (const YAML::Node& v : n) {
+      y.check(v.IsScalar() && !v.Scalar().empty() && v.Scalar()[0] != '-', key, "must hold seeds in " + range);
+      std::uint64_t seed = 0;
+      try {
+        seed = v.as<std::uint64_t>();
+      } catch (const YAML::Exception&) {
+        y.check(false, key, "must hold seeds in " + range + " ('" + v.Scalar() + "' is not one)");
+      }
+      y.check(seed <= max_seed, key, "must hold seeds in " + range);
+      out.push_back(seed);
+    }
+    y.check(!out.empty(), key, "must be a non-empty list");
     std::set<std::uint64_t> seen(out.begin(), out.end());
-    y.check(seen.size() == out.size(), "seeds", "repeats a seed");
+    y.check(seen.size() == out.size(), key, "repeats a seed");
   }
   return out;
+}
+
+// World seeds only make sense when the world has procedural plants to draw.
+void check_world_seeds_apply(YamlReader& y, const world::WorldSpec& w) {
+  int placed = 0;
+  for (const world::PlantPlacement& p : w.placements) placed += p.in_slot ? 1 : 0;
+  y.check(w.rows.rows * w.rows.plants_per_row > placed, "world_seeds",
+          "cannot change this world: every plant of it is imported (world seeds only draw procedural plants)");
 }
 
 // Leaves of a JSON document as path -> text.
@@ -171,6 +195,7 @@ nlohmann::json TrialSpec::to_json() const {
                       {"rays", method.choice.rays},
                       {"p_gt", p_gt},
                       {"seed", seed}};
+  if (world_seed) j["world_seed"] = *world_seed;
   if (!method.set.empty()) {
     nlohmann::json set = nlohmann::json::array();
     for (const auto& [key, value] : method.set) set.push_back({key, value});
@@ -191,17 +216,19 @@ TrialSpec TrialSpec::from_json(const nlohmann::json& j, const std::string& where
       for (const auto& kv : j.at("set")) t.method.set.emplace_back(kv.at(0).get<std::string>(), kv.at(1).get<std::string>());
     t.p_gt = j.at("p_gt").get<double>();
     t.seed = j.at("seed").get<std::uint64_t>();
-    if (t.id != trial_id(t.method.label, t.p_gt, t.seed)) throw InputError(where + ": trial id '" + t.id + "' does not match its method, P_gt and seed");
+    if (j.contains("world_seed")) t.world_seed = j.at("world_seed").get<std::uint64_t>();
+    if (t.id != trial_id(t.method.label, t.p_gt, t.seed, t.world_seed)) throw InputError(where + ": trial id '" + t.id + "' does not match its method, P_gt and seeds");
     return t;
   } catch (const nlohmann::json::exception& e) {
     throw InputError(where + ": not a trial description (" + e.what() + ")");
   }
 }
 
-std::string trial_id(const std::string& label, double p_gt, std::uint64_t seed) {
+std::string trial_id(const std::string& label, double p_gt, std::uint64_t seed, std::optional<std::uint64_t> world_seed) {
   char b[64];
-  std::snprintf(b, sizeof b, "_pgt%.6g_seed", p_gt);
-  return label + b + std::to_string(seed);
+  std::snprintf(b, sizeof b, "_pgt%.6g", p_gt);
+  const std::string world = world_seed ? "_world" + std::to_string(*world_seed) : "";
+  return label + b + world + "_seed" + std::to_string(seed);
 }
 
 Experiment Experiment::load(const std::string& path, const RobotConfig& robot) {
@@ -236,7 +263,12 @@ Experiment Experiment::load_string(const std::string& text, const std::string& n
     s.apply(m.set, name + ": methods: " + m.label);
   }
   e.p_gt = read_pgt(y);
-  e.seeds = read_seeds(y);
+  y.check(y.has("seeds"), "seeds", "is missing (a list, or {first, count})");
+  e.seeds = read_seeds(y, "seeds", std::numeric_limits<std::uint64_t>::max());
+  if (y.has("world_seeds")) {
+    e.world_seeds = read_seeds(y, "world_seeds", kMaxWorldSeed);
+    check_world_seeds_apply(y, e.world);
+  }
   e.trial_timeout_s = get_positive(y, "trial_timeout_s", e.trial_timeout_s);
   y.finish();
   return e;
@@ -244,10 +276,20 @@ Experiment Experiment::load_string(const std::string& text, const std::string& n
 
 std::vector<TrialSpec> Experiment::trials() const {
   std::vector<TrialSpec> out;
-  for (std::uint64_t seed : seeds)
-    for (double p : p_gt)
-      for (const ExperimentMethod& m : methods) out.push_back({trial_id(m.label, p, seed), m, p, seed});
+  std::vector<std::optional<std::uint64_t>> worlds;
+  for (std::uint64_t w : world_seeds) worlds.emplace_back(w);
+  if (worlds.empty()) worlds.emplace_back(std::nullopt);
+  for (const std::optional<std::uint64_t>& w : worlds)
+    for (std::uint64_t seed : seeds)
+      for (double p : p_gt)
+        for (const ExperimentMethod& m : methods) out.push_back({trial_id(m.label, p, seed, w), m, p, seed, w});
   return out;
+}
+
+world::WorldSpec Experiment::trial_world(const TrialSpec& trial) const {
+  world::WorldSpec w = world;
+  if (trial.world_seed) w.seed = *trial.world_seed;
+  return w;
 }
 
 mission::Settings Experiment::trial_settings(const TrialSpec& trial) const {
@@ -260,7 +302,7 @@ mission::Settings Experiment::trial_settings(const TrialSpec& trial) const {
 
 nlohmann::json Experiment::trial_identity(const TrialSpec& trial) const {
   nlohmann::json j = trial.to_json();
-  j["world"] = world.to_json();
+  j["world"] = trial_world(trial).to_json();
   j["settings"] = trial_settings(trial).to_yaml_text();
   return j;
 }

@@ -97,7 +97,7 @@ TrialOutcome run_trial(const Experiment& e, const TrialSpec& t, const fs::path& 
   const fs::path work = trials_dir / (t.id + kPartialSuffix);
   fs::remove_all(work);  // what a killed run left
   fs::create_directories(work);
-  write_file_atomic((work / "world.yaml").string(), e.world.to_json().dump(2) + "\n");
+  write_file_atomic((work / "world.yaml").string(), e.trial_world(t).to_json().dump(2) + "\n");
   write_file_atomic((work / "settings.yaml").string(), e.trial_settings(t).to_yaml_text());
   std::vector<std::string> argv = o.mission_command;
   for (const std::string& a : {std::string("--world"), (work / "world.yaml").string(), std::string("--config"),

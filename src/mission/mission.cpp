@@ -212,7 +212,7 @@ struct Mission::Impl {
     rec.attempt = current_attempt;
     rec.stop = current_stop;
     rec.phase = phase;
-    rec.source = phase == ViewPhase::kInitial ? "initial" : view.source;
+    rec.source = phase == ViewPhase::kInitial && view.source != "replacement" ? "initial" : view.source;
     rec.T_goal = view.T_world_camera;
     rec.gain = view.gain;
     rec.cluster = view.cluster;
@@ -332,8 +332,10 @@ struct Mission::Impl {
                               unreachable);
   }
 
-  // Executes views in order; stops once `wanted` succeeded (<0: all), returns the successes.
-  int execute(const std::vector<nbv::PlannedView>& views, ViewPhase phase, int wanted, int* attempts_left) {
+  // Executes views in order; stops once `wanted` succeeded (<0: all), returns the successes
+  // (and the views that failed in `failed`, when given).
+  int execute(const std::vector<nbv::PlannedView>& views, ViewPhase phase, int wanted, int* attempts_left,
+              std::vector<nbv::PlannedView>* failed = nullptr) {
     int ok = 0;
     for (const nbv::PlannedView& v : views) {
       if (wanted >= 0 && ok >= wanted) break;
@@ -342,6 +344,67 @@ struct Mission::Impl {
       const ViewRecord r = attempt(v, phase);
       record(r);
       ok += r.success;
+      if (!r.success && failed) failed->push_back(v);
+    }
+    return ok;
+  }
+
+  // Predefined scanning replaces each failed scripted view of a stop by the nearest reachable
+  // view of the same scan pattern (mission.scan.replace_failed; planners with scripted views only).
+  bool replaces_failed_scripted() const {
+    return view_planner->traits().scripted && settings.mission.scan.replace_failed;
+  }
+
+  // Tries replacements of the failed scripted views, nearest first: views without IK at this
+  // base are skipped (the reach test), the others attempted until one succeeds or
+  // replace_max_attempts were made (and while `attempts_left`, when given, lasts). Returns
+  // the successes.
+  int replace_failed(const std::vector<nbv::PlannedView>& failed, ViewPhase phase, int* attempts_left) {
+    const ScanParams& scan = settings.mission.scan;
+    const Pose T_world_base = motion::RobotModel::T_world_base(stop_pose(current_stop));
+    std::vector<ScanView> pattern = scan_view_list(scan, world.spec, model.T_base_arm(), false);
+    for (const ScanView& v : scan_view_list(scan, world.spec, model.T_base_arm(), true)) pattern.push_back(v);
+    std::vector<Pose> used;  // world poses a replacement must not repeat
+    for (const ScanView& v : pattern) used.push_back(T_world_base * v.T_base_camera);
+    for (const ViewRecord& r : result.views)
+      if (r.stop == current_stop && r.source == "replacement") used.push_back(r.T_goal);
+    int ok = 0;
+    for (const nbv::PlannedView& f : failed) {
+      const ScanView* spec = nullptr;
+      for (const ScanView& v : pattern)
+        if (same_view(T_world_base * v.T_base_camera, f.T_world_camera)) spec = &v;
+      if (!spec) continue;
+      int tries = 0;
+      bool replaced = false;
+      std::vector<ScanView> options;
+      {
+        ScopedPhase t(result.times, kNbvPlanning);
+        options = scan_replacements(scan, model.T_base_arm(), *spec);
+      }
+      for (const ScanView& c : options) {
+        if (tries >= scan.replace_max_attempts || (attempts_left && *attempts_left <= 0)) break;
+        nbv::PlannedView v;
+        v.T_world_camera = T_world_base * c.T_base_camera;
+        v.target = v.T_world_camera * Vec3(0, 0, scan.distance_m);
+        v.source = "replacement";
+        if (std::any_of(used.begin(), used.end(), [&](const Pose& u) { return same_view(u, v.T_world_camera); })) continue;
+        {
+          ScopedPhase t(result.times, kNbvPlanning);
+          if (motion::view_goal_configs(model, v, sim.base_pose(), sim.arm_positions()).empty()) continue;
+        }
+        used.push_back(v.T_world_camera);
+        ++tries;
+        if (attempts_left) --*attempts_left;
+        ++stop_record().replacement_attempts;
+        const ViewRecord r = attempt(v, phase);
+        record(r);
+        if (r.success) {
+          replaced = true;
+          break;
+        }
+      }
+      stop_record().scripted_replaced += replaced;
+      ok += replaced;
     }
     return ok;
   }
@@ -370,7 +433,9 @@ struct Mission::Impl {
       ordered = tour(views, &unreachable);
     }
     record_unreachable(unreachable, phase);
-    execute(ordered, phase, -1, nullptr);
+    std::vector<nbv::PlannedView> failed = unreachable;
+    execute(ordered, phase, -1, nullptr, &failed);
+    if (replaces_failed_scripted()) replace_failed(failed, phase, nullptr);
   }
 
   // The NBV loop of the current stop.
@@ -426,7 +491,9 @@ struct Mission::Impl {
       attempts_left -= static_cast<int>(unreachable.size());
       const int wanted = loop.views_per_stop - ok;
       if (batch.order == nbv::BatchOrder::kTour) {
-        ok += execute(ordered, phase, traits.execute_whole_batch ? -1 : wanted, &attempts_left);
+        std::vector<nbv::PlannedView> failed = unreachable;
+        ok += execute(ordered, phase, traits.execute_whole_batch ? -1 : wanted, &attempts_left, &failed);
+        if (traits.scripted && replaces_failed_scripted()) ok += replace_failed(failed, phase, &attempts_left);
       } else {
         ok += execute(ordered, phase, 1, &attempts_left);  // frontier: the first view that succeeds
       }

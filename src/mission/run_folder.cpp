@@ -73,12 +73,21 @@ nlohmann::json summary_json(const MissionResult& r) {
                      {"initial_successful", s.initial_ok},
                      {"nbv_attempted", s.nbv_attempted},
                      {"nbv_successful", s.nbv_ok},
+                     {"scripted_replaced", s.scripted_replaced},
+                     {"replacement_attempts", s.replacement_attempts},
                      {"rounds", s.rounds},
                      {"failures", s.failures},
                      {"end_reason", s.end_reason},
                      {"sim_time_s", s.sim_time_s}});
   }
   j["stops"] = stops;
+  int replaced = 0, replacement_attempts = 0;
+  for (const StopRecord& s : r.stops) {
+    replaced += s.scripted_replaced;
+    replacement_attempts += s.replacement_attempts;
+  }
+  j["scripted_replaced"] = replaced;
+  j["replacement_attempts"] = replacement_attempts;
   bool all_reached = !r.stops.empty();
   for (const StopRecord& s : r.stops) all_reached = all_reached && s.reached_goal;
   j["all_stops_reached"] = all_reached;

@@ -15,6 +15,7 @@
 #include "canopy/common/error.h"
 #include "canopy/common/io.h"
 #include "canopy/experiments/experiment_report.h"
+#include "canopy/world/world.h"
 
 namespace canopy::experiments {
 using namespace canopy::mission;
@@ -105,7 +106,11 @@ TEST(Experiment, MethodsSetTheirOwnSettingsByKey) {
 
 TEST(Experiment, TheShippedExperimentsLoad) {
   const Experiment fig3 = Experiment::load("experiments/paper_fig3.yaml", default_robot_config());
-  EXPECT_EQ(fig3.trials().size(), 60u);  // 3 methods x P_gt {1, 0.7} x 10 seeds
+  EXPECT_EQ(fig3.trials().size(), 60u);  // 3 methods x P_gt {1, 0.7} x 10 worlds x 1 seed
+  EXPECT_EQ(fig3.world_seeds.size(), 10u);
+  EXPECT_EQ(fig3.seeds.size(), 1u);
+  // Worlds never used to tune anything: not the default world's own seed 1 (nor the small world's 3).
+  for (std::uint64_t w : fig3.world_seeds) EXPECT_GT(w, 1000u);
   EXPECT_EQ(fig3.world.plant_count(), 8);
   EXPECT_EQ(fig3.settings.to_yaml_text(), Settings::load("configs/canopy.yaml", default_robot_config()).to_yaml_text());
   EXPECT_EQ(Experiment::load("experiments/paper_fig3_smoke.yaml", default_robot_config()).trials().size(), 12u);
@@ -129,6 +134,71 @@ TEST(Experiment, RejectsBadFilesWithTheKeyNamed) {
   expect_input_error(replaced(kBase, "worlds/small.yaml", "worlds/none.yaml"), "none.yaml");
   expect_input_error(replaced(kBase, "trial_timeout_s: 5", "trial_timeout_s: .nan"), "trial_timeout_s");
   expect_input_error(replaced(kBase, "name: t\n", "name: t\nname: u\n"), "name");
+}
+
+// World seeds: every trial names its world seed, and its world is the world file's with that
+// seed (same seed, same world; another seed, another world).
+TEST(Experiment, WorldSeedsNameTrialsAndGenerateTheirWorlds) {
+  const Experiment e = load(replaced(replaced(kBase, "seeds: {first: 11, count: 2}", "seeds: [5]\nworld_seeds: {first: 101, count: 2}"),
+                                     "p_gt: [1.0, 0.7]", "p_gt: [0.7]"));
+  EXPECT_EQ(e.world_seeds, (std::vector<std::uint64_t>{101, 102}));
+  const std::vector<TrialSpec> t = e.trials();
+  ASSERT_EQ(t.size(), 6u);  // 2 worlds x 1 seed x 1 P_gt x 3 methods, world-major
+  EXPECT_EQ(t[0].id, "ours_pgt0.7_world101_seed5");
+  EXPECT_EQ(t[2].id, "predefined_pgt0.7_world101_seed5");
+  EXPECT_EQ(t[3].id, "ours_pgt0.7_world102_seed5");
+  EXPECT_EQ(t[3].world_seed, std::optional<std::uint64_t>(102));
+  EXPECT_EQ(t[3].seed, 5u);
+  EXPECT_EQ(TrialSpec::from_json(t[3].to_json(), "x").to_json(), t[3].to_json());
+  EXPECT_EQ(t[3].to_json().at("world_seed"), 102);
+  nlohmann::json forged = t[3].to_json();
+  forged["world_seed"] = 103;  // an id that does not name the trial's world seed
+  EXPECT_THROW(TrialSpec::from_json(forged, "x"), InputError);
+  EXPECT_EQ(e.trial_world(t[0]).seed, 101u);
+  EXPECT_EQ(e.trial_world(t[4]).seed, 102u);
+  EXPECT_EQ(e.world.seed, 3u);  // the world file's own seed is not changed
+  // The identity (what --resume compares) holds the trial's world, seed included.
+  EXPECT_EQ(e.trial_identity(t[0]).at("world").at("seed"), 101);
+  EXPECT_EQ(first_difference(e.trial_identity(t[0]), e.trial_identity(t[0])), "");
+
+  // The generated worlds: the same world seed gives the same plants for every method, bit for
+  // bit; the other world seed gives other plants.
+  const world::World a = world::generate_world(e.trial_world(t[0]));
+  const world::World a2 = world::generate_world(e.trial_world(t[2]));
+  const world::World b = world::generate_world(e.trial_world(t[3]));
+  const auto same = [](const world::World& x, const world::World& y) {
+    if (x.plants.size() != y.plants.size()) return false;
+    for (std::size_t i = 0; i < x.plants.size(); ++i) {
+      const auto& p = x.plants[i];
+      const auto& q = y.plants[i];
+      if (p.base_position != q.base_position || p.height_m != q.height_m || p.parts.size() != q.parts.size()) return false;
+      for (std::size_t k = 0; k < p.parts.size(); ++k)
+        if (p.parts[k].mesh.vertices != q.parts[k].mesh.vertices) return false;
+    }
+    return x.truth.total_points() == y.truth.total_points();
+  };
+  ASSERT_EQ(a.plants.size(), 2u);
+  EXPECT_TRUE(same(a, a2));
+  EXPECT_FALSE(same(a, b));
+  EXPECT_NE(a.plants[0].height_m, b.plants[0].height_m);
+  // Without world seeds, trials keep their old ids and the world file's seed.
+  EXPECT_FALSE(load(kBase).trials()[0].world_seed.has_value());
+  EXPECT_EQ(load(kBase).trial_world(load(kBase).trials()[0]).seed, 3u);
+
+  // Bad forms: one line naming the key.
+  const auto with = [](const std::string& ws) { return kBase + "world_seeds: " + ws + "\n"; };
+  expect_input_error(with("[]"), "world_seeds");
+  expect_input_error(with("[7, 7]"), "repeats a seed");
+  expect_input_error(with("[-1]"), "world_seeds");
+  expect_input_error(with("[x]"), "world_seeds");
+  expect_input_error(with("[1.5]"), "world_seeds");
+  expect_input_error(with("9223372036854775808"), "world_seeds");
+  expect_input_error(with("[9223372036854775808]"), "world_seeds");
+  expect_input_error(with("{first: 1, count: 0}"), "world_seeds.count");
+  expect_input_error(with("{first: -1, count: 2}"), "world_seeds.first");
+  expect_input_error(with("{first: 9223372036854775807, count: 2}"), "world_seeds.count");
+  expect_input_error(with("{first: 1, count: 2, step: 3}"), "step");
+  expect_input_error(with("{count: 2}"), "first");
 }
 
 TEST(Experiment, ShardsAreDisjointAndCoverEveryTrial) {

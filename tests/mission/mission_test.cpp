@@ -100,17 +100,103 @@ TEST(Mission, PredefinedScansTwentyFourViewsPerStop) {
   const SmallWorld& w = small();
   Settings s = w.settings;
   s.method.name = "predefined";
+  s.mission.scan.replace_failed = false;  // the scripted views alone
   Mission mission(w.world, s, 1);
   const MissionResult r = mission.run();
   ASSERT_TRUE(r.complete);
   EXPECT_EQ(r.stops[0].initial_attempted, 12);
   EXPECT_EQ(r.stops[0].nbv_attempted, 12);
+  EXPECT_EQ(r.stops[0].scripted_replaced, 0);
   for (const ViewRecord& v : r.views) {
     if (v.phase != ViewPhase::kInitial) {
       EXPECT_EQ(v.source, "predefined");
     }
   }
   EXPECT_EQ(r.stops[0].end_reason, "predefined views done");
+}
+
+// Predefined scanning replaces each failed scripted view by the nearest reachable view of the
+// same scan pattern: on the small world 6 of its 24 views fail (no IK, goal in collision);
+// with replacements the stop ends with all 24, every replacement a pattern neighbour (same
+// row and distance, horizontal, no scripted view repeated), and summary.json counts them.
+TEST(Mission, PredefinedReplacesFailedScriptedViews) {
+  const SmallWorld& w = small();
+  Settings s = w.settings;
+  s.method.name = "predefined";
+  s.mission.scan.replace_failed = false;
+  const MissionResult plain = Mission(w.world, s, 1).run();
+  s.mission.scan.replace_failed = true;
+  Mission mission(w.world, s, 1);
+  const MissionResult r = mission.run();
+  ASSERT_TRUE(r.complete);
+  const int failed = 24 - plain.successful_views();
+  ASSERT_GT(failed, 0) << "the small world's scripted views all succeed: nothing to replace";
+  // The scripted views run as before; the replacements come after them.
+  ASSERT_GE(r.views.size(), plain.views.size());
+  for (std::size_t i = 0; i < plain.views.size(); ++i) {
+    EXPECT_EQ(r.views[i].success, plain.views[i].success) << i;
+    EXPECT_TRUE(r.views[i].T_goal.isApprox(plain.views[i].T_goal)) << i;
+  }
+  int replaced_ok = 0, replacements = 0;
+  std::vector<Pose> scripted = mission.scan_views(0, false);
+  for (const Pose& T : mission.scan_views(0, true)) scripted.push_back(T);
+  for (std::size_t i = plain.views.size(); i < r.views.size(); ++i) {
+    const ViewRecord& v = r.views[i];
+    EXPECT_EQ(v.source, "replacement");
+    ++replacements;
+    replaced_ok += v.success;
+    // A pattern view: looks horizontally (no roll) at a target distance_m ahead, in a row.
+    const Vec3 axis = v.T_goal.linear().col(2);
+    EXPECT_NEAR(axis.z(), 0.0, 1e-9);
+    const Vec3 target = v.T_goal * Vec3(0, 0, s.mission.scan.distance_m);
+    EXPECT_NEAR(std::abs(target.y()), w.world.spec.rows.row_offset_m, 1e-9);
+    for (const Pose& T : scripted) EXPECT_FALSE(same_view(T, v.T_goal)) << "view " << i << " repeats a scripted view";
+    for (std::size_t j = plain.views.size(); j < i; ++j) EXPECT_FALSE(same_view(r.views[j].T_goal, v.T_goal));
+  }
+  EXPECT_EQ(r.stops[0].scripted_replaced, replaced_ok);
+  EXPECT_EQ(r.stops[0].replacement_attempts, replacements);
+  EXPECT_LE(replaced_ok, failed);
+  EXPECT_LE(replacements, failed * s.mission.scan.replace_max_attempts);
+  EXPECT_EQ(r.successful_views(), plain.successful_views() + replaced_ok);
+  EXPECT_EQ(r.successful_views(), 24);  // every failed view of this stop found a replacement
+  const nlohmann::json j = summary_json(r);
+  EXPECT_EQ(j.at("scripted_replaced"), replaced_ok);
+  EXPECT_EQ(j.at("replacement_attempts"), replacements);
+  EXPECT_EQ(j.at("stops").at(0).at("scripted_replaced"), replaced_ok);
+  // Other planners never replace: ours' views are the same with the option on or off.
+  Settings o = w.settings;
+  o.mission.scan.replace_failed = false;
+  EXPECT_EQ(views_csv(Mission(w.world, o, 1).run(), "ours"), views_csv(Mission(w.world, w.settings, 1).run(), "ours"));
+}
+
+// The replacement candidates of a scripted view: its pattern neighbours, nearest first.
+TEST(Mission, ScanReplacementsAreThePatternsNeighboursNearestFirst) {
+  ScanParams p;
+  const Pose T_base_arm = Pose::Identity();
+  const ScanView failed = scan_view(p, T_base_arm, -0.75, 1.0, 60.0);
+  const std::vector<ScanView> c = scan_replacements(p, T_base_arm, failed);
+  // (2 * 4 + 1)^2 - 1 grid points, less the azimuths at or beyond 90 deg (60 + 30, 60 + 40).
+  EXPECT_EQ(c.size(), 9u * 9u - 1u - 2u * 9u);
+  double last = 0.0;
+  for (const ScanView& v : c) {
+    EXPECT_FALSE(same_view(v.T_base_camera, failed.T_base_camera));
+    EXPECT_EQ(v.lateral_m, -0.75);
+    EXPECT_GT(v.azimuth_deg, -90.0);
+    EXPECT_LT(v.azimuth_deg, 90.0);
+    const double cost = (v.T_base_camera.translation() - failed.T_base_camera.translation()).norm() +
+                        p.distance_m * Eigen::AngleAxisd(v.T_base_camera.linear().transpose() * failed.T_base_camera.linear()).angle();
+    EXPECT_GE(cost, last - 1e-12);
+    last = cost;
+  }
+  // The nearest is one height step away (0.05 m < 0.4 m x 2 x sin(5 deg) + 0.4 x 10 deg).
+  EXPECT_NEAR(std::abs(c[0].height_m - 1.0), p.replace_height_step_m, 1e-12);
+  EXPECT_EQ(c[0].azimuth_deg, 60.0);
+  // The scripted views are the pattern's views at their coordinates.
+  const world::WorldSpec spec;
+  const std::vector<ScanView> list = scan_view_list(p, spec, T_base_arm, true);
+  const std::vector<Pose> poses = scan_views_in_base(p, spec, T_base_arm, true);
+  ASSERT_EQ(list.size(), poses.size());
+  for (std::size_t i = 0; i < list.size(); ++i) EXPECT_TRUE(same_view(list[i].T_base_camera, poses[i]));
 }
 
 TEST(Mission, SameSeedSameViews) {

@@ -1,9 +1,12 @@
 #pragma once
 // Experiments: a sweep of missions over methods x segmentation noise P_gt x seeds (the paper's
-// Fig. 3 and 4: 3 methods x P_gt {1.0, 0.7} x 10 seeds = 60 missions). An experiment file
-// (experiments/*.yaml, strict keys) names a world, a settings bundle with overrides, the
-// methods, the P_gt values and the seeds. Each (method, P_gt, seed) is a trial, one mission,
-// with a stable id made of those three ("ours_pgt0.7_seed3").
+// Fig. 3 and 4: 3 methods x P_gt {1.0, 0.7} x 10 seeds = 60 missions), optionally over world
+// seeds too. An experiment file (experiments/*.yaml, strict keys) names a world, a settings
+// bundle with overrides, the methods, the P_gt values, the seeds and optionally the world
+// seeds. Each (method, P_gt, world seed, seed) is a trial, one mission, with a stable id made
+// of those ("ours_pgt0.7_seed3", or "ours_pgt0.7_world101_seed3" with world seeds): with world
+// seeds, each trial's procedural plants are generated from the world file with its world seed
+// (imported plants stay as placed), so an experiment spans many worlds.
 //
 // An experiment folder holds experiment.json (the experiment's name and trial list, which
 // `canopy report` uses to list missing trials) and trials/<id>/, one folder per finished
@@ -19,6 +22,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -39,16 +43,23 @@ struct ExperimentMethod {
 
 /// One mission of an experiment.
 struct TrialSpec {
-  std::string id;                ///< "<label>_pgt<P_gt>_seed<seed>", stable.
+  std::string id;                ///< "<label>_pgt<P_gt>[_world<world seed>]_seed<seed>", stable.
   ExperimentMethod method;
   double p_gt = 1.0;
   std::uint64_t seed = 1;
-  nlohmann::json to_json() const;  ///< {id, label, method, gain, rays, p_gt, seed}.
+  /// The seed the trial's world is generated with; absent: the world file's own seed.
+  std::optional<std::uint64_t> world_seed;
+  nlohmann::json to_json() const;  ///< {id, label, method, gain, rays, p_gt, seed[, world_seed]}.
   static TrialSpec from_json(const nlohmann::json& j, const std::string& where);
 };
 
-/// The id of a (method label, P_gt, seed): P_gt printed with up to 6 significant digits.
-std::string trial_id(const std::string& label, double p_gt, std::uint64_t seed);
+/// The id of a (method label, P_gt, seed[, world seed]): P_gt printed with up to 6 significant
+/// digits; "<label>_pgt<P_gt>_seed<seed>", or "<label>_pgt<P_gt>_world<world seed>_seed<seed>".
+std::string trial_id(const std::string& label, double p_gt, std::uint64_t seed,
+                     std::optional<std::uint64_t> world_seed = std::nullopt);
+
+/// Largest world seed an experiment may name (a world file's seed is a non-negative 63-bit integer).
+constexpr std::uint64_t kMaxWorldSeed = 9223372036854775807ULL;
 
 /// A parsed experiment file.
 struct Experiment {
@@ -60,6 +71,9 @@ struct Experiment {
   std::vector<ExperimentMethod> methods;
   std::vector<double> p_gt;
   std::vector<std::uint64_t> seeds;
+  /// World seeds (`world_seeds:`, a list or {first, count}); empty: every trial runs on the
+  /// world file's own world.
+  std::vector<std::uint64_t> world_seeds;
   double trial_timeout_s = 3600.0;  ///< Wall time after which a trial is killed and failed.
 
   /// Loads an experiment file. Relative paths (world, settings) are read from the file's
@@ -71,9 +85,12 @@ struct Experiment {
   static Experiment load_string(const std::string& text, const std::string& name, const std::string& dir,
                                 const RobotConfig& robot);
 
-  /// Every trial, seed-major (seed, then P_gt, then method), so any prefix or shard holds a
-  /// mix of methods.
+  /// Every trial, world-seed-major then seed-major (world seed, seed, P_gt, method), so any
+  /// prefix or shard holds a mix of methods.
   std::vector<TrialSpec> trials() const;
+  /// The world of a trial: the experiment's world, with the trial's world seed if it has one
+  /// (procedural plants change with it; imported plants stay as placed).
+  world::WorldSpec trial_world(const TrialSpec& trial) const;
   /// The settings bundle of a trial (the experiment's, with the trial's P_gt).
   mission::Settings trial_settings(const TrialSpec& trial) const;
   /// What identifies a trial's results: its spec, the resolved world and the whole settings

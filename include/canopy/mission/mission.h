@@ -69,7 +69,7 @@ struct ViewRecord {
   int attempt = 0;               ///< Attempt number over the mission (0-based).
   int stop = 0;
   ViewPhase phase = ViewPhase::kInitial;
-  std::string source;            ///< "initial", "nbv", "roi", "exploration", "predefined".
+  std::string source;            ///< "initial", "nbv", "roi", "exploration", "predefined", "replacement".
   bool success = false;
   std::string failure;           ///< A failure:: cause, empty on success.
   std::string message;           ///< Details of the failure.
@@ -98,6 +98,8 @@ struct StopRecord {
   int base_truth_contacts = 0;   ///< Base-vs-plant contacts seen while driving here (geometric).
   int initial_attempted = 0, initial_ok = 0;
   int nbv_attempted = 0, nbv_ok = 0;
+  int scripted_replaced = 0;     ///< Failed scripted views replaced by a successful pattern neighbour (predefined).
+  int replacement_attempts = 0;  ///< Replacement views attempted (counted in initial_ / nbv_attempted too).
   int rounds = 0;
   std::map<std::string, int> failures;
   std::string end_reason;        ///< Why the stop's loop ended.

@@ -42,6 +42,11 @@ struct ScanParams {
   std::vector<double> extra_heights_m = {0.4, 1.0};
   std::vector<double> lateral_m;
   double along_m = 0.0;
+  bool replace_failed = true;
+  double replace_height_step_m = 0.05;
+  double replace_azimuth_step_deg = 10.0;
+  int replace_steps = 4;
+  int replace_max_attempts = 4;
 
   template <class A>
   void visit(A& a) {
@@ -52,6 +57,15 @@ struct ScanParams {
     a("extra_heights_m", extra_heights_m, limits::finite(), "Predefined scanning's additional heights [m]");
     a("lateral_m", lateral_m, limits::finite(), "Target y offsets with sign; empty: the world's rows [m]");
     a("along_m", along_m, limits::finite(), "Target x relative to the arm base [m]");
+    a("replace_failed", replace_failed,
+      "Predefined scanning: a scripted view that fails is replaced by the nearest reachable view of the same pattern");
+    a("replace_height_step_m", replace_height_step_m, limits::in(0.001, 1.0),
+      "Height step of the pattern's grid replacements are drawn from [m]");
+    a("replace_azimuth_step_deg", replace_azimuth_step_deg, limits::in(0.1, 90.0),
+      "Azimuth step of that grid [deg]");
+    a("replace_steps", replace_steps, limits::in(1, 50), "Steps of the grid on each side of the failed view");
+    a("replace_max_attempts", replace_max_attempts, limits::in(0, 100),
+      "Replacements attempted per failed view at most (views without IK are skipped, not attempted)");
     a.check(!azimuths_deg.empty(), "azimuths_deg", "needs at least one azimuth");
   }
 };
@@ -154,5 +168,29 @@ std::vector<double> stop_positions(const StopParams& params, const world::WorldS
 /// `T_base_arm` places the arm base; rows come from `world` when lateral_m is empty.
 std::vector<Pose> scan_views_in_base(const ScanParams& params, const world::WorldSpec& world, const Pose& T_base_arm,
                                      bool extra);
+
+/// One view of the scan pattern: the target at (along_m, lateral_m, height_m) from the arm
+/// base (height above the ground), the camera distance_m from it on the aisle side, turned
+/// by azimuth_deg about z, looking horizontally with zero roll.
+struct ScanView {
+  Pose T_base_camera = Pose::Identity();
+  double lateral_m = 0.0, height_m = 0.0, azimuth_deg = 0.0;
+};
+
+/// The pattern's view at (lateral, height, azimuth), in the base frame.
+ScanView scan_view(const ScanParams& params, const Pose& T_base_arm, double lateral_m, double height_m,
+                   double azimuth_deg);
+/// The stop's scripted views with their pattern coordinates (the same views, in the same
+/// order, as scan_views_in_base).
+std::vector<ScanView> scan_view_list(const ScanParams& params, const world::WorldSpec& world, const Pose& T_base_arm,
+                                     bool extra);
+/// Predefined scanning's replacements of a failed scripted view: the pattern's views on the
+/// grid of replace_height_step_m x replace_azimuth_step_deg around it (replace_steps each
+/// way, same row and distance, azimuths inside (-90, 90) deg, heights > 0), nearest first by
+/// camera displacement plus distance_m times the rotation angle; the failed view itself is
+/// left out. Ties keep grid order, so the list is deterministic.
+std::vector<ScanView> scan_replacements(const ScanParams& params, const Pose& T_base_arm, const ScanView& failed);
+/// True when two camera poses are the same view (within 1 mm and 0.1 deg).
+bool same_view(const Pose& a, const Pose& b);
 
 }  // namespace canopy::mission
