@@ -220,5 +220,29 @@ TEST(Oracle, CandidateAuditScoresEveryCandidateByEveryGainAndTheTruth) {
   EXPECT_THROW(gain_truth({file + ".missing"}), InputError);
 }
 
+// canopy's own planner on the small world: one view per round, each scored by the surface it
+// reveals (positive), coverage grows, and it never reads the truth.
+TEST(Reveal, TakesViewsThatRevealSurfaceOneAtATime) {
+  OracleWorld w;
+  w.settings.method.name = "reveal";
+  const nbv::ViewPlannerEntry* e = nbv::find_view_planner("reveal");
+  ASSERT_NE(e, nullptr);
+  EXPECT_FALSE(e->reads_ground_truth);
+  Mission m(w.world, w.settings, 1);
+  const MissionResult r = m.run();
+  int nbv_ok = 0;
+  double before = 0.0;
+  for (const ViewRecord& v : r.views) {
+    if (v.phase == ViewPhase::kInitial && v.success) before = v.coverage;
+    if (v.phase != ViewPhase::kNbv || !v.success) continue;
+    ++nbv_ok;
+    EXPECT_GE(v.gain, 1.0);  // at least one surface voxel revealed
+  }
+  EXPECT_EQ(nbv_ok, 3);
+  ASSERT_EQ(r.stops.size(), 1u);
+  EXPECT_GE(r.stops[0].rounds, 3);  // one view per round
+  EXPECT_GT(r.final_metrics.coverage, before);
+}
+
 }  // namespace
 }  // namespace canopy::mission

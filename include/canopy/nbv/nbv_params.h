@@ -151,12 +151,10 @@ struct FrontierParams {
 };
 
 /// canopy's own planner "reveal" (planners/reveal.h): ours' clusters and reach test, one view
-/// at a time on the latest map, a gain chosen from how well gains rank views against the
-/// truth (docs/experiments/), a relative "done" rule.
+/// at a time on the latest map, scored by the fruit surface it would reveal.
 struct RevealParams {
-  std::string gain = "uvc";
   std::vector<double> radii_m = {0.4};
-  double done_fraction = 0.1;
+  int unknown_pass = 3;
   int max_views = 5;
 
   template <class A>
@@ -188,15 +186,11 @@ struct NbvParams {
   bool operator==(const NbvParams& o) const { return same_params(*this, o); }
 };
 
-/// All gains' names (gains.h).
-std::vector<std::string> gain_names();
-
 template <class A>
 void RevealParams::visit(A& a) {
-  a.one_of("gain", gain, gain_names(), "Gain that scores the candidates");
   a("radii_m", radii_m, limits::in(0.05, 2.0), "Candidate spheres around each cluster (each like nbv.candidates.sphere) [m]");
-  a("done_fraction", done_fraction, limits::in(0.0, 1.0),
-    "A cluster is done when its best gain falls to this fraction of its first best gain");
+  a("unknown_pass", unknown_pass, limits::in(0, 100000),
+    "A sight line to a surface voxel may cross this many unknown voxels (occupied ones always block)");
   a("max_views", max_views, limits::in(1, 1000), "Views per round, best first, tried until one succeeds");
 }
 

@@ -3,21 +3,23 @@
 #include "canopy/nbv/planners/reveal.h"
 
 #include <algorithm>
+#include <unordered_set>
 
 #include "canopy/common/error.h"
-#include "canopy/common/random.h"
 #include "canopy/nbv/clusters.h"
 
 namespace canopy::nbv::reveal {
 
 namespace {
 
+std::uint64_t code(const octomap::OcTreeKey& k) {
+  return (std::uint64_t(k[0]) << 32) | (std::uint64_t(k[1]) << 16) | std::uint64_t(k[2]);
+}
+
 class RevealPlanner : public ViewPlanner {
  public:
   explicit RevealPlanner(const ViewPlannerSettings& s)
-      : ViewPlanner(s.params.views), settings_(s), params_(s.params.reveal),
-        gain_(make_gain(s.params.reveal.gain, s.params.gain, "nbv.reveal.gain")), rays_(ray_set(s.method.rays, "rays")),
-        done_(s.params.views), failed_(s.params.views) {}
+      : ViewPlanner(s.params.views), settings_(s), params_(s.params.reveal), failed_(s.params.views) {}
 
   std::string name() const override { return "reveal"; }
 
@@ -51,21 +53,17 @@ class RevealPlanner : public ViewPlanner {
     {
       ScopedPhase phase(batch.times, "clustering");
       req.index->refresh(*req.map);
-      for (Cluster& c : find_clusters(*req.map, settings_.params.cluster, &req.region))
-        if (!done_.contains(c.centroid)) clusters.push_back(c);
+      clusters = find_clusters(*req.map, settings_.params.cluster, &req.region);
+      surface_voxels(*req.map, *req.index, clusters);
     }
     batch.clusters = clusters.size();
-    if (clusters.empty()) {
+    if (clusters.empty() || surface_.empty()) {
       batch.finished = true;
-      batch.reason = done_.size() ? "every cluster in reach is done" : "no fruit clusters in reach";
+      batch.reason = clusters.empty() ? "no fruit clusters in reach" : "no fruit surface left to reveal";
       return batch;
     }
     std::vector<ScoredView> scored;
-    std::vector<double> best(clusters.size(), 0.0);
-    std::vector<bool> any(clusters.size(), false);
-    ViewEvaluator eval(*req.index, settings_.intrinsics, settings_.params.rays);
-    for (std::size_t c = 0; c < clusters.size(); ++c) {
-      std::size_t i = 0;
+    for (std::size_t c = 0; c < clusters.size(); ++c)
       for (const double r : params_.radii_m) {
         CandidateParams cp = settings_.params.candidates;
         cp.sphere.radius_m = r;
@@ -75,7 +73,6 @@ class RevealPlanner : public ViewPlanner {
           cands = sample_candidates(clusters[c].centroid, int(c), cp);
         }
         for (Candidate& cand : cands) {
-          ++i;
           {
             ScopedPhase phase(batch.times, "filtering");
             if (taken_.contains(cand.T_world_camera) || failed_.contains(cand.T_world_camera) ||
@@ -86,52 +83,94 @@ class RevealPlanner : public ViewPlanner {
             }
           }
           ScopedPhase phase(batch.times, "scoring");
-          ScoredView sv{cand, eval.evaluate(cand.T_world_camera, cand.target, *gain_, rays_, mix_seed(req.seed, c * 100000 + i))};
+          ScoredView sv{cand, {}};
+          sv.score.gain = double(revealed(*req.index, cand.T_world_camera));
           if (req.on_scored) req.on_scored(sv);
-          best[c] = std::max(best[c], sv.score.gain);
-          any[c] = true;
           scored.push_back(sv);
         }
       }
-    }
     batch.candidates = scored.size();
-    // The relative done rule: the first best gain of a cluster is its reference.
-    std::vector<bool> done(clusters.size(), false);
-    for (std::size_t c = 0; c < clusters.size(); ++c) {
-      const double ref = reference(clusters[c].centroid, best[c]);
-      done[c] = !any[c] || !(best[c] > 0.0) || best[c] <= params_.done_fraction * ref;
-      if (done[c]) done_.mark(clusters[c].centroid);
-    }
     std::stable_sort(scored.begin(), scored.end(),
                      [](const ScoredView& a, const ScoredView& b) { return a.score.gain > b.score.gain; });
     for (const ScoredView& sv : scored) {
-      if (int(batch.views.size()) >= params_.max_views) break;
-      if (done[std::size_t(sv.candidate.cluster)] || !(sv.score.gain > 0.0)) continue;
+      if (int(batch.views.size()) >= params_.max_views || !(sv.score.gain > 0.0)) break;
       batch.views.push_back(planned_view(sv.candidate, sv.score.gain, "nbv"));
       pending_.push_back(sv.candidate.T_world_camera);
     }
     batch.finished = batch.views.empty();
-    if (batch.finished) batch.reason = scored.empty() ? "every candidate was filtered out" : "every cluster is done";
+    if (batch.finished)
+      batch.reason = scored.empty() ? "every candidate was filtered out" : "no candidate reveals fruit surface";
     return batch;
   }
 
  private:
-  // The best gain a cluster had when first planned (matched by centroid as done clusters are).
-  double reference(const Vec3& centroid, double best_now) {
-    for (const auto& [c, ref] : references_)
-      if ((c - centroid).norm() <= settings_.params.views.done_epsilon_m) return ref;
-    references_.push_back({centroid, best_now});
-    return best_now;
+  // The clusters' surface voxels: unknown 6-neighbours of fruit voxels, and fruit voxels not
+  // yet confirmed (target log-odds <= the clustering threshold), in a box around each cluster.
+  void surface_voxels(const mapping::SemanticOcTree& map, const VoxelIndex& index, const std::vector<Cluster>& clusters) {
+    surface_.clear();
+    std::unordered_set<std::uint64_t> seen;
+    const double res = map.getResolution();
+    const int target = map.classes().target_index();
+    const float confirmed = float(settings_.params.cluster.min_logodds);
+    auto add = [&](const octomap::OcTreeKey& k) {
+      if (seen.insert(code(k)).second) surface_.push_back(map.center_of(k));
+    };
+    for (const Cluster& c : clusters) {
+      octomap::OcTreeKey lo, hi;
+      if (!map.key_of(c.min - Vec3::Constant(2 * res), &lo) || !map.key_of(c.max + Vec3::Constant(2 * res), &hi)) continue;
+      for (unsigned x = lo[0]; x <= hi[0]; ++x)
+        for (unsigned y = lo[1]; y <= hi[1]; ++y)
+          for (unsigned z = lo[2]; z <= hi[2]; ++z) {
+            const octomap::OcTreeKey k(static_cast<octomap::key_type>(x), static_cast<octomap::key_type>(y),
+                                       static_cast<octomap::key_type>(z));
+            if (!index.info(index.lookup(k)).is_target) continue;
+            const mapping::SemanticState* s = map.find(k);
+            if (s && s->class_logodds(target) <= confirmed) add(k);
+            for (int a = 0; a < 3; ++a)
+              for (int d = -1; d <= 1; d += 2) {
+                octomap::OcTreeKey n = k;
+                n[a] = octomap::key_type(int(n[a]) + d);
+                if (index.lookup(n) == 0) add(n);
+              }
+          }
+    }
+  }
+
+  // Surface voxels the view would see: in the frustum and depth range, the sight line
+  // crossing no occupied voxel and at most unknown_pass unknown ones.
+  std::size_t revealed(const VoxelIndex& index, const Pose& T) {
+    const CameraIntrinsics& K = settings_.intrinsics;
+    const Pose T_inv = T.inverse();
+    const Vec3 eye = T.translation();
+    const std::size_t cap = index.max_voxels(K.max_range_m + 0.1);
+    if (buffer_.size() < cap) buffer_.resize(cap);
+    std::size_t n = 0;
+    for (const Vec3& p : surface_) {
+      const Vec3 c = T_inv * p;
+      if (c.z() < K.min_range_m || c.z() > K.max_range_m) continue;
+      double u = 0, v = 0;
+      if (!K.project(c, &u, &v) || u < 0.0 || v < 0.0 || u >= K.width_px || v >= K.height_px) continue;
+      bool outside = false;
+      const std::size_t m = index.cast(eye, p, p, buffer_.data(), buffer_.size(), &outside);
+      if (outside) continue;
+      int unknown = 0;
+      bool blocked = false;
+      for (std::size_t i = 0; i < m && !blocked; ++i) {
+        const VoxelInfo& info = *buffer_[i].info;
+        if (!info.known) blocked = ++unknown > params_.unknown_pass;
+        else blocked = info.p_occ > 0.5f;
+      }
+      n += !blocked;
+    }
+    return n;
   }
 
   ViewPlannerSettings settings_;
   RevealParams params_;
-  std::unique_ptr<GainFunction> gain_;
-  const RaySetEntry& rays_;
-  DoneClusters done_;
   TakenViews failed_;
   std::vector<Pose> pending_;
-  std::vector<std::pair<Vec3, double>> references_;
+  std::vector<Vec3> surface_;
+  std::vector<RayVoxel> buffer_;
 };
 
 }  // namespace
