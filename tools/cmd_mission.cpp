@@ -43,8 +43,10 @@ void add_options(CLI::App* sub, MissionCliOptions* o, bool out_required) {
   sub->add_option("--world", o->world, "World file (YAML)")->capture_default_str();
   sub->add_option("--config", o->config, kConfigHelp)->capture_default_str();
   sub->add_option("--method", o->method, "View planner: " + [] {
+        mission::register_oracle_planners();
         std::string s;
-        for (const auto& n : nbv::view_planner_names()) s += (s.empty() ? "" : ", ") + n;
+        for (const auto& e : nbv::view_planner_registry())
+          s += (s.empty() ? "" : ", ") + e.name + (e.reads_ground_truth ? " (ORACLE: reads the ground truth)" : "");
         return s;
       }() + " (default: the bundle's method.name, ours)");
   sub->add_option("--gain", o->gain, "Information gain of method ours (default: the bundle's method.gain, osamcep)");

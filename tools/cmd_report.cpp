@@ -34,6 +34,7 @@ void add_report_command(CLI::App& app) {
     write_file_atomic(out.path("findings.md"), rep.findings_md);
     write_file_atomic(out.path("field.csv"), rep.field_csv);
     write_json_atomic(out.path("trials.json"), rep.trials_json);
+    if (!rep.gain_truth_csv.empty()) write_file_atomic(out.path("gain_truth.csv"), rep.gain_truth_csv);
     if (!o->no_plots) {
       const std::string script = find_data_file("tools/plot_experiment.py");
       const ProcessStatus plot = run_process({"/usr/bin/python3", script, out.working_dir()});

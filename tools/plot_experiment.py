@@ -4,7 +4,10 @@ fig3_entropy_coverage.png  the paper's Fig. 3: fruit entropy and fruit surface c
                            successful views, mean +- standard deviation bands, one colour per
                            method, solid without segmentation noise (the highest P_gt), dashed with;
 fig4_runtime.png           the paper's Fig. 4: stacked bars of mapping, NBV planning, motion
-                           planning and control wall time per method (and P_gt), mean over trials.
+                           planning and control wall time per method (and P_gt), mean over trials;
+gain_truth.png             when gain_truth.csv exists: per gain, Spearman's rank correlation with
+                           the oracle's truth score and how often its top view is the oracle's
+                           top-1 / in its top-5, per method and P_gt whose trials recorded candidates.
 
 Usage: /usr/bin/python3 tools/plot_experiment.py REPORT_DIR   (reads curves.csv and runtime.csv)
 """
@@ -75,6 +78,35 @@ def main(report):
     ax.legend(fontsize=8)
     fig.tight_layout()
     fig.savefig(f"{report}/fig4_runtime.png", dpi=120)
+    plt.close(fig)
+
+    try:
+        truth = read(f"{report}/gain_truth.csv")
+    except FileNotFoundError:
+        return
+    groups = []
+    for r in truth:
+        if (r["label"], r["p_gt"]) not in groups:
+            groups.append((r["label"], r["p_gt"]))
+    scores = [r["score"] for r in truth if (r["label"], r["p_gt"]) == groups[0]]
+    fig, axes = plt.subplots(1, 3, figsize=(14, 4.2))
+    width = 0.8 / len(groups)
+    for gi, g in enumerate(groups):
+        rows = {r["score"]: r for r in truth if (r["label"], r["p_gt"]) == g}
+        xs = [i + gi * width for i in range(len(scores))]
+        for ax, key, title in zip(axes, ["spearman", "top1", "top5"],
+                                  ["Spearman ρ with the truth (mean over rounds)", "top view = truth's top-1",
+                                   "top view in truth's top-5"]):
+            ax.bar(xs, [float(rows[s][key]) for s in scores], width, label=f"{g[0]} P_gt {float(g[1]):g}",
+                   color=COLOURS[gi % len(COLOURS)])
+            ax.set_title(title, fontsize=10)
+    for ax in axes:
+        ax.set_xticks([i + 0.4 - width / 2 for i in range(len(scores))])
+        ax.set_xticklabels(scores, rotation=45, ha="right", fontsize=8)
+    axes[0].legend(fontsize=8)
+    fig.suptitle("Every gain against the ground truth (oracle) on the candidates of the planning rounds", fontsize=10)
+    fig.tight_layout()
+    fig.savefig(f"{report}/gain_truth.png", dpi=120)
     plt.close(fig)
 
 

@@ -176,6 +176,31 @@ MapMetrics evaluate_map(const SemanticOcTree& map, const world::GroundTruth& tru
   return m;
 }
 
+std::vector<UncoveredPoint> uncovered_target_points(const SemanticOcTree& map, const world::GroundTruth& truth,
+                                                    const MetricsParams& params) {
+  const int target = map.classes().target_index();
+  const bool prototype = params.rule == EvaluationRule::kPrototype;
+  const float min_logodds = static_cast<float>(params.prototype_min_logodds);
+  std::vector<Vec3> centers;
+  map.for_each_voxel_if([&](const SemanticState& s) { return SemanticOcTree::is_class_voxel(s, target); },
+                         [&](const octomap::OcTreeKey& key, const SemanticState& s) {
+                           if (!prototype || s.class_logodds(target) > min_logodds) centers.push_back(map.center_of(key));
+                         });
+  const PointKdTree tree(centers);
+  const double r2 = params.coverage_distance_m * params.coverage_distance_m;
+  std::vector<UncoveredPoint> out;
+  for (const world::FruitTruth& f : truth.fruits) {
+    if (!f.target) continue;
+    for (const Vec3& p : f.surface_points) {
+      std::size_t idx = 0;
+      double d2 = 0.0;
+      if (tree.nearest(p, &idx, &d2) && d2 <= r2) continue;
+      out.push_back({p, f.instance_id});
+    }
+  }
+  return out;
+}
+
 namespace {
 nlohmann::json rule_json(const RuleScores& r) {
   return {{"coverage", r.coverage}, {"covered_points", r.covered}, {"entropy", r.entropy},

@@ -13,6 +13,7 @@
 #include "canopy/common/error.h"
 #include "canopy/common/io.h"
 #include "canopy/common/yaml_reader.h"
+#include "canopy/mission/oracle.h"
 #include "canopy/nbv/gains.h"
 #include "canopy/nbv/ray_sets.h"
 #include "canopy/nbv/view_planner.h"
@@ -56,6 +57,7 @@ std::vector<ExperimentMethod> read_methods(YamlReader& y) {
   y.check(list.IsSequence() && list.size() > 0, "methods", "must be a non-empty list");
   std::vector<ExperimentMethod> out;
   std::set<std::string> labels;
+  mission::register_oracle_planners();
   const std::vector<std::string> planners = nbv::view_planner_names(), gains = nbv::gain_names();
   for (std::size_t i = 0; i < list.size(); ++i) {
     YamlReader m(list[i], y.file(), "methods[" + std::to_string(i) + "]");

@@ -2,6 +2,8 @@
 
 #include "canopy/experiments/experiment_report.h"
 
+#include "canopy/mission/oracle.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -534,6 +536,22 @@ ExperimentReport make_experiment_report(const MergedTrials& m) {
   nlohmann::json inc = nlohmann::json::array();
   for (const IncompleteFolder& i : m.incomplete) inc.push_back({{"folder", i.path}, {"reason", i.reason}});
   rep.trials_json = {{"experiments", m.names}, {"trials", tj}, {"missing", m.missing}, {"incomplete", inc}};
+  // gain_truth.csv: the trials' candidates.csv, per group.
+  for (const Group& g : groups) {
+    std::vector<std::string> files;
+    for (const TrialResult* t : g.trials) {
+      const fs::path f = fs::path(t->folder) / "mission" / "candidates.csv";
+      if (fs::exists(f)) files.push_back(f.string());
+    }
+    if (files.empty()) continue;
+    if (rep.gain_truth_csv.empty())
+      rep.gain_truth_csv = "label,p_gt,score,rounds,spearman,top1,top5,mean_oracle_rank,truth_share\n";
+    const std::string table = mission::gain_truth_csv(mission::gain_truth(files));
+    std::stringstream ss(table);
+    std::string line;
+    std::getline(ss, line);  // header
+    while (std::getline(ss, line)) rep.gain_truth_csv += g.method.label + "," + pgt_text(g.p_gt) + "," + line + "\n";
+  }
   return rep;
 }
 

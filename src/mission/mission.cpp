@@ -80,6 +80,7 @@ struct Mission::Impl {
   perception::SemanticExtractor extractor;
   nbv::VoxelIndex index;
   std::unique_ptr<nbv::ViewPlanner> view_planner;
+  std::unique_ptr<CandidateAudit> audit;  // mission.record.candidates: reads the ground truth
   SimStepper stepper;
   std::vector<double> stops_x;
 
@@ -116,8 +117,11 @@ struct Mission::Impl {
     context->world = &world;
     context->sim = &sim;
     context->seed = seed;
+    context->metrics = s.mapping.metrics;
+    context->oracle = s.mission.oracle;
     ps.context = context;
     view_planner = nbv::make_view_planner(ps, "method");
+    if (s.mission.record.candidates) audit = std::make_unique<CandidateAudit>(world, sim, s);
     if (callbacks.before_step) stepper.set_before_step([this] { callbacks.before_step(sim, current_attempt); });
     update_caption();
   }
@@ -346,7 +350,7 @@ struct Mission::Impl {
     std::snprintf(b, sizeof b, "stop %d/%zu: %s view %d %s%s (views %d, SC %.3f, elapsed %.1f s)", v.stop + 1,
                   stops_x.size(), to_string(v.phase), v.attempt + 1, v.success ? "ok" : "failed: ",
                   v.success ? "" : v.failure.c_str(), result.successful_views(), v.coverage, elapsed_.seconds());
-    progress(b);
+    progress(v.success || v.message.empty() ? std::string(b) : std::string(b) + ": " + v.message);
   }
 
   // Orders views by an open tour from the current arm state; views without IK are returned
@@ -491,12 +495,17 @@ struct Mission::Impl {
         req.T_world_camera = sim.camera_pose();
         req.budget = loop.views_per_stop - ok;
         req.seed = mix_seed(seed, 5000 + std::uint64_t(k) * 1000 + std::uint64_t(s.rounds));
+        if (audit) req.on_scored = audit->observer();
         next = motion::next_views(map, index, *view_planner, arm, req);
         result.times.merge(next.batch.times);
         // The planner's own phases are in batch.times; the rest (tour, bookkeeping) here.
         result.times.add(kNbvPlanning, std::max(0.0, watch.seconds() - next.batch.times.total()));
       }
       const nbv::ViewBatch& batch = next.batch;
+      if (audit) {
+        ScopedPhase t(result.times, kEvaluation);
+        audit->end_round(map, index, batch, k, s.rounds, result.successful_views(), req.seed);
+      }
       const std::vector<nbv::PlannedView>& ordered = next.ordered;
       const std::vector<nbv::PlannedView>& unreachable = next.unreachable;
       ++s.rounds;
@@ -565,6 +574,7 @@ struct Mission::Impl {
     }
     result.final_metrics = evaluation::evaluate_map(map, world.truth, settings.mapping.metrics);
     result.zero_coverage_reason = zero_coverage_reason();
+    if (audit) result.candidates = audit->records();
     result.sim_time_s = sim.time();
     result.wall_time_s = elapsed_.seconds();
     return result;

@@ -145,6 +145,8 @@ nlohmann::json run_summary(const MissionResult& result, const Settings& settings
   for (std::size_t i = 0; i < budgets.size(); ++i) at.push_back({{"time_s", budgets[i]}, {"coverage", reached[i]}});
   summary["motion_cost"]["coverage_at_time"] = at;
   summary["method"] = {{"name", settings.method.name}, {"gain", settings.method.gain}, {"rays", settings.method.rays}};
+  const nbv::ViewPlannerEntry* entry = nbv::find_view_planner(settings.method.name);
+  summary["method"]["reads_ground_truth"] = entry && entry->reads_ground_truth;
   summary["seed"] = ctx.seed;
   summary["p_gt"] = settings.mapping.extractor.p_gt;
   summary["labels"] = perception::to_string(settings.mapping.extractor.source);
@@ -156,6 +158,7 @@ nlohmann::json run_summary(const MissionResult& result, const Settings& settings
                         {"spec", ctx.world->spec.to_json()}};
   summary["settings_file"] = "settings.yaml";
   summary["files"] = {"views.csv", "timing.csv", "settings.yaml", "map.csm", "map.ply", "map.bt"};
+  if (!result.candidates.empty()) summary["files"].push_back("candidates.csv");
   if (!ctx.video.is_null()) summary["video"] = ctx.video;
   return summary;
 }
@@ -165,6 +168,7 @@ nlohmann::json write_run_folder(const std::string& dir, const MissionResult& res
   const std::string d = dir.empty() || dir.back() == '/' ? dir : dir + "/";
   write_file_atomic(d + "views.csv", views_csv(result, settings.method.name));
   write_file_atomic(d + "timing.csv", timing_csv(result));
+  if (!result.candidates.empty()) write_file_atomic(d + "candidates.csv", candidates_csv(result.candidates));
   write_file_atomic(d + "settings.yaml", settings.to_yaml_text());
   mapping::save_map(map, d + "map.csm");
   mapping::export_ply(map, d + "map.ply");

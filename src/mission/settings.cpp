@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "canopy/common/error.h"
+#include "canopy/mission/oracle.h"
 
 namespace canopy::mission {
 
@@ -28,6 +29,7 @@ std::vector<std::string> split_key(const std::string& key) {
 }  // namespace
 
 Settings Settings::defaults(const RobotConfig& robot) {
+  register_oracle_planners();  // the method names a bundle may choose include the oracles
   Settings s;
   s.motion = motion::MotionConfig::defaults(robot);
   return s;

@@ -76,6 +76,7 @@ NextViews next_views(const mapping::SemanticOcTree& map, nbv::VoxelIndex& index,
   req.scripted = request.scripted;
   req.has_q = true;
   req.q = request.q;
+  req.on_scored = request.on_scored;
   const ArmConfig q = request.q;
   req.reach = reach_filter(arm.workspace, request.base, [q] { return q; }, arm.checker);
   req.in_workspace = [&workspace = arm.workspace, base = request.base](const Vec3& p) {

@@ -159,7 +159,8 @@ ClusterPlanner::ClusterPlanner(const NbvParams& params, const CameraIntrinsics& 
     : params_(params), intrinsics_(intrinsics) {}
 
 Plan ClusterPlanner::plan(const VoxelIndex& index, const std::vector<Cluster>& clusters, const GainFunction& gain,
-                          const RaySetEntry& rays, std::uint64_t seed, const CandidateFilter& filter) const {
+                          const RaySetEntry& rays, std::uint64_t seed, const CandidateFilter& filter,
+                          const CandidateObserver& observer) const {
   Plan plan;
   if (clusters.empty()) {
     plan.reason = "no clusters";
@@ -187,6 +188,7 @@ Plan ClusterPlanner::plan(const VoxelIndex& index, const std::vector<Cluster>& c
       const std::uint64_t view_seed = mix_seed(seed, c * 100000 + i);
       ScoredView sv{cands[i], eval.evaluate(cands[i].T_world_camera, cands[i].target, gain, rays, view_seed)};
       plan.ms_raycast += sv.score.ms;
+      if (observer) observer(sv);
       scored.push_back(sv);
     }
     cr.candidates = scored.size();

@@ -11,6 +11,7 @@
 #include "canopy/nbv/planners/global.h"
 #include "canopy/nbv/planners/ours.h"
 #include "canopy/nbv/planners/predefined.h"
+#include "canopy/nbv/planners/reveal.h"
 
 namespace canopy::nbv {
 
@@ -62,6 +63,10 @@ struct Registry {
                        "global view planning: weighted set cover of the uncertain voxels near the clusters by the "
                        "stop's reachable candidates, costed by arm motion, then a tour",
                        [](const ViewPlannerSettings& s) { return global::make_planner(s); }});
+    entries.push_back({"reveal",
+                       "canopy's own: ours' clusters and reach test, one view at a time on the latest map, the gain "
+                       "that ranks views closest to the truth, a relative done rule (docs/experiments/)",
+                       [](const ViewPlannerSettings& s) { return reveal::make_planner(s); }});
   }
 };
 

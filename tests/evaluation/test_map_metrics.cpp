@@ -207,3 +207,26 @@ TEST(MapMetrics, EntropyRulesOnAHandBuiltMap) {
   EXPECT_LT(h_free_paper, 0.6);  // 20 passes: l = -2 per entry
   EXPECT_EQ(m.total_entropy, m.prototype.entropy);
 }
+
+TEST(MapMetrics, UncoveredPointsAreThoseTheRuleDoesNotCount) {
+  SemanticOcTree map = make_map();
+  ScanInserter ins(map);
+  insert_view(ins, kCenter + Vec3(0.4, 0, 0));
+  insert_view(ins, kCenter + Vec3(0, 0.4, 0));
+  insert_view(ins, kCenter + Vec3(0, 0.4, 0));  // twice: some voxels pass the prototype's log-odds test
+  const world::GroundTruth truth = sphere_truth();
+  for (const EvaluationRule rule : {EvaluationRule::kPrototype, EvaluationRule::kPaper}) {
+    MetricsParams p;
+    p.rule = rule;
+    const MapMetrics m = evaluate_map(map, truth, p);
+    const std::vector<UncoveredPoint> open = uncovered_target_points(map, truth, p);
+    const RuleScores& r = rule == EvaluationRule::kPaper ? m.paper : m.prototype;
+    EXPECT_GT(r.covered, 0u);
+    EXPECT_EQ(open.size(), m.points - r.covered);
+    // None lies on the side the twice-inserted camera saw head-on.
+    for (const UncoveredPoint& u : open) {
+      EXPECT_EQ(u.instance_id, truth.fruits[0].instance_id);
+      EXPECT_FALSE((u.position - kCenter).normalized().dot(Vec3(0, 1, 0)) > 0.95);
+    }
+  }
+}

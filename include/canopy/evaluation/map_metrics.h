@@ -113,6 +113,17 @@ std::vector<Vec3> class_voxel_centers(const SemanticOcTree& map, int class_index
 /// Scores `map` against `truth` (the map's target class is the fruit class).
 MapMetrics evaluate_map(const SemanticOcTree& map, const world::GroundTruth& truth, const MetricsParams& params);
 
+/// One target-fruit surface point not yet covered under MetricsParams::rule.
+struct UncoveredPoint {
+  Vec3 position = Vec3::Zero();
+  int instance_id = 0;
+};
+
+/// The target-fruit surface points evaluate_map() counts as not covered under params.rule
+/// (points - covered of the same rule), in fruit then point order: what a view can still add.
+std::vector<UncoveredPoint> uncovered_target_points(const SemanticOcTree& map, const world::GroundTruth& truth,
+                                                    const MetricsParams& params);
+
 /// Entropy sum over the voxels whose centres lie in the axis-aligned box [lo, hi]
 /// (unknown voxels at the unseen entropy); counts go to *voxels and *unknown when given.
 double box_entropy(const SemanticOcTree& map, const Vec3& lo, const Vec3& hi, std::size_t* voxels = nullptr,

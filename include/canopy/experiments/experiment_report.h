@@ -62,6 +62,10 @@ struct ExperimentReport {
   std::string findings_md;  ///< The paper's headline findings beside ours.
   std::string field_csv;    ///< per method and P_gt: trials, mean and std of each of the field's metrics
   nlohmann::json trials_json;  ///< Every trial: id, status, message, source folder; missing; incomplete.
+  /// Every gain against the truth (the oracle) per method label and P_gt, over the trials'
+  /// candidates.csv (mission.record.candidates): label,p_gt,score,rounds,spearman,top1,top5,
+  /// mean_oracle_rank,truth_share. Empty when no trial recorded candidates.
+  std::string gain_truth_csv;
 };
 
 /// Aggregates merged trials (only trials with status ok enter the statistics).

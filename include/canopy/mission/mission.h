@@ -25,6 +25,7 @@
 #include "canopy/common/timer.h"
 #include "canopy/evaluation/map_metrics.h"
 #include "canopy/mapping/semantic_octree.h"
+#include "canopy/mission/oracle.h"
 #include "canopy/mission/settings.h"
 #include "canopy/motion/robot_model.h"
 #include "canopy/nbv/view_planner.h"
@@ -136,6 +137,9 @@ struct MissionResult {
   /// When the final fruit coverage is 0: why (no successful view, no target pixel segmented,
   /// ...); empty otherwise.
   std::string zero_coverage_reason;
+  /// Every candidate of every planning round scored by every gain and the truth
+  /// (mission.record.candidates; empty otherwise).
+  std::vector<CandidateRecord> candidates;
   int successful_views() const;
 };
 
@@ -147,6 +151,8 @@ struct MissionContext : nbv::PlannerContext {
   const world::World* world = nullptr;
   sim::Simulator* sim = nullptr;
   std::uint64_t seed = 1;
+  evaluation::MetricsParams metrics;  ///< The headline rule of "covered" (the oracle's score).
+  OracleParams oracle;
 };
 
 /// Why a run whose views succeeded ended at coverage 0, from the points its segmentation

@@ -100,6 +100,7 @@ struct RecordParams {
   double base_check_period_s = 0.02;
   bool metrics_every_view = true;
   std::vector<double> time_budgets_s = {60.0, 120.0, 240.0, 480.0};
+  bool candidates = false;
 
   template <class A>
   void visit(A& a) {
@@ -110,6 +111,35 @@ struct RecordParams {
     a("metrics_every_view", metrics_every_view, "Coverage and entropy after every view (else only per stop)");
     a("time_budgets_s", time_budgets_s, limits::positive(),
       "Simulated times T at which summary.json and the report give the coverage reached by T [s]");
+    a("candidates", candidates,
+      "candidates.csv: every candidate of every planning round scored by every gain and by the ground truth "
+      "(the oracle; planners that sample ours' candidates)");
+  }
+};
+
+/// The oracle planners (methods oracle, oracle_any; mission/oracle.h). They READ THE GROUND
+/// TRUTH: a view's score is the number of not yet covered target-fruit surface points it sees.
+struct OracleParams {
+  int render_downsample = 4;
+  double depth_tolerance_m = 0.005;
+  int max_views = 5;
+  std::vector<double> any_radii_m = {0.25, 0.35, 0.45};
+  int any_polar_count = 7;
+  int any_azimuth_count = 16;
+  int any_scored = 60;
+
+  template <class A>
+  void visit(A& a) {
+    a("render_downsample", render_downsample, limits::in(1, 16),
+      "The truth depth render is the camera's image divided by this on each side");
+    a("depth_tolerance_m", depth_tolerance_m, limits::in(0.0, 0.1),
+      "A surface point is visible when its depth is within this (plus 1.5 render pixels) of the rendered depth [m]");
+    a("max_views", max_views, limits::in(1, 1000), "Views returned per round, best first, tried until one succeeds");
+    a("any_radii_m", any_radii_m, limits::in(0.05, 2.0), "oracle_any: sphere radii around each fruit [m]");
+    a("any_polar_count", any_polar_count, limits::in(1, 100), "oracle_any: polar angles (30-150 deg) per sphere");
+    a("any_azimuth_count", any_azimuth_count, limits::in(1, 360), "oracle_any: azimuths per sphere");
+    a("any_scored", any_scored, limits::in(1, 100000),
+      "oracle_any: views rendered per round (those with the most uncovered points in their frustum)");
   }
 };
 
@@ -119,6 +149,7 @@ struct MissionParams {
   ScanParams scan;
   LoopParams loop;
   RecordParams record;
+  OracleParams oracle;
 
   template <class A>
   void visit(A& a) {
@@ -126,6 +157,7 @@ struct MissionParams {
     a.section("scan", scan, "The predefined views of every stop");
     a.section("loop", loop, "The NBV loop of a stop");
     a.section("record", record, "What the mission records");
+    a.section("oracle", oracle, "The oracle planners (oracle, oracle_any): they read the ground truth");
   }
   bool operator==(const MissionParams& o) const { return same_params(*this, o); }
 };

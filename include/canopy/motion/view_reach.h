@@ -51,6 +51,7 @@ struct NextViewsRequest {
   int budget = 1;                ///< Views wanted.
   std::uint64_t seed = 1;
   std::vector<Pose> scripted;    ///< The stop's scripted views (for planners that take them).
+  nbv::CandidateObserver on_scored;  ///< Passed to the planner (ViewRequest::on_scored).
 };
 
 /// The arm's side of a stop: what reachability and the tour are computed with.

@@ -5,6 +5,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <string>
+#include <vector>
 
 #include "canopy/common/params.h"
 #include "canopy/common/view_sphere.h"
@@ -170,6 +171,17 @@ struct FrontierParams {
   }
 };
 
+/// canopy's own planner "reveal" (planners/reveal.h): ours' clusters and reach test, one view
+/// at a time on the latest map, scored by the fruit surface it would reveal.
+struct RevealParams {
+  std::vector<double> radii_m = {0.4};
+  int unknown_pass = 3;
+  int max_views = 5;
+
+  template <class A>
+  void visit(A& a);
+};
+
 /// All next-best-view settings (configs/nbv.yaml sections).
 struct NbvParams {
   ClusterParams cluster;
@@ -180,6 +192,7 @@ struct NbvParams {
   ViewRules views;
   FrontierParams frontier;
   GlobalParams global;
+  RevealParams reveal;
 
   template <class A>
   void visit(A& a) {
@@ -191,8 +204,17 @@ struct NbvParams {
     a.section("views", views, "Taken views and done clusters");
     a.section("frontier", frontier, "The frontier baseline");
     a.section("global", global, "The global view planner (set cover of the stop's candidates)");
+    a.section("reveal", reveal, "canopy's own planner (method reveal)");
   }
   bool operator==(const NbvParams& o) const { return same_params(*this, o); }
 };
+
+template <class A>
+void RevealParams::visit(A& a) {
+  a("radii_m", radii_m, limits::in(0.05, 2.0), "Candidate spheres around each cluster (each like nbv.candidates.sphere) [m]");
+  a("unknown_pass", unknown_pass, limits::in(0, 100000),
+    "A sight line to a surface voxel may cross this many unknown voxels (occupied ones always block)");
+  a("max_views", max_views, limits::in(1, 1000), "Views per round, best first, tried until one succeeds");
+}
 
 }  // namespace canopy::nbv

@@ -99,6 +99,9 @@ struct Plan {
 /// pose is the one scored, and the one the robot will visit.
 using CandidateFilter = std::function<bool(Candidate*)>;
 
+/// Told every scored candidate (for recording; it cannot change the plan).
+using CandidateObserver = std::function<void(const ScoredView&)>;
+
 /// The cluster-centric next-best-view planner (ours).
 class ClusterPlanner {
  public:
@@ -107,7 +110,8 @@ class ClusterPlanner {
   /// Samples candidates around each cluster, scores them with `gain` and `rays`, keeps the
   /// top-k per cluster. `seed` feeds the per-view seeds (rs). Deterministic.
   Plan plan(const VoxelIndex& index, const std::vector<Cluster>& clusters, const GainFunction& gain,
-            const RaySetEntry& rays, std::uint64_t seed, const CandidateFilter& filter = nullptr) const;
+            const RaySetEntry& rays, std::uint64_t seed, const CandidateFilter& filter = nullptr,
+            const CandidateObserver& observer = nullptr) const;
 
   const NbvParams& params() const { return params_; }
 

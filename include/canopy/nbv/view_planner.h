@@ -60,6 +60,9 @@ struct ViewRequest {
   std::function<bool(const Vec3& camera_position)> in_workspace;
   /// Scripted views of this stop (predefined scanning), in world coordinates.
   std::vector<Pose> scripted;
+  /// When set, planners that score candidates call it with every candidate they scored
+  /// (after the reach test), in scoring order; it never changes their choice.
+  CandidateObserver on_scored;
 };
 
 /// A planner's answer.

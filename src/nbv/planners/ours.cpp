@@ -45,7 +45,7 @@ class OursPlanner : public ViewPlanner {
       return !taken_.contains(c->T_world_camera);
     };
     const Stopwatch watch;
-    const Plan plan = planner_.plan(*req.index, clusters, *gain_, rays_, req.seed, filter);
+    const Plan plan = planner_.plan(*req.index, clusters, *gain_, rays_, req.seed, filter, req.on_scored);
     const double total_s = watch.seconds();
     batch.times.add("candidates", plan.ms_candidates * 1e-3);
     batch.times.add("filtering", plan.ms_filter * 1e-3);
