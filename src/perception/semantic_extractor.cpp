@@ -77,7 +77,7 @@ LabelledCloud depth_to_cloud(const CameraIntrinsics& K, const Pose& T_world_came
       float z = depth_m.at(i, j);
       std::uint8_t c = labels.at(i, j);
       if (!std::isfinite(z) || z <= 0.f) {
-        if (!(missing_depth_m > 0.0)) {
+        if (!(missing_depth_m > 0.0) || z < 0.f) {  // negative depth is wrong data, not "no return"
           ++s.bad_depth;
           continue;
         }

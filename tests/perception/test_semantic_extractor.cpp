@@ -50,13 +50,27 @@ TEST(SemanticExtractor, BadDepthsAndLabelsAreSkippedAndCounted) {
   ExtractorParams p;
   p.source = LabelSource::kTruth;
   p.p_gt = 1.0;
+  p.missing_depth = MissingDepth::kSkip;
   SemanticExtractor ex(p, SemanticClasses{});
   const LabelledCloud c = ex.extract(f);
   EXPECT_EQ(c.stats.bad_depth, 4u);
+  EXPECT_EQ(c.stats.missing_depth, 0u);
   EXPECT_EQ(c.stats.out_of_range, 1u);
   EXPECT_EQ(c.stats.bad_label, 1u);
   EXPECT_EQ(c.size(), 1600u - 6u);
   EXPECT_EQ(c.stats.pixels, 1600u);
+  // carve (the default): NaN, inf and 0 are "no return" and become points at 3.0 m labelled
+  // background; a negative depth stays bad data.
+  p.missing_depth = MissingDepth::kCarve;
+  SemanticExtractor carve(p, SemanticClasses{});
+  const LabelledCloud d = carve.extract(f);
+  EXPECT_EQ(d.stats.bad_depth, 1u);
+  EXPECT_EQ(d.stats.missing_depth, 3u);
+  EXPECT_EQ(d.stats.out_of_range, 1u);
+  EXPECT_EQ(d.size(), 1600u - 3u);
+  const Vec3 far = (d.points_world[0].cast<double>() - f.T_world_camera.translation());
+  EXPECT_NEAR((f.T_world_camera.linear().transpose() * far).z(), 3.0, 1e-5);
+  EXPECT_EQ(d.labels[0], 0);
 }
 
 TEST(SemanticExtractor, TruthModeNeedsLabelsAndNoiseIsSeeded) {

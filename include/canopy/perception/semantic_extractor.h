@@ -81,9 +81,10 @@ class SemanticExtractor {
 };
 
 /// Unprojects valid pixels of `depth_m` with `labels` into the world frame: the cloud part of
-/// the extractor, without noise. Skips and counts labels >= num_classes; pixels without a
-/// return (depth 0, NaN or inf) are skipped and counted (bad_depth) when `missing_depth_m` is
-/// 0, else unprojected at that depth with label 0 (background) and counted (missing_depth).
+/// the extractor, without noise. Skips and counts labels >= num_classes and negative depths;
+/// pixels without a return (depth 0, NaN or +-inf) are skipped and counted (bad_depth) when
+/// `missing_depth_m` is 0, else unprojected at that depth with label 0 (background) and
+/// counted (missing_depth).
 LabelledCloud depth_to_cloud(const CameraIntrinsics& K, const Pose& T_world_camera, const Image<float>& depth_m,
                              const Image<std::uint8_t>& labels, int num_classes, double missing_depth_m = 0.0);
 
