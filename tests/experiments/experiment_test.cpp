@@ -112,7 +112,11 @@ TEST(Experiment, TheShippedExperimentsLoad) {
   // Worlds never used to tune anything: not the default world's own seed 1 (nor the small world's 3).
   for (std::uint64_t w : fig3.world_seeds) EXPECT_GT(w, 1000u);
   EXPECT_EQ(fig3.world.plant_count(), 8);
-  EXPECT_EQ(fig3.settings.to_yaml_text(), Settings::load("configs/canopy.yaml", default_robot_config()).to_yaml_text());
+  // The default bundle, plus the candidate audit (every gain against the truth) for ours.
+  Settings expected = Settings::load("configs/canopy.yaml", default_robot_config());
+  expected.mission.record.candidates = true;
+  EXPECT_EQ(fig3.settings.to_yaml_text(), expected.to_yaml_text());
+  EXPECT_EQ(Experiment::load("experiments/fig3_reveal_oracle.yaml", default_robot_config()).trials().size(), 40u);
   EXPECT_EQ(Experiment::load("experiments/paper_fig3_smoke.yaml", default_robot_config()).trials().size(), 12u);
   EXPECT_EQ(Experiment::load("experiments/small.yaml", default_robot_config()).trials().size(), 12u);
 }
