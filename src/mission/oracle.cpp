@@ -15,6 +15,7 @@
 #include "canopy/common/view_sphere.h"
 #include "canopy/mission/mission.h"
 #include "canopy/nbv/clusters.h"
+#include "canopy/nbv/failed_views.h"
 
 namespace canopy::mission {
 
@@ -258,22 +259,11 @@ class OraclePlanner : public nbv::ViewPlanner {
 
   std::string name() const override { return any_ ? "oracle_any" : "oracle"; }
 
-  // The mission tries a batch in order until one view succeeds; the views before the one it
-  // took failed and are not offered again at this stop.
   void taken(const Pose& T) override {
     ViewPlanner::taken(T);
-    nbv::TakenViews reached(loose_rules());
-    reached.add(T);
-    for (const Pose& p : pending_) {
-      if (reached.contains(p)) break;
-      failed_.add(p);
-    }
-    pending_.clear();
+    failed_.taken(T);
   }
-  void begin_stop() override {
-    failed_ = nbv::TakenViews(settings_.params.views);
-    pending_.clear();
-  }
+  void begin_stop() override { failed_.begin_stop(); }
 
   nbv::ViewBatch next(const nbv::ViewRequest& req) override {
     CANOPY_CHECK(req.map && req.index, "view request without a map");
@@ -281,8 +271,7 @@ class OraclePlanner : public nbv::ViewPlanner {
     if (!scorer_)
       scorer_ = std::make_unique<TruthViewScorer>(*context_->sim, settings_.intrinsics, op.render_downsample,
                                                   op.depth_tolerance_m);
-    for (const Pose& p : pending_) failed_.add(p);  // nothing of the last batch succeeded
-    pending_.clear();
+    failed_.next_batch();
     nbv::ViewBatch batch;
     batch.order = nbv::BatchOrder::kUtility;
     {
@@ -314,7 +303,7 @@ class OraclePlanner : public nbv::ViewPlanner {
     }
     for (const TruthScore& t : best)
       batch.views.push_back(nbv::planned_view(views[t.view].candidate, double(t.score), any_ ? "oracle_any" : "oracle"));
-    for (const nbv::PlannedView& v : batch.views) pending_.push_back(v.T_world_camera);
+    for (const nbv::PlannedView& v : batch.views) failed_.offered(v.T_world_camera);
     if (!any_) mark_done(views);
     batch.finished = batch.views.empty();
     if (batch.finished) batch.reason = "no candidate sees an uncovered fruit point (ground truth)";
@@ -422,18 +411,8 @@ class OraclePlanner : public nbv::ViewPlanner {
   nbv::ViewPlannerSettings settings_;
   bool any_;
   const MissionContext* context_ = nullptr;
-  // A reached camera lies within the execution tolerance of its goal, not within the taken
-  // rule's 1 cm / 2 deg: matching a goal to the view taken uses 3 cm / 10 deg.
-  static nbv::ViewRules loose_rules() {
-    nbv::ViewRules r;
-    r.taken_position_m = 0.03;
-    r.taken_angle_deg = 10.0;
-    return r;
-  }
-
   nbv::DoneClusters done_;
-  nbv::TakenViews failed_{nbv::ViewRules{}};
-  std::vector<Pose> pending_;
+  nbv::FailedViews failed_{nbv::ViewRules{}};
   std::vector<nbv::Cluster> clusters_;
   std::unique_ptr<TruthViewScorer> scorer_;
 };

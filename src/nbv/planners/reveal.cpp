@@ -6,15 +6,13 @@
 #include <unordered_set>
 
 #include "canopy/common/error.h"
+#include "canopy/mapping/voxel_key.h"
 #include "canopy/nbv/clusters.h"
+#include "canopy/nbv/failed_views.h"
 
 namespace canopy::nbv::reveal {
 
 namespace {
-
-std::uint64_t code(const octomap::OcTreeKey& k) {
-  return (std::uint64_t(k[0]) << 32) | (std::uint64_t(k[1]) << 16) | std::uint64_t(k[2]);
-}
 
 class RevealPlanner : public ViewPlanner {
  public:
@@ -25,28 +23,14 @@ class RevealPlanner : public ViewPlanner {
 
   void taken(const Pose& T) override {
     ViewPlanner::taken(T);
-    // The views of the batch before the one taken failed.
-    ViewRules loose;
-    loose.taken_position_m = 0.03;
-    loose.taken_angle_deg = 10.0;
-    TakenViews reached(loose);
-    reached.add(T);
-    for (const Pose& p : pending_) {
-      if (reached.contains(p)) break;
-      failed_.add(p);
-    }
-    pending_.clear();
+    failed_.taken(T);
   }
 
-  void begin_stop() override {
-    failed_ = TakenViews(settings_.params.views);
-    pending_.clear();
-  }
+  void begin_stop() override { failed_.begin_stop(); }
 
   ViewBatch next(const ViewRequest& req) override {
     CANOPY_CHECK(req.map && req.index, "view request without a map");
-    for (const Pose& p : pending_) failed_.add(p);  // nothing of the last batch succeeded
-    pending_.clear();
+    failed_.next_batch();
     ViewBatch batch;
     batch.order = BatchOrder::kUtility;
     std::vector<Cluster> clusters;
@@ -95,7 +79,7 @@ class RevealPlanner : public ViewPlanner {
     for (const ScoredView& sv : scored) {
       if (int(batch.views.size()) >= params_.max_views || !(sv.score.gain > 0.0)) break;
       batch.views.push_back(planned_view(sv.candidate, sv.score.gain, "nbv"));
-      pending_.push_back(sv.candidate.T_world_camera);
+      failed_.offered(sv.candidate.T_world_camera);
     }
     batch.finished = batch.views.empty();
     if (batch.finished)
@@ -113,7 +97,7 @@ class RevealPlanner : public ViewPlanner {
     const int target = map.classes().target_index();
     const float confirmed = float(settings_.params.cluster.min_logodds);
     auto add = [&](const octomap::OcTreeKey& k) {
-      if (seen.insert(code(k)).second) surface_.push_back(map.center_of(k));
+      if (seen.insert(mapping::morton_code(k)).second) surface_.push_back(map.center_of(k));
     };
     for (const Cluster& c : clusters) {
       octomap::OcTreeKey lo, hi;
@@ -167,8 +151,7 @@ class RevealPlanner : public ViewPlanner {
 
   ViewPlannerSettings settings_;
   RevealParams params_;
-  TakenViews failed_;
-  std::vector<Pose> pending_;
+  FailedViews failed_;
   std::vector<Vec3> surface_;
   std::vector<RayVoxel> buffer_;
 };
