@@ -64,13 +64,21 @@ std::vector<FruitCluster> fruit_clusters(const std::vector<Vec3>& centres, doubl
   std::unordered_map<std::int64_t, std::size_t> index;
   index.reserve(centres.size() * 2);
   std::vector<std::array<int, 3>> cells(centres.size());
-  for (std::size_t i = 0; i < centres.size(); ++i)
-    index.emplace(cell_of(centres[i], res, &cells[i][0], &cells[i][1], &cells[i][2]), i);
+  std::vector<std::pair<std::int64_t, std::size_t>> order(centres.size());  // (cell, input index)
+  for (std::size_t i = 0; i < centres.size(); ++i) {
+    const std::int64_t c = cell_of(centres[i], res, &cells[i][0], &cells[i][1], &cells[i][2]);
+    index.emplace(c, i);
+    order[i] = {c, i};
+  }
+  // Seeds and member sums in cell order: the result does not depend on the input's order.
+  std::sort(order.begin(), order.end());
+  std::vector<std::int64_t> cell_key(centres.size());
+  for (const auto& [c, i] : order) cell_key[i] = c;
   std::vector<int> label(centres.size(), -1);
   std::vector<FruitCluster> out;
   std::vector<std::size_t> stack, members;
   std::vector<Vec3> pts;
-  for (std::size_t seed = 0; seed < centres.size(); ++seed) {
+  for (const auto& [seed_cell, seed] : order) {
     if (label[seed] >= 0) continue;
     members.clear();
     stack.assign(1, seed);
@@ -92,7 +100,8 @@ std::vector<FruitCluster> fruit_clusters(const std::vector<Vec3>& centres, doubl
           }
     }
     if (static_cast<int>(members.size()) < min_voxels) continue;
-    std::sort(members.begin(), members.end());  // the sum in input order: independent of the walk
+    std::sort(members.begin(), members.end(),
+              [&](std::size_t a, std::size_t b) { return cell_key[a] < cell_key[b]; });
     FruitCluster cl;
     pts.clear();
     for (std::size_t i : members) pts.push_back(centres[i]);
@@ -151,23 +160,37 @@ FruitDetection detect_fruits(std::vector<FruitCluster> clusters, const world::Gr
   return d;
 }
 
-FruitVoxelPrecision fruit_voxel_precision(const std::vector<Vec3>& centres, double res, const world::GroundTruth& truth) {
-  FruitVoxelPrecision p;
+TrueFruitSurface::TrueFruitSurface(const world::GroundTruth& truth, double resolution_m) : resolution_m_(resolution_m) {
   std::vector<Vec3> samples;
   for (const world::FruitTruth& f : truth.fruits)
     if (f.target) samples.insert(samples.end(), f.surface_points.begin(), f.surface_points.end());
-  const PointKdTree tree(std::move(samples));
-  const double reach = 0.5 * std::sqrt(3.0) * res + truth.point_spacing_m;
-  for (const Vec3& c : centres) {
-    std::size_t i = 0;
-    double d2 = 0.0;
-    if (tree.nearest(c, &i, &d2) && d2 <= reach * reach) ++p.true_voxels;
-    else ++p.false_voxels;
-  }
+  tree_ = std::make_unique<PointKdTree>(std::move(samples));
+  const double reach = 0.5 * std::sqrt(3.0) * resolution_m + truth.point_spacing_m;
+  reach2_ = reach * reach;
+}
+
+TrueFruitSurface::~TrueFruitSurface() = default;
+
+bool TrueFruitSurface::on_fruit(const Vec3& c) const {
+  std::size_t i = 0;
+  double d2 = 0.0;
+  return tree_->nearest(c, &i, &d2) && d2 <= reach2_;
+}
+
+FruitVoxelPrecision fruit_voxel_precision(std::size_t true_voxels, std::size_t false_voxels, double res) {
+  FruitVoxelPrecision p;
+  p.true_voxels = true_voxels;
+  p.false_voxels = false_voxels;
   const std::size_t n = p.true_voxels + p.false_voxels;
   p.precision = n ? double(p.true_voxels) / double(n) : 0.0;
   p.false_volume_m3 = double(p.false_voxels) * res * res * res;
   return p;
+}
+
+FruitVoxelPrecision fruit_voxel_precision(const std::vector<Vec3>& centres, const TrueFruitSurface& surface) {
+  std::size_t on = 0;
+  for (const Vec3& c : centres) on += surface.on_fruit(c);
+  return fruit_voxel_precision(on, centres.size() - on, surface.resolution_m());
 }
 
 nlohmann::json FruitDetection::to_json() const {

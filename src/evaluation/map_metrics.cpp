@@ -99,9 +99,50 @@ double prototype_sphere_entropy(const SemanticOcTree& map, const Vec3& center, d
   return sum;
 }
 
+Vec3 surface_centroid(const world::FruitTruth& f) {
+  Vec3 centroid = Vec3::Zero();
+  for (const Vec3& p : f.surface_points) centroid += p;
+  return f.surface_points.empty() ? f.center : Vec3(centroid / double(f.surface_points.size()));
+}
+
+void score_fruit_entropy(const SemanticOcTree& map, const world::FruitTruth& f, const Vec3& centroid,
+                         const MetricsParams& params, FruitMetrics* fm) {
+  const Vec3 half = Vec3::Constant(params.entropy_box_m / 2.0);
+  fm->paper.entropy = box_entropy(map, f.center - half, f.center + half, &fm->paper.voxels, &fm->paper.unknown);
+  fm->prototype.entropy = prototype_sphere_entropy(map, centroid, params.prototype_entropy_radius_m, &fm->prototype.voxels,
+                                                   &fm->prototype.unknown);
+}
+
+void summarize_fruits(MapMetrics* m, EvaluationRule rule) {
+  m->rule = rule;
+  m->points = 0;
+  m->paper = m->prototype = RuleScores{};
+  int sc50 = 0, sc80 = 0;
+  for (FruitMetrics& fm : m->fruits) {
+    for (RuleScores* r : {&fm.paper, &fm.prototype}) r->coverage = fm.points ? double(r->covered) / double(fm.points) : 0.0;
+    const RuleScores& chosen = rule == EvaluationRule::kPaper ? fm.paper : fm.prototype;
+    fm.coverage = chosen.coverage;
+    fm.entropy = chosen.entropy;
+    m->points += fm.points;
+    for (auto [total, one] : {std::pair{&m->paper, &fm.paper}, std::pair{&m->prototype, &fm.prototype}}) {
+      total->covered += one->covered;
+      total->entropy += one->entropy;
+      total->voxels += one->voxels;
+      total->unknown += one->unknown;
+    }
+    sc50 += fm.coverage >= 0.5;
+    sc80 += fm.coverage >= 0.8;
+  }
+  for (RuleScores* r : {&m->paper, &m->prototype}) r->coverage = m->points ? double(r->covered) / double(m->points) : 0.0;
+  const RuleScores& chosen = rule == EvaluationRule::kPaper ? m->paper : m->prototype;
+  m->coverage = chosen.coverage;
+  m->total_entropy = chosen.entropy;
+  m->fruits_sc50 = m->fruits.empty() ? 0.0 : double(sc50) / double(m->fruits.size());
+  m->fruits_sc80 = m->fruits.empty() ? 0.0 : double(sc80) / double(m->fruits.size());
+}
+
 MapMetrics evaluate_map(const SemanticOcTree& map, const world::GroundTruth& truth, const MetricsParams& params) {
   MapMetrics m;
-  m.rule = params.rule;
   m.counts = map.counts();
   // Paper rule: every fruit voxel; prototype: those whose target log-odds exceed the minimum
   // (a subset, so a point covered under the prototype is covered under the paper rule).
@@ -118,7 +159,6 @@ MapMetrics evaluate_map(const SemanticOcTree& map, const world::GroundTruth& tru
   m.fruit_voxels_prototype = prototype_centers.size();
   const PointKdTree paper_tree(paper_centers), prototype_tree(prototype_centers);
   const double r2 = params.coverage_distance_m * params.coverage_distance_m;
-  const Vec3 half = Vec3::Constant(params.entropy_box_m / 2.0);
   auto within = [&](const PointKdTree& tree, const Vec3& p) {  // false for an empty tree
     std::size_t idx = 0;
     double d2 = 0.0;
@@ -133,46 +173,20 @@ MapMetrics evaluate_map(const SemanticOcTree& map, const world::GroundTruth& tru
     fm.instance_id = f.instance_id;
     fm.plant_index = f.plant_index;
     fm.points = f.surface_points.size();
-    Vec3 centroid = Vec3::Zero();
     for (const Vec3& p : f.surface_points) {
-      centroid += p;
       if (!within(paper_tree, p)) continue;
       ++fm.paper.covered;
       if (within(prototype_tree, p)) ++fm.prototype.covered;
     }
-    centroid = fm.points ? Vec3(centroid / double(fm.points)) : f.center;
-    for (RuleScores* r : {&fm.paper, &fm.prototype}) r->coverage = fm.points ? double(r->covered) / double(fm.points) : 0.0;
-    fm.paper.entropy = box_entropy(map, f.center - half, f.center + half, &fm.paper.voxels, &fm.paper.unknown);
-    fm.prototype.entropy = prototype_sphere_entropy(map, centroid, params.prototype_entropy_radius_m,
-                                                    &fm.prototype.voxels, &fm.prototype.unknown);
-    const RuleScores& chosen = params.rule == EvaluationRule::kPaper ? fm.paper : fm.prototype;
-    fm.coverage = chosen.coverage;
-    fm.entropy = chosen.entropy;
-    m.points += fm.points;
-    for (auto [total, one] : {std::pair{&m.paper, &fm.paper}, std::pair{&m.prototype, &fm.prototype}}) {
-      total->covered += one->covered;
-      total->entropy += one->entropy;
-      total->voxels += one->voxels;
-      total->unknown += one->unknown;
-    }
+    score_fruit_entropy(map, f, surface_centroid(f), params, &fm);
     m.fruits.push_back(fm);
   }
-  for (RuleScores* r : {&m.paper, &m.prototype}) r->coverage = m.points ? double(r->covered) / double(m.points) : 0.0;
-  const RuleScores& chosen = params.rule == EvaluationRule::kPaper ? m.paper : m.prototype;
-  m.coverage = chosen.coverage;
-  m.total_entropy = chosen.entropy;
-  int sc50 = 0, sc80 = 0;
-  for (const FruitMetrics& f : m.fruits) {
-    sc50 += f.coverage >= 0.5;
-    sc80 += f.coverage >= 0.8;
-  }
-  m.fruits_sc50 = m.fruits.empty() ? 0.0 : double(sc50) / double(m.fruits.size());
-  m.fruits_sc80 = m.fruits.empty() ? 0.0 : double(sc80) / double(m.fruits.size());
+  summarize_fruits(&m, params.rule);
   const std::vector<Vec3>& fruit_voxels = params.rule == EvaluationRule::kPaper ? paper_centers : prototype_centers;
   const double res = map.getResolution();
   m.detection = detect_fruits(fruit_clusters(fruit_voxels, res, params.detection_min_voxels), truth,
                               params.match_size_fraction);
-  m.voxel_precision = fruit_voxel_precision(fruit_voxels, res, truth);
+  m.voxel_precision = fruit_voxel_precision(fruit_voxels, TrueFruitSurface(truth, res));
   return m;
 }
 

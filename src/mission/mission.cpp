@@ -9,6 +9,7 @@
 #include "canopy/mapping/scan_inserter.h"
 #include "canopy/mission/stepping.h"
 #include "canopy/motion/arm_planner.h"
+#include "canopy/evaluation/incremental_evaluator.h"
 #include "canopy/evaluation/truth_voxels.h"
 #include "canopy/motion/collision.h"
 #include "canopy/motion/execution.h"
@@ -88,6 +89,7 @@ struct Mission::Impl {
   int current_stop = 0;
   int current_attempt = 0;
   std::string caption_text;
+  evaluation::IncrementalEvaluator evaluator;  // the metrics after each view (reads the ground truth)
   evaluation::MapMetrics last_metrics;
 
   static mapping::SemanticMapParams map_params(const Settings& s) { return s.mapping.map; }
@@ -108,7 +110,7 @@ struct Mission::Impl {
                           evaluation::world_occupied_voxels(w, s.mission.record.truth_voxel_m), s.mission.record.truth_voxel_m)),
         map(map_params(s), w.spec.classes), inserter(map), extractor(extractor_params(s, mission_seed), w.spec.classes),
         stepper(sim, callbacks.video_period_s, video_tick(), callbacks.stop_requested),
-        stops_x(stop_positions(s.mission.stops, w.spec)) {
+        stops_x(stop_positions(s.mission.stops, w.spec)), evaluator(w.truth, s.mapping.metrics) {
     nbv::ViewPlannerSettings ps;
     ps.params = s.nbv;
     ps.intrinsics = w.spec.camera;
@@ -324,7 +326,7 @@ struct Mission::Impl {
     view_planner->taken(frame.T_world_camera);
     if (settings.mission.record.metrics_every_view) {
       ScopedPhase phase_time(rec.times, kEvaluation);
-      last_metrics = evaluation::evaluate_map(map, world.truth, settings.mapping.metrics);
+      last_metrics = evaluator.update(map, inserter.last_updates());
     }
     close_record(rec, "", "camera within tolerance");
     if (callbacks.on_view) callbacks.on_view(rec, frame, sim);

@@ -10,6 +10,7 @@
 #include "canopy/mission/mission.h"
 #include "canopy/mission/run_folder.h"
 #include "canopy/world/world_spec.h"
+#include "../evaluation/metrics_equal.h"
 
 namespace canopy::mission {
 namespace {
@@ -388,6 +389,44 @@ TEST(MissionFaults, DivergenceIsDetectedAndRestored) {
   EXPECT_EQ(r.failures.at(failure::kUnstable), 1);
   EXPECT_EQ(successes(r, ViewPhase::kNbv), 3);
   EXPECT_TRUE(mission.simulator().state_ok());
+}
+
+// The metrics a mission records after each view come from the incremental evaluation; on a
+// whole mission (colour segmentation with noise: false fruit voxels appear and vanish) every
+// view's figures equal a full evaluation of the map at that moment, bit for bit.
+TEST(Mission, IncrementalMetricsEqualAFullEvaluationAtEveryView) {
+  const SmallWorld& w = small();
+  Settings s = w.settings;
+  s.mapping.extractor.source = perception::LabelSource::kColor;
+  s.mapping.extractor.p_gt = 0.7;
+  s.mission.loop.views_per_stop = 4;
+  const Mission* self = nullptr;
+  int views = 0;
+  MissionCallbacks cb;
+  cb.on_view = [&](const ViewRecord& v, const LabelledFrame&, const sim::Simulator&) {
+    ++views;
+    const evaluation::MapMetrics full = evaluation::evaluate_map(self->map(), w.world.truth, s.mapping.metrics);
+    SCOPED_TRACE("view " + std::to_string(v.attempt));
+    evaluation::expect_same_number(v.coverage, full.coverage, "coverage");
+    evaluation::expect_same_number(v.entropy, full.total_entropy, "entropy");
+    evaluation::expect_same_number(v.coverage_paper, full.paper.coverage, "coverage_paper");
+    evaluation::expect_same_number(v.entropy_paper, full.paper.entropy, "entropy_paper");
+    evaluation::expect_same_number(v.entropy_prototype, full.prototype.entropy, "entropy_prototype");
+    evaluation::expect_same_number(v.fruits_sc80, full.fruits_sc80, "fruits_sc80");
+    EXPECT_EQ(v.fruit_clusters, static_cast<int>(full.detection.clusters.size()));
+    evaluation::expect_same_number(v.detection_f1, full.detection.f1, "f1");
+    evaluation::expect_same_number(v.centre_error_m, full.detection.centre_error_m, "centre error");
+    evaluation::expect_same_number(v.ellipsoid_volume_error, full.detection.ellipsoid_volume_error, "ellipsoid");
+    evaluation::expect_same_number(v.fruit_voxel_precision, full.voxel_precision.precision, "voxel precision");
+  };
+  Mission mission(w.world, s, 3, cb);
+  self = &mission;
+  const MissionResult r = mission.run();
+  ASSERT_TRUE(r.complete);
+  EXPECT_EQ(views, r.successful_views());
+  EXPECT_GT(views, 12);
+  EXPECT_GT(r.final_metrics.coverage, 0.0);
+  EXPECT_GT(r.final_metrics.fruit_voxels_paper, r.final_metrics.fruit_voxels_prototype);  // both rules exercised
 }
 
 }  // namespace

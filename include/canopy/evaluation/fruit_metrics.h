@@ -18,12 +18,17 @@
 //    segmentation noise costs: false fruit volume).
 
 #include <cstddef>
+#include <memory>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "canopy/common/types.h"
 #include "canopy/world/ground_truth.h"
+
+namespace canopy {
+class PointKdTree;
+}
 
 namespace canopy::evaluation {
 
@@ -67,7 +72,9 @@ struct FruitVoxelPrecision {
 
 /// 26-connected components of voxels given by their centres on a grid of `resolution_m`
 /// (members of a component touch by a face, an edge or a corner), components of fewer than
-/// `min_voxels` dropped; in order of their first voxel in `centres`.
+/// `min_voxels` dropped. Independent of the order of `centres`: members are summed in grid-cell
+/// order and the clusters come in the order of their first cell, so an incremental evaluation
+/// that keeps its voxels in another order gets the same numbers bit for bit.
 std::vector<FruitCluster> fruit_clusters(const std::vector<Vec3>& centres, double resolution_m, int min_voxels);
 
 /// The moment-fitted ellipsoid of points: semi-axes sqrt(3 lambda_i) (descending) and volume.
@@ -77,8 +84,27 @@ void fit_ellipsoid(const std::vector<Vec3>& points, Vec3* semi_axes, double* vol
 FruitDetection detect_fruits(std::vector<FruitCluster> clusters, const world::GroundTruth& truth,
                              double match_size_fraction);
 
+/// The target fruits' surface samples as a KD-tree: whether a fruit voxel lies on a true fruit
+/// (its centre within half a voxel diagonal plus the sample spacing of a sample).
+class TrueFruitSurface {
+ public:
+  TrueFruitSurface(const world::GroundTruth& truth, double resolution_m);
+  ~TrueFruitSurface();
+  TrueFruitSurface(const TrueFruitSurface&) = delete;
+  TrueFruitSurface& operator=(const TrueFruitSurface&) = delete;
+  bool on_fruit(const Vec3& voxel_centre) const;
+  double resolution_m() const { return resolution_m_; }
+
+ private:
+  std::unique_ptr<PointKdTree> tree_;
+  double resolution_m_ = 0.0;
+  double reach2_ = 0.0;
+};
+
+/// Voxel precision from the counts of fruit voxels on and off the true fruits.
+FruitVoxelPrecision fruit_voxel_precision(std::size_t true_voxels, std::size_t false_voxels, double resolution_m);
+
 /// Voxel precision of fruit voxels (centres) against the target fruits' surface samples.
-FruitVoxelPrecision fruit_voxel_precision(const std::vector<Vec3>& centres, double resolution_m,
-                                          const world::GroundTruth& truth);
+FruitVoxelPrecision fruit_voxel_precision(const std::vector<Vec3>& centres, const TrueFruitSurface& surface);
 
 }  // namespace canopy::evaluation

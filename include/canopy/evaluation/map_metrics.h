@@ -110,8 +110,20 @@ struct MapMetrics {
 /// Centres of all target-class voxels (pruned blocks expanded), in leaf order.
 std::vector<Vec3> class_voxel_centers(const SemanticOcTree& map, int class_index);
 
-/// Scores `map` against `truth` (the map's target class is the fruit class).
+/// Scores `map` against `truth` (the map's target class is the fruit class): a full pass over
+/// the map and every surface point (the reference; missions use IncrementalEvaluator).
 MapMetrics evaluate_map(const SemanticOcTree& map, const world::GroundTruth& truth, const MetricsParams& params);
+
+// Pieces shared by evaluate_map and IncrementalEvaluator (incremental_evaluator.h).
+/// Mean of a fruit's surface points (its centre when it has none), summed in point order.
+Vec3 surface_centroid(const world::FruitTruth& f);
+/// A fruit's entropies under both rules (paper box around f.center, prototype sphere around
+/// `centroid`) into fm->paper and fm->prototype.
+void score_fruit_entropy(const SemanticOcTree& map, const world::FruitTruth& f, const Vec3& centroid,
+                         const MetricsParams& params, FruitMetrics* fm);
+/// From the per-fruit covered counts and entropies of m->fruits: per-fruit coverage, the
+/// totals over fruits (in fruit order), the headline figures under `rule`, fruits_sc50/80.
+void summarize_fruits(MapMetrics* m, EvaluationRule rule);
 
 /// One target-fruit surface point not yet covered under MetricsParams::rule.
 struct UncoveredPoint {

@@ -1,0 +1,225 @@
+// Map metrics kept up to date from voxel updates (incremental_evaluator.h).
+
+#include "canopy/evaluation/incremental_evaluator.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "canopy/common/point_kdtree.h"
+#include "canopy/evaluation/fruit_metrics.h"
+#include "canopy/mapping/voxel_key.h"
+
+namespace canopy::evaluation {
+
+using mapping::SemanticState;
+
+namespace {
+
+// Key of a coordinate along one axis (OctoMap's addressing: floor(x / res) + 2^15), clamped
+// to the tree's range.
+int axis_key(double x, double res) {
+  const double k = std::floor(x / res) + mapping::kKeyOrigin;
+  return static_cast<int>(std::clamp(k, 0.0, double(2 * mapping::kKeyOrigin - 1)));
+}
+
+// Calls f(key) for every key whose voxel overlaps [lo, hi] (clamped to the tree's range).
+template <typename F>
+void for_each_key_overlapping(const Vec3& lo, const Vec3& hi, double res, F&& f) {
+  int k0[3], k1[3];
+  for (int a = 0; a < 3; ++a) {
+    k0[a] = axis_key(lo[a], res);
+    k1[a] = axis_key(hi[a], res);
+  }
+  for (int z = k0[2]; z <= k1[2]; ++z)
+    for (int y = k0[1]; y <= k1[1]; ++y)
+      for (int x = k0[0]; x <= k1[0]; ++x)
+        f(octomap::OcTreeKey(static_cast<octomap::key_type>(x), static_cast<octomap::key_type>(y),
+                             static_cast<octomap::key_type>(z)));
+}
+
+// Squared distance as nanoflann's L2_Simple_Adaptor sums it (query minus point, axis by axis),
+// so a covered flag here is the reference KD-tree query's flag bit for bit.
+double squared_distance(const Vec3& query, const Vec3& point) {
+  double result = 0.0;
+  for (int i = 0; i < 3; ++i) {
+    const double diff = query[i] - point[i];
+    result += diff * diff;
+  }
+  return result;
+}
+
+// Slack on box bounds so rounding in a distance never puts a voxel outside the keys tested.
+constexpr double kSlack = 1e-9;
+
+}  // namespace
+
+IncrementalEvaluator::IncrementalEvaluator(const world::GroundTruth& truth, const MetricsParams& params)
+    : truth_(truth), params_(params) {
+  for (const world::FruitTruth& f : truth.fruits) {
+    if (!f.target) {
+      ++metrics_.non_target_fruits;
+      continue;
+    }
+    const auto index = static_cast<std::uint32_t>(fruits_.size());
+    fruits_.push_back(&f);
+    centroids_.push_back(surface_centroid(f));
+    for (const Vec3& p : f.surface_points) {
+      points_.push_back(p);
+      point_fruit_.push_back(index);
+    }
+    FruitMetrics fm;
+    fm.instance_id = f.instance_id;
+    fm.plant_index = f.plant_index;
+    fm.points = f.surface_points.size();
+    metrics_.fruits.push_back(fm);
+  }
+  point_covered_.assign(points_.size(), 0);
+  point_tree_ = std::make_unique<PointKdTree>(points_);
+}
+
+IncrementalEvaluator::~IncrementalEvaluator() = default;
+
+void IncrementalEvaluator::index_fruit_boxes(const SemanticOcTree& map) {
+  fruit_keys_.clear();
+  const double res = map.getResolution();
+  const Vec3 half = Vec3::Constant(params_.entropy_box_m / 2.0 + res);
+  const Vec3 radius = Vec3::Constant(params_.prototype_entropy_radius_m + res);
+  for (std::uint32_t i = 0; i < fruits_.size(); ++i) {
+    const auto add = [&](const octomap::OcTreeKey& k) { fruit_keys_.emplace_back(mapping::morton_code(k), i); };
+    for_each_key_overlapping(fruits_[i]->center - half, fruits_[i]->center + half, res, add);
+    for_each_key_overlapping(centroids_[i] - radius, centroids_[i] + radius, res, add);
+  }
+  std::sort(fruit_keys_.begin(), fruit_keys_.end());
+  fruit_keys_.erase(std::unique(fruit_keys_.begin(), fruit_keys_.end()), fruit_keys_.end());
+}
+
+std::uint8_t IncrementalEvaluator::classify(const SemanticOcTree& map, const octomap::OcTreeKey&,
+                                            const SemanticState* s) const {
+  const int target = map.classes().target_index();
+  if (!s || !SemanticOcTree::is_class_voxel(*s, target)) return 0;
+  std::uint8_t f = kPaper;
+  if (s->class_logodds(target) > static_cast<float>(params_.prototype_min_logodds)) f |= kPrototype;
+  return f;
+}
+
+void IncrementalEvaluator::set_voxel(std::uint64_t code, std::uint8_t flags, const Vec3& centre) {
+  const auto it = voxels_.find(code);
+  const std::uint8_t old = it == voxels_.end() ? 0 : it->second;
+  // Whether a fruit voxel lies on a true fruit is fixed by its centre: tested once.
+  if (flags && ((old & kOnFruit) || (!old && surface_->on_fruit(centre)))) flags |= kOnFruit;
+  const auto count = [&](std::uint8_t f, bool add) {
+    const auto step = [add](std::size_t& n) { n = add ? n + 1 : n - 1; };
+    if (f & kPaper) step(paper_voxels_);
+    if ((f & kPaper) && (f & kOnFruit)) step(paper_on_fruit_);
+    if (f & kPrototype) step(prototype_voxels_);
+    if ((f & kPrototype) && (f & kOnFruit)) step(prototype_on_fruit_);
+  };
+  count(old, false);
+  count(flags, true);
+  if (flags) voxels_[code] = flags;
+  else if (it != voxels_.end()) voxels_.erase(it);
+}
+
+std::uint8_t IncrementalEvaluator::covered_flags(const SemanticOcTree& map, const Vec3& p) const {
+  const double r = params_.coverage_distance_m;
+  const double r2 = r * r;
+  std::uint8_t out = 0;
+  for_each_key_overlapping(p - Vec3::Constant(r + kSlack), p + Vec3::Constant(r + kSlack), resolution_,
+                           [&](const octomap::OcTreeKey& key) {
+                             if (out == (kPaper | kPrototype)) return;
+                             const auto it = voxels_.find(mapping::morton_code(key));
+                             if (it == voxels_.end()) return;
+                             if (squared_distance(p, map.center_of(key)) > r2) return;
+                             out |= it->second & (kPaper | kPrototype);
+                           });
+  return out;
+}
+
+void IncrementalEvaluator::rescore_point(const SemanticOcTree& map, std::size_t i) {
+  const std::uint8_t now = covered_flags(map, points_[i]);
+  const std::uint8_t old = point_covered_[i];
+  if (now == old) return;
+  FruitMetrics& fm = metrics_.fruits[point_fruit_[i]];
+  fm.paper.covered += std::size_t((now & kPaper) != 0) - std::size_t((old & kPaper) != 0);
+  fm.prototype.covered += std::size_t((now & kPrototype) != 0) - std::size_t((old & kPrototype) != 0);
+  point_covered_[i] = now;
+}
+
+void IncrementalEvaluator::score_all(const SemanticOcTree& map) {
+  map_ = &map;
+  resolution_ = map.getResolution();
+  surface_ = std::make_unique<TrueFruitSurface>(truth_, resolution_);
+  index_fruit_boxes(map);
+  voxels_.clear();
+  paper_voxels_ = prototype_voxels_ = paper_on_fruit_ = prototype_on_fruit_ = 0;
+  const int target = map.classes().target_index();
+  map.for_each_voxel_if([&](const SemanticState& s) { return SemanticOcTree::is_class_voxel(s, target); },
+                         [&](const octomap::OcTreeKey& key, const SemanticState& s) {
+                           set_voxel(mapping::morton_code(key), classify(map, key, &s), map.center_of(key));
+                         });
+  for (FruitMetrics& fm : metrics_.fruits) fm.paper.covered = fm.prototype.covered = 0;
+  std::fill(point_covered_.begin(), point_covered_.end(), 0);
+  for (std::size_t i = 0; i < points_.size(); ++i) rescore_point(map, i);
+  for (std::size_t i = 0; i < fruits_.size(); ++i)
+    score_fruit_entropy(map, *fruits_[i], centroids_[i], params_, &metrics_.fruits[i]);
+  last_points_ = points_.size();
+  last_fruits_ = fruits_.size();
+}
+
+const MapMetrics& IncrementalEvaluator::update(const SemanticOcTree& map, const std::vector<mapping::VoxelUpdate>& changed) {
+  if (map_ != &map || resolution_ != map.getResolution()) {
+    score_all(map);
+    finish(map);
+    return metrics_;
+  }
+  std::vector<char> fruit_dirty(fruits_.size(), 0);
+  std::vector<std::uint32_t> dirty_points;
+  std::vector<std::pair<std::size_t, double>> near;
+  const double reach = params_.coverage_distance_m + kSlack;
+  for (const mapping::VoxelUpdate& u : changed) {
+    auto range = std::equal_range(fruit_keys_.begin(), fruit_keys_.end(), std::make_pair(u.code, std::uint32_t(0)),
+                                  [](const auto& a, const auto& b) { return a.first < b.first; });
+    for (auto it = range.first; it != range.second; ++it) fruit_dirty[it->second] = 1;
+    const octomap::OcTreeKey key = mapping::morton_key(u.code);
+    const std::uint8_t now = classify(map, key, map.find(key));
+    const auto it = voxels_.find(u.code);
+    const std::uint8_t old = it == voxels_.end() ? 0 : std::uint8_t(it->second & (kPaper | kPrototype));
+    if (now == old) continue;
+    const Vec3 centre = map.center_of(key);
+    set_voxel(u.code, now, centre);
+    point_tree_->within(centre, reach, &near);
+    for (const auto& n : near) dirty_points.push_back(static_cast<std::uint32_t>(n.first));
+  }
+  std::sort(dirty_points.begin(), dirty_points.end());
+  dirty_points.erase(std::unique(dirty_points.begin(), dirty_points.end()), dirty_points.end());
+  for (std::uint32_t i : dirty_points) rescore_point(map, i);
+  last_points_ = dirty_points.size();
+  last_fruits_ = 0;
+  for (std::size_t i = 0; i < fruits_.size(); ++i) {
+    if (!fruit_dirty[i]) continue;
+    score_fruit_entropy(map, *fruits_[i], centroids_[i], params_, &metrics_.fruits[i]);
+    ++last_fruits_;
+  }
+  finish(map);
+  return metrics_;
+}
+
+void IncrementalEvaluator::finish(const SemanticOcTree& map) {
+  summarize_fruits(&metrics_, params_.rule);
+  metrics_.fruit_voxels_paper = paper_voxels_;
+  metrics_.fruit_voxels_prototype = prototype_voxels_;
+  const bool paper = params_.rule == EvaluationRule::kPaper;
+  const std::uint8_t rule_flag = paper ? kPaper : kPrototype;
+  std::vector<Vec3> centres;
+  centres.reserve(paper ? paper_voxels_ : prototype_voxels_);
+  for (const auto& [code, flags] : voxels_)
+    if (flags & rule_flag) centres.push_back(map.center_of(mapping::morton_key(code)));
+  metrics_.detection = detect_fruits(fruit_clusters(centres, resolution_, params_.detection_min_voxels), truth_,
+                                     params_.match_size_fraction);
+  const std::size_t n = paper ? paper_voxels_ : prototype_voxels_;
+  const std::size_t on = paper ? paper_on_fruit_ : prototype_on_fruit_;
+  metrics_.voxel_precision = fruit_voxel_precision(on, n - on, resolution_);
+  metrics_.counts = VoxelCounts{};
+}
+
+}  // namespace canopy::evaluation

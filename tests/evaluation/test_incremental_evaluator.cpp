@@ -1,0 +1,127 @@
+// The incremental evaluation against the full one (evaluate_map, the reference): after every
+// batch of voxel updates, every figure equal bit for bit.
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+#include "canopy/evaluation/incremental_evaluator.h"
+#include "canopy/mapping/scan_inserter.h"
+#include "canopy/perception/semantic_extractor.h"
+#include "../mapping/synthetic.h"
+#include "metrics_equal.h"
+
+using namespace canopy;
+using namespace canopy::mapping;
+using namespace canopy::evaluation;
+
+namespace {
+
+world::GroundTruth two_fruits() {
+  world::GroundTruth t;
+  t.fruits.push_back(synth::sphere_truth(Vec3(0.4, 0.2, 1.0), 0.04, 0.003, 7));
+  t.fruits.push_back(synth::sphere_truth(Vec3(0.55, 0.2, 1.05), 0.035, 0.003, 8));
+  world::FruitTruth unripe = synth::sphere_truth(Vec3(0.3, 0.3, 0.9), 0.03, 0.003, 9);
+  unripe.target = false;
+  t.fruits.push_back(unripe);
+  return t;
+}
+
+// Random hits (fruit, leaf) and pass-throughs (free_in_10 of 10 updates) in a box around the
+// fruits: fruit voxels appear, change class, lose their prototype status and vanish again.
+std::vector<VoxelUpdate> random_batch(const SemanticOcTree& map, std::mt19937& rng, int n, int free_in_10) {
+  std::uniform_real_distribution<double> x(0.3, 0.65), y(0.12, 0.28), z(0.92, 1.12);
+  std::uniform_int_distribution<int> kind(0, 9);
+  std::vector<VoxelUpdate> u;
+  for (int i = 0; i < n; ++i) {
+    octomap::OcTreeKey key;
+    if (!map.key_of(Vec3(x(rng), y(rng), z(rng)), &key)) continue;
+    VoxelUpdate v;
+    v.code = morton_code(key);
+    const int k = kind(rng);
+    v.label = k < free_in_10 ? VoxelUpdate::kFree : k < 8 ? std::uint8_t(2) : std::uint8_t(1);
+    u.push_back(v);
+  }
+  std::sort(u.begin(), u.end(), [](const VoxelUpdate& a, const VoxelUpdate& b) { return a.code < b.code; });
+  u.erase(std::unique(u.begin(), u.end(), [](const VoxelUpdate& a, const VoxelUpdate& b) { return a.code == b.code; }),
+          u.end());
+  return u;
+}
+
+}  // namespace
+
+TEST(IncrementalEvaluator, EqualsTheFullEvaluationAfterEveryRandomBatch) {
+  const world::GroundTruth truth = two_fruits();
+  for (EvaluationRule rule : {EvaluationRule::kPrototype, EvaluationRule::kPaper}) {
+    MetricsParams params;
+    params.rule = rule;
+    SemanticOcTree map(SemanticMapParams{}, SemanticClasses{});
+    IncrementalEvaluator inc(truth, params);
+    std::mt19937 rng(11);
+    std::size_t most_voxels = 0;
+    bool lost_voxels = false;
+    for (int batch = 0; batch < 60; ++batch) {
+      const std::vector<VoxelUpdate> u = random_batch(map, rng, 400, batch < 40 ? 3 : 8);  // then mostly free
+      map.apply_sorted_updates(u);
+      const MapMetrics& got = inc.update(map, u);
+      const MapMetrics want = evaluate_map(map, truth, params);
+      SCOPED_TRACE("batch " + std::to_string(batch) + " rule " + to_string(rule));
+      expect_same_metrics(got, want);
+      if (want.fruit_voxels_paper < most_voxels) lost_voxels = true;
+      most_voxels = std::max(most_voxels, want.fruit_voxels_paper);
+    }
+    // The sequence exercised what it must: fruit voxels appeared, some vanished, points got covered.
+    EXPECT_GT(most_voxels, 50u);
+    EXPECT_TRUE(lost_voxels);
+    EXPECT_GT(inc.metrics().paper.covered, 0u);
+  }
+}
+
+TEST(IncrementalEvaluator, RescoresOnlyWhatAScanCanChange) {
+  const world::GroundTruth truth = two_fruits();
+  SemanticOcTree map(SemanticMapParams{}, SemanticClasses{});
+  ScanInserter ins(map);
+  IncrementalEvaluator inc(truth, MetricsParams{});
+  inc.update(map, {});
+  EXPECT_EQ(inc.last_rescored_points(), truth.fruits[0].surface_points.size() + truth.fruits[1].surface_points.size());
+  // A view of the first fruit from +x: points of the second fruit's far side are not re-scored,
+  // and the figures still equal the full evaluation.
+  CameraIntrinsics K;
+  const std::vector<synth::Sphere> scene = {{Vec3(0.4, 0.2, 1.0), 0.04, 2, 7}};
+  const LabelledFrame f = synth::render_spheres(K, synth::look_at(Vec3(0.4, -0.2, 1.0), Vec3(0.4, 0.2, 1.0)), scene);
+  ins.insert(perception::depth_to_cloud(K, f.T_world_camera, f.depth_m, f.class_id, 3));
+  const MapMetrics& got = inc.update(map, ins.last_updates());
+  expect_same_metrics(got, evaluate_map(map, truth, MetricsParams{}));
+  EXPECT_GT(got.paper.covered, 0u);
+  EXPECT_GT(inc.last_rescored_points(), 0u);
+  EXPECT_LT(inc.last_rescored_points(), truth.fruits[0].surface_points.size());
+  // A second, empty batch re-scores nothing.
+  inc.update(map, {});
+  EXPECT_EQ(inc.last_rescored_points(), 0u);
+  EXPECT_EQ(inc.last_rescored_fruits(), 0u);
+}
+
+TEST(FruitClusters, DoNotDependOnTheOrderOfTheVoxels) {
+  std::vector<Vec3> v;
+  const double res = 0.015;
+  for (int i = 0; i < 5; ++i)
+    for (int j = 0; j < 4; ++j) v.emplace_back((i + 0.5) * res + 0.1, (j + 0.5) * res, 1.0 + 0.3 * res * i);
+  for (int i = 0; i < 3; ++i) v.emplace_back(0.5 + (i + 0.5) * res, 0.5 * res, 1.0);
+  const std::vector<FruitCluster> a = fruit_clusters(v, res, 1);
+  std::vector<Vec3> shuffled = v;
+  std::mt19937 rng(3);
+  std::shuffle(shuffled.begin(), shuffled.end(), rng);
+  const std::vector<FruitCluster> b = fruit_clusters(shuffled, res, 1);
+  ASSERT_EQ(a.size(), 2u);
+  ASSERT_EQ(b.size(), a.size());
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    EXPECT_EQ(a[i].voxels, b[i].voxels);
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_EQ(a[i].centroid[k], b[i].centroid[k]);
+      EXPECT_EQ(a[i].semi_axes[k], b[i].semi_axes[k]);
+    }
+    EXPECT_EQ(a[i].ellipsoid_volume_m3, b[i].ellipsoid_volume_m3);
+  }
+}
