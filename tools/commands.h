@@ -42,6 +42,8 @@ void add_bench_render(CLI::App& bench);
 void add_bench_map(CLI::App& bench);
 /// `canopy bench gain`: information gain per view, fast traversal vs reference.
 void add_bench_gain(CLI::App& bench);
+/// `canopy bench mission`: wall time per view as the row grows.
+void add_bench_mission(CLI::App& bench);
 /// `canopy bench motion`: IK, validity-check and planning timings.
 void add_bench_motion(CLI::App& bench);
 

@@ -111,6 +111,7 @@ int main(int argc, char** argv) {
   canopy::cli::add_bench_map(*bench);
   canopy::cli::add_bench_gain(*bench);
   canopy::cli::add_bench_motion(*bench);
+  canopy::cli::add_bench_mission(*bench);
 
   require_finite_numbers(app);
   require_valid_seeds(app);
