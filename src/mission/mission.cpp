@@ -320,7 +320,10 @@ struct Mission::Impl {
       const perception::LabelledCloud cloud = extractor.extract(frame);
       rec.target_points = static_cast<long>(cloud.stats.target_points);
       rec.true_target_pixels = static_cast<long>(cloud.stats.true_target_pixels);
+      const std::uint64_t revision = map.revision();
       inserter.insert(cloud);
+      // The NBV index follows the scan's updates (a cost of the scan, not of the map's size).
+      index.apply_updates(map, revision, inserter.last_updates());
       update_map_environment();
     }
     view_planner->taken(frame.T_world_camera);

@@ -49,14 +49,25 @@ std::vector<Vec3> cluster_points(const mapping::SemanticOcTree& map, const Clust
                                  const Eigen::AlignedBox3d* region) {
   std::vector<Vec3> pts;
   const int target = map.classes().target_index();
-  map.for_each_voxel_if(
-      [&](const mapping::SemanticState& s) {
-        return s.most_likely_class() == target && double(s.top_logodds()) > params.min_logodds;
-      },
-      [&](const octomap::OcTreeKey& key, const mapping::SemanticState&) {
-        const Vec3 c = map.center_of(key);
-        if (!region || region->contains(c)) pts.push_back(c);
-      });
+  const auto keep = [&](const mapping::SemanticState& s) {
+    return s.most_likely_class() == target && double(s.top_logodds()) > params.min_logodds;
+  };
+  const auto add = [&](const octomap::OcTreeKey& key, const mapping::SemanticState&) {
+    const Vec3 c = map.center_of(key);
+    if (!region || region->contains(c)) pts.push_back(c);
+  };
+  // Only the region's part of the tree is walked (a voxel whose centre lies in the region has a
+  // key in [key(min), key(max)]; one key of slack each side); the order is the whole walk's.
+  octomap::OcTreeKey lo, hi;
+  if (region && map.key_of(region->min(), &lo) && map.key_of(region->max(), &hi)) {
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = static_cast<octomap::key_type>(lo[a] > 0 ? lo[a] - 1 : 0);
+      hi[a] = static_cast<octomap::key_type>(hi[a] < 0xffff ? hi[a] + 1 : 0xffff);
+    }
+    map.for_each_voxel_in_keys_if(lo, hi, keep, add);
+  } else {
+    map.for_each_voxel_if(keep, add);
+  }
   return pts;
 }
 

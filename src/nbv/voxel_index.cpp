@@ -26,24 +26,6 @@ inline std::uint64_t hash64(std::uint64_t x) {
   return x ^ (x >> 33);
 }
 
-// Bytewise key of a SemanticState for interning (the struct has no padding: 20 bytes).
-struct StateBytes {
-  std::uint64_t a = 0, b = 0;
-  std::uint32_t c = 0;
-  explicit StateBytes(const mapping::SemanticState& s) {
-    static_assert(sizeof(mapping::SemanticState) == 20, "SemanticState layout changed");
-    unsigned char buf[20];
-    std::memcpy(buf, &s, 20);
-    std::memcpy(&a, buf, 8);
-    std::memcpy(&b, buf + 8, 8);
-    std::memcpy(&c, buf + 16, 4);
-  }
-  bool operator==(const StateBytes& o) const { return a == o.a && b == o.b && c == o.c; }
-};
-struct StateHash {
-  std::size_t operator()(const StateBytes& s) const { return hash64(s.a ^ hash64(s.b ^ (std::uint64_t(s.c) << 7))); }
-};
-
 double binary_entropy(double p) {
   if (p <= 0.0 || p >= 1.0) return 0.0;
   return -p * std::log(p) - (1.0 - p) * std::log(1.0 - p);
@@ -150,19 +132,10 @@ void VoxelIndex::rebuild(const mapping::SemanticOcTree& map) {
   table_values_.clear();
   grow();
 
-  std::unordered_map<StateBytes, std::uint32_t, StateHash> ids;
-  ids.reserve(1024);
+  ids_.clear();
+  ids_.reserve(1024);
   map.for_each_leaf([&](const octomap::OcTreeKey& key, unsigned depth, const mapping::SemanticState& state) {
-    const StateBytes sb(state);
-    auto it = ids.find(sb);
-    std::uint32_t id;
-    if (it == ids.end()) {
-      id = static_cast<std::uint32_t>(palette_.size());
-      palette_.push_back(make_voxel_info(map, &state));
-      ids.emplace(sb, id);
-    } else {
-      id = it->second;
-    }
+    const std::uint32_t id = intern(map, state);
     const unsigned side = 1u << (16 - depth);
     if (side == 1) {
       brick_for_insert(mapping::brick_key(key))[mapping::brick_cell(key[0], key[1], key[2])] = id;
@@ -188,6 +161,37 @@ void VoxelIndex::rebuild(const mapping::SemanticOcTree& map) {
         }
   });
   build_ms_ = watch.ms();
+}
+
+std::uint32_t VoxelIndex::intern(const mapping::SemanticOcTree& map, const mapping::SemanticState& state) {
+  const detail::StateBytes sb(state);
+  const auto it = ids_.find(sb);
+  if (it != ids_.end()) return it->second;
+  const auto id = static_cast<std::uint32_t>(palette_.size());
+  palette_.push_back(make_voxel_info(map, &state));
+  ids_.emplace(sb, id);
+  return id;
+}
+
+std::size_t detail::StateHash::operator()(const StateBytes& s) const {
+  return hash64(s.a ^ hash64(s.b ^ (std::uint64_t(s.c) << 7)));
+}
+
+bool VoxelIndex::apply_updates(const mapping::SemanticOcTree& map, std::uint64_t revision_before,
+                               const std::vector<mapping::VoxelUpdate>& updates) {
+  if (map_ != &map || revision_ != revision_before || resolution_ != map.getResolution()) return false;
+  // States that are no longer in the map stay in the palette; past a bound, rebuild instead.
+  if (palette_.size() > kMaxPalette) return false;
+  const Stopwatch watch;
+  for (const mapping::VoxelUpdate& u : updates) {
+    const octomap::OcTreeKey key = mapping::morton_key(u.code);
+    const mapping::SemanticState* s = map.find(key);
+    const std::uint32_t id = s ? intern(map, *s) : 0;  // an update leaves a known voxel: s is set
+    brick_for_insert(mapping::brick_key(key))[mapping::brick_cell(key[0], key[1], key[2])] = id;
+  }
+  revision_ = map.revision();
+  update_ms_ += watch.ms();
+  return true;
 }
 
 bool VoxelIndex::refresh(const mapping::SemanticOcTree& map) {

@@ -158,3 +158,40 @@ TEST(SemanticOcTree, CopyIsDeepAndIdentical) {
   EXPECT_EQ(c.target, 1u);
   EXPECT_EQ(c.free, 1u);
 }
+
+// The walk of a key box visits the voxels of the whole walk that lie in the box, in the same
+// order (pruned blocks overlapping the box are expanded whole, like the whole walk does).
+TEST(SemanticOcTree, KeyBoxWalkIsTheWholeWalkFiltered) {
+  SemanticOcTree map(SemanticMapParams{}, SemanticClasses{});
+  // A solid block of identical hits (collapsed into pruned blocks) with other-class voxels in it.
+  std::vector<VoxelUpdate> u;
+  for (int x = 0; x < 16; ++x)
+    for (int y = 0; y < 16; ++y)
+      for (int z = 0; z < 4; ++z) {
+        const octomap::OcTreeKey k(static_cast<octomap::key_type>(32768 + x), static_cast<octomap::key_type>(32768 + y),
+                                   static_cast<octomap::key_type>(32768 + z));
+        u.push_back({morton_code(k), std::uint8_t((x * 7 + y * 3 + z) % 11 == 0 ? 1 : 2)});
+      }
+  std::sort(u.begin(), u.end(), [](const VoxelUpdate& a, const VoxelUpdate& b) { return a.code < b.code; });
+  map.apply_sorted_updates(u);
+  map.apply_sorted_updates(u);
+  std::size_t blocks = 0;
+  map.for_each_leaf([&](const octomap::OcTreeKey&, unsigned depth, const SemanticState&) { blocks += depth < 16; });
+  EXPECT_GT(blocks, 0u);
+  const octomap::OcTreeKey lo(32770, 32765, 32769), hi(32775, 32772, 32771);
+  auto inside = [&](const octomap::OcTreeKey& k) {
+    for (int a = 0; a < 3; ++a)
+      if (k[a] < lo[a] || k[a] > hi[a]) return false;
+    return true;
+  };
+  const auto keep = [](const SemanticState& s) { return s.most_likely_class() == 2; };
+  std::vector<std::uint64_t> whole, boxed;
+  map.for_each_voxel_if(keep, [&](const octomap::OcTreeKey& k, const SemanticState&) {
+    if (inside(k)) whole.push_back(morton_code(k));
+  });
+  map.for_each_voxel_in_keys_if(lo, hi, keep, [&](const octomap::OcTreeKey& k, const SemanticState&) {
+    if (inside(k)) boxed.push_back(morton_code(k));
+  });
+  EXPECT_GT(whole.size(), 20u);
+  EXPECT_EQ(boxed, whole);
+}

@@ -153,3 +153,43 @@ TEST(VoxelIndex, ClearingTheMapRefreshesTheIndex) {
 
 }  // namespace
 }  // namespace canopy::nbv
+
+// An index kept up to date with apply_updates() gives, for every voxel, the state a rebuilt
+// index gives (ids may differ; equal ids still mean identical states), scan after scan, with
+// random hits and pass-throughs that create, change and prune voxels.
+TEST(VoxelIndex, IncrementalUpdatesEqualARebuild) {
+  mapping::SemanticOcTree map = nbv_test::scanned_map(2);
+  VoxelIndex inc(map);
+  Rng rng(5);
+  for (int batch = 0; batch < 25; ++batch) {
+    std::vector<mapping::VoxelUpdate> u;
+    for (int i = 0; i < 300; ++i) {
+      octomap::OcTreeKey k;
+      ASSERT_TRUE(map.key_of(Vec3(rng.uniform(0.35, 0.65), rng.uniform(-0.15, 0.45), rng.uniform(0.85, 1.25)), &k));
+      const double r = rng.uniform(0.0, 1.0);
+      u.push_back({mapping::morton_code(k), r < 0.5 ? mapping::VoxelUpdate::kFree : std::uint8_t(r < 0.8 ? 2 : 1)});
+    }
+    std::sort(u.begin(), u.end(), [](const auto& a, const auto& b) { return a.code < b.code; });
+    u.erase(std::unique(u.begin(), u.end(), [](const auto& a, const auto& b) { return a.code == b.code; }), u.end());
+    const std::uint64_t before = map.revision();
+    map.apply_sorted_updates(u);
+    ASSERT_TRUE(inc.apply_updates(map, before, u));
+    EXPECT_FALSE(inc.refresh(map));  // current: no rebuild
+    const VoxelIndex full(map);
+    std::size_t known = 0;
+    for (int z = -14; z <= 14; ++z)
+      for (int y = -22; y <= 22; ++y)
+        for (int x = -14; x <= 14; ++x) {
+          octomap::OcTreeKey k;
+          ASSERT_TRUE(map.key_of(Vec3(0.5 + 0.015 * x, 0.15 + 0.015 * y, 1.05 + 0.015 * z), &k));
+          const std::uint32_t a = inc.lookup(k), b = full.lookup(k);
+          EXPECT_EQ(a == 0, b == 0);
+          known += b != 0;
+          expect_same_info(inc.info(a), full.info(b));
+        }
+    EXPECT_GT(known, 1000u);
+  }
+  // A batch the index did not see first (another revision) is refused: refresh() rebuilds.
+  const std::uint64_t stale = map.revision() - 1;
+  EXPECT_FALSE(inc.apply_updates(map, stale, {}));
+}

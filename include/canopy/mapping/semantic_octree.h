@@ -161,20 +161,19 @@ class SemanticOcTree : protected octomap::OcTreeBaseImpl<SemanticNode, octomap::
   template <typename Keep, typename F>
   void for_each_voxel_if(Keep&& keep, F&& f) const {
     for_each_leaf([&](const octomap::OcTreeKey& key, unsigned depth, const SemanticState& s) {
-      if (!keep(s)) return;
-      if (depth == tree_depth) {
-        f(key, s);
-        return;
-      }
-      // A pruned block; its key is the block's centre key.
-      const int half = 1 << (tree_depth - 1 - depth);
-      for (int z = -half; z < half; ++z)
-        for (int y = -half; y < half; ++y)
-          for (int x = -half; x < half; ++x)
-            f(octomap::OcTreeKey(static_cast<octomap::key_type>(key[0] + x), static_cast<octomap::key_type>(key[1] + y),
-                                 static_cast<octomap::key_type>(key[2] + z)),
-              s);
+      if (keep(s)) for_each_voxel_of_leaf(key, depth, s, f);
     });
+  }
+  /// for_each_voxel_if restricted to the leaves that overlap the key box [lo, hi] (inclusive):
+  /// the same voxels in the same order as for_each_voxel_if, less those of leaves wholly
+  /// outside the box (a pruned block overlapping it is expanded whole), at a cost that depends
+  /// on the box, not on the map.
+  template <typename Keep, typename F>
+  void for_each_voxel_in_keys_if(const octomap::OcTreeKey& lo, const octomap::OcTreeKey& hi, Keep&& keep, F&& f) const {
+    auto leaf = [&](const octomap::OcTreeKey& key, unsigned depth, const SemanticState& s) {
+      if (keep(s)) for_each_voxel_of_leaf(key, depth, s, f);
+    };
+    if (root) for_each_leaf_in_keys_recurs(root, octomap::OcTreeKey(tree_max_val, tree_max_val, tree_max_val), 0, lo, hi, leaf);
   }
   /// Leaf and voxel counts (target = classes().target_index()).
   VoxelCounts counts() const;
@@ -202,6 +201,42 @@ class SemanticOcTree : protected octomap::OcTreeBaseImpl<SemanticNode, octomap::
   }
 
  private:
+  // f(key, s) for each finest-level voxel of a leaf (a pruned block's key is its centre key).
+  template <typename F>
+  void for_each_voxel_of_leaf(const octomap::OcTreeKey& key, unsigned depth, const SemanticState& s, F& f) const {
+    if (depth == tree_depth) {
+      f(key, s);
+      return;
+    }
+    const int half = 1 << (tree_depth - 1 - depth);
+    for (int z = -half; z < half; ++z)
+      for (int y = -half; y < half; ++y)
+        for (int x = -half; x < half; ++x)
+          f(octomap::OcTreeKey(static_cast<octomap::key_type>(key[0] + x), static_cast<octomap::key_type>(key[1] + y),
+                               static_cast<octomap::key_type>(key[2] + z)),
+            s);
+  }
+  template <typename F>
+  void for_each_leaf_in_keys_recurs(const SemanticNode* node, const octomap::OcTreeKey& key, unsigned depth,
+                                    const octomap::OcTreeKey& lo, const octomap::OcTreeKey& hi, F& f) const {
+    // The node covers keys [key - side / 2, key + side / 2 - 1] on each axis.
+    const int side = 1 << (tree_depth - depth);
+    for (int a = 0; a < 3; ++a) {
+      const int first = int(key[a]) - side / 2, last = first + side - 1;
+      if (last < int(lo[a]) || first > int(hi[a])) return;
+    }
+    if (!nodeHasChildren(node)) {
+      f(key, depth, node->state());
+      return;
+    }
+    const unsigned short half = static_cast<unsigned short>(tree_max_val >> (depth + 1));
+    for (unsigned i = 0; i < 8; ++i) {
+      if (!nodeChildExists(node, i)) continue;
+      octomap::OcTreeKey k = key;
+      octomap::computeChildKey(i, half, key, k);
+      for_each_leaf_in_keys_recurs(getNodeChild(node, i), k, depth + 1, lo, hi, f);
+    }
+  }
   template <typename F>
   void for_each_leaf_recurs(const SemanticNode* node, const octomap::OcTreeKey& key, unsigned depth, F& f) const {
     if (!nodeHasChildren(node)) {

@@ -13,6 +13,8 @@
 // equal ids mean identical states: the run-length segments of SSMI's MI are runs of one id.
 
 #include <cstdint>
+#include <cstring>
+#include <unordered_map>
 #include <vector>
 
 
@@ -47,6 +49,26 @@ struct RayVoxel {
   std::uint32_t id = 0;             ///< Palette id (0 = unknown); equal ids = identical states.
 };
 
+namespace detail {
+/// Bytewise key of a SemanticState for interning (the struct has no padding: 20 bytes).
+struct StateBytes {
+  std::uint64_t a = 0, b = 0;
+  std::uint32_t c = 0;
+  explicit StateBytes(const mapping::SemanticState& s) {
+    static_assert(sizeof(mapping::SemanticState) == 20, "SemanticState layout changed");
+    unsigned char buf[20];
+    std::memcpy(buf, &s, 20);
+    std::memcpy(&a, buf, 8);
+    std::memcpy(&b, buf + 8, 8);
+    std::memcpy(&c, buf + 16, 4);
+  }
+  bool operator==(const StateBytes& o) const { return a == o.a && b == o.b && c == o.c; }
+};
+struct StateHash {
+  std::size_t operator()(const StateBytes& s) const;
+};
+}  // namespace detail
+
 /// Flat brick-hashed index of a SemanticOcTree's voxels (pruned blocks expanded).
 class VoxelIndex {
  public:
@@ -62,6 +84,14 @@ class VoxelIndex {
   void rebuild(const mapping::SemanticOcTree& map);
   /// Rebuilds when the map's revision (or the map) changed; true when it did.
   bool refresh(const mapping::SemanticOcTree& map);
+  /// Brings the index up to date after one batch of voxel updates (the keys a scan changed,
+  /// e.g. ScanInserter::last_updates()), at a cost proportional to the batch, not the map:
+  /// when the index was current for `revision_before` (the map's revision before the batch),
+  /// the changed voxels are interned and written, and true is returned. Otherwise nothing
+  /// changes and false: the next refresh() rebuilds. Lookups then return the same states as
+  /// after a rebuild (palette ids may differ; equal ids still mean identical states).
+  bool apply_updates(const mapping::SemanticOcTree& map, std::uint64_t revision_before,
+                     const std::vector<mapping::VoxelUpdate>& updates);
 
   /// Palette id of the voxel with `key` (0 when unknown).
   std::uint32_t lookup(const octomap::OcTreeKey& key) const;
@@ -84,8 +114,12 @@ class VoxelIndex {
   std::size_t brick_count() const { return brick_keys_.size(); }
   std::size_t memory_bytes() const;
   double build_ms() const { return build_ms_; }
+  /// Total time spent in apply_updates() [ms].
+  double update_ms() const { return update_ms_; }
 
  private:
+  static constexpr std::size_t kMaxPalette = std::size_t(1) << 20;
+  std::uint32_t intern(const mapping::SemanticOcTree& map, const mapping::SemanticState& state);
   std::uint32_t* brick_for_insert(std::uint64_t brick_key);
   const std::uint32_t* brick(std::uint64_t brick_key) const;
   void grow();
@@ -104,6 +138,8 @@ class VoxelIndex {
   std::uint64_t table_mask_ = 0;
   int table_shift_ = 64;                      // Fibonacci hashing: slot = (key * phi) >> shift
   double build_ms_ = 0.0;
+  double update_ms_ = 0.0;
+  std::unordered_map<detail::StateBytes, std::uint32_t, detail::StateHash> ids_;  // state -> palette id
 };
 
 /// The slow reference traversal: OctoMap's computeRayKeys, then one tree search per key.
