@@ -153,9 +153,13 @@ TEST(FruitMetrics, ClustersAre26ConnectedComponents) {
   const std::vector<Vec3> pts = {at(0, 0, 0), at(1, 1, 1), at(2, 2, 2), at(4, 2, 2), at(10, 0, 0), at(-5, -5, -5)};
   const std::vector<FruitCluster> all = fruit_clusters(pts, kRes, 1);
   ASSERT_EQ(all.size(), 4u);
-  EXPECT_EQ(all[0].voxels, 3u);
-  EXPECT_LT((all[0].centroid - at(1, 1, 1)).norm(), 1e-12);
-  EXPECT_EQ(all[1].voxels, 1u);
+  // In the order of each cluster's first grid cell (x, then y, then z), whatever the input order.
+  EXPECT_EQ(all[0].voxels, 1u);
+  EXPECT_LT((all[0].centroid - at(-5, -5, -5)).norm(), 1e-12);
+  EXPECT_EQ(all[1].voxels, 3u);
+  EXPECT_LT((all[1].centroid - at(1, 1, 1)).norm(), 1e-12);
+  EXPECT_EQ(all[2].voxels, 1u);
+  EXPECT_LT((all[3].centroid - at(10, 0, 0)).norm(), 1e-12);
   // min_voxels drops the single voxels.
   EXPECT_EQ(fruit_clusters(pts, kRes, 2).size(), 1u);
   EXPECT_TRUE(fruit_clusters({}, kRes, 1).empty());
