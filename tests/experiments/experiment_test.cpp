@@ -116,7 +116,8 @@ TEST(Experiment, TheShippedExperimentsLoad) {
   Settings expected = Settings::load("configs/canopy.yaml", default_robot_config());
   expected.mission.record.candidates = true;
   EXPECT_EQ(fig3.settings.to_yaml_text(), expected.to_yaml_text());
-  EXPECT_EQ(Experiment::load("experiments/fig3_reveal_oracle.yaml", default_robot_config()).trials().size(), 40u);
+  // reveal, global and the oracle on the same 10 worlds x 2 P_gt.
+  EXPECT_EQ(Experiment::load("experiments/fig3_reveal_oracle.yaml", default_robot_config()).trials().size(), 60u);
   EXPECT_EQ(Experiment::load("experiments/paper_fig3_smoke.yaml", default_robot_config()).trials().size(), 12u);
   EXPECT_EQ(Experiment::load("experiments/small.yaml", default_robot_config()).trials().size(), 12u);
 }

@@ -153,7 +153,8 @@ class SemanticOcTree : protected octomap::OcTreeBaseImpl<SemanticNode, octomap::
   /// of 2^(16 - depth) voxels per axis when depth < 16), in depth-first order.
   template <typename F>
   void for_each_leaf(F&& f) const {
-    if (root) for_each_leaf_recurs(root, octomap::OcTreeKey(tree_max_val, tree_max_val, tree_max_val), 0, f);
+    const octomap::OcTreeKey lo(0, 0, 0), hi(0xffff, 0xffff, 0xffff);
+    if (root) for_each_leaf_in_keys_recurs(root, octomap::OcTreeKey(tree_max_val, tree_max_val, tree_max_val), 0, lo, hi, f);
   }
   /// Calls f(key, state) for every finest-level voxel of every leaf whose state passes
   /// keep(state); pruned blocks are expanded into their voxels (only when kept, so large free
@@ -235,20 +236,6 @@ class SemanticOcTree : protected octomap::OcTreeBaseImpl<SemanticNode, octomap::
       octomap::OcTreeKey k = key;
       octomap::computeChildKey(i, half, key, k);
       for_each_leaf_in_keys_recurs(getNodeChild(node, i), k, depth + 1, lo, hi, f);
-    }
-  }
-  template <typename F>
-  void for_each_leaf_recurs(const SemanticNode* node, const octomap::OcTreeKey& key, unsigned depth, F& f) const {
-    if (!nodeHasChildren(node)) {
-      f(key, depth, node->state());
-      return;
-    }
-    const unsigned short half = static_cast<unsigned short>(tree_max_val >> (depth + 1));
-    for (unsigned i = 0; i < 8; ++i) {
-      if (!nodeChildExists(node, i)) continue;
-      octomap::OcTreeKey k = key;
-      octomap::computeChildKey(i, half, key, k);
-      for_each_leaf_recurs(getNodeChild(node, i), k, depth + 1, f);
     }
   }
   void apply_range(SemanticNode* top, unsigned top_depth, const VoxelUpdate* begin, const VoxelUpdate* end,
