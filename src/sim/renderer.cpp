@@ -2,7 +2,9 @@
 
 #include <GL/osmesa.h>
 
+#include <array>
 #include <cmath>
+#include <limits>
 #include <mutex>
 #include <stdexcept>
 #include <vector>
@@ -19,6 +21,122 @@ namespace {
 std::mutex& gl_mutex() {
   static std::mutex m;
   return m;
+}
+
+// A half-space n.x + d >= 0 (unit n).
+struct HalfSpace {
+  Vec3 n;
+  double d;
+  double at(const Vec3& x) const { return n.dot(x) + d; }
+};
+using Frustum = std::array<HalfSpace, 6>;
+
+// The volume OpenGL rasterises for MuJoCo's symmetric perspective camera: the four sides
+// through the eye at the viewport's edges and the near and far clip planes.
+Frustum gl_frustum(const Vec3& eye, const Vec3& fwd, const Vec3& up, double near_m, double far_m, double top_over_near,
+                   double right_over_near) {
+  const Vec3 right = fwd.cross(up);
+  auto through_eye = [&eye](const Vec3& n) {
+    const Vec3 u = n.normalized();
+    return HalfSpace{u, -u.dot(eye)};
+  };
+  return {through_eye(top_over_near * fwd - up), through_eye(top_over_near * fwd + up),
+          through_eye(right_over_near * fwd - right), through_eye(right_over_near * fwd + right),
+          HalfSpace{fwd, -fwd.dot(eye) - near_m}, HalfSpace{-fwd, fwd.dot(eye) + far_m}};
+}
+
+// True unless the capsule (segment a-b, radius r) lies wholly outside one of the half-spaces.
+// Conservative: a capsule outside the frustum but not outside any single plane is kept.
+bool may_touch(const Frustum& f, const Vec3& a, const Vec3& b, double r) {
+  for (const HalfSpace& h : f)
+    if (h.at(a) < -r && h.at(b) < -r) return false;
+  return true;
+}
+
+Vec3 to_vec(const float* v) { return Vec3(v[0], v[1], v[2]); }
+
+// Removes from the scene, keeping the others in their order, the geoms that cannot change a
+// pixel of this frame: opaque model geoms whose bounding sphere lies outside the frustum and,
+// when shadows are drawn, whose shadow cannot fall inside it either. Planes, transparent or
+// reflective geoms and anything without a model bound are always kept (transparent geoms are
+// depth-sorted, reflections show what is outside the frustum). Segmentation ids are renumbered
+// to the new positions, so label decoding keeps indexing scene.geoms by segid.
+void cull_outside(mjvScene& scene, const mjrContext& context, const Frustum& frustum, bool shadows) {
+  // Bounds are padded by 1 mm and 0.01 % (float positions, rasterisation at the edges).
+  constexpr double kPad = 1e-3, kRelPad = 1e-4;
+  auto cullable = [](const mjvGeom& g) {
+    return g.objtype == mjOBJ_GEOM && g.type != mjGEOM_PLANE && g.modelrbound > 0.f && g.rgba[3] >= 0.995f;
+  };
+  auto radius = [](const mjvGeom& g) { return g.modelrbound * (1.0 + kRelPad) + kPad; };
+  // A reflecting geom mirrors what lies outside the frustum: draw everything.
+  if (scene.flags[mjRND_REFLECTION])
+    for (int i = 0; i < scene.ngeom; ++i) {
+      const mjvGeom& g = scene.geoms[i];
+      if ((g.type == mjGEOM_PLANE || g.type == mjGEOM_BOX) && g.rgba[3] >= 0.995f && g.reflectance > 0.f) return;
+    }
+
+  // Shadows (MuJoCo's shadow map, one per casting light). A geom darkens only points that lie
+  // from it away from the light; for a directional light those are inside the sphere swept
+  // along the light's direction down to the lowest point of the scene. The map covers a square
+  // of half-side shadowClip around the light's axis; a geom reaching its border band is kept
+  // (its edge texels may be sampled by points outside the map), one wholly outside it casts
+  // nothing. Any other light, or one not shining downwards, turns culling off.
+  struct Caster {
+    Vec3 pos, dir;
+  };
+  std::vector<Caster> casters;
+  double floor_z = std::numeric_limits<double>::infinity();
+  double texel_pad = 0.0;
+  if (shadows && context.shadowFBO) {
+    for (int l = 0; l < scene.nlight; ++l) {
+      const mjvLight& light = scene.lights[l];
+      if (!light.castshadow) continue;
+      const Vec3 dir = to_vec(light.dir).normalized();
+      if (!light.directional || !(dir.z() < -0.05)) return;
+      casters.push_back({to_vec(light.pos), dir});
+    }
+    for (int i = 0; i < scene.ngeom; ++i) {
+      const mjvGeom& g = scene.geoms[i];
+      if (g.type == mjGEOM_PLANE) {
+        if (std::abs(g.mat[8]) < 1.f - 1e-6f) return;  // a tilted plane: no simple floor
+        floor_z = std::min(floor_z, double(g.pos[2]));
+      } else if (g.modelrbound > 0.f) {
+        floor_z = std::min(floor_z, g.pos[2] - radius(g));
+      } else {
+        return;  // unbounded geometry
+      }
+    }
+    texel_pad = 4.0 * 2.0 * context.shadowClip / std::max(1, context.shadowSize) + kPad;
+  }
+
+  auto shadow_may_touch = [&](const Vec3& c, double r) {
+    for (const Caster& light : casters) {
+      const Vec3 v = c - light.pos;
+      const double perp = (v - v.dot(light.dir) * light.dir).norm();
+      const double clip = context.shadowClip;
+      if (perp - r > std::sqrt(2.0) * clip + texel_pad) continue;  // outside the map
+      if (perp + r + texel_pad >= clip) return true;                // reaches the border band
+      const double length = (c.z() - floor_z + r) / -light.dir.z();
+      if (may_touch(frustum, c, c + std::max(0.0, length) * light.dir, r + texel_pad)) return true;
+    }
+    return false;
+  };
+
+  int kept = 0;
+  for (int i = 0; i < scene.ngeom; ++i) {
+    const mjvGeom& g = scene.geoms[i];
+    bool keep = true;
+    if (cullable(g)) {
+      const Vec3 c = to_vec(g.pos);
+      const double r = radius(g);
+      keep = may_touch(frustum, c, c, r) || shadow_may_touch(c, r);
+    }
+    if (!keep) continue;
+    if (kept != i) scene.geoms[kept] = g;
+    if (scene.geoms[kept].segid >= 0) scene.geoms[kept].segid = kept;
+    ++kept;
+  }
+  scene.ngeom = kept;
 }
 }  // namespace
 
@@ -138,6 +256,12 @@ LabelledFrame Renderer::draw(const Pose& T_world_camera, bool show_robot, bool l
     cam.frustum_bottom = -cam.frustum_top;
     cam.frustum_center = 0.f;
   }
+  scene_geoms_ = r.scene.ngeom;
+  if (culling_)
+    cull_outside(r.scene, r.context,
+                 gl_frustum(p, fwd, up, near_m, far_m, 0.5 * H / intrinsics_.fy_px, 0.5 * W / intrinsics_.fy_px),
+                 options_.shadows);
+  drawn_geoms_ = r.scene.ngeom;
   last_triangles_ = 0;
   for (int g = 0; g < r.scene.ngeom; ++g) {
     const mjvGeom& geom = r.scene.geoms[g];

@@ -42,6 +42,13 @@ class Renderer {
   Image<Rgb8> render_captioned(const Pose& T_world_camera, bool show_robot, const std::string& caption);
   /// Triangles drawn in the last frame (meshes exactly, primitives as tessellated).
   long last_triangle_count() const { return last_triangles_; }
+  /// Geoms drawn in the last frame, and geoms of the scene before culling.
+  int last_drawn_geom_count() const { return drawn_geoms_; }
+  int last_scene_geom_count() const { return scene_geoms_; }
+  /// Frustum culling (on by default): geoms that cannot change a pixel are not drawn (outside
+  /// the view volume and, with shadows, casting no shadow into it). Images are the same
+  /// with it off; the switch exists to compare.
+  void set_culling(bool on) { culling_ = on; }
   const CameraIntrinsics& intrinsics() const { return intrinsics_; }
 
  private:
@@ -55,6 +62,8 @@ class Renderer {
   RenderOptions options_;
   Rng noise_rng_;
   long last_triangles_ = 0;
+  int drawn_geoms_ = 0, scene_geoms_ = 0;
+  bool culling_ = true;
 };
 
 }  // namespace canopy::sim
