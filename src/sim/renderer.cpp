@@ -4,6 +4,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <mutex>
 #include <stdexcept>
@@ -224,10 +225,11 @@ LabelledFrame Renderer::render(const Pose& T_world_camera, bool show_robot, bool
 
 Image<Rgb8> Renderer::render_captioned(const Pose& T_world_camera, bool show_robot, const std::string& caption) {
   sim_.update_kinematics();
-  return draw(T_world_camera, show_robot, false, caption).rgb;
+  return draw(T_world_camera, show_robot, false, caption, /*depth=*/false).rgb;
 }
 
-LabelledFrame Renderer::draw(const Pose& T_world_camera, bool show_robot, bool labels, const std::string& caption) {
+LabelledFrame Renderer::draw(const Pose& T_world_camera, bool show_robot, bool labels, const std::string& caption,
+                             bool depth) {
   Impl& r = *impl_;
   const mjModel* m = sim_.render_model();
   const int W = intrinsics_.width_px, H = intrinsics_.height_px;
@@ -279,7 +281,7 @@ LabelledFrame Renderer::draw(const Pose& T_world_camera, bool show_robot, bool l
   r.scene.flags[mjRND_IDCOLOR] = 0;
   mjr_render(viewport, &r.scene, &r.context);
   if (!caption.empty()) mjr_overlay(mjFONT_NORMAL, mjGRID_TOPLEFT, viewport, caption.c_str(), nullptr, &r.context);
-  mjr_readPixels(r.rgb.data(), r.depth.data(), viewport, &r.context);
+  mjr_readPixels(r.rgb.data(), depth ? r.depth.data() : nullptr, viewport, &r.context);
   if (labels) {
     r.scene.flags[mjRND_SHADOW] = 0;
     r.scene.flags[mjRND_SKYBOX] = 0;
@@ -295,6 +297,11 @@ LabelledFrame Renderer::draw(const Pose& T_world_camera, bool show_robot, bool l
   f.intrinsics = intrinsics_;
   f.T_world_camera = T_world_camera;
   f.rgb = Image<Rgb8>(W, H);
+  if (!depth) {  // RGB only (video frames)
+    for (int y = 0; y < H; ++y)
+      std::memcpy(static_cast<void*>(&f.rgb.at(0, y)), &r.rgb[3 * static_cast<size_t>(H - 1 - y) * W], 3 * static_cast<size_t>(W));
+    return f;
+  }
   f.depth_m = Image<float>(W, H, 0.f);
   f.class_id = Image<std::uint8_t>(W, H, 0);
   f.instance = Image<std::int32_t>(W, H, kNoInstance);

@@ -53,7 +53,9 @@ class Renderer {
 
  private:
   /// Draws the simulator's current (already updated) kinematic state.
-  LabelledFrame draw(const Pose& T_world_camera, bool show_robot, bool labels, const std::string& caption = "");
+  /// `depth` false: RGB only (no depth read back or decoded; the frame's other images are empty).
+  LabelledFrame draw(const Pose& T_world_camera, bool show_robot, bool labels, const std::string& caption = "",
+                     bool depth = true);
 
   struct Impl;
   std::unique_ptr<Impl> impl_;
