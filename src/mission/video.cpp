@@ -159,7 +159,7 @@ std::array<int, 4> MissionVideo::map_inset_rect() const {
 
 void MissionVideo::tick(sim::Simulator& sim, const std::string& caption) {
   if (!writer_.ok()) return;  // the encoder died: the run goes on without the video
-  Image<Rgb8> frame = renderer_->render_captioned(chase_pose(sim.base_pose()), true, caption);
+  Image<Rgb8> frame = renderer_->render_video_frame(chase_pose(sim.base_pose()), caption);
   const Rgb8 white{255, 255, 255};
   if (!wrist_rgb_.empty()) {
     const int iw = frame.width / 4, ih = iw * wrist_rgb_.height / std::max(1, wrist_rgb_.width);

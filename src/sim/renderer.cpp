@@ -148,8 +148,8 @@ struct Renderer::Impl {
   mjvOption option;
   mjvCamera camera;
   mjrContext context;
-  std::vector<unsigned char> rgb, seg;
-  std::vector<float> depth;
+  std::vector<unsigned char> rgb, seg, background_rgb;
+  std::vector<float> depth, background_depth;
   bool scene_made = false, context_made = false;
   int width = 0, height = 0;
 
@@ -228,14 +228,48 @@ Image<Rgb8> Renderer::render_captioned(const Pose& T_world_camera, bool show_rob
   return draw(T_world_camera, show_robot, false, caption, /*depth=*/false).rgb;
 }
 
-LabelledFrame Renderer::draw(const Pose& T_world_camera, bool show_robot, bool labels, const std::string& caption,
-                             bool depth) {
+Image<Rgb8> Renderer::render_video_frame(const Pose& T_world_camera, const std::string& caption) {
+  sim_.update_kinematics();
+  if (!T_world_camera.matrix().allFinite()) throw InputError("camera pose: not finite (NaN or inf)");
+  Impl& r = *impl_;
+  const int W = intrinsics_.width_px, H = intrinsics_.height_px;
+  const bool still = !options_.shadows && T_world_camera.matrix() == video_T_.matrix() && caption == video_caption_;
+  video_T_ = T_world_camera;
+  video_caption_ = caption;
+  Image<Rgb8> out(W, H);
+  std::unique_lock<std::mutex> lock(gl_mutex());
+  r.make_current();
+  if (!still) {  // the camera moves: the whole scene
+    video_background_ = false;
+    pass(T_world_camera, true, true, caption, false);
+  } else {
+    if (!video_background_) {  // the camera stopped: keep the world without the robot
+      pass(T_world_camera, true, false, caption, true);
+      r.background_rgb = r.rgb;
+      r.background_depth = r.depth;
+      video_background_ = true;
+    }
+    pass(T_world_camera, false, true, caption, true);
+    // The robot where it is nearer than the world (the caption, drawn over both, is in both).
+    const std::size_t n = r.depth.size();
+    for (std::size_t s = 0; s < n; ++s)
+      if (!(r.depth[s] < r.background_depth[s])) {
+        r.rgb[3 * s] = r.background_rgb[3 * s];
+        r.rgb[3 * s + 1] = r.background_rgb[3 * s + 1];
+        r.rgb[3 * s + 2] = r.background_rgb[3 * s + 2];
+      }
+  }
+  for (int y = 0; y < H; ++y)
+    std::memcpy(static_cast<void*>(&out.at(0, y)), &r.rgb[3 * static_cast<size_t>(H - 1 - y) * W], 3 * static_cast<size_t>(W));
+  return out;
+}
+
+void Renderer::pass(const Pose& T_world_camera, bool world, bool show_robot, const std::string& caption, bool depth) {
   Impl& r = *impl_;
   const mjModel* m = sim_.render_model();
   const int W = intrinsics_.width_px, H = intrinsics_.height_px;
-  if (!T_world_camera.matrix().allFinite()) throw InputError("camera pose: not finite (NaN or inf)");
-  std::unique_lock<std::mutex> lock(gl_mutex());
-  r.make_current();
+  r.option.geomgroup[kGroupGround] = world;
+  r.option.geomgroup[kGroupPlants] = world;
   r.option.geomgroup[kGroupRobotVisual] = show_robot;
   mjv_updateScene(m, sim_.render_data(), &r.option, nullptr, &r.camera, mjCAT_ALL, &r.scene);
 
@@ -276,12 +310,27 @@ LabelledFrame Renderer::draw(const Pose& T_world_camera, bool show_robot, bool l
 
   const mjrRect viewport{0, 0, W, H};
   r.scene.flags[mjRND_SHADOW] = options_.shadows;
-  r.scene.flags[mjRND_SKYBOX] = 1;
+  r.scene.flags[mjRND_SKYBOX] = world;
   r.scene.flags[mjRND_SEGMENT] = 0;
   r.scene.flags[mjRND_IDCOLOR] = 0;
   mjr_render(viewport, &r.scene, &r.context);
   if (!caption.empty()) mjr_overlay(mjFONT_NORMAL, mjGRID_TOPLEFT, viewport, caption.c_str(), nullptr, &r.context);
   mjr_readPixels(r.rgb.data(), depth ? r.depth.data() : nullptr, viewport, &r.context);
+}
+
+LabelledFrame Renderer::draw(const Pose& T_world_camera, bool show_robot, bool labels, const std::string& caption,
+                             bool depth) {
+  Impl& r = *impl_;
+  const int W = intrinsics_.width_px, H = intrinsics_.height_px;
+  if (!T_world_camera.matrix().allFinite()) throw InputError("camera pose: not finite (NaN or inf)");
+  std::unique_lock<std::mutex> lock(gl_mutex());
+  r.make_current();
+  video_background_ = false;  // the GL buffers are reused
+  pass(T_world_camera, true, show_robot, caption, depth);
+  const mjModel* m = sim_.render_model();
+  const double near_m = m->vis.map.znear * m->stat.extent;
+  const double far_m = m->vis.map.zfar * m->stat.extent;
+  const mjrRect viewport{0, 0, W, H};
   if (labels) {
     r.scene.flags[mjRND_SHADOW] = 0;
     r.scene.flags[mjRND_SKYBOX] = 0;

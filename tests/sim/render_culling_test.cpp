@@ -172,6 +172,38 @@ TEST(RenderCulling, ShadowsOfGeomsOutsideTheViewAreKept) {
   EXPECT_GE(shadowed_and_culled, 3);  // shadows in view, geoms culled
 }
 
+// Video frames of a still camera (the world kept, the robot drawn over it) equal full renders.
+TEST(RenderVideoFrame, EqualsTheFullRenderWhileTheArmMovesUnderAStillCamera) {
+  DefaultWorld& w = scene();
+  CameraIntrinsics K;
+  K.width_px = 320;
+  K.height_px = 240;
+  K.cx_px = 160;
+  K.cy_px = 120;
+  K.fx_px = K.fy_px = 120.0 / std::tan(M_PI / 6);
+  K.min_range_m = 0.01;
+  K.max_range_m = 50.0;
+  Renderer video(w.sim, K), full(w.sim, K);
+  const RobotConfig cfg = default_robot_config();
+  Rng rng(9);
+  int composited = 0;
+  for (int k = 0; k < 12; ++k) {
+    const BasePose base{k < 8 ? 0.4 : 1.3, 0.0, 0.0};  // still for 8 frames, then moved
+    ArmConfig q = cfg.home;
+    for (auto& v : q) v += rng.uniform(-0.6, 0.6);
+    w.sim.set_robot_state(base, q);
+    const std::string caption = k < 5 ? "stop 1/5 | views 3" : "stop 1/5 | views 4";
+    const Pose T = chase(base);
+    const Image<Rgb8> a = video.render_video_frame(T, caption);
+    const Image<Rgb8> b = full.render_captioned(T, true, caption);
+    long differ = 0;
+    for (std::size_t i = 0; i < a.data.size(); ++i) differ += !(a.data[i] == b.data[i]);
+    EXPECT_EQ(differ, 0) << "frame " << k;
+    composited += video.last_drawn_geom_count() < 60;  // a robot-only pass
+  }
+  EXPECT_GE(composited, 6);
+}
+
 TEST(RenderCulling, ACameraLookingAtOnePlantDrawsFewGeoms) {
   DefaultWorld& w = scene();
   const world::Plant& plant = w.world.plants.front();
