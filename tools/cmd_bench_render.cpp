@@ -1,4 +1,5 @@
-// canopy bench render: time per 400x400 frame (RGB + depth + labels) on a world.
+// canopy bench render: time per frame (RGB + depth + labels) on a world, with frustum culling
+// and with the full scene.
 
 #include <spdlog/spdlog.h>
 
@@ -39,21 +40,29 @@ void add_bench_render(CLI::App& bench) {
       views.push_back(look_at(eye, eye + Vec3(0, side, 0)));
     }
     renderer.render_free_camera(views.front());  // warm-up (shader compilation, uploads)
-    double rgbd_ms = 0.0, full_ms = 0.0;
-    for (const Pose& T : views) {
-      Stopwatch watch;
-      renderer.render(T, false, /*labels=*/false);
-      rgbd_ms += watch.ms();
-      watch.restart();
-      renderer.render(T, false, /*labels=*/true);
-      full_ms += watch.ms();
-    }
     const int n = static_cast<int>(views.size());
-    std::printf("bench render: world '%s', %dx%d, %d frames, shadows %s\n", spec.name.c_str(), spec.camera.width_px,
-                spec.camera.height_px, n, opt->shadows ? "on" : "off");
-    std::printf("  scene triangles: %ld (plants: %zu)\n", renderer.last_triangle_count(), world.triangle_count());
-    std::printf("  RGB + depth:          %7.2f ms/frame\n", rgbd_ms / n);
-    std::printf("  RGB + depth + labels: %7.2f ms/frame (budget 30 ms)\n", full_ms / n);
+    std::printf("bench render: world '%s', %zu plants, %dx%d, %d frames, shadows %s\n", spec.name.c_str(),
+                world.plants.size(), spec.camera.width_px, spec.camera.height_px, n, opt->shadows ? "on" : "off");
+    std::printf("  plant triangles: %zu\n", world.triangle_count());
+    for (const bool culling : {true, false}) {
+      renderer.set_culling(culling);
+      double rgbd_ms = 0.0, full_ms = 0.0, triangles = 0.0, geoms = 0.0;
+      for (const Pose& T : views) {
+        Stopwatch watch;
+        renderer.render(T, false, /*labels=*/false);
+        rgbd_ms += watch.ms();
+        watch.restart();
+        renderer.render(T, false, /*labels=*/true);
+        full_ms += watch.ms();
+        triangles += static_cast<double>(renderer.last_triangle_count());
+        geoms += renderer.last_drawn_geom_count();
+      }
+      std::printf("  %s: %.0f of %d geoms, %.0f triangles drawn per frame\n",
+                  culling ? "frustum culling" : "full scene     ", geoms / n, renderer.last_scene_geom_count(),
+                  triangles / n);
+      std::printf("    RGB + depth:          %7.2f ms/frame\n", rgbd_ms / n);
+      std::printf("    RGB + depth + labels: %7.2f ms/frame (budget 30 ms)\n", full_ms / n);
+    }
   });
 }
 

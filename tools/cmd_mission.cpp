@@ -61,7 +61,7 @@ void add_options(CLI::App* sub, MissionCliOptions* o, bool out_required) {
   auto* out = sub->add_option("--out", o->out, "Output folder");
   if (out_required) out->required();
   else out->capture_default_str();
-  sub->add_option("--video", o->video, "Also record an H.264 MP4 of the run (chase view, wrist inset, caption)");
+  sub->add_option("--video", o->video, "Also record an H.264 MP4 of the run (chase view, wrist and map insets, caption)");
   sub->add_option("--video-size", o->video_size, "Video frame size WxH")->capture_default_str();
   sub->add_option("--video-fps", o->video_fps, "Video frames per simulated second")->capture_default_str();
   sub->add_flag("--no-plots", o->no_plots, "Skip sc_entropy.png and runtime.png");
@@ -136,11 +136,15 @@ void run_mission(const MissionCliOptions& o, CLI::App* sub) {
       if (video) video->tick(sim, caption);
     };
   }
-  cb.on_view = [&video, &dataset](const mission::ViewRecord&, const LabelledFrame& f, const sim::Simulator&) {
+  const mission::Mission* running = nullptr;  // the map inset reads its map
+  cb.on_view = [&video, &dataset, &running](const mission::ViewRecord&, const LabelledFrame& f,
+                                            const sim::Simulator& sim) {
     if (video) video->set_wrist(f);
+    if (video && running) video->set_map(running->map(), sim.base_pose());
     if (dataset) dataset->add_train(f);
   };
   mission::Mission mission(world, settings, o.seed, cb);
+  running = &mission;
   if (!o.video.empty())
     video = std::make_unique<mission::MissionVideo>(o.video, video_w, video_h, o.video_fps, mission.simulator(),
                                                     spec.classes);

@@ -173,13 +173,16 @@ truth_contacts, self_contacts.)")
             return interrupted;
           };
           std::unique_ptr<mission::MissionVideo> recorder;  // outlives the mission, as in `canopy mission`
+          const mission::Mission* running = nullptr;          // the map inset reads its map
           if (!video_path.empty()) {
             cb.video_period_s = 1.0 / video_fps;
             cb.video_tick = [&recorder](sim::Simulator& sim, const std::string& caption) {
               if (recorder) recorder->tick(sim, caption);
             };
-            cb.on_view = [&recorder](const mission::ViewRecord&, const LabelledFrame& frame, const sim::Simulator&) {
+            cb.on_view = [&recorder, &running](const mission::ViewRecord&, const LabelledFrame& frame,
+                                               const sim::Simulator& sim) {
               if (recorder) recorder->set_wrist(frame);
+              if (recorder && running) recorder->set_map(running->map(), sim.base_pose());
             };
           }
 
@@ -190,6 +193,7 @@ truth_contacts, self_contacts.)")
             const PendingPlanner pending(planner, s.mapping);
             py::gil_scoped_release release;
             mission::Mission mission(world.world(), s, seed, cb);
+            running = &mission;
             if (!video_path.empty())
               recorder = std::make_unique<mission::MissionVideo>(video_path, video_w, video_h, video_fps,
                                                                  mission.simulator(), world.world().spec.classes);

@@ -7,6 +7,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 
 #include "canopy/common/error.h"
 #include "canopy/common/camera.h"
@@ -21,6 +22,8 @@ std::string temp_video_path(const std::string& path) { return path + ".partial.m
 
 // canopy's videos carry this comment in their metadata, near the start of the file (faststart).
 constexpr const char* kVideoComment = "written by canopy";
+
+constexpr Rgb8 kMapBackground{45, 45, 45};
 }  // namespace
 
 bool VideoWriter::is_canopy_video(const std::string& path) {
@@ -125,8 +128,9 @@ bool VideoWriter::close() {
 }
 
 Pose chase_pose(const BasePose& base) {
-  const Vec3 heading(std::cos(base.yaw_rad), std::sin(base.yaw_rad), 0.0);
-  const Vec3 ground(base.x_m, base.y_m, 0.0);
+  const double yaw = std::round(base.yaw_rad * 1e3) * 1e-3;
+  const Vec3 heading(std::cos(yaw), std::sin(yaw), 0.0);
+  const Vec3 ground(std::round(base.x_m * 1e3) * 1e-3, std::round(base.y_m * 1e3) * 1e-3, 0.0);
   return look_at(ground - 1.6 * heading + Vec3(0, 0, 1.9), ground + 0.9 * heading + Vec3(0, 0, 0.6));
 }
 
@@ -141,25 +145,87 @@ MissionVideo::MissionVideo(const std::string& path, int w, int h, double fps, si
   k.fx_px = k.fy_px = 0.5 * h / std::tan(0.5 * 60.0 * M_PI / 180.0);  // 60 degree vertical field of view
   k.min_range_m = 0.01;
   k.max_range_m = 50.0;
-  renderer_ = std::make_unique<sim::Renderer>(sim, k, sim::RenderOptions{true, 1, false});
+  chase_k_ = k;
+  renderer_ = std::make_unique<sim::Renderer>(sim, k, sim::RenderOptions{false, 1, false});
+  const auto rect = map_inset_rect();
+  map_ = Image<Rgb8>(rect[2], rect[3], kMapBackground);  // empty until the first view
+}
+
+std::array<int, 4> MissionVideo::map_inset_rect() const {
+  const int w = chase_k_.width_px, h = chase_k_.height_px;
+  const int iw = w / 4, ih = iw * h / w;
+  return {8, h - ih - 8, iw, ih};
 }
 
 void MissionVideo::tick(sim::Simulator& sim, const std::string& caption) {
   if (!writer_.ok()) return;  // the encoder died: the run goes on without the video
-  Image<Rgb8> frame = renderer_->render_captioned(chase_pose(sim.base_pose()), true, caption);
+  Image<Rgb8> frame = renderer_->render_video_frame(chase_pose(sim.base_pose()), caption);
+  const Rgb8 white{255, 255, 255};
   if (!wrist_rgb_.empty()) {
     const int iw = frame.width / 4, ih = iw * wrist_rgb_.height / std::max(1, wrist_rgb_.width);
-    const Rgb8 white{255, 255, 255};
     blit_scaled(wrist_rgb_, frame.width - iw - 8, frame.height - 2 * ih - 16, iw, ih, &frame, 2, white);
     blit_scaled(wrist_labels_, frame.width - iw - 8, frame.height - ih - 8, iw, ih, &frame, 2, white);
   }
+  const auto [mx, my, mw, mh] = map_inset_rect();
+  blit_scaled(map_, mx, my, mw, mh, &frame, 2, white);
   writer_.write(frame);
 }
 
 void MissionVideo::set_wrist(const LabelledFrame& f) {
-  wrist_rgb_ = f.rgb;
-  wrist_labels_ = Image<Rgb8>(f.class_id.width, f.class_id.height);
-  for (std::size_t i = 0; i < f.class_id.data.size(); ++i) wrist_labels_.data[i] = classes_.color(f.class_id.data[i]);
+  // The insets are drawn at their final size once here, so each tick only copies them.
+  const int iw = chase_k_.width_px / 4, ih = iw * f.rgb.height / std::max(1, f.rgb.width);
+  Image<Rgb8> labels(f.class_id.width, f.class_id.height);
+  for (std::size_t i = 0; i < f.class_id.data.size(); ++i) labels.data[i] = classes_.color(f.class_id.data[i]);
+  wrist_rgb_ = Image<Rgb8>(iw, ih);
+  wrist_labels_ = Image<Rgb8>(iw, ih);
+  blit_scaled(f.rgb, 0, 0, iw, ih, &wrist_rgb_);
+  blit_scaled(labels, 0, 0, iw, ih, &wrist_labels_);
+}
+
+void MissionVideo::set_map(const mapping::SemanticOcTree& map, const BasePose& base) {
+  const auto [mx, my, mw, mh] = map_inset_rect();
+  (void)mx;
+  (void)my;
+  CameraIntrinsics k = chase_k_;
+  const double s = static_cast<double>(mh) / chase_k_.height_px;
+  k.width_px = mw;
+  k.height_px = mh;
+  k.fx_px *= s;
+  k.fy_px *= s;
+  k.cx_px = 0.5 * mw;
+  k.cy_px = 0.5 * mh;
+  map_ = map_view(map, classes_, k, chase_pose(base));
+}
+
+Image<Rgb8> map_view(const mapping::SemanticOcTree& map, const SemanticClasses& classes, const CameraIntrinsics& k,
+                     const Pose& T_world_camera) {
+  Image<Rgb8> image(k.width_px, k.height_px, kMapBackground);
+  Image<float> zbuf(k.width_px, k.height_px, std::numeric_limits<float>::infinity());
+  const Pose T_camera_world = T_world_camera.inverse();
+  const double res = map.getResolution();
+  std::vector<Rgb8> colour(static_cast<std::size_t>(classes.size()));
+  for (int c = 0; c < classes.size(); ++c) colour[static_cast<std::size_t>(c)] = classes.color(c);
+  map.for_each_voxel_if([](const mapping::SemanticState& st) { return st.occupancy_logodds() > 0.f; },
+                        [&](const octomap::OcTreeKey& key, const mapping::SemanticState& st) {
+                          const Vec3 p = T_camera_world * map.center_of(key);
+                          if (p.z() < 0.05) return;
+                          const double u = k.fx_px * p.x() / p.z() + k.cx_px, v = k.fy_px * p.y() / p.z() + k.cy_px;
+                          const double half = std::max(0.5, 0.5 * k.fy_px * res / p.z());
+                          const int x0 = std::max(0, static_cast<int>(std::floor(u - half + 0.5)));
+                          const int x1 = std::min(k.width_px - 1, static_cast<int>(std::floor(u + half - 0.5)));
+                          const int y0 = std::max(0, static_cast<int>(std::floor(v - half + 0.5)));
+                          const int y1 = std::min(k.height_px - 1, static_cast<int>(std::floor(v + half - 0.5)));
+                          const int c = st.most_likely_class();
+                          const Rgb8 col = c >= 0 && c < classes.size() ? colour[static_cast<std::size_t>(c)] : Rgb8{255, 255, 255};
+                          const float z = static_cast<float>(p.z());
+                          for (int y = y0; y <= y1; ++y)
+                            for (int x = x0; x <= x1; ++x)
+                              if (z < zbuf.at(x, y)) {
+                                zbuf.at(x, y) = z;
+                                image.at(x, y) = col;
+                              }
+                        });
+  return image;
 }
 
 }  // namespace canopy::mission

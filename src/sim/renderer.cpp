@@ -2,7 +2,10 @@
 
 #include <GL/osmesa.h>
 
+#include <array>
 #include <cmath>
+#include <cstring>
+#include <limits>
 #include <mutex>
 #include <stdexcept>
 #include <vector>
@@ -20,6 +23,122 @@ std::mutex& gl_mutex() {
   static std::mutex m;
   return m;
 }
+
+// A half-space n.x + d >= 0 (unit n).
+struct HalfSpace {
+  Vec3 n;
+  double d;
+  double at(const Vec3& x) const { return n.dot(x) + d; }
+};
+using Frustum = std::array<HalfSpace, 6>;
+
+// The volume OpenGL rasterises for MuJoCo's symmetric perspective camera: the four sides
+// through the eye at the viewport's edges and the near and far clip planes.
+Frustum gl_frustum(const Vec3& eye, const Vec3& fwd, const Vec3& up, double near_m, double far_m, double top_over_near,
+                   double right_over_near) {
+  const Vec3 right = fwd.cross(up);
+  auto through_eye = [&eye](const Vec3& n) {
+    const Vec3 u = n.normalized();
+    return HalfSpace{u, -u.dot(eye)};
+  };
+  return {through_eye(top_over_near * fwd - up), through_eye(top_over_near * fwd + up),
+          through_eye(right_over_near * fwd - right), through_eye(right_over_near * fwd + right),
+          HalfSpace{fwd, -fwd.dot(eye) - near_m}, HalfSpace{-fwd, fwd.dot(eye) + far_m}};
+}
+
+// True unless the capsule (segment a-b, radius r) lies wholly outside one of the half-spaces.
+// Conservative: a capsule outside the frustum but not outside any single plane is kept.
+bool may_touch(const Frustum& f, const Vec3& a, const Vec3& b, double r) {
+  for (const HalfSpace& h : f)
+    if (h.at(a) < -r && h.at(b) < -r) return false;
+  return true;
+}
+
+Vec3 to_vec(const float* v) { return Vec3(v[0], v[1], v[2]); }
+
+// Removes from the scene, keeping the others in their order, the geoms that cannot change a
+// pixel of this frame: opaque model geoms whose bounding sphere lies outside the frustum and,
+// when shadows are drawn, whose shadow cannot fall inside it either. Planes, transparent or
+// reflective geoms and anything without a model bound are always kept (transparent geoms are
+// depth-sorted, reflections show what is outside the frustum). Segmentation ids are renumbered
+// to the new positions, so label decoding keeps indexing scene.geoms by segid.
+void cull_outside(mjvScene& scene, const mjrContext& context, const Frustum& frustum, bool shadows) {
+  // Bounds are padded by 1 mm and 0.01 % (float positions, rasterisation at the edges).
+  constexpr double kPad = 1e-3, kRelPad = 1e-4;
+  auto cullable = [](const mjvGeom& g) {
+    return g.objtype == mjOBJ_GEOM && g.type != mjGEOM_PLANE && g.modelrbound > 0.f && g.rgba[3] >= 0.995f;
+  };
+  auto radius = [](const mjvGeom& g) { return g.modelrbound * (1.0 + kRelPad) + kPad; };
+  // A reflecting geom mirrors what lies outside the frustum: draw everything.
+  if (scene.flags[mjRND_REFLECTION])
+    for (int i = 0; i < scene.ngeom; ++i) {
+      const mjvGeom& g = scene.geoms[i];
+      if ((g.type == mjGEOM_PLANE || g.type == mjGEOM_BOX) && g.rgba[3] >= 0.995f && g.reflectance > 0.f) return;
+    }
+
+  // Shadows (MuJoCo's shadow map, one per casting light). A geom darkens only points that lie
+  // from it away from the light; for a directional light those are inside the sphere swept
+  // along the light's direction down to the lowest point of the scene. The map covers a square
+  // of half-side shadowClip around the light's axis; a geom reaching its border band is kept
+  // (its edge texels may be sampled by points outside the map), one wholly outside it casts
+  // nothing. Any other light, or one not shining downwards, turns culling off.
+  struct Caster {
+    Vec3 pos, dir;
+  };
+  std::vector<Caster> casters;
+  double floor_z = std::numeric_limits<double>::infinity();
+  double texel_pad = 0.0;
+  if (shadows && context.shadowFBO) {
+    for (int l = 0; l < scene.nlight; ++l) {
+      const mjvLight& light = scene.lights[l];
+      if (!light.castshadow) continue;
+      const Vec3 dir = to_vec(light.dir).normalized();
+      if (!light.directional || !(dir.z() < -0.05)) return;
+      casters.push_back({to_vec(light.pos), dir});
+    }
+    for (int i = 0; i < scene.ngeom; ++i) {
+      const mjvGeom& g = scene.geoms[i];
+      if (g.type == mjGEOM_PLANE) {
+        if (std::abs(g.mat[8]) < 1.f - 1e-6f) return;  // a tilted plane: no simple floor
+        floor_z = std::min(floor_z, double(g.pos[2]));
+      } else if (g.modelrbound > 0.f) {
+        floor_z = std::min(floor_z, g.pos[2] - radius(g));
+      } else {
+        return;  // unbounded geometry
+      }
+    }
+    texel_pad = 4.0 * 2.0 * context.shadowClip / std::max(1, context.shadowSize) + kPad;
+  }
+
+  auto shadow_may_touch = [&](const Vec3& c, double r) {
+    for (const Caster& light : casters) {
+      const Vec3 v = c - light.pos;
+      const double perp = (v - v.dot(light.dir) * light.dir).norm();
+      const double clip = context.shadowClip;
+      if (perp - r > std::sqrt(2.0) * clip + texel_pad) continue;  // outside the map
+      if (perp + r + texel_pad >= clip) return true;                // reaches the border band
+      const double length = (c.z() - floor_z + r) / -light.dir.z();
+      if (may_touch(frustum, c, c + std::max(0.0, length) * light.dir, r + texel_pad)) return true;
+    }
+    return false;
+  };
+
+  int kept = 0;
+  for (int i = 0; i < scene.ngeom; ++i) {
+    const mjvGeom& g = scene.geoms[i];
+    bool keep = true;
+    if (cullable(g)) {
+      const Vec3 c = to_vec(g.pos);
+      const double r = radius(g);
+      keep = may_touch(frustum, c, c, r) || shadow_may_touch(c, r);
+    }
+    if (!keep) continue;
+    if (kept != i) scene.geoms[kept] = g;
+    if (scene.geoms[kept].segid >= 0) scene.geoms[kept].segid = kept;
+    ++kept;
+  }
+  scene.ngeom = kept;
+}
 }  // namespace
 
 struct Renderer::Impl {
@@ -29,8 +148,8 @@ struct Renderer::Impl {
   mjvOption option;
   mjvCamera camera;
   mjrContext context;
-  std::vector<unsigned char> rgb, seg;
-  std::vector<float> depth;
+  std::vector<unsigned char> rgb, seg, background_rgb;
+  std::vector<float> depth, background_depth;
   bool scene_made = false, context_made = false;
   int width = 0, height = 0;
 
@@ -106,16 +225,51 @@ LabelledFrame Renderer::render(const Pose& T_world_camera, bool show_robot, bool
 
 Image<Rgb8> Renderer::render_captioned(const Pose& T_world_camera, bool show_robot, const std::string& caption) {
   sim_.update_kinematics();
-  return draw(T_world_camera, show_robot, false, caption).rgb;
+  return draw(T_world_camera, show_robot, false, caption, /*depth=*/false).rgb;
 }
 
-LabelledFrame Renderer::draw(const Pose& T_world_camera, bool show_robot, bool labels, const std::string& caption) {
+Image<Rgb8> Renderer::render_video_frame(const Pose& T_world_camera, const std::string& caption) {
+  sim_.update_kinematics();
+  if (!T_world_camera.matrix().allFinite()) throw InputError("camera pose: not finite (NaN or inf)");
+  Impl& r = *impl_;
+  const int W = intrinsics_.width_px, H = intrinsics_.height_px;
+  const bool still = !options_.shadows && T_world_camera.matrix() == video_T_.matrix() && caption == video_caption_;
+  video_T_ = T_world_camera;
+  video_caption_ = caption;
+  Image<Rgb8> out(W, H);
+  std::unique_lock<std::mutex> lock(gl_mutex());
+  r.make_current();
+  if (!still) {  // the camera moves: the whole scene
+    video_background_ = false;
+    pass(T_world_camera, true, true, caption, false);
+  } else {
+    if (!video_background_) {  // the camera stopped: keep the world without the robot
+      pass(T_world_camera, true, false, caption, true);
+      r.background_rgb = r.rgb;
+      r.background_depth = r.depth;
+      video_background_ = true;
+    }
+    pass(T_world_camera, false, true, caption, true);
+    // The robot where it is nearer than the world (the caption, drawn over both, is in both).
+    const std::size_t n = r.depth.size();
+    for (std::size_t s = 0; s < n; ++s)
+      if (!(r.depth[s] < r.background_depth[s])) {
+        r.rgb[3 * s] = r.background_rgb[3 * s];
+        r.rgb[3 * s + 1] = r.background_rgb[3 * s + 1];
+        r.rgb[3 * s + 2] = r.background_rgb[3 * s + 2];
+      }
+  }
+  for (int y = 0; y < H; ++y)
+    std::memcpy(static_cast<void*>(&out.at(0, y)), &r.rgb[3 * static_cast<size_t>(H - 1 - y) * W], 3 * static_cast<size_t>(W));
+  return out;
+}
+
+void Renderer::pass(const Pose& T_world_camera, bool world, bool show_robot, const std::string& caption, bool depth) {
   Impl& r = *impl_;
   const mjModel* m = sim_.render_model();
   const int W = intrinsics_.width_px, H = intrinsics_.height_px;
-  if (!T_world_camera.matrix().allFinite()) throw InputError("camera pose: not finite (NaN or inf)");
-  std::unique_lock<std::mutex> lock(gl_mutex());
-  r.make_current();
+  r.option.geomgroup[kGroupGround] = world;
+  r.option.geomgroup[kGroupPlants] = world;
   r.option.geomgroup[kGroupRobotVisual] = show_robot;
   mjv_updateScene(m, sim_.render_data(), &r.option, nullptr, &r.camera, mjCAT_ALL, &r.scene);
 
@@ -138,6 +292,12 @@ LabelledFrame Renderer::draw(const Pose& T_world_camera, bool show_robot, bool l
     cam.frustum_bottom = -cam.frustum_top;
     cam.frustum_center = 0.f;
   }
+  scene_geoms_ = r.scene.ngeom;
+  if (culling_)
+    cull_outside(r.scene, r.context,
+                 gl_frustum(p, fwd, up, near_m, far_m, 0.5 * H / intrinsics_.fy_px, 0.5 * W / intrinsics_.fy_px),
+                 options_.shadows);
+  drawn_geoms_ = r.scene.ngeom;
   last_triangles_ = 0;
   for (int g = 0; g < r.scene.ngeom; ++g) {
     const mjvGeom& geom = r.scene.geoms[g];
@@ -150,12 +310,27 @@ LabelledFrame Renderer::draw(const Pose& T_world_camera, bool show_robot, bool l
 
   const mjrRect viewport{0, 0, W, H};
   r.scene.flags[mjRND_SHADOW] = options_.shadows;
-  r.scene.flags[mjRND_SKYBOX] = 1;
+  r.scene.flags[mjRND_SKYBOX] = world;
   r.scene.flags[mjRND_SEGMENT] = 0;
   r.scene.flags[mjRND_IDCOLOR] = 0;
   mjr_render(viewport, &r.scene, &r.context);
   if (!caption.empty()) mjr_overlay(mjFONT_NORMAL, mjGRID_TOPLEFT, viewport, caption.c_str(), nullptr, &r.context);
-  mjr_readPixels(r.rgb.data(), r.depth.data(), viewport, &r.context);
+  mjr_readPixels(r.rgb.data(), depth ? r.depth.data() : nullptr, viewport, &r.context);
+}
+
+LabelledFrame Renderer::draw(const Pose& T_world_camera, bool show_robot, bool labels, const std::string& caption,
+                             bool depth) {
+  Impl& r = *impl_;
+  const int W = intrinsics_.width_px, H = intrinsics_.height_px;
+  if (!T_world_camera.matrix().allFinite()) throw InputError("camera pose: not finite (NaN or inf)");
+  std::unique_lock<std::mutex> lock(gl_mutex());
+  r.make_current();
+  video_background_ = false;  // the GL buffers are reused
+  pass(T_world_camera, true, show_robot, caption, depth);
+  const mjModel* m = sim_.render_model();
+  const double near_m = m->vis.map.znear * m->stat.extent;
+  const double far_m = m->vis.map.zfar * m->stat.extent;
+  const mjrRect viewport{0, 0, W, H};
   if (labels) {
     r.scene.flags[mjRND_SHADOW] = 0;
     r.scene.flags[mjRND_SKYBOX] = 0;
@@ -171,6 +346,11 @@ LabelledFrame Renderer::draw(const Pose& T_world_camera, bool show_robot, bool l
   f.intrinsics = intrinsics_;
   f.T_world_camera = T_world_camera;
   f.rgb = Image<Rgb8>(W, H);
+  if (!depth) {  // RGB only (video frames)
+    for (int y = 0; y < H; ++y)
+      std::memcpy(static_cast<void*>(&f.rgb.at(0, y)), &r.rgb[3 * static_cast<size_t>(H - 1 - y) * W], 3 * static_cast<size_t>(W));
+    return f;
+  }
   f.depth_m = Image<float>(W, H, 0.f);
   f.class_id = Image<std::uint8_t>(W, H, 0);
   f.instance = Image<std::int32_t>(W, H, kNoInstance);

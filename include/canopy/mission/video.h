@@ -1,14 +1,17 @@
 #pragma once
 // The mission's video: a chase view of the robot with the wrist camera's last RGB and label
-// images inset and a caption line (MissionVideo), written to an H.264 MP4 by streaming raw
-// frames to ffmpeg (Debian's ffmpeg), started without a shell (common/process.h).
+// images and the growing semantic map inset and a caption line (MissionVideo), written to an
+// H.264 MP4 by streaming raw frames to ffmpeg (Debian's ffmpeg), started without a shell
+// (common/process.h).
 
+#include <array>
 #include <memory>
 #include <string>
 
 #include "canopy/common/classes.h"
 #include "canopy/common/frame.h"
 #include "canopy/common/image.h"
+#include "canopy/mapping/semantic_octree.h"
 #include "canopy/sim/renderer.h"
 
 namespace canopy {
@@ -61,8 +64,10 @@ class VideoWriter {
   std::string error_;
 };
 
-/// Off-screen video of a mission: every tick renders the chase view with the last wrist
-/// frame's RGB and labels inset and the caption, and appends it to the MP4.
+/// Off-screen video of a mission: every tick renders the chase view (without shadows, which
+/// would triple its cost) with the caption, insets the last wrist frame's RGB and labels
+/// (bottom right) and the map as it was after the last view (bottom left), and appends it to
+/// the MP4. The insets are drawn once when they change, not every tick.
 class MissionVideo {
  public:
   /// Starts the encoder (VideoWriter's errors); frames of `width` x `height` at `fps`.
@@ -72,16 +77,30 @@ class MissionVideo {
   void tick(sim::Simulator& sim, const std::string& caption);
   /// The wrist frame shown in the insets from now on.
   void set_wrist(const LabelledFrame& frame);
+  /// The map inset from now on: `map`'s occupied voxels in class colours, seen from the chase
+  /// camera at `base` (map_view).
+  void set_map(const mapping::SemanticOcTree& map, const BasePose& base);
   VideoWriter& writer() { return writer_; }
+  /// The map inset's place in the frame (x, y, width, height), inside its 2-pixel border.
+  std::array<int, 4> map_inset_rect() const;
 
  private:
   VideoWriter writer_;
   SemanticClasses classes_;
   std::unique_ptr<sim::Renderer> renderer_;
-  Image<Rgb8> wrist_rgb_, wrist_labels_;
+  CameraIntrinsics chase_k_;
+  Image<Rgb8> wrist_rgb_, wrist_labels_, map_;
 };
 
-/// The chase camera: behind and above the base, looking ahead along the aisle.
+/// The chase camera: behind and above the base, looking ahead along the aisle. The base pose
+/// is rounded to 1 mm and 1 mrad (0.2 pixel at most in a 640x480 frame), so the camera stands
+/// exactly still while the base holds its place.
 Pose chase_pose(const BasePose& base);
+
+/// The occupied voxels of `map` (p_occ > 0.5) as `camera` at `T_world_camera` sees them: each
+/// voxel a square of its projected size in its most likely class's colour, nearest in front,
+/// on a dark grey background.
+Image<Rgb8> map_view(const mapping::SemanticOcTree& map, const SemanticClasses& classes, const CameraIntrinsics& camera,
+                     const Pose& T_world_camera);
 
 }  // namespace canopy::mission

@@ -40,13 +40,32 @@ class Renderer {
   LabelledFrame render(const Pose& T_world_camera, bool show_robot, bool labels = true);
   /// RGB only, with `caption` drawn in the top-left corner (MuJoCo's overlay font), for videos.
   Image<Rgb8> render_captioned(const Pose& T_world_camera, bool show_robot, const std::string& caption);
+  /// A video frame (RGB with `caption`, robot shown) equal to render_captioned's, made cheaper
+  /// for a camera that stands still: while `T_world_camera` and `caption` repeat, the world
+  /// without the robot is drawn once and kept (RGB and depth), and each frame draws only the
+  /// robot and keeps its pixels where it is nearer. Assumes, as in canopy's scenes, that only
+  /// the robot moves and that shadows are off (the robot casts none on the kept world).
+  Image<Rgb8> render_video_frame(const Pose& T_world_camera, const std::string& caption);
   /// Triangles drawn in the last frame (meshes exactly, primitives as tessellated).
   long last_triangle_count() const { return last_triangles_; }
+  /// Geoms drawn in the last frame, and geoms of the scene before culling.
+  int last_drawn_geom_count() const { return drawn_geoms_; }
+  int last_scene_geom_count() const { return scene_geoms_; }
+  /// Frustum culling (on by default): geoms that cannot change a pixel are not drawn (outside
+  /// the view volume and, with shadows, casting no shadow into it). Images are the same
+  /// with it off; the switch exists to compare.
+  void set_culling(bool on) { culling_ = on; }
   const CameraIntrinsics& intrinsics() const { return intrinsics_; }
 
  private:
   /// Draws the simulator's current (already updated) kinematic state.
-  LabelledFrame draw(const Pose& T_world_camera, bool show_robot, bool labels, const std::string& caption = "");
+  /// `depth` false: RGB only (no depth read back or decoded; the frame's other images are empty).
+  LabelledFrame draw(const Pose& T_world_camera, bool show_robot, bool labels, const std::string& caption = "",
+                     bool depth = true);
+
+  /// One RGB pass (the world's and/or the robot's geoms, caption) read back into the GL
+  /// buffers, raw depth too when `depth`. The caller holds the GL lock.
+  void pass(const Pose& T_world_camera, bool world, bool show_robot, const std::string& caption, bool depth);
 
   struct Impl;
   std::unique_ptr<Impl> impl_;
@@ -55,6 +74,11 @@ class Renderer {
   RenderOptions options_;
   Rng noise_rng_;
   long last_triangles_ = 0;
+  int drawn_geoms_ = 0, scene_geoms_ = 0;
+  bool culling_ = true;
+  Pose video_T_ = Pose::Identity();
+  std::string video_caption_;
+  bool video_background_ = false;
 };
 
 }  // namespace canopy::sim

@@ -1,0 +1,229 @@
+// Frustum culling draws only what the camera can see: frames rendered with culling are
+// identical, pixel for pixel (RGB, depth, classes, instances), to frames of the full scene,
+// on the default world's plants with the robot, for wrist-camera poses and a shadowed chase
+// view; and a camera looking at one plant draws a small part of the scene.
+
+#include <gtest/gtest.h>
+
+#include <mujoco/mujoco.h>
+
+#include <cmath>
+
+#include "canopy/common/camera.h"
+#include "canopy/common/io.h"
+#include "canopy/common/random.h"
+#include "canopy/sim/renderer.h"
+
+namespace canopy::sim {
+namespace {
+
+struct DefaultWorld {
+  world::World world;
+  Simulator sim;
+  static world::WorldSpec spec() {
+    world::WorldSpec s = world::WorldSpec::load(find_data_file("worlds/default.yaml"));
+    s.rows.plants_per_row = 8;  // 16 plants: most of the row lies outside any one view
+    return s;
+  }
+  DefaultWorld() : world(world::generate_world(spec())), sim(world, default_robot_config()) {}
+};
+
+DefaultWorld& scene() {
+  static DefaultWorld w;
+  return w;
+}
+
+// Counts pixels that differ; identical frames give 0 everywhere.
+struct Diff {
+  long rgb = 0, depth = 0, cls = 0, inst = 0;
+};
+Diff compare(const LabelledFrame& a, const LabelledFrame& b) {
+  Diff d;
+  for (std::size_t i = 0; i < a.rgb.data.size(); ++i) {
+    const Rgb8 &p = a.rgb.data[i], &q = b.rgb.data[i];
+    d.rgb += p.r != q.r || p.g != q.g || p.b != q.b;
+    d.depth += a.depth_m.data[i] != b.depth_m.data[i];
+    d.cls += a.class_id.data[i] != b.class_id.data[i];
+    d.inst += a.instance.data[i] != b.instance.data[i];
+  }
+  return d;
+}
+
+// Behind and above the base looking ahead along the aisle (as the mission video's chase view).
+Pose chase(const BasePose& b) {
+  const Vec3 heading(std::cos(b.yaw_rad), std::sin(b.yaw_rad), 0.0), ground(b.x_m, b.y_m, 0.0);
+  return look_at(ground - 1.6 * heading + Vec3(0, 0, 1.9), ground + 0.9 * heading + Vec3(0, 0, 0.6));
+}
+
+TEST(RenderCulling, MeshVerticesLieInsideTheModelBoundingSphere) {
+  const mjModel* m = scene().sim.render_model();
+  int meshes = 0;
+  for (int g = 0; g < m->ngeom; ++g) {
+    if (m->geom_type[g] != mjGEOM_MESH) continue;
+    const int id = m->geom_dataid[g];
+    ASSERT_GE(id, 0);
+    ++meshes;
+    for (int v = m->mesh_vertadr[id]; v < m->mesh_vertadr[id] + m->mesh_vertnum[id]; ++v) {
+      const float* p = m->mesh_vert + 3 * v;
+      ASSERT_LE(std::sqrt(double(p[0]) * p[0] + double(p[1]) * p[1] + double(p[2]) * p[2]), m->geom_rbound[g] + 1e-6)
+          << "geom " << g;
+    }
+  }
+  EXPECT_GT(meshes, 100);
+}
+
+TEST(RenderCulling, WristFramesAreIdenticalWithAndWithoutCulling) {
+  DefaultWorld& w = scene();
+  const CameraIntrinsics& K = w.world.spec.camera;
+  Renderer culled(w.sim, K, RenderOptions{false, 1, true}), full(w.sim, K, RenderOptions{false, 1, true});
+  full.set_culling(false);
+  const RobotConfig cfg = default_robot_config();
+  Rng rng(5);
+  int fewer = 0;
+  for (int k = 0; k < 8; ++k) {
+    // Along the aisle, arm at home or in random configurations (plants, ground, sky, robot).
+    const BasePose base{-0.6 + 0.55 * k, rng.uniform(-0.05, 0.05), rng.uniform(-0.2, 0.2)};
+    ArmConfig q = cfg.home;
+    if (k % 4 != 0)
+      for (auto& v : q) v = rng.uniform(-M_PI, M_PI);
+    w.sim.set_robot_state(base, q);
+    const LabelledFrame a = culled.render_wrist_camera();
+    const LabelledFrame b = full.render_wrist_camera();
+    const Diff d = compare(a, b);
+    EXPECT_EQ(d.rgb, 0) << "pose " << k;
+    EXPECT_EQ(d.depth, 0) << "pose " << k;
+    EXPECT_EQ(d.cls, 0) << "pose " << k;
+    EXPECT_EQ(d.inst, 0) << "pose " << k;
+    EXPECT_EQ(full.last_drawn_geom_count(), full.last_scene_geom_count());
+    EXPECT_LE(culled.last_drawn_geom_count(), culled.last_scene_geom_count());
+    fewer += culled.last_drawn_geom_count() < culled.last_scene_geom_count();
+  }
+  EXPECT_GE(fewer, 6);  // culling is not a no-op
+}
+
+TEST(RenderCulling, ShadowedChaseViewsAreIdenticalWithAndWithoutCulling) {
+  DefaultWorld& w = scene();
+  CameraIntrinsics K;
+  K.width_px = 640;
+  K.height_px = 480;
+  K.cx_px = 320;
+  K.cy_px = 240;
+  K.fx_px = K.fy_px = 240.0 / std::tan(M_PI / 6);
+  K.min_range_m = 0.01;
+  K.max_range_m = 50.0;
+  Renderer culled(w.sim, K, RenderOptions{true, 1, false}), full(w.sim, K, RenderOptions{true, 1, false});
+  full.set_culling(false);
+  const RobotConfig cfg = default_robot_config();
+  int fewer = 0;
+  for (int k = 0; k < 6; ++k) {
+    const BasePose base{-0.8 + 0.9 * k, 0.0, k == 5 ? M_PI : 0.0};  // the last one looks back
+    w.sim.set_robot_state(base, cfg.home);
+    const Pose T = chase(base);
+    const LabelledFrame a = culled.render(T, true, true);
+    const LabelledFrame b = full.render(T, true, true);
+    const Diff d = compare(a, b);
+    EXPECT_EQ(d.rgb, 0) << "pose " << k;
+    EXPECT_EQ(d.depth, 0) << "pose " << k;
+    EXPECT_EQ(d.cls, 0) << "pose " << k;
+    EXPECT_EQ(d.inst, 0) << "pose " << k;
+    fewer += culled.last_drawn_geom_count() < culled.last_scene_geom_count();
+    // The captioned RGB frame of the video, too.
+    const Image<Rgb8> ca = culled.render_captioned(T, true, "stop 1/5");
+    const Image<Rgb8> cb = full.render_captioned(T, true, "stop 1/5");
+    EXPECT_TRUE(ca.data == cb.data) << "pose " << k;
+  }
+  EXPECT_GE(fewer, 3);
+}
+
+// Cameras looking down at the ground where leaves outside the view cast their shadows (the
+// sun shines along (-0.3, 0.2, -1); its shadow map covers 2 m around the origin).
+TEST(RenderCulling, ShadowsOfGeomsOutsideTheViewAreKept) {
+  DefaultWorld& w = scene();
+  CameraIntrinsics K;
+  K.width_px = 320;
+  K.height_px = 240;
+  K.cx_px = 160;
+  K.cy_px = 120;
+  K.fx_px = K.fy_px = 400.0;
+  K.min_range_m = 0.01;
+  K.max_range_m = 50.0;
+  Renderer culled(w.sim, K, RenderOptions{true, 1, false}), full(w.sim, K, RenderOptions{true, 1, false}),
+      unshadowed(w.sim, K, RenderOptions{false, 1, false});
+  full.set_culling(false);
+  w.sim.set_robot_state(BasePose{-3.0, 0.0, 0.0}, default_robot_config().home);  // the robot out of the way
+  const Vec3 shadow_dir = Vec3(-0.3, 0.2, 0.0);                                      // per metre of height
+  int shadowed_and_culled = 0;
+  for (const world::Plant& plant : w.world.plants) {
+    if (plant.base_position.norm() > 1.6) continue;
+    for (double h : {0.6, 0.9, 1.2}) {
+      const Vec3 ground = plant.base_position + h * shadow_dir;
+      const Vec3 eye = ground + Vec3(0, 0, 0.25);
+      const Pose T = look_at(eye, ground);
+      const LabelledFrame a = culled.render(T, false, true);
+      const LabelledFrame b = full.render(T, false, true);
+      const Diff d = compare(a, b);
+      EXPECT_EQ(d.rgb, 0) << "plant " << plant.index << " height " << h;
+      EXPECT_EQ(d.depth, 0) << "plant " << plant.index << " height " << h;
+      EXPECT_EQ(d.cls, 0) << "plant " << plant.index << " height " << h;
+      const LabelledFrame c = unshadowed.render(T, false, true);
+      shadowed_and_culled += compare(a, c).rgb > 1000 && culled.last_drawn_geom_count() < culled.last_scene_geom_count();
+    }
+  }
+  EXPECT_GE(shadowed_and_culled, 3);  // shadows in view, geoms culled
+}
+
+// Video frames of a still camera (the world kept, the robot drawn over it) equal full renders.
+TEST(RenderVideoFrame, EqualsTheFullRenderWhileTheArmMovesUnderAStillCamera) {
+  DefaultWorld& w = scene();
+  CameraIntrinsics K;
+  K.width_px = 320;
+  K.height_px = 240;
+  K.cx_px = 160;
+  K.cy_px = 120;
+  K.fx_px = K.fy_px = 120.0 / std::tan(M_PI / 6);
+  K.min_range_m = 0.01;
+  K.max_range_m = 50.0;
+  Renderer video(w.sim, K), full(w.sim, K);
+  const RobotConfig cfg = default_robot_config();
+  Rng rng(9);
+  int composited = 0;
+  for (int k = 0; k < 12; ++k) {
+    const BasePose base{k < 8 ? 0.4 : 1.3, 0.0, 0.0};  // still for 8 frames, then moved
+    ArmConfig q = cfg.home;
+    for (auto& v : q) v += rng.uniform(-0.6, 0.6);
+    w.sim.set_robot_state(base, q);
+    const std::string caption = k < 5 ? "stop 1/5 | views 3" : "stop 1/5 | views 4";
+    const Pose T = chase(base);
+    const Image<Rgb8> a = video.render_video_frame(T, caption);
+    const Image<Rgb8> b = full.render_captioned(T, true, caption);
+    long differ = 0;
+    for (std::size_t i = 0; i < a.data.size(); ++i) differ += !(a.data[i] == b.data[i]);
+    EXPECT_EQ(differ, 0) << "frame " << k;
+    composited += video.last_drawn_geom_count() < 60;  // a robot-only pass
+  }
+  EXPECT_GE(composited, 6);
+}
+
+TEST(RenderCulling, ACameraLookingAtOnePlantDrawsFewGeoms) {
+  DefaultWorld& w = scene();
+  const world::Plant& plant = w.world.plants.front();
+  const CameraIntrinsics& K = w.world.spec.camera;
+  Renderer renderer(w.sim, K);
+  // 0.45 m in front of the first plant, at mid height, looking at it across the aisle.
+  const Vec3 base = plant.base_position;
+  const double side = base.y() > 0 ? -1.0 : 1.0;
+  const Vec3 eye = base + Vec3(0, side * 0.45, 0.6);
+  const LabelledFrame f = renderer.render_free_camera(look_at(eye, eye - Vec3(0, side, 0)));
+  long leafy = 0;
+  for (auto c : f.class_id.data) leafy += c != 0;
+  EXPECT_GT(leafy, 1000);  // the plant is in view
+  const int scene_geoms = renderer.last_scene_geom_count(), drawn = renderer.last_drawn_geom_count();
+  std::size_t parts = 0;
+  for (const world::Plant& p : w.world.plants) parts += p.parts.size();
+  EXPECT_GE(static_cast<std::size_t>(scene_geoms), parts);  // the scene holds every plant part
+  EXPECT_LT(drawn * 4, scene_geoms) << drawn << " of " << scene_geoms;
+  EXPECT_GT(drawn, 1);
+}
+
+}  // namespace
+}  // namespace canopy::sim
