@@ -102,17 +102,26 @@ std::vector<FruitCluster> fruit_clusters(const std::vector<Vec3>& centres, doubl
     if (static_cast<int>(members.size()) < min_voxels) continue;
     std::sort(members.begin(), members.end(),
               [&](std::size_t a, std::size_t b) { return cell_key[a] < cell_key[b]; });
-    FruitCluster cl;
     pts.clear();
     for (std::size_t i : members) pts.push_back(centres[i]);
-    for (const Vec3& p : pts) cl.centroid += p;
-    cl.centroid /= double(pts.size());
-    cl.voxels = pts.size();
-    cl.voxel_volume_m3 = double(pts.size()) * res * res * res;
-    fit_ellipsoid(pts, &cl.semi_axes, &cl.ellipsoid_volume_m3);
-    out.push_back(cl);
+    out.push_back(make_fruit_cluster(pts, res));
   }
   return out;
+}
+
+std::int64_t fruit_cell(const Vec3& centre, double res) {
+  int x, y, z;
+  return cell_of(centre, res, &x, &y, &z);
+}
+
+FruitCluster make_fruit_cluster(const std::vector<Vec3>& pts, double res) {
+  FruitCluster cl;
+  for (const Vec3& p : pts) cl.centroid += p;
+  cl.centroid /= double(pts.size());
+  cl.voxels = pts.size();
+  cl.voxel_volume_m3 = double(pts.size()) * res * res * res;
+  fit_ellipsoid(pts, &cl.semi_axes, &cl.ellipsoid_volume_m3);
+  return cl;
 }
 
 FruitDetection detect_fruits(std::vector<FruitCluster> clusters, const world::GroundTruth& truth,

@@ -116,6 +116,9 @@ void IncrementalEvaluator::set_voxel(std::uint64_t code, std::uint8_t flags, con
   };
   count(old, false);
   count(flags, true);
+  const std::uint8_t rule_flag = params_.rule == EvaluationRule::kPaper ? kPaper : kPrototype;
+  if ((old & rule_flag) && !(flags & rule_flag)) left_.push_back(code);
+  if (!(old & rule_flag) && (flags & rule_flag)) joined_.push_back(code);
   if (flags) voxels_[code] = flags;
   else if (it != voxels_.end()) voxels_.erase(it);
 }
@@ -152,6 +155,11 @@ void IncrementalEvaluator::score_all(const SemanticOcTree& map) {
   index_fruit_boxes(map);
   voxels_.clear();
   paper_voxels_ = prototype_voxels_ = paper_on_fruit_ = prototype_on_fruit_ = 0;
+  component_of_.clear();
+  components_.clear();
+  component_order_.clear();
+  joined_.clear();
+  left_.clear();
   const int target = map.classes().target_index();
   map.for_each_voxel_if([&](const SemanticState& s) { return SemanticOcTree::is_class_voxel(s, target); },
                          [&](const octomap::OcTreeKey& key, const SemanticState& s) {
@@ -209,17 +217,96 @@ void IncrementalEvaluator::finish(const SemanticOcTree& map) {
   metrics_.fruit_voxels_paper = paper_voxels_;
   metrics_.fruit_voxels_prototype = prototype_voxels_;
   const bool paper = params_.rule == EvaluationRule::kPaper;
-  const std::uint8_t rule_flag = paper ? kPaper : kPrototype;
-  std::vector<Vec3> centres;
-  centres.reserve(paper ? paper_voxels_ : prototype_voxels_);
-  for (const auto& [code, flags] : voxels_)
-    if (flags & rule_flag) centres.push_back(map.center_of(mapping::morton_key(code)));
-  metrics_.detection = detect_fruits(fruit_clusters(centres, resolution_, params_.detection_min_voxels), truth_,
-                                     params_.match_size_fraction);
+  update_components(map);
+  std::vector<FruitCluster> clusters;
+  for (const auto& [first, id] : component_order_) {
+    const FruitCluster& c = components_.at(id).cluster;
+    if (static_cast<int>(c.voxels) >= params_.detection_min_voxels) clusters.push_back(c);
+  }
+  metrics_.detection = detect_fruits(std::move(clusters), truth_, params_.match_size_fraction);
   const std::size_t n = paper ? paper_voxels_ : prototype_voxels_;
   const std::size_t on = paper ? paper_on_fruit_ : prototype_on_fruit_;
   metrics_.voxel_precision = fruit_voxel_precision(on, n - on, resolution_);
   metrics_.counts = VoxelCounts{};
+}
+
+void IncrementalEvaluator::update_components(const SemanticOcTree& map) {
+  if (joined_.empty() && left_.empty()) return;
+  const std::uint8_t rule_flag = params_.rule == EvaluationRule::kPaper ? kPaper : kPrototype;
+  const auto in_set = [&](std::uint64_t code) {
+    const auto it = voxels_.find(code);
+    return it != voxels_.end() && (it->second & rule_flag);
+  };
+  const auto for_each_neighbour = [](std::uint64_t code, auto&& f) {
+    const octomap::OcTreeKey k = mapping::morton_key(code);
+    for (int dz = -1; dz <= 1; ++dz)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          if (!dx && !dy && !dz) continue;
+          const int x = k[0] + dx, y = k[1] + dy, z = k[2] + dz;
+          if (x < 0 || y < 0 || z < 0 || x > 0xffff || y > 0xffff || z > 0xffff) continue;
+          f(mapping::morton_code(octomap::OcTreeKey(static_cast<octomap::key_type>(x), static_cast<octomap::key_type>(y),
+                                                    static_cast<octomap::key_type>(z))));
+        }
+  };
+  // Components a change touches: those a voxel left, and those next to a voxel that joined.
+  std::vector<std::uint32_t> touched;
+  for (std::uint64_t code : left_) {
+    const auto it = component_of_.find(code);
+    if (it != component_of_.end()) touched.push_back(it->second);
+  }
+  for (std::uint64_t code : joined_)
+    for_each_neighbour(code, [&](std::uint64_t n) {
+      const auto it = component_of_.find(n);
+      if (it != component_of_.end()) touched.push_back(it->second);
+    });
+  std::sort(touched.begin(), touched.end());
+  touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+  // Dissolve them; their members still in the set and the joined voxels are flooded again.
+  std::vector<std::uint64_t> seeds = joined_;
+  for (std::uint32_t id : touched) {
+    Component& c = components_.at(id);
+    for (std::uint64_t code : c.codes) {
+      component_of_.erase(code);
+      if (in_set(code)) seeds.push_back(code);
+    }
+    component_order_.erase(c.first_cell);
+    components_.erase(id);
+  }
+  joined_.clear();
+  left_.clear();
+  std::vector<std::uint64_t> stack;
+  std::vector<std::pair<std::int64_t, Vec3>> members;  // (cell, centre)
+  for (std::uint64_t seed : seeds) {
+    if (component_of_.count(seed) || !in_set(seed)) continue;
+    const std::uint32_t id = next_component_++;
+    Component comp;
+    stack.assign(1, seed);
+    component_of_[seed] = id;
+    while (!stack.empty()) {
+      const std::uint64_t code = stack.back();
+      stack.pop_back();
+      comp.codes.push_back(code);
+      for_each_neighbour(code, [&](std::uint64_t n) {
+        if (component_of_.count(n) || !in_set(n)) return;
+        component_of_[n] = id;
+        stack.push_back(n);
+      });
+    }
+    members.clear();
+    for (std::uint64_t code : comp.codes) {
+      const Vec3 c = map.center_of(mapping::morton_key(code));
+      members.emplace_back(fruit_cell(c, resolution_), c);
+    }
+    std::sort(members.begin(), members.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    std::vector<Vec3> centres;
+    centres.reserve(members.size());
+    for (const auto& m : members) centres.push_back(m.second);
+    comp.first_cell = members.front().first;
+    comp.cluster = make_fruit_cluster(centres, resolution_);
+    component_order_[comp.first_cell] = id;
+    components_.emplace(id, std::move(comp));
+  }
 }
 
 }  // namespace canopy::evaluation

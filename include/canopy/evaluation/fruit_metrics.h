@@ -18,6 +18,7 @@
 //    segmentation noise costs: false fruit volume).
 
 #include <cstddef>
+#include <cstdint>
 #include <memory>
 #include <vector>
 
@@ -76,6 +77,13 @@ struct FruitVoxelPrecision {
 /// order and the clusters come in the order of their first cell, so an incremental evaluation
 /// that keeps its voxels in another order gets the same numbers bit for bit.
 std::vector<FruitCluster> fruit_clusters(const std::vector<Vec3>& centres, double resolution_m, int min_voxels);
+
+/// Grid cell of a voxel centre packed into one integer, ordered by x, then y, then z: the order
+/// in which fruit_clusters sums a cluster's voxels and orders the clusters.
+std::int64_t fruit_cell(const Vec3& centre, double resolution_m);
+
+/// The cluster of one component's voxel centres, given in fruit_cell order (not empty).
+FruitCluster make_fruit_cluster(const std::vector<Vec3>& centres_in_cell_order, double resolution_m);
 
 /// The moment-fitted ellipsoid of points: semi-axes sqrt(3 lambda_i) (descending) and volume.
 void fit_ellipsoid(const std::vector<Vec3>& points, Vec3* semi_axes, double* volume_m3);

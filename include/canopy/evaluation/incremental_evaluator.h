@@ -9,15 +9,19 @@
 //  - entropy: a fruit's entropies are summed again when a changed voxel lies in its paper box
 //    or its prototype sphere's box;
 //  - fruit voxels and their voxel precision (on a true fruit or not) are kept in a hash;
-//  - detection clusters the current fruit voxels (fruit_clusters does not depend on their order).
+//  - detection: the fruit voxels' connected components are kept; only those a change touches
+//    (a voxel of theirs left, or a new voxel next to them) are flooded again, and each cluster
+//    is computed as fruit_clusters computes it (members in grid-cell order).
 // The result equals evaluate_map() bit for bit, except MapMetrics::counts (the map's leaf
 // counts need a full pass: call SemanticOcTree::counts() when they are wanted).
 
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <unordered_map>
 #include <vector>
 
+#include "canopy/evaluation/fruit_metrics.h"
 #include "canopy/evaluation/map_metrics.h"
 #include "canopy/mapping/semantic_octree.h"
 #include "canopy/world/ground_truth.h"
@@ -61,6 +65,14 @@ class IncrementalEvaluator {
   std::uint8_t covered_flags(const SemanticOcTree& map, const Vec3& p) const;
   void rescore_point(const SemanticOcTree& map, std::size_t i);
   void finish(const SemanticOcTree& map);
+  void update_components(const SemanticOcTree& map);
+
+  /// A connected component (26-neighbourhood) of the rule's fruit voxels.
+  struct Component {
+    std::vector<std::uint64_t> codes;
+    std::int64_t first_cell = 0;  ///< Smallest fruit_cell of its members: its place in the output.
+    FruitCluster cluster;
+  };
 
   const world::GroundTruth& truth_;
   MetricsParams params_;
@@ -81,6 +93,14 @@ class IncrementalEvaluator {
   std::unordered_map<std::uint64_t, std::uint8_t> voxels_;  ///< Fruit voxels: kPaper [| kPrototype] | kOnFruit.
   std::size_t paper_voxels_ = 0, prototype_voxels_ = 0;
   std::size_t paper_on_fruit_ = 0, prototype_on_fruit_ = 0;
+
+  // Detection: components of the rule's fruit voxels, and the voxels that joined or left the
+  // rule's set since the last update.
+  std::unordered_map<std::uint64_t, std::uint32_t> component_of_;
+  std::unordered_map<std::uint32_t, Component> components_;
+  std::map<std::int64_t, std::uint32_t> component_order_;  ///< first_cell -> component
+  std::uint32_t next_component_ = 0;
+  std::vector<std::uint64_t> joined_, left_;
 
   MapMetrics metrics_;
   std::size_t last_points_ = 0, last_fruits_ = 0;
