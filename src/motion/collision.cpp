@@ -120,8 +120,17 @@ struct CoarseGrid {
     if (!covers(lo, hi)) {
       Vec3 l = lo, h = hi;
       if (!occupied.empty()) {
-        l = l.cwiseMin(origin);
-        h = h.cwiseMax(origin + dims.cast<double>() * cell);
+        // Grow geometrically along each axis that must grow (at least the old extent again),
+        // so that voxels added along a long row cost amortised O(1) copies, not one copy of the
+        // whole grid every few cells.
+        const Vec3 old_lo = origin, old_hi = origin + dims.cast<double>() * cell;
+        const Vec3 extent = old_hi - old_lo;
+        for (int i = 0; i < 3; ++i) {
+          if (l[i] < old_lo[i]) l[i] = std::min(l[i], old_lo[i] - extent[i]);
+          if (h[i] >= old_hi[i]) h[i] = std::max(h[i], old_hi[i] + extent[i]);
+        }
+        l = l.cwiseMin(old_lo);
+        h = h.cwiseMax(old_hi);
       }
       grow(l, h);
     }
