@@ -133,13 +133,25 @@ FruitDetection detect_fruits(std::vector<FruitCluster> clusters, const world::Gr
     if (f.target) fruits.push_back(&f);
   d.fruits = fruits.size();
   // Every pair within its fruit's threshold, closest first (ties: cluster, then fruit order).
+  // Candidate fruits of a cluster come from a KD-tree of the fruit centres (radius: the largest
+  // threshold), so the cost grows with the clusters, not clusters x fruits.
   std::vector<std::tuple<double, std::size_t, std::size_t>> pairs;
-  for (std::size_t c = 0; c < d.clusters.size(); ++c)
-    for (std::size_t f = 0; f < fruits.size(); ++f) {
+  std::vector<Vec3> centres;
+  double reach = 0.0;
+  for (const world::FruitTruth* f : fruits) {
+    centres.push_back(f->center);
+    reach = std::max(reach, match_size_fraction * (f->bbox_max - f->bbox_min).maxCoeff());
+  }
+  const PointKdTree tree(std::move(centres));
+  std::vector<std::pair<std::size_t, double>> near;
+  for (std::size_t c = 0; c < d.clusters.size(); ++c) {
+    tree.within(d.clusters[c].centroid, reach * (1.0 + 1e-9) + 1e-12, &near);
+    for (const auto& [f, d2] : near) {
       const double size = (fruits[f]->bbox_max - fruits[f]->bbox_min).maxCoeff();
       const double dist = (d.clusters[c].centroid - fruits[f]->center).norm();
       if (dist <= match_size_fraction * size) pairs.emplace_back(dist, c, f);
     }
+  }
   std::sort(pairs.begin(), pairs.end());
   std::vector<bool> cluster_used(d.clusters.size(), false), fruit_used(fruits.size(), false);
   std::vector<double> centre, vox, ell;

@@ -125,3 +125,59 @@ TEST(FruitClusters, DoNotDependOnTheOrderOfTheVoxels) {
     EXPECT_EQ(a[i].ellipsoid_volume_m3, b[i].ellipsoid_volume_m3);
   }
 }
+
+// Matching finds its candidate pairs with a KD-tree of fruit centres: the same detection as
+// testing every cluster against every fruit (a slow reference written here), on random scenes.
+TEST(FruitDetection, KdTreeCandidatesEqualEveryPair) {
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<double> pos(0.0, 1.0), size(0.03, 0.12), jitter(-0.05, 0.05);
+  for (int scene = 0; scene < 20; ++scene) {
+    world::GroundTruth truth;
+    for (int i = 0; i < 40; ++i) {
+      world::FruitTruth f;
+      f.instance_id = i;
+      f.target = i % 7 != 0;
+      f.center = Vec3(pos(rng), pos(rng), pos(rng));
+      const double s = size(rng);
+      f.bbox_min = f.center - Vec3(s / 2, s / 3, s / 4);
+      f.bbox_max = f.center + Vec3(s / 2, s / 3, s / 4);
+      f.volume_m3 = s * s * s / 3;
+      truth.fruits.push_back(f);
+    }
+    std::vector<FruitCluster> clusters;
+    for (int i = 0; i < 50; ++i) {
+      FruitCluster c;
+      c.centroid = i < 35 ? Vec3(truth.fruits[std::size_t(i)].center + Vec3(jitter(rng), jitter(rng), jitter(rng)))
+                          : Vec3(pos(rng), pos(rng), pos(rng));
+      c.voxels = 10;
+      c.voxel_volume_m3 = 1e-4;
+      c.ellipsoid_volume_m3 = 2e-4;
+      clusters.push_back(c);
+    }
+    const FruitDetection got = detect_fruits(clusters, truth, 0.5);
+    // Reference: every pair.
+    std::vector<const world::FruitTruth*> targets;
+    for (const world::FruitTruth& f : truth.fruits)
+      if (f.target) targets.push_back(&f);
+    std::vector<std::tuple<double, std::size_t, std::size_t>> pairs;
+    for (std::size_t c = 0; c < clusters.size(); ++c)
+      for (std::size_t f = 0; f < targets.size(); ++f) {
+        const double dist = (clusters[c].centroid - targets[f]->center).norm();
+        if (dist <= 0.5 * (targets[f]->bbox_max - targets[f]->bbox_min).maxCoeff()) pairs.emplace_back(dist, c, f);
+      }
+    std::sort(pairs.begin(), pairs.end());
+    std::vector<bool> cu(clusters.size()), fu(targets.size());
+    std::vector<std::pair<int, int>> want;
+    for (const auto& [dist, c, f] : pairs) {
+      if (cu[c] || fu[f]) continue;
+      cu[c] = fu[f] = true;
+      want.emplace_back(int(c), targets[f]->instance_id);
+    }
+    ASSERT_EQ(got.matches.size(), want.size()) << "scene " << scene;
+    EXPECT_GT(want.size(), 4u);  // the scenes have matches to agree on
+    for (std::size_t i = 0; i < want.size(); ++i) {
+      EXPECT_EQ(got.matches[i].cluster, want[i].first);
+      EXPECT_EQ(got.matches[i].instance_id, want[i].second);
+    }
+  }
+}
