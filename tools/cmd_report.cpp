@@ -33,6 +33,7 @@ void add_report_command(CLI::App& app) {
     write_file_atomic(out.path("runtime.csv"), rep.runtime_csv);
     write_file_atomic(out.path("findings.md"), rep.findings_md);
     write_file_atomic(out.path("field.csv"), rep.field_csv);
+    write_file_atomic(out.path("field_curves.csv"), rep.field_curves_csv);
     write_json_atomic(out.path("trials.json"), rep.trials_json);
     if (!rep.gain_truth_csv.empty()) write_file_atomic(out.path("gain_truth.csv"), rep.gain_truth_csv);
     if (!o->no_plots) {

@@ -12,6 +12,7 @@ gain_truth.png             when gain_truth.csv exists: per gain, Spearman's rank
 Usage: /usr/bin/python3 tools/plot_experiment.py REPORT_DIR   (reads curves.csv and runtime.csv)
 """
 import csv
+import os
 import sys
 
 import matplotlib
@@ -22,6 +23,14 @@ import matplotlib.pyplot as plt  # noqa: E402
 COLOURS = ["tab:red", "tab:blue", "tab:green", "tab:purple", "tab:orange", "tab:brown", "tab:gray"]
 FIG4 = [("mapping", "mapping"), ("nbv_planning", "NBV planning"), ("motion_planning", "motion planning"),
         ("control", "control")]
+
+
+FIELD_CURVES = {
+    "fruits_sc80": "fruits above 80 % SC (share)",
+    "detection_f1": "fruit detection F1",
+    "fruit_voxel_precision": "fruit-voxel precision",
+    "sim_time_s": "simulated time [s]",
+}
 
 
 def read(path):
@@ -65,6 +74,32 @@ def main(report):
     fig.tight_layout()
     fig.savefig(f"{report}/fig3_entropy_coverage.png", dpi=120)
     plt.close(fig)
+
+    field_path = f"{report}/field_curves.csv"
+    field = read(field_path) if os.path.exists(field_path) else []
+    metrics = [m for m in FIELD_CURVES if any(r["metric"] == m for r in field)]
+    if metrics:
+        fig, axes = plt.subplots(1, len(metrics), figsize=(4.2 * len(metrics), 3.8), squeeze=False)
+        for ax, metric in zip(axes[0], metrics):
+            for lab in labels:
+                for p in pgts:
+                    rows = [r for r in field if r["label"] == lab and float(r["p_gt"]) == p and r["metric"] == metric]
+                    if not rows:
+                        continue
+                    v = [int(r["view"]) for r in rows]
+                    m = [float(r["mean"]) for r in rows]
+                    s = [float(r["std"]) for r in rows]
+                    ax.plot(v, m, "-" if p == pgts[0] else "--", color=colour[lab], label=f"{lab}, P_gt {p:g}")
+                    ax.fill_between(v, [a - b for a, b in zip(m, s)], [a + b for a, b in zip(m, s)],
+                                    color=colour[lab], alpha=0.12, lw=0)
+            ax.set_xlabel("successful views")
+            ax.set_ylabel(FIELD_CURVES[metric])
+        axes[0][0].legend(fontsize=7)
+        fig.suptitle("The field's metrics after each view, mean ± std over trials "
+                     "(solid: no noise, dashed: segmentation noise)", fontsize=10)
+        fig.tight_layout()
+        fig.savefig(f"{report}/field_curves.png", dpi=110)
+        plt.close(fig)
 
     fig, ax = plt.subplots(figsize=(1.6 + 1.3 * len(runtime), 4.2))
     names = [f"{r['label']}\nP_gt {float(r['p_gt']):g}\n(n={r['trials']})" for r in runtime]

@@ -34,6 +34,7 @@ void read_mission(const fs::path& mission, TrialResult* r) {
   const mission::RunFolder f = mission::read_run_folder(mission.string());
   r->coverage = f.coverage;
   r->entropy = f.entropy;
+  r->curves = f.curves;
   const nlohmann::json& s = f.summary;
   for (auto it = s.at("wall_time_by_phase_s").begin(); it != s.at("wall_time_by_phase_s").end(); ++it)
     r->phase_s[it.key()] = it.value().get<double>();
@@ -306,6 +307,24 @@ ExperimentReport make_experiment_report(const MergedTrials& m) {
     }
   }
   rep.curves_csv = c;
+
+  // field_curves.csv: the field's per-view metrics, the same way (trials having the column).
+  std::string fcv = "method,label,p_gt,metric,view,trials,mean,std\n";
+  for (const Group& g : groups)
+    for (const char* metric : mission::kCurveColumns) {
+      std::vector<std::vector<double>> runs;
+      for (const TrialResult* r : g.trials) {
+        const auto it = r->curves.find(metric);
+        if (it != r->curves.end()) runs.push_back(it->second);
+      }
+      if (runs.empty()) continue;
+      const std::vector<SampleStats> curve = curve_stats(runs);
+      for (std::size_t v = 0; v < curve.size(); ++v)
+        fcv += g.method.choice.name + "," + g.method.label + "," + pgt_text(g.p_gt) + "," + metric + "," +
+               std::to_string(v + 1) + "," + std::to_string(curve[v].n) + "," + num(curve[v].mean, "%.9g") + "," +
+               num(curve[v].std, "%.9g") + "\n";
+    }
+  rep.field_curves_csv = fcv;
 
   // runtime.csv: per group, mean and std of each category and the totals.
   std::string r = "method,label,p_gt,trials";

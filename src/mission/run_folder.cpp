@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 #include "canopy/common/error.h"
@@ -205,6 +206,10 @@ RunFolder read_run_folder(const std::string& dir) {
     throw InputError(views_path + ": no column '" + name + "'");
   };
   const std::size_t c_success = col("success"), c_cov = col("coverage"), c_ent = col("entropy");
+  std::vector<std::pair<std::string, std::size_t>> curve_cols;  // the optional columns present
+  for (const char* name : kCurveColumns)
+    for (std::size_t i = 0; i < header.size(); ++i)
+      if (header[i] == name) curve_cols.emplace_back(name, i);
   int row = 1;
   while (std::getline(in, line)) {
     ++row;
@@ -224,6 +229,21 @@ RunFolder read_run_folder(const std::string& dir) {
                        fields[c_ent] + "' (need a coverage in [0, 1] and a finite entropy >= 0)");
     f.coverage.push_back(cov);
     f.entropy.push_back(ent);
+    for (const auto& [name, c] : curve_cols) {
+      double x = std::numeric_limits<double>::quiet_NaN();
+      if (!fields[c].empty()) {
+        std::size_t used = 0;
+        try {
+          x = std::stod(fields[c], &used);
+        } catch (const std::exception&) {
+          used = 0;
+        }
+        if (used != fields[c].size())
+          throw InputError(views_path + ": row " + std::to_string(row) + " has " + name + " '" + fields[c] +
+                           "' that is not a number");
+      }
+      f.curves[name].push_back(x);
+    }
   }
   const std::string summary_path = dir + "/summary.json";
   try {

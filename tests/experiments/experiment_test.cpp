@@ -243,7 +243,7 @@ case "$seed" in
 esac
 mkdir -p "$out"
 k=$(printf '%s' "$method" | wc -c)
-printf 'attempt,success,coverage,entropy\n0,1,0.%s%s,90\n1,0,0.5,80\n2,1,0.%s%s,7%s\n' "$seed" "$k" "$k" "$seed" "$seed" > "$out/views.csv"
+printf 'attempt,success,coverage,entropy,fruits_sc80,detection_f1\n0,1,0.%s%s,90,0.25,0.%s\n1,0,0.5,80,0,0\n2,1,0.%s%s,7%s,0.5,\n' "$seed" "$k" "$seed" "$k" "$seed" "$seed" > "$out/views.csv"
 printf '{"complete": true, "final": {"fruit_coverage": 0.5}, "views_successful": 2, "views_attempted": 3, "failures": {"no_ik": 1},
  "stops": [{}, {}], "wall_time_s": 2.0, "simulated_time_s": 9.0,
  "wall_time_by_phase_s": {"mapping": 0.5, "scoring": 0.25, "clustering": 0.25, "motion_planning": 1.0, "control": 0.%s}}\n' "$seed" > "$out/summary.json"
@@ -395,6 +395,13 @@ TEST(ExperimentReport, AggregatesKnownValues) {
   EXPECT_NE(r.curves_csv.find("ours,ours,1,1,2,0.119,0.00707106781,90,0\n"), std::string::npos) << r.curves_csv;
   EXPECT_NE(r.curves_csv.find("ours,ours,1,2,2,0.4115,0.000707106781,711.5,0.707106781\n"), std::string::npos)
       << r.curves_csv;
+  // The field's curves: fruits_sc80 0.25 then 0.5 in both trials; detection_f1 0.11 and 0.12 at
+  // view 1, empty (NaN: no value) at view 2.
+  EXPECT_NE(r.field_curves_csv.find("ours,ours,1,fruits_sc80,1,2,0.25,0\n"), std::string::npos) << r.field_curves_csv;
+  EXPECT_NE(r.field_curves_csv.find("ours,ours,1,fruits_sc80,2,2,0.5,0\n"), std::string::npos) << r.field_curves_csv;
+  EXPECT_NE(r.field_curves_csv.find("ours,ours,1,detection_f1,1,2,0.115,0.00707106781\n"), std::string::npos)
+      << r.field_curves_csv;
+  EXPECT_EQ(r.field_curves_csv.find("fruit_voxel_precision"), std::string::npos);  // not in the files: no curve
   // Run time: mapping 0.5, NBV 0.25 + 0.25, motion 1, control 0.11 / 0.12 -> paper total 2.115.
   EXPECT_NE(r.runtime_csv.find("ours,ours,1,2,0.5,0,0.5,0,1,0,0.115,0.00707107,0,0,0,0,2.115,0.00707107,2,0,9,0,2,3,0.4115,"),
             std::string::npos)

@@ -26,6 +26,7 @@ struct TrialResult {
   std::string message;                   ///< Why it failed.
   std::string folder;                    ///< Where it was read from.
   std::vector<double> coverage, entropy; ///< After each successful view (index v-1).
+  std::map<std::string, std::vector<double>> curves;  ///< mission::kCurveColumns the trial's views.csv has.
   std::map<std::string, double> phase_s; ///< Wall time by mission phase.
   double wall_s = 0.0, sim_s = 0.0;
   int stops = 0, views_ok = 0, views_attempted = 0;
@@ -60,6 +61,7 @@ struct ExperimentReport {
   std::string curves_csv;   ///< method,label,p_gt,view,trials,sc_mean,sc_std,entropy_mean,entropy_std
   std::string runtime_csv;  ///< per method and P_gt: trials and mean/std of each Fig. 4 phase, totals, views
   std::string findings_md;  ///< The paper's headline findings beside ours.
+  std::string field_curves_csv;  ///< per method, P_gt, metric and view: trials, mean and std (the field's metrics' curves)
   std::string field_csv;    ///< per method and P_gt: trials, mean and std of each of the field's metrics
   nlohmann::json trials_json;  ///< Every trial: id, status, message, source folder; missing; incomplete.
   /// Every gain against the truth (the oracle) per method label and P_gt, over the trials'

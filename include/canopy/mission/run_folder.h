@@ -9,6 +9,7 @@
 //   map.csm, map.ply, map.bt   the final map (canopy, MeshLab, octovis).
 
 #include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -47,10 +48,16 @@ nlohmann::json run_summary(const MissionResult& result, const Settings& settings
 nlohmann::json write_run_folder(const std::string& dir, const MissionResult& result, const Settings& settings,
                                 const mapping::SemanticOcTree& map, const RunContext& context);
 
+/// The views.csv columns read back as per-view curves besides coverage and entropy (the
+/// field's metrics that a report plots against the views).
+inline constexpr const char* kCurveColumns[] = {"fruits_sc80", "detection_f1", "fruit_voxel_precision", "sim_time_s"};
+
 /// A mission folder read back.
 struct RunFolder {
   std::string views_csv;                 ///< The file's text.
   std::vector<double> coverage, entropy; ///< After each successful view (headline rule).
+  /// kCurveColumns present in the file, after each successful view (NaN where a field is empty).
+  std::map<std::string, std::vector<double>> curves;
   nlohmann::json summary;
 };
 
