@@ -17,6 +17,20 @@
 namespace canopy::sim {
 namespace {
 
+// A chase-like camera: w x h pixels, 60 degree vertical field of view, 0.01-50 m.
+CameraIntrinsics chase_intrinsics(int w, int h) {
+  CameraIntrinsics K;
+  K.width_px = w;
+  K.height_px = h;
+  K.cx_px = w / 2.0;
+  K.cy_px = h / 2.0;
+  K.fx_px = K.fy_px = (h / 2.0) / std::tan(M_PI / 6);
+  K.min_range_m = 0.01;
+  K.max_range_m = 50.0;
+  return K;
+}
+
+
 struct DefaultWorld {
   world::World world;
   Simulator sim;
@@ -103,14 +117,7 @@ TEST(RenderCulling, WristFramesAreIdenticalWithAndWithoutCulling) {
 
 TEST(RenderCulling, ShadowedChaseViewsAreIdenticalWithAndWithoutCulling) {
   DefaultWorld& w = scene();
-  CameraIntrinsics K;
-  K.width_px = 640;
-  K.height_px = 480;
-  K.cx_px = 320;
-  K.cy_px = 240;
-  K.fx_px = K.fy_px = 240.0 / std::tan(M_PI / 6);
-  K.min_range_m = 0.01;
-  K.max_range_m = 50.0;
+  const CameraIntrinsics K = chase_intrinsics(640, 480);
   Renderer culled(w.sim, K, RenderOptions{true, 1, false}), full(w.sim, K, RenderOptions{true, 1, false});
   full.set_culling(false);
   const RobotConfig cfg = default_robot_config();
@@ -175,14 +182,7 @@ TEST(RenderCulling, ShadowsOfGeomsOutsideTheViewAreKept) {
 // Video frames of a still camera (the world kept, the robot drawn over it) equal full renders.
 TEST(RenderVideoFrame, EqualsTheFullRenderWhileTheArmMovesUnderAStillCamera) {
   DefaultWorld& w = scene();
-  CameraIntrinsics K;
-  K.width_px = 320;
-  K.height_px = 240;
-  K.cx_px = 160;
-  K.cy_px = 120;
-  K.fx_px = K.fy_px = 120.0 / std::tan(M_PI / 6);
-  K.min_range_m = 0.01;
-  K.max_range_m = 50.0;
+  const CameraIntrinsics K = chase_intrinsics(320, 240);
   Renderer video(w.sim, K), full(w.sim, K);
   const RobotConfig cfg = default_robot_config();
   Rng rng(9);
