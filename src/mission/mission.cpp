@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <future>
 
 #include "canopy/common/error.h"
 #include "canopy/common/random.h"
@@ -208,14 +209,23 @@ struct Mission::Impl {
     rec.message = message;
     rec.success = cause.empty();
     rec.successful_views = result.successful_views() + rec.success;
+    rec.sim_time_s = sim.time();
+    rec.base_travel_m = result.base_travel_m;
+    fill_metrics(rec);
+    if (!rec.success) ++result.failures[cause];
+    result.times.merge(rec.times);
+    ++current_attempt;
+    return rec;
+  }
+
+  // The map's figures after the last scan, into a record.
+  void fill_metrics(ViewRecord& rec) const {
     rec.coverage = last_metrics.coverage;
     rec.entropy = last_metrics.total_entropy;
     rec.coverage_paper = last_metrics.paper.coverage;
     rec.entropy_paper = last_metrics.paper.entropy;
     rec.coverage_prototype = last_metrics.prototype.coverage;
     rec.entropy_prototype = last_metrics.prototype.entropy;
-    rec.sim_time_s = sim.time();
-    rec.base_travel_m = result.base_travel_m;
     const evaluation::MapMetrics& m = last_metrics;
     rec.fruits_sc50 = m.fruits_sc50;
     rec.fruits_sc80 = m.fruits_sc80;
@@ -229,10 +239,42 @@ struct Mission::Impl {
     rec.ellipsoid_volume_error = m.detection.ellipsoid_volume_error;
     rec.fruit_voxel_precision = m.voxel_precision.precision;
     rec.false_fruit_volume_m3 = m.voxel_precision.false_volume_m3;
-    if (!rec.success) ++result.failures[cause];
-    result.times.merge(rec.times);
-    ++current_attempt;
-    return rec;
+  }
+
+  // Background work of a scan: what only reads the map until the next insertion (the NBV
+  // index following the scan, the metrics with the ground truth) runs on the second core
+  // beside the next move; settle() waits for it before the map changes or its results are
+  // read, so the results are those of running it in line.
+  void start_background(std::uint64_t revision) {
+    const bool metrics = settings.mission.record.metrics_every_view;
+    background_ = std::async(std::launch::async, [this, revision, metrics] {
+      PhaseTimes t;
+      {
+        ScopedPhase phase_time(t, kMapping);
+        index.apply_updates(map, revision, inserter.last_updates());
+      }
+      if (metrics) {
+        ScopedPhase phase_time(t, kEvaluation);
+        background_metrics_ = evaluator.update(map, inserter.last_updates());
+      }
+      return t;
+    });
+    background_view_ = result.views.size();  // the row the scan's record will take
+  }
+
+  // Waits for the background work and completes the records that waited for its metrics.
+  void settle() {
+    if (!background_.valid()) return;
+    const PhaseTimes t = background_.get();
+    if (settings.mission.record.metrics_every_view) last_metrics = background_metrics_;
+    result.times.merge(t);
+    for (std::size_t i = background_view_; i < result.views.size(); ++i) {
+      ViewRecord& v = result.views[i];
+      if (i == background_view_) v.times.merge(t);
+      fill_metrics(v);
+      report(v);
+    }
+    update_caption();
   }
 
   ViewRecord attempt(const nbv::PlannedView& view, ViewPhase phase) {
@@ -294,22 +336,21 @@ struct Mission::Impl {
     }
     rec.T_reached = frame.T_world_camera;
     // Mapping: segmentation, insertion, the planner's collision environment.
+    std::uint64_t revision = 0;
     {
       ScopedPhase phase_time(rec.times, kMapping);
       const perception::LabelledCloud cloud = extractor.extract(frame);
       rec.target_points = static_cast<long>(cloud.stats.target_points);
       rec.true_target_pixels = static_cast<long>(cloud.stats.true_target_pixels);
-      const std::uint64_t revision = map.revision();
+      settle();  // the last scan's background work ends before the map changes
+      revision = map.revision();
       inserter.insert(cloud);
-      // The NBV index follows the scan's updates (a cost of the scan, not of the map's size).
-      index.apply_updates(map, revision, inserter.last_updates());
       update_map_environment();
     }
     view_planner->taken(frame.T_world_camera);
-    if (settings.mission.record.metrics_every_view) {
-      ScopedPhase phase_time(rec.times, kEvaluation);
-      last_metrics = evaluator.update(map, inserter.last_updates());
-    }
+    // The NBV index follows the scan's updates (a cost of the scan, not of the map's size),
+    // and the metrics are computed, beside the next move.
+    start_background(revision);
     close_record(rec, "", "camera within tolerance");
     if (callbacks.on_view) callbacks.on_view(rec, frame, sim);
     update_caption();
@@ -330,10 +371,15 @@ struct Mission::Impl {
       s.nbv_ok += v.success;
     }
     if (!v.success) ++s.failures[v.failure];
+    if (!background_.valid()) report(v);  // else once its metrics are known (settle)
+  }
+
+  // The progress line of a recorded attempt.
+  void report(const ViewRecord& v) const {
     char b[200];
     std::snprintf(b, sizeof b, "stop %d/%zu: %s view %d %s%s (views %d, SC %.3f, elapsed %.1f s)", v.stop + 1,
                   stops_x.size(), to_string(v.phase), v.attempt + 1, v.success ? "ok" : "failed: ",
-                  v.success ? "" : v.failure.c_str(), result.successful_views(), v.coverage, elapsed_.seconds());
+                  v.success ? "" : v.failure.c_str(), v.successful_views, v.coverage, elapsed_.seconds());
     progress(v.success || v.message.empty() ? std::string(b) : std::string(b) + ": " + v.message);
   }
 
@@ -472,6 +518,7 @@ struct Mission::Impl {
         break;
       }
       motion::NextViews next;
+      settle();  // the index and the metrics of the last scan
       {
         const Stopwatch watch;
         req.base = sim.base_pose();
@@ -556,6 +603,7 @@ struct Mission::Impl {
       result.end_reason = "interrupted";
       if (!result.stops.empty() && result.stops.back().end_reason.empty()) result.stops.back().end_reason = "interrupted";
     }
+    settle();
     result.final_metrics = evaluation::evaluate_map(map, world.truth, settings.mapping.metrics);
     result.zero_coverage_reason = zero_coverage_reason();
     if (audit) result.candidates = audit->records();
@@ -565,6 +613,11 @@ struct Mission::Impl {
   }
 
   Stopwatch elapsed_;
+  // The last scan's background work (start_background); last, so it ends before the members
+  // it reads are destroyed.
+  evaluation::MapMetrics background_metrics_;
+  std::size_t background_view_ = 0;
+  std::future<PhaseTimes> background_;
 };
 
 Mission::Mission(const world::World& world, const Settings& settings, std::uint64_t seed, MissionCallbacks callbacks)
@@ -573,9 +626,9 @@ Mission::~Mission() = default;
 MissionResult Mission::run() { return impl_->run(); }
 bool Mission::drive_to_stop(int k) { return impl_->drive_to_stop(k); }
 ViewRecord Mission::attempt(const nbv::PlannedView& view, ViewPhase phase) {
-  const ViewRecord r = impl_->attempt(view, phase);
-  impl_->record(r);
-  return r;
+  impl_->record(impl_->attempt(view, phase));
+  impl_->settle();
+  return impl_->result.views.back();
 }
 std::vector<Pose> Mission::scan_views(int k, bool extra) const { return impl_->scan_views(k, extra); }
 int Mission::stop_count() const { return static_cast<int>(impl_->stops_x.size()); }

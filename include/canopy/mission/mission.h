@@ -172,7 +172,8 @@ struct MissionCallbacks {
   std::function<bool()> stop_requested;
   /// Called before every simulation step of a view's move (tests inject faults here).
   std::function<void(sim::Simulator& sim, int attempt)> before_step;
-  /// Called after every successful view with its frame, while the simulator is in that state.
+  /// Called after every successful view with its frame, while the simulator is in that state
+  /// (before the view's map metrics are known: they are computed beside the next move).
   std::function<void(const ViewRecord& view, const LabelledFrame& frame, const sim::Simulator& sim)> on_view;
 };
 
