@@ -415,10 +415,18 @@ InsertStats ScanInserter::insert(const perception::LabelledCloud& cloud) {
   InsertStats stats;
   compute_updates(cloud, &updates_, &stats);
   const Stopwatch t1;
-  stats.tree = map_.apply_sorted_updates(updates_);
+  stats.tree = map_.apply_sorted_updates(updates_, &occupancy_);
   for (const std::vector<VoxelUpdate>& layer : extra_) {
     if (layer.empty()) continue;
-    const UpdateCounts c = map_.apply_sorted_updates(layer);
+    const UpdateCounts c = map_.apply_sorted_updates(layer, &layer_occupancy_);
+    // A layer's voxels are among the first batch's (both sorted): their state after it is the
+    // state after the scan.
+    std::size_t i = 0;
+    for (std::size_t k = 0; k < layer.size(); ++k) {
+      while (updates_[i].code < layer[k].code) ++i;
+      occupancy_[i] = static_cast<std::uint8_t>((occupancy_[i] & SemanticOcTree::kOccupiedBefore) |
+                                                (layer_occupancy_[k] & SemanticOcTree::kOccupiedAfter));
+    }
     stats.tree.applied += c.applied;
     stats.tree.saturated += c.saturated;
     stats.tree.created += c.created;

@@ -4,6 +4,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include <algorithm>
 #include <array>
 
 #include "canopy/common/error.h"
@@ -115,11 +116,15 @@ namespace {
 inline bool is_noop(const SemanticState& s, const VoxelUpdate& u, const UpdateRule& rule) {
   return u.label == VoxelUpdate::kFree ? s.free_is_noop(rule) : s.hit_is_noop(u.label, rule);
 }
+// A state left as it was: occupied before and after, or neither.
+inline std::uint8_t unchanged_occupancy(const SemanticState& s) {
+  return s.occupancy_logodds() > 0.f ? SemanticOcTree::kOccupiedBefore | SemanticOcTree::kOccupiedAfter : 0;
+}
 }  // namespace
 
 void SemanticOcTree::apply_range(SemanticNode* top, unsigned top_depth, const VoxelUpdate* begin,
                                  const VoxelUpdate* end, bool collapse_top, bool top_is_fresh,
-                                 UpdateCounts& counts) {
+                                 UpdateCounts& counts, std::uint8_t* occupancy) {
   const bool prune = params_.prune;
   std::array<SemanticNode*, kOctreeDepth + 1> path{};
   path[top_depth] = top;
@@ -171,23 +176,31 @@ void SemanticOcTree::apply_range(SemanticNode* top, unsigned top_depth, const Vo
     }
     reached = d;
     if (skipped || is_noop(node->state(), *u, rule_)) {
+      if (occupancy) occupancy[u - begin] = unchanged_occupancy(node->state());
       ++counts.saturated;
       continue;
     }
+    const bool before = node->state().occupancy_logodds() > 0.f;
     if (u->label == VoxelUpdate::kFree) {
       node->state().apply_free(rule_);
     } else {
       CANOPY_CHECK(u->label < num_classes(), "class " << int(u->label) << " out of range");
       node->state().apply_hit(u->label, rule_);
     }
+    if (occupancy)
+      occupancy[u - begin] = static_cast<std::uint8_t>((before ? kOccupiedBefore : 0) |
+                                                       (node->state().occupancy_logodds() > 0.f ? kOccupiedAfter : 0));
     ++counts.applied;
   }
   finish_path(lowest == 0 ? 0 : lowest - 1);
 }
 
-UpdateCounts SemanticOcTree::apply_sorted_updates(const std::vector<VoxelUpdate>& updates) {
+UpdateCounts SemanticOcTree::apply_sorted_updates(const std::vector<VoxelUpdate>& updates,
+                                                  std::vector<std::uint8_t>* occupancy) {
   UpdateCounts counts;
+  if (occupancy) occupancy->assign(updates.size(), 0);
   if (updates.empty()) return counts;
+  std::uint8_t* occ = occupancy ? occupancy->data() : nullptr;
   ++revision_;
   if (!root) create_root();  // counted in tree_size by create_root
   const std::size_t n = updates.size();
@@ -195,7 +208,7 @@ UpdateCounts SemanticOcTree::apply_sorted_updates(const std::vector<VoxelUpdate>
   const unsigned split = span_depth + 2;  // up to 64 disjoint subtrees
   const int threads = params_.threads > 0 ? params_.threads : tbb::this_task_arena::max_concurrency();
   if (n < 32768 || threads <= 1 || split >= kOctreeDepth) {  // small batches: waking workers costs more
-    apply_range(root, 0, updates.data(), updates.data() + n, false, false, counts);
+    apply_range(root, 0, updates.data(), updates.data() + n, false, false, counts, occ);
   } else {
     // Groups of updates sharing their node at depth `split`; each group's subtree is edited by
     // one task. Nodes above `split` are created here, serially, in a fixed order.
@@ -241,8 +254,9 @@ UpdateCounts SemanticOcTree::apply_sorted_updates(const std::vector<VoxelUpdate>
       if (d == split) {
         g.node = node;
         groups.push_back(g);
-      } else {
+      } else {  // a pruned block none of the group's updates changes
         counts.saturated += j - i;
+        if (occ) std::fill(occ + i, occ + j, unchanged_occupancy(node->state()));
       }
       i = j;
     }
@@ -251,7 +265,7 @@ UpdateCounts SemanticOcTree::apply_sorted_updates(const std::vector<VoxelUpdate>
       tbb::parallel_for(tbb::blocked_range<std::size_t>(0, groups.size(), 1), [&](const auto& r) {
         for (std::size_t g = r.begin(); g != r.end(); ++g)
           apply_range(groups[g].node, split, updates.data() + groups[g].begin, updates.data() + groups[g].end, true,
-                      groups[g].fresh, group_counts[g]);
+                      groups[g].fresh, group_counts[g], occ ? occ + groups[g].begin : nullptr);
       });
     };
     if (params_.threads > 0) {

@@ -178,14 +178,22 @@ struct Mission::Impl {
     return rec.reached_goal;
   }
 
+  // The planner's environment follows the map's occupied voxels. A voxel the map did not hold
+  // occupied before the scan is not in the environment (it only ever takes the map's occupied
+  // voxels), so only voxels occupied before or after the scan, and hits, are looked at.
   void update_map_environment() {
     std::vector<Vec3> occupied, freed;
-    for (const mapping::VoxelUpdate& u : inserter.last_updates()) {
-      const octomap::OcTreeKey key = mapping::morton_key(u.code);
-      const mapping::SemanticState* s = map.find(key);
-      const Vec3 c = map.center_of(key);
-      if (s && s->occupancy_logodds() > 0.f) occupied.push_back(c);
-      else if (u.label != mapping::VoxelUpdate::kFree || map_env->occupied(c)) freed.push_back(c);
+    const std::vector<mapping::VoxelUpdate>& updates = inserter.last_updates();
+    const std::vector<std::uint8_t>& occupancy = inserter.last_occupancy();
+    for (std::size_t i = 0; i < updates.size(); ++i) {
+      const mapping::VoxelUpdate& u = updates[i];
+      const bool hit = u.label != mapping::VoxelUpdate::kFree;
+      if (!(occupancy[i] & mapping::SemanticOcTree::kOccupiedAfter) && !hit &&
+          !(occupancy[i] & mapping::SemanticOcTree::kOccupiedBefore))
+        continue;
+      const Vec3 c = map.center_of(mapping::morton_key(u.code));
+      if (occupancy[i] & mapping::SemanticOcTree::kOccupiedAfter) occupied.push_back(c);
+      else if (hit || map_env->occupied(c)) freed.push_back(c);
     }
     map_env->update(occupied, freed);
   }

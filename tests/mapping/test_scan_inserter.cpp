@@ -417,3 +417,46 @@ TEST(ScanInserter, PerEndpointInsertionGivesOneHitPerFilteredPoint) {
     EXPECT_EQ(map.find(vk)->most_likely_class(), kFruitLabel);
   }
 }
+
+// last_occupancy() equals looking each updated voxel up before and after the scan, with both
+// insertions (per_endpoint applies further hits in layers after the first batch).
+TEST(ScanInserter, LastOccupancyEqualsLookupsBeforeAndAfterTheScan) {
+  for (const Insertion insertion : {Insertion::kPerVoxel, Insertion::kPerEndpoint}) {
+    SemanticMapParams p;
+    p.threads = 1;
+    p.insertion = insertion;
+    SemanticOcTree map(p, SemanticClasses{});
+    ScanInserter ins(map);
+    Rng rng(5);
+    std::size_t changed = 0;
+    for (int scan = 0; scan < 6; ++scan) {
+      LabelledCloud cloud;
+      cloud.origin_world = Vec3(0.02 * scan, 0.0, 0.0);
+      cloud.R_world_camera = Eigen::Matrix3d::Identity();
+      // Points on a few small patches (many hits per voxel) and a wider scatter.
+      for (int i = 0; i < 20000; ++i) {
+        const bool patch = i % 2 == 0;
+        const double s = patch ? 0.03 : 0.4;
+        cloud.points_world.push_back(Vec3f(float(rng.uniform(-s, s)), float(rng.uniform(-s, s)),
+                                           float(patch ? 0.5 + 0.1 * (i % 3) : rng.uniform(0.3, 0.9))));
+        cloud.labels.push_back(static_cast<std::uint8_t>(rng.integer(0, 2)));
+      }
+      const SemanticOcTree before = map;
+      ins.insert(cloud);
+      const auto& updates = ins.last_updates();
+      const auto& occupancy = ins.last_occupancy();
+      ASSERT_EQ(occupancy.size(), updates.size());
+      auto occupied = [](const SemanticOcTree& m, std::uint64_t code) {
+        const SemanticState* s = m.find(morton_key(code));
+        return s && s->occupancy_logodds() > 0.f;
+      };
+      for (std::size_t i = 0; i < updates.size(); ++i) {
+        const bool b = occupied(before, updates[i].code), a = occupied(map, updates[i].code);
+        ASSERT_EQ(bool(occupancy[i] & SemanticOcTree::kOccupiedBefore), b) << "scan " << scan << ", update " << i;
+        ASSERT_EQ(bool(occupancy[i] & SemanticOcTree::kOccupiedAfter), a) << "scan " << scan << ", update " << i;
+        changed += a != b;
+      }
+    }
+    EXPECT_GT(changed, 100u) << (insertion == Insertion::kPerEndpoint ? "per_endpoint" : "per_voxel");
+  }
+}

@@ -195,3 +195,44 @@ TEST(SemanticOcTree, KeyBoxWalkIsTheWholeWalkFiltered) {
   EXPECT_GT(whole.size(), 20u);
   EXPECT_EQ(boxed, whole);
 }
+
+// The occupancy bytes apply_sorted_updates reports equal lookups of each voxel before and
+// after the batch, on the serial and the split (parallel) path, with pruned blocks.
+TEST(SemanticOcTree, ReportedOccupancyEqualsLookupsBeforeAndAfter) {
+  std::mt19937 rng(11);
+  auto occupied = [](const SemanticOcTree& m, std::uint64_t code) {
+    const SemanticState* s = m.find(morton_key(code));
+    return s && s->occupancy_logodds() > 0.f;
+  };
+  for (const int threads : {1, 2}) {
+    SemanticOcTree map = make_tree(threads);
+    std::size_t flips = 0, both = 0;
+    for (int s = 0; s < 12; ++s) {
+      const int n = s % 2 ? 60000 : 5000;  // above and below the split path's threshold
+      const bool mostly_free = s % 3 == 2;
+      std::vector<VoxelUpdate> batch;
+      for (int i = 0; i < n; ++i) {
+        const octomap::OcTreeKey k(32700 + rng() % 40, 32700 + rng() % 40, 32760 + rng() % 24);
+        const bool free = mostly_free ? rng() % 8 != 0 : rng() % 3 == 0;
+        batch.push_back({morton_code(k), free ? VoxelUpdate::kFree : static_cast<std::uint8_t>(rng() % 3)});
+      }
+      std::sort(batch.begin(), batch.end(), [](auto& a, auto& b) { return a.code < b.code; });
+      batch.erase(std::unique(batch.begin(), batch.end(), [](auto& a, auto& b) { return a.code == b.code; }),
+                  batch.end());
+      std::vector<std::uint8_t> expected(batch.size());
+      for (std::size_t i = 0; i < batch.size(); ++i)
+        expected[i] = occupied(map, batch[i].code) ? SemanticOcTree::kOccupiedBefore : 0;
+      std::vector<std::uint8_t> reported;
+      map.apply_sorted_updates(batch, &reported);
+      ASSERT_EQ(reported.size(), batch.size());
+      for (std::size_t i = 0; i < batch.size(); ++i) {
+        if (occupied(map, batch[i].code)) expected[i] |= SemanticOcTree::kOccupiedAfter;
+        ASSERT_EQ(int(reported[i]), int(expected[i])) << "threads " << threads << ", batch " << s << ", update " << i;
+        flips += expected[i] == SemanticOcTree::kOccupiedBefore || expected[i] == SemanticOcTree::kOccupiedAfter;
+        both += expected[i] == (SemanticOcTree::kOccupiedBefore | SemanticOcTree::kOccupiedAfter);
+      }
+    }
+    EXPECT_GT(flips, 1000u);  // the scenes exercise both changes and unchanged voxels
+    EXPECT_GT(both, 1000u);
+  }
+}

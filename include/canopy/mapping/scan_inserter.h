@@ -71,12 +71,16 @@ class ScanInserter {
   /// The voxel updates the last insert() applied (hits and pass-throughs, sorted by code):
   /// what caches beside the map (a collision environment) must look at again.
   const std::vector<VoxelUpdate>& last_updates() const { return updates_; }
+  /// Per entry of last_updates(): SemanticOcTree::kOccupiedBefore / kOccupiedAfter (the
+  /// voxel's occupancy before the scan and after all of its updates).
+  const std::vector<std::uint8_t>& last_occupancy() const { return occupancy_; }
 
  private:
   SemanticOcTree& map_;
   std::vector<std::uint64_t> values_, scratch_;  // per-point (code << 8 | label), sort buffer
   std::vector<std::uint64_t> free_codes_;
   std::vector<VoxelUpdate> hits_, updates_;
+  std::vector<std::uint8_t> occupancy_, layer_occupancy_;  // per update: occupied before / after
   std::vector<std::vector<VoxelUpdate>> extra_;  // per_endpoint: further hits, in layers
   perception::LabelledCloud filtered_;           // per_endpoint: the camera-frame voxel filter's points
   std::vector<std::uint64_t> ray_targets_;       // endpoint voxel codes, bit 63: beyond range

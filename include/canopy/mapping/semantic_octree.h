@@ -185,8 +185,13 @@ class SemanticOcTree : protected octomap::OcTreeBaseImpl<SemanticNode, octomap::
   /// Applies one pass-through to the voxel `key`.
   void update_free(const octomap::OcTreeKey& key);
   /// Applies a batch sorted by code with unique codes, descending the tree once for all of
-  /// it; prunes touched nodes when params().prune. Order-independent by construction.
-  UpdateCounts apply_sorted_updates(const std::vector<VoxelUpdate>& updates);
+  /// it; prunes touched nodes when params().prune. Order-independent by construction. When
+  /// `occupancy` is given it receives one byte per update: kOccupiedBefore / kOccupiedAfter
+  /// (occupancy log-odds > 0 before and after the update), so callers that mirror the occupied
+  /// voxels need not look each voxel up again.
+  UpdateCounts apply_sorted_updates(const std::vector<VoxelUpdate>& updates,
+                                    std::vector<std::uint8_t>* occupancy = nullptr);
+  static constexpr std::uint8_t kOccupiedBefore = 1, kOccupiedAfter = 2;
 
   /// True when both trees have identical structure, payloads, params and classes.
   bool identical(const SemanticOcTree& other) const;
@@ -239,7 +244,7 @@ class SemanticOcTree : protected octomap::OcTreeBaseImpl<SemanticNode, octomap::
     }
   }
   void apply_range(SemanticNode* top, unsigned top_depth, const VoxelUpdate* begin, const VoxelUpdate* end,
-                   bool collapse_top, bool top_is_fresh, UpdateCounts& counts);
+                   bool collapse_top, bool top_is_fresh, UpdateCounts& counts, std::uint8_t* occupancy);
 
   SemanticMapParams params_;
   SemanticClasses classes_;
