@@ -49,6 +49,8 @@ struct Mission::Impl {
 
   sim::Simulator sim;
   sim::Renderer renderer;
+  // The renderer compiles its shaders on a second thread while the rest is set up.
+  std::future<void> renderer_warm;
   motion::RobotModel model;
   motion::WorkspaceFilter workspace;
   // Planning knows only the map; the truth (voxelised plant meshes) only counts contacts.
@@ -82,6 +84,7 @@ struct Mission::Impl {
   Impl(const world::World& w, const Settings& s, std::uint64_t mission_seed, MissionCallbacks cb)
       : world(w), settings(s), seed(mission_seed), callbacks(std::move(cb)), sim(w, default_robot_config()),
         renderer(sim, w.spec.camera, sim::RenderOptions{false, mix_seed(mission_seed, 2), /*self_filter=*/true}),
+        renderer_warm(std::async(std::launch::async, [this] { renderer.warm_up(); })),
         model(motion::RobotModel::load(sim.robot_config())), workspace(model, s.motion.workspace),
         map_env(motion::CollisionEnvironment::empty(s.mapping.map.resolution_m)),
         map_checker(model, s.motion.collision, map_env), planner(map_checker, s.motion.planner, s.motion.trajectory),
@@ -583,6 +586,7 @@ struct Mission::Impl {
   }
 
   MissionResult run() {
+    if (renderer_warm.valid()) renderer_warm.get();
     elapsed_.restart();
     try {
       for (int k = 0; k < static_cast<int>(stops_x.size()); ++k) {

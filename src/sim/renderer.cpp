@@ -214,6 +214,23 @@ LabelledFrame Renderer::render_wrist_camera() {
   return draw(sim_.camera_pose(), /*show_robot=*/true, /*labels=*/true);
 }
 
+void Renderer::warm_up() {
+  const Pose T = sim_.camera_pose();
+  if (!T.matrix().allFinite()) return;
+  Impl& r = *impl_;
+  std::unique_lock<std::mutex> lock(gl_mutex());
+  r.make_current();
+  video_background_ = false;  // the GL buffers are reused
+  pass(T, true, true, "", true);
+  const mjrRect viewport{0, 0, intrinsics_.width_px, intrinsics_.height_px};
+  r.scene.flags[mjRND_SHADOW] = 0;
+  r.scene.flags[mjRND_SKYBOX] = 0;
+  r.scene.flags[mjRND_SEGMENT] = 1;
+  r.scene.flags[mjRND_IDCOLOR] = 1;
+  mjr_render(viewport, &r.scene, &r.context);
+  mjr_readPixels(r.seg.data(), nullptr, viewport, &r.context);
+}
+
 LabelledFrame Renderer::render_free_camera(const Pose& T_world_camera) {
   return render(T_world_camera, /*show_robot=*/false);
 }

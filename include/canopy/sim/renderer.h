@@ -33,6 +33,10 @@ class Renderer {
 
   /// Frame from the wrist camera at the simulator's current state (robot visible).
   LabelledFrame render_wrist_camera();
+  /// Draws the wrist camera's passes once and discards them: the software rasteriser compiles
+  /// its shaders on first use (~0.3 s), which a caller can so move off its first frame (e.g.
+  /// onto another thread during set-up). Reads the simulator's state, changes no image after.
+  void warm_up();
   /// Frame from a free-floating camera at T_world_camera, robot hidden.
   LabelledFrame render_free_camera(const Pose& T_world_camera);
   /// Any camera pose; `show_robot` chooses whether robot geoms are drawn; `labels` adds the
