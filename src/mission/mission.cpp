@@ -181,25 +181,6 @@ struct Mission::Impl {
     return rec.reached_goal;
   }
 
-  // The planner's environment follows the map's occupied voxels. A voxel the map did not hold
-  // occupied before the scan is not in the environment (it only ever takes the map's occupied
-  // voxels), so only voxels occupied before or after the scan, and hits, are looked at.
-  void update_map_environment() {
-    std::vector<Vec3> occupied, freed;
-    const std::vector<mapping::VoxelUpdate>& updates = inserter.last_updates();
-    const std::vector<std::uint8_t>& occupancy = inserter.last_occupancy();
-    for (std::size_t i = 0; i < updates.size(); ++i) {
-      const mapping::VoxelUpdate& u = updates[i];
-      const bool hit = u.label != mapping::VoxelUpdate::kFree;
-      if (!(occupancy[i] & mapping::SemanticOcTree::kOccupiedAfter) && !hit &&
-          !(occupancy[i] & mapping::SemanticOcTree::kOccupiedBefore))
-        continue;
-      const Vec3 c = map.center_of(mapping::morton_key(u.code));
-      if (occupancy[i] & mapping::SemanticOcTree::kOccupiedAfter) occupied.push_back(c);
-      else if (hit || map_env->occupied(c)) freed.push_back(c);
-    }
-    map_env->update(occupied, freed);
-  }
 
   // A new attempt's record.
   ViewRecord open_record(const nbv::PlannedView& view, ViewPhase phase) const {
@@ -222,34 +203,11 @@ struct Mission::Impl {
     rec.successful_views = result.successful_views() + rec.success;
     rec.sim_time_s = sim.time();
     rec.base_travel_m = result.base_travel_m;
-    fill_metrics(rec);
+    set_map_metrics(last_metrics, &rec);
     if (!rec.success) ++result.failures[cause];
     result.times.merge(rec.times);
     ++current_attempt;
     return rec;
-  }
-
-  // The map's figures after the last scan, into a record.
-  void fill_metrics(ViewRecord& rec) const {
-    rec.coverage = last_metrics.coverage;
-    rec.entropy = last_metrics.total_entropy;
-    rec.coverage_paper = last_metrics.paper.coverage;
-    rec.entropy_paper = last_metrics.paper.entropy;
-    rec.coverage_prototype = last_metrics.prototype.coverage;
-    rec.entropy_prototype = last_metrics.prototype.entropy;
-    const evaluation::MapMetrics& m = last_metrics;
-    rec.fruits_sc50 = m.fruits_sc50;
-    rec.fruits_sc80 = m.fruits_sc80;
-    rec.fruit_clusters = static_cast<int>(m.detection.clusters.size());
-    rec.fruits_matched = static_cast<int>(m.detection.matches.size());
-    rec.detection_precision = m.detection.precision;
-    rec.detection_recall = m.detection.recall;
-    rec.detection_f1 = m.detection.f1;
-    rec.centre_error_m = m.detection.centre_error_m;
-    rec.voxel_volume_error = m.detection.voxel_volume_error;
-    rec.ellipsoid_volume_error = m.detection.ellipsoid_volume_error;
-    rec.fruit_voxel_precision = m.voxel_precision.precision;
-    rec.false_fruit_volume_m3 = m.voxel_precision.false_volume_m3;
   }
 
   // Background work of a scan: what only reads the map until the next insertion (the NBV
@@ -282,7 +240,7 @@ struct Mission::Impl {
     for (std::size_t i = background_view_; i < result.views.size(); ++i) {
       ViewRecord& v = result.views[i];
       if (i == background_view_) v.times.merge(t);
-      fill_metrics(v);
+      set_map_metrics(last_metrics, &v);
       report(v);
     }
     update_caption();
@@ -356,7 +314,7 @@ struct Mission::Impl {
       settle();  // the last scan's background work ends before the map changes
       revision = map.revision();
       inserter.insert(cloud);
-      update_map_environment();
+      map_env->follow_scan(map, inserter.last_updates(), inserter.last_occupancy());
     }
     view_planner->taken(frame.T_world_camera);
     // The NBV index follows the scan's updates (a cost of the scan, not of the map's size),
@@ -387,11 +345,7 @@ struct Mission::Impl {
 
   // The progress line of a recorded attempt.
   void report(const ViewRecord& v) const {
-    char b[200];
-    std::snprintf(b, sizeof b, "stop %d/%zu: %s view %d %s%s (views %d, SC %.3f, elapsed %.1f s)", v.stop + 1,
-                  stops_x.size(), to_string(v.phase), v.attempt + 1, v.success ? "ok" : "failed: ",
-                  v.success ? "" : v.failure.c_str(), v.successful_views, v.coverage, elapsed_.seconds());
-    progress(v.success || v.message.empty() ? std::string(b) : std::string(b) + ": " + v.message);
+    progress(progress_line(v, static_cast<int>(stops_x.size()), elapsed_.seconds()));
   }
 
   // Orders views by an open tour from the current arm state; views without IK are returned
@@ -575,16 +529,6 @@ struct Mission::Impl {
     s.end_reason = end;
   }
 
-  // Why the final coverage is 0 ("" when it is not).
-  std::string zero_coverage_reason() const {
-    if (result.final_metrics.coverage > 0.0) return "";
-    long target_points = 0, true_pixels = 0;
-    for (const auto& v : result.views) target_points += v.target_points, true_pixels += v.true_target_pixels;
-    if (result.final_metrics.fruits.empty()) return "the world has no target fruit";
-    if (result.successful_views() == 0) return "no view succeeded";
-    return zero_coverage_cause(world.spec.classes.target, settings.mapping.extractor.source, target_points, true_pixels);
-  }
-
   MissionResult run() {
     if (renderer_warm.valid()) renderer_warm.get();
     elapsed_.restart();
@@ -617,7 +561,8 @@ struct Mission::Impl {
     }
     settle();
     result.final_metrics = evaluation::evaluate_map(map, world.truth, settings.mapping.metrics);
-    result.zero_coverage_reason = zero_coverage_reason();
+    result.zero_coverage_reason =
+        zero_coverage_reason(result, world.spec.classes.target, settings.mapping.extractor.source);
     if (audit) result.candidates = audit->records();
     result.sim_time_s = sim.time();
     result.wall_time_s = elapsed_.seconds();

@@ -1,6 +1,7 @@
 // The mission's records: view phases, the stop region, and why a mission's coverage is zero
 // (mission.h).
 
+#include <cstdio>
 #include <string>
 
 #include "canopy/mission/mission.h"
@@ -20,6 +21,44 @@ Eigen::AlignedBox3d stop_region(const LoopParams& loop, double arm_x_m, double b
   return Eigen::AlignedBox3d(
       Vec3(arm_x_m - loop.region_half_length_m, base_y_m - loop.region_half_width_m, loop.region_min_z_m),
       Vec3(arm_x_m + loop.region_half_length_m, base_y_m + loop.region_half_width_m, loop.region_max_z_m));
+}
+
+std::string zero_coverage_reason(const MissionResult& result, const std::string& target, perception::LabelSource labels) {
+  if (result.final_metrics.coverage > 0.0) return "";
+  long target_points = 0, true_pixels = 0;
+  for (const auto& v : result.views) target_points += v.target_points, true_pixels += v.true_target_pixels;
+  if (result.final_metrics.fruits.empty()) return "the world has no target fruit";
+  if (result.successful_views() == 0) return "no view succeeded";
+  return zero_coverage_cause(target, labels, target_points, true_pixels);
+}
+
+void set_map_metrics(const evaluation::MapMetrics& m, ViewRecord* rec) {
+  rec->coverage = m.coverage;
+  rec->entropy = m.total_entropy;
+  rec->coverage_paper = m.paper.coverage;
+  rec->entropy_paper = m.paper.entropy;
+  rec->coverage_prototype = m.prototype.coverage;
+  rec->entropy_prototype = m.prototype.entropy;
+  rec->fruits_sc50 = m.fruits_sc50;
+  rec->fruits_sc80 = m.fruits_sc80;
+  rec->fruit_clusters = static_cast<int>(m.detection.clusters.size());
+  rec->fruits_matched = static_cast<int>(m.detection.matches.size());
+  rec->detection_precision = m.detection.precision;
+  rec->detection_recall = m.detection.recall;
+  rec->detection_f1 = m.detection.f1;
+  rec->centre_error_m = m.detection.centre_error_m;
+  rec->voxel_volume_error = m.detection.voxel_volume_error;
+  rec->ellipsoid_volume_error = m.detection.ellipsoid_volume_error;
+  rec->fruit_voxel_precision = m.voxel_precision.precision;
+  rec->false_fruit_volume_m3 = m.voxel_precision.false_volume_m3;
+}
+
+std::string progress_line(const ViewRecord& v, int stops, double elapsed_s) {
+  char b[200];
+  std::snprintf(b, sizeof b, "stop %d/%d: %s view %d %s%s (views %d, SC %.3f, elapsed %.1f s)", v.stop + 1, stops,
+                to_string(v.phase), v.attempt + 1, v.success ? "ok" : "failed: ", v.success ? "" : v.failure.c_str(),
+                v.successful_views, v.coverage, elapsed_s);
+  return v.success || v.message.empty() ? std::string(b) : std::string(b) + ": " + v.message;
 }
 
 int MissionResult::successful_views() const {

@@ -255,6 +255,22 @@ std::size_t CollisionEnvironment::clear_robot_volume(const RobotModel& model, co
   return before - voxel_count_;
 }
 
+void CollisionEnvironment::follow_scan(const mapping::SemanticOcTree& map,
+                                       const std::vector<mapping::VoxelUpdate>& updates,
+                                       const std::vector<std::uint8_t>& occupancy) {
+  CANOPY_CHECK(occupancy.size() == updates.size(), "one occupancy byte per update");
+  using T = mapping::SemanticOcTree;
+  std::vector<Vec3> occupied_now, freed;
+  for (std::size_t i = 0; i < updates.size(); ++i) {
+    const bool after = occupancy[i] & T::kOccupiedAfter, hit = updates[i].label != mapping::VoxelUpdate::kFree;
+    if (!after && !hit && !(occupancy[i] & T::kOccupiedBefore)) continue;
+    const Vec3 c = map.center_of(mapping::morton_key(updates[i].code));
+    if (after) occupied_now.push_back(c);
+    else if (hit || occupied(c)) freed.push_back(c);
+  }
+  update(occupied_now, freed);
+}
+
 bool CollisionEnvironment::occupied(const Vec3& p) const {
   const octomap::OcTree& tree = *impl_->octomap;
   octomap::OcTreeKey key;

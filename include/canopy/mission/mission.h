@@ -162,6 +162,14 @@ struct MissionContext : nbv::PlannerContext {
 std::string zero_coverage_cause(const std::string& target, perception::LabelSource labels, long target_points,
                                 long true_target_pixels);
 
+/// Why a finished mission's final coverage is 0 ("" when it is not): no target fruit in the
+/// world, no successful view, or zero_coverage_cause of its views.
+std::string zero_coverage_reason(const MissionResult& result, const std::string& target, perception::LabelSource labels);
+/// Copies the map's figures (coverage, entropy, the field's metrics) into a view's record.
+void set_map_metrics(const evaluation::MapMetrics& metrics, ViewRecord* record);
+/// The progress line of a recorded attempt ("stop 2/5: nbv view 31 ok (views 30, SC ...)").
+std::string progress_line(const ViewRecord& view, int stops, double elapsed_s);
+
 /// Hooks for the command line (progress, video, Ctrl-C) and for tests (fault injection).
 struct MissionCallbacks {
   std::function<void(const std::string& message)> progress;

@@ -10,6 +10,7 @@
 
 #include "canopy/common/params.h"
 #include "canopy/common/types.h"
+#include "canopy/mapping/semantic_octree.h"
 #include "canopy/motion/robot_model.h"
 
 namespace canopy {
@@ -56,6 +57,12 @@ class CollisionEnvironment {
   /// Marks the voxels containing `occupied` as occupied and those containing `freed` as free
   /// (freed first, so a voxel in both ends occupied). Points outside the tree are skipped.
   void update(const std::vector<Vec3>& occupied, const std::vector<Vec3>& freed);
+  /// Follows one scan of `map` (mapping::ScanInserter::last_updates() and last_occupancy()):
+  /// updated voxels occupied after it enter; hits not occupied, and voxels occupied before it
+  /// and no longer, leave. An environment that only ever took the map's occupied voxels holds
+  /// none of the others, so they are not looked at.
+  void follow_scan(const mapping::SemanticOcTree& map, const std::vector<mapping::VoxelUpdate>& updates,
+                   const std::vector<std::uint8_t>& occupancy);
   /// True when the voxel containing `p` is occupied.
   bool occupied(const Vec3& p) const;
   /// Frees every occupied voxel whose cube overlaps the robot's shapes (inflated by
