@@ -222,6 +222,11 @@ void Renderer::warm_up() {
   r.make_current();
   video_background_ = false;  // the GL buffers are reused
   pass(T, true, true, "", true);
+  label_pass();
+}
+
+void Renderer::label_pass() {
+  Impl& r = *impl_;
   const mjrRect viewport{0, 0, intrinsics_.width_px, intrinsics_.height_px};
   r.scene.flags[mjRND_SHADOW] = 0;
   r.scene.flags[mjRND_SKYBOX] = 0;
@@ -347,15 +352,7 @@ LabelledFrame Renderer::draw(const Pose& T_world_camera, bool show_robot, bool l
   const mjModel* m = sim_.render_model();
   const double near_m = m->vis.map.znear * m->stat.extent;
   const double far_m = m->vis.map.zfar * m->stat.extent;
-  const mjrRect viewport{0, 0, W, H};
-  if (labels) {
-    r.scene.flags[mjRND_SHADOW] = 0;
-    r.scene.flags[mjRND_SKYBOX] = 0;
-    r.scene.flags[mjRND_SEGMENT] = 1;
-    r.scene.flags[mjRND_IDCOLOR] = 1;
-    mjr_render(viewport, &r.scene, &r.context);
-    mjr_readPixels(r.seg.data(), nullptr, viewport, &r.context);
-  }
+  if (labels) label_pass();
 
   lock.unlock();  // decoding below touches only this renderer's buffers
 

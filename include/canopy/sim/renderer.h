@@ -62,6 +62,9 @@ class Renderer {
   const CameraIntrinsics& intrinsics() const { return intrinsics_; }
 
  private:
+  /// The segmentation pass of the scene the last pass() made, read back into the GL buffers
+  /// (geom ids as colours). The caller holds the GL lock.
+  void label_pass();
   /// Draws the simulator's current (already updated) kinematic state.
   /// `depth` false: RGB only (no depth read back or decoded; the frame's other images are empty).
   LabelledFrame draw(const Pose& T_world_camera, bool show_robot, bool labels, const std::string& caption = "",
