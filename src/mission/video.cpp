@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -134,6 +135,13 @@ Pose chase_pose(const BasePose& base) {
   return look_at(ground - 1.6 * heading + Vec3(0, 0, 1.9), ground + 0.9 * heading + Vec3(0, 0, 0.6));
 }
 
+BasePose chase_camera_base(const BasePose& camera_base, const BasePose& base) {
+  constexpr double kDeadBand_m = 0.003, kDeadBand_rad = 0.003;
+  const bool moved = std::hypot(base.x_m - camera_base.x_m, base.y_m - camera_base.y_m) > kDeadBand_m ||
+                     std::abs(std::remainder(base.yaw_rad - camera_base.yaw_rad, 2.0 * M_PI)) > kDeadBand_rad;
+  return moved ? base : camera_base;
+}
+
 MissionVideo::MissionVideo(const std::string& path, int w, int h, double fps, sim::Simulator& sim,
                            const SemanticClasses& classes)
     : writer_(path, w, h, fps), classes_(classes) {
@@ -159,7 +167,8 @@ std::array<int, 4> MissionVideo::map_inset_rect() const {
 
 void MissionVideo::tick(sim::Simulator& sim, const std::string& caption) {
   if (!writer_.ok()) return;  // the encoder died: the run goes on without the video
-  Image<Rgb8> frame = renderer_->render_video_frame(chase_pose(sim.base_pose()), caption);
+  camera_base_ = camera_base_ ? chase_camera_base(*camera_base_, sim.base_pose()) : sim.base_pose();
+  Image<Rgb8> frame = renderer_->render_video_frame(chase_pose(*camera_base_), caption);
   const Rgb8 white{255, 255, 255};
   if (!wrist_rgb_.empty()) {
     const int iw = frame.width / 4, ih = iw * wrist_rgb_.height / std::max(1, wrist_rgb_.width);

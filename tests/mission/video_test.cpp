@@ -111,5 +111,22 @@ TEST(VideoWriter, WritesAPlayableFileWithRealFfmpeg) {
   EXPECT_FALSE(fs::exists(path + ".partial.mp4"));
 }
 
+// The chase camera holds still while the base jitters within its dead band (3 mm, 3 mrad, also
+// across the rounding steps of chase_pose and across yaw = +-pi), and follows a base that leaves it.
+TEST(ChaseCamera, HoldsWithinTheDeadBandAndFollowsBeyondIt) {
+  const BasePose camera{1.0005, 0.0, M_PI - 0.001};
+  for (const BasePose& jitter : {BasePose{1.0025, 0.0, M_PI - 0.001}, BasePose{1.0, 0.002, M_PI - 0.0035},
+                                 BasePose{1.0005, 0.0, -M_PI + 0.0015}}) {
+    const BasePose held = chase_camera_base(camera, jitter);
+    EXPECT_TRUE(chase_pose(held).isApprox(chase_pose(camera), 0.0)) << jitter.x_m << " " << jitter.yaw_rad;
+  }
+  for (const BasePose& moved : {BasePose{1.0040, 0.0, M_PI - 0.001}, BasePose{1.0005, 0.0, M_PI - 0.0045},
+                                BasePose{1.0005, 0.0, -M_PI + 0.0025}}) {
+    const BasePose followed = chase_camera_base(camera, moved);
+    EXPECT_EQ(followed.x_m, moved.x_m);
+    EXPECT_EQ(followed.yaw_rad, moved.yaw_rad);
+  }
+}
+
 }  // namespace
 }  // namespace canopy::mission

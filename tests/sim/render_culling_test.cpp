@@ -7,7 +7,10 @@
 
 #include <mujoco/mujoco.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <string>
 
 #include "canopy/common/camera.h"
 #include "canopy/common/io.h"
@@ -179,14 +182,41 @@ TEST(RenderCulling, ShadowsOfGeomsOutsideTheViewAreKept) {
   EXPECT_GE(shadowed_and_culled, 3);  // shadows in view, geoms culled
 }
 
-// Video frames of a still camera (the world kept, the robot drawn over it) equal full renders.
-TEST(RenderVideoFrame, EqualsTheFullRenderWhileTheArmMovesUnderAStillCamera) {
+// How far a video frame is from the full render: pixels that differ at all, and the largest
+// difference of one channel.
+struct ImageDiff {
+  long pixels = 0;
+  int max_level = 0;
+};
+ImageDiff image_diff(const Image<Rgb8>& a, const Image<Rgb8>& b) {
+  ImageDiff d;
+  for (std::size_t i = 0; i < a.data.size(); ++i) {
+    const Rgb8 &p = a.data[i], &q = b.data[i];
+    const int level = std::max({std::abs(p.r - q.r), std::abs(p.g - q.g), std::abs(p.b - q.b)});
+    d.pixels += level > 0;
+    d.max_level = std::max(d.max_level, level);
+  }
+  return d;
+}
+
+// Video frames of a still camera (the world kept, the robot drawn in its screen rectangle and
+// composited by depth) look as full renders. They are not always bit-identical: the robot's
+// rectangle is drawn with an off-centre frustum, whose projection matrix rounds differently in
+// float, so llvmpipe's colour interpolation can land one level apart on a few pixels (seen: 1
+// pixel, 1 level, in 3 of 12 frames). Allowed: 0.05 % of the pixels, 3 levels.
+void expect_looks_as_full_render(const Image<Rgb8>& video, const Image<Rgb8>& full, const std::string& what) {
+  const ImageDiff d = image_diff(video, full);
+  EXPECT_LE(d.pixels * 2000, static_cast<long>(video.data.size())) << what;
+  EXPECT_LE(d.max_level, 3) << what;
+}
+
+TEST(RenderVideoFrame, LooksAsTheFullRenderWhileTheArmMovesUnderAStillCamera) {
   DefaultWorld& w = scene();
   const CameraIntrinsics K = chase_intrinsics(320, 240);
   Renderer video(w.sim, K), full(w.sim, K);
   const RobotConfig cfg = default_robot_config();
   Rng rng(9);
-  int composited = 0;
+  int robot_only = 0;
   for (int k = 0; k < 12; ++k) {
     const BasePose base{k < 8 ? 0.4 : 1.3, 0.0, 0.0};  // still for 8 frames, then moved
     ArmConfig q = cfg.home;
@@ -195,13 +225,59 @@ TEST(RenderVideoFrame, EqualsTheFullRenderWhileTheArmMovesUnderAStillCamera) {
     const std::string caption = k < 5 ? "stop 1/5 | views 3" : "stop 1/5 | views 4";
     const Pose T = chase(base);
     const Image<Rgb8> a = video.render_video_frame(T, caption);
-    const Image<Rgb8> b = full.render_captioned(T, true, caption);
-    long differ = 0;
-    for (std::size_t i = 0; i < a.data.size(); ++i) differ += !(a.data[i] == b.data[i]);
-    EXPECT_EQ(differ, 0) << "frame " << k;
-    composited += video.last_drawn_geom_count() < 60;  // a robot-only pass
+    expect_looks_as_full_render(a, full.render_captioned(T, true, caption), "frame " + std::to_string(k));
+    if (video.last_video_path() == Renderer::VideoPath::kRobotOnly) {
+      ++robot_only;
+      EXPECT_GT(video.last_robot_rect_pixels(), 0);
+      EXPECT_LT(video.last_robot_rect_pixels(), K.width_px * K.height_px);  // a part of the frame
+    }
   }
-  EXPECT_GE(composited, 6);
+  EXPECT_GE(robot_only, 9);  // every frame but the first and the one after the move
+}
+
+// The arm swung into the plant rows on both sides, in front of some leaves and behind others:
+// the depth composite hides it where the full render does.
+TEST(RenderVideoFrame, TheArmAmongThePlantsIsHiddenWhereTheFullRenderHidesIt) {
+  DefaultWorld& w = scene();
+  const CameraIntrinsics K = chase_intrinsics(320, 240);
+  Renderer video(w.sim, K), full(w.sim, K);
+  const RobotConfig cfg = default_robot_config();
+  const world::Plant& plant = w.world.plants.front();
+  const BasePose base{plant.base_position.x(), 0.0, 0.0};  // beside the first plants
+  const Pose T = chase(base);
+  Rng rng(21);
+  long robot_pixels = 0;
+  for (int k = 0; k < 10; ++k) {
+    ArmConfig q = cfg.home;
+    for (auto& v : q) v += rng.uniform(-1.5, 1.5);
+    w.sim.set_robot_state(base, q);
+    const Image<Rgb8> a = video.render_video_frame(T, "");
+    const Image<Rgb8> with_robot = full.render_captioned(T, true, "");
+    expect_looks_as_full_render(a, with_robot, "pose " + std::to_string(k));
+    robot_pixels += image_diff(with_robot, full.render_captioned(T, false, "")).pixels;
+  }
+  EXPECT_GT(robot_pixels, 1000);  // the arm is in view
+}
+
+// A frame whose robot, camera and caption repeat is the last frame again, drawn not at all; a
+// new caption is drawn over the kept world.
+TEST(RenderVideoFrame, ARepeatedStateGivesTheLastFrameWithoutDrawing) {
+  DefaultWorld& w = scene();
+  const CameraIntrinsics K = chase_intrinsics(320, 240);
+  Renderer video(w.sim, K), full(w.sim, K);
+  const BasePose base{0.8, 0.0, 0.0};
+  w.sim.set_robot_state(base, default_robot_config().home);
+  const Pose T = chase(base);
+  video.render_video_frame(T, "a");  // the camera arrives: a full frame
+  const Image<Rgb8> first = video.render_video_frame(T, "a");
+  EXPECT_EQ(video.last_video_path(), Renderer::VideoPath::kRobotOnly);
+  const Image<Rgb8> again = video.render_video_frame(T, "a");
+  EXPECT_EQ(video.last_video_path(), Renderer::VideoPath::kReused);
+  EXPECT_EQ(image_diff(first, again).pixels, 0);
+  const Image<Rgb8> captioned = video.render_video_frame(T, "stop 2/5 | views 7 | SC 0.41");
+  EXPECT_EQ(video.last_video_path(), Renderer::VideoPath::kRobotOnly);
+  expect_looks_as_full_render(captioned, full.render_captioned(T, true, "stop 2/5 | views 7 | SC 0.41"), "new caption");
+  EXPECT_GT(image_diff(captioned, again).pixels, 50);  // the caption changed
 }
 
 TEST(RenderCulling, ACameraLookingAtOnePlantDrawsFewGeoms) {

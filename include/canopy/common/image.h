@@ -1,6 +1,7 @@
 #pragma once
 // Minimal row-major image container (row 0 at the top).
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -33,12 +34,26 @@ template <typename T>
 void blit_scaled(const Image<T>& src, int x0, int y0, int w, int h, Image<T>* dst, int border = 0,
                  const T& border_colour = T()) {
   if (src.empty() || w <= 0 || h <= 0) return;
-  for (int y = y0 - border; y < y0 + h + border; ++y)
-    for (int x = x0 - border; x < x0 + w + border; ++x) {
-      if (x < 0 || y < 0 || x >= dst->width || y >= dst->height) continue;
-      const bool inside = x >= x0 && y >= y0 && x < x0 + w && y < y0 + h;
-      dst->at(x, y) = inside ? src.at((x - x0) * src.width / w, (y - y0) * src.height / h) : border_colour;
+  // Row by row, the source row and the clipped spans computed once (a video frame blits three
+  // insets per frame).
+  const int xa = std::max(0, x0 - border), xb = std::min(dst->width, x0 + w + border);
+  const int ya = std::max(0, y0 - border), yb = std::min(dst->height, y0 + h + border);
+  if (xa >= xb) return;  // wholly left or right of the target
+  const int ia = std::min(xb, std::max(xa, x0)), ib = std::max(ia, std::min(xb, x0 + w));
+  for (int y = ya; y < yb; ++y) {
+    T* row = &dst->at(0, y);
+    if (y < y0 || y >= y0 + h) {
+      std::fill(row + xa, row + xb, border_colour);
+      continue;
     }
+    const T* from = &src.at(0, (y - y0) * src.height / h);
+    std::fill(row + xa, row + ia, border_colour);
+    if (w == src.width)
+      std::copy(from + (ia - x0), from + (ib - x0), row + ia);
+    else
+      for (int x = ia; x < ib; ++x) row[x] = from[(x - x0) * src.width / w];
+    std::fill(row + ib, row + std::max(ib, xb), border_colour);
+  }
 }
 
 }  // namespace canopy

@@ -6,6 +6,7 @@
 
 #include <array>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "canopy/common/classes.h"
@@ -90,12 +91,18 @@ class MissionVideo {
   std::unique_ptr<sim::Renderer> renderer_;
   CameraIntrinsics chase_k_;
   Image<Rgb8> wrist_rgb_, wrist_labels_, map_;
+  std::optional<BasePose> camera_base_;  // the base pose the chase camera stands for
 };
 
 /// The chase camera: behind and above the base, looking ahead along the aisle. The base pose
-/// is rounded to 1 mm and 1 mrad (0.2 pixel at most in a 640x480 frame), so the camera stands
-/// exactly still while the base holds its place.
+/// is rounded to 1 mm and 1 mrad (0.2 pixel at most in a 640x480 frame).
 Pose chase_pose(const BasePose& base);
+
+/// The base pose the chase camera follows: `camera_base` while `base` stays within 3 mm and
+/// 3 mrad of it (at most about 1 pixel in a 640x480 frame), else `base`. A standing base
+/// jitters (the arm's reactions) across chase_pose's rounding steps; the dead band keeps the
+/// camera exactly still, so the world is drawn once per stop rather than at every crossing.
+BasePose chase_camera_base(const BasePose& camera_base, const BasePose& base);
 
 /// The occupied voxels of `map` (p_occ > 0.5) as `camera` at `T_world_camera` sees them: each
 /// voxel a square of its projected size in its most likely class's colour, nearest in front,

@@ -2,7 +2,9 @@
 // Headless off-screen rendering with OSMesa (no display, no GPU): RGB, metric z-depth and
 // per-pixel semantic class and fruit instance, from the wrist camera or a free camera.
 
+#include <array>
 #include <memory>
+#include <vector>
 #include <string>
 
 #include "canopy/common/frame.h"
@@ -44,12 +46,20 @@ class Renderer {
   LabelledFrame render(const Pose& T_world_camera, bool show_robot, bool labels = true);
   /// RGB only, with `caption` drawn in the top-left corner (MuJoCo's overlay font), for videos.
   Image<Rgb8> render_captioned(const Pose& T_world_camera, bool show_robot, const std::string& caption);
-  /// A video frame (RGB with `caption`, robot shown) equal to render_captioned's, made cheaper
-  /// for a camera that stands still: while `T_world_camera` and `caption` repeat, the world
-  /// without the robot is drawn once and kept (RGB and depth), and each frame draws only the
-  /// robot and keeps its pixels where it is nearer. Assumes, as in canopy's scenes, that only
-  /// the robot moves and that shadows are off (the robot casts none on the kept world).
+  /// A video frame (RGB with `caption`, robot shown) that looks as render_captioned's, made
+  /// cheaper for a camera that stands still: while `T_world_camera` repeats, the world without
+  /// the robot is drawn once and kept (RGB and depth), the caption is drawn over the kept world
+  /// when it changes, and each frame draws only the robot, in the screen rectangle its geoms'
+  /// bounding spheres project to, keeping its pixels where it is nearer than the world. A frame
+  /// whose robot geoms, caption and camera all repeat is the last frame again, drawn not at all.
+  /// Assumes, as in canopy's scenes, that only the robot moves and that shadows are off (the
+  /// robot casts none on the kept world).
   Image<Rgb8> render_video_frame(const Pose& T_world_camera, const std::string& caption);
+  /// How the last render_video_frame was made.
+  enum class VideoPath { kFull, kRobotOnly, kReused };
+  VideoPath last_video_path() const { return video_path_; }
+  /// Pixels of the robot's screen rectangle in the last robot-only frame (0 when it was out of view).
+  long last_robot_rect_pixels() const { return robot_rect_pixels_; }
   /// Triangles drawn in the last frame (meshes exactly, primitives as tessellated).
   long last_triangle_count() const { return last_triangles_; }
   /// Geoms drawn in the last frame, and geoms of the scene before culling.
@@ -71,8 +81,13 @@ class Renderer {
                      bool depth = true);
 
   /// One RGB pass (the world's and/or the robot's geoms, caption) read back into the GL
-  /// buffers, raw depth too when `depth`. The caller holds the GL lock.
-  void pass(const Pose& T_world_camera, bool world, bool show_robot, const std::string& caption, bool depth);
+  /// buffers, raw depth too when `depth`. With `rect` ({left, bottom, width, height}, OpenGL
+  /// rows) only that part of the frame is drawn and read back (an off-centre frustum), into
+  /// the buffers' first width x height values. The caller holds the GL lock.
+  void pass(const Pose& T_world_camera, bool world, bool show_robot, const std::string& caption, bool depth,
+            const std::array<int, 4>* rect = nullptr);
+  /// The robot's part of the still-camera video frame (render_video_frame); GL lock held.
+  void robot_over_kept_world(const Pose& T_world_camera, const std::string& caption);
 
   struct Impl;
   std::unique_ptr<Impl> impl_;
@@ -85,7 +100,12 @@ class Renderer {
   bool culling_ = true;
   Pose video_T_ = Pose::Identity();
   std::string video_caption_;
-  bool video_background_ = false;
+  bool video_background_ = false;  // the kept world (and frame buffers) are valid
+  bool video_captioned_ = false;    // the kept world carries video_caption_
+  std::vector<float> video_robot_;  // the robot geoms' poses in the last frame
+  std::array<int, 4> video_rect_{0, 0, 0, 0}, caption_box_{0, 0, 0, 0};
+  VideoPath video_path_ = VideoPath::kFull;
+  long robot_rect_pixels_ = 0;
 };
 
 }  // namespace canopy::sim
