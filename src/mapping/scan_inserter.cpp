@@ -337,15 +337,24 @@ void ScanInserter::compute_updates(const perception::LabelledCloud& input, std::
     const std::size_t ray_grain = segments.size() < kParallelRays || P.threads == 1 ? segments.size() + 1 : 256;
     run_in_arena(P.threads, [&] {
       tbb::parallel_for(tbb::blocked_range<std::size_t>(0, segments.size(), ray_grain), [&](const auto& r) {
-        for (std::size_t s = r.begin(); s != r.end(); ++s) {
-          traverse(map_, segments[s], [&](const octomap::OcTreeKey& k) {
-            std::size_t idx;
-            if (!box.index(k, &idx)) return;
-            // Read first: cells near the origin are shared by every ray; writing only
-            // untouched cells keeps their cache lines shared between the cores.
-            if (__atomic_load_n(grid + idx, __ATOMIC_RELAXED) == 0) __atomic_store_n(grid + idx, 1, __ATOMIC_RELAXED);
-          });
-        }
+        const RaySegment* chunk = segments.data() + r.begin();
+        walk_rays(
+            map_, r.size(),
+            [chunk](std::size_t i, octomap::point3d* a, octomap::point3d* b) {
+              *a = chunk[i].origin;
+              *b = chunk[i].end;
+            },
+            [&](unsigned x, unsigned y, unsigned z) {
+              std::size_t idx;
+              if (!box.index(octomap::OcTreeKey(static_cast<octomap::key_type>(x), static_cast<octomap::key_type>(y),
+                                                static_cast<octomap::key_type>(z)),
+                             &idx))
+                return;
+              // Read first: cells near the origin are shared by every ray; writing only
+              // untouched cells keeps their cache lines shared between the cores.
+              if (__atomic_load_n(grid + idx, __ATOMIC_RELAXED) == 0) __atomic_store_n(grid + idx, 1, __ATOMIC_RELAXED);
+            },
+            vectorised_);
       });
     });
     // Collect per z-slice (in order, so the result does not depend on threads) and clear.

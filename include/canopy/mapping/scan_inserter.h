@@ -74,6 +74,9 @@ class ScanInserter {
   /// Per entry of last_updates(): SemanticOcTree::kOccupiedBefore / kOccupiedAfter (the
   /// voxel's occupancy before the scan and after all of its updates).
   const std::vector<std::uint8_t>& last_occupancy() const { return occupancy_; }
+  /// Free-space rays four at a time in AVX2 lanes where the processor has them (default); off:
+  /// one at a time. The same voxels either way (for tests and the benchmark).
+  void set_vectorised(bool on) { vectorised_ = on; }
 
  private:
   SemanticOcTree& map_;
@@ -81,6 +84,7 @@ class ScanInserter {
   std::vector<std::uint64_t> free_codes_;
   std::vector<VoxelUpdate> hits_, updates_;
   std::vector<std::uint8_t> occupancy_, layer_occupancy_;  // per update: occupied before / after
+  bool vectorised_ = true;
   std::vector<std::vector<VoxelUpdate>> extra_;  // per_endpoint: further hits, in layers
   perception::LabelledCloud filtered_;           // per_endpoint: the camera-frame voxel filter's points
   std::vector<std::uint64_t> ray_targets_;       // endpoint voxel codes, bit 63: beyond range

@@ -3,7 +3,8 @@
 // at the map's resolution, step for step the arithmetic of OctoMap's
 // OcTreeBaseImpl::computeRayKeys (float end points, double boundaries, ties broken towards z,
 // then y), so every caller visits exactly the voxels OctoMap would. Scan insertion carves free
-// space with it and the next-best-view index casts its rays with it.
+// space with it (walk_rays: many segments at once, four per AVX2 register) and the
+// next-best-view index casts its rays with it.
 
 #include <octomap/OcTreeKey.h>
 #include <octomap/octomap_types.h>
@@ -13,6 +14,46 @@
 
 namespace canopy::mapping {
 
+/// A walk after its set-up: the parameter of the next boundary and the step between
+/// boundaries per axis, the current and the end voxel, the step direction (-1 wraps), the
+/// segment's length.
+struct RayWalk {
+  double t[3], d[3];
+  unsigned k[3], e[3], s[3];
+  double len;
+};
+
+/// Sets up the walk of `origin` -> `end` (computeRayKeys' arithmetic): false when an end lies
+/// outside the tree (`*outside` true) or both ends share a voxel (nothing to visit).
+template <typename Tree>
+bool start_walk(const Tree& tree, const octomap::point3d& origin, const octomap::point3d& end, RayWalk* w,
+                bool* outside) {
+  octomap::OcTreeKey key_origin, key_end;
+  *outside = !tree.coordToKeyChecked(origin, key_origin) || !tree.coordToKeyChecked(end, key_end);
+  if (*outside || key_origin == key_end) return false;
+  octomap::point3d direction = end - origin;
+  const float length = float(direction.norm());
+  direction /= length;
+  const double res = tree.getResolution();
+  for (unsigned i = 0; i < 3; ++i) {
+    const int step = direction(i) > 0.0 ? 1 : (direction(i) < 0.0 ? -1 : 0);
+    w->s[i] = unsigned(step);
+    if (step != 0) {
+      double border = tree.keyToCoord(key_origin[i]);
+      border += float(step * res * 0.5);
+      w->t[i] = (border - origin(i)) / direction(i);
+      w->d[i] = res / std::fabs(direction(i));
+    } else {
+      w->t[i] = std::numeric_limits<double>::max();
+      w->d[i] = std::numeric_limits<double>::max();
+    }
+    w->k[i] = key_origin[i];
+    w->e[i] = key_end[i];
+  }
+  w->len = length;
+  return true;
+}
+
 /// Walks the voxels of the segment `origin` -> `end` in order, the origin's voxel first and the
 /// end's voxel left out (computeRayKeys' set), calling visit(x, y, z) with each voxel's key
 /// coordinates; a visit returning false ends the walk. `tree` is an OctoMap tree (its
@@ -20,36 +61,17 @@ namespace canopy::mapping {
 /// nothing, when an end lies outside the tree; both ends in one voxel visit nothing.
 template <typename Tree, typename Visit>
 bool walk_ray(const Tree& tree, const octomap::point3d& origin, const octomap::point3d& end, Visit&& visit) {
-  octomap::OcTreeKey key_origin, key_end;
-  if (!tree.coordToKeyChecked(origin, key_origin) || !tree.coordToKeyChecked(end, key_end)) return false;
-  if (key_origin == key_end) return true;
-  if (!visit(unsigned(key_origin[0]), unsigned(key_origin[1]), unsigned(key_origin[2]))) return true;
-
-  octomap::point3d direction = end - origin;
-  const float length = float(direction.norm());
-  direction /= length;
-  const double res = tree.getResolution();
-  int step[3];
-  double t_max[3], t_delta[3];
-  for (unsigned i = 0; i < 3; ++i) {
-    step[i] = direction(i) > 0.0 ? 1 : (direction(i) < 0.0 ? -1 : 0);
-    if (step[i] != 0) {
-      double border = tree.keyToCoord(key_origin[i]);
-      border += float(step[i] * res * 0.5);
-      t_max[i] = (border - origin(i)) / direction(i);
-      t_delta[i] = res / std::fabs(direction(i));
-    } else {
-      t_max[i] = std::numeric_limits<double>::max();
-      t_delta[i] = std::numeric_limits<double>::max();
-    }
-  }
+  RayWalk w;
+  bool outside = false;
+  if (!start_walk(tree, origin, end, &w, &outside)) return !outside;
+  if (!visit(w.k[0], w.k[1], w.k[2])) return true;
   // The loop state in scalars (registers), not arrays indexed by the axis.
-  double tx = t_max[0], ty = t_max[1], tz = t_max[2];
-  const double dx = t_delta[0], dy = t_delta[1], dz = t_delta[2];
-  const unsigned sx = unsigned(step[0]), sy = unsigned(step[1]), sz = unsigned(step[2]);  // -1 wraps
-  unsigned kx = key_origin[0], ky = key_origin[1], kz = key_origin[2];
-  const unsigned ex = key_end[0], ey = key_end[1], ez = key_end[2];
-  const double len = length;
+  double tx = w.t[0], ty = w.t[1], tz = w.t[2];
+  const double dx = w.d[0], dy = w.d[1], dz = w.d[2];
+  const unsigned sx = w.s[0], sy = w.s[1], sz = w.s[2];
+  unsigned kx = w.k[0], ky = w.k[1], kz = w.k[2];
+  const unsigned ex = w.e[0], ey = w.e[1], ez = w.e[2];
+  const double len = w.len;
   for (;;) {
     // Step along the axis of the nearest boundary (ties as computeRayKeys: 2 over 1 over 0).
     if (tx < ty) {
@@ -70,6 +92,88 @@ bool walk_ray(const Tree& tree, const octomap::point3d& origin, const octomap::p
     if (kx == ex && ky == ey && kz == ez) return true;
     if (std::min(std::min(tx, ty), tz) > len) return true;
     if (!visit(kx, ky, kz)) return true;
+  }
+}
+
+namespace detail {
+using V4d = double __attribute__((vector_size(32)));
+using V4l = long long __attribute__((vector_size(32)));
+
+// walk_rays on four rays at a time in AVX2 lanes: each lane steps as walk_ray (the same
+// double additions and comparisons, ties alike); a lane whose ray ends takes the next ray.
+template <typename Tree, typename Segment, typename Visit>
+__attribute__((target("avx2"))) void walk_rays_avx2(const Tree& tree, std::size_t n, Segment& segment,
+                                                    Visit& visit) {
+  V4d tx{}, ty{}, tz{}, dx{}, dy{}, dz{}, len{};
+  V4l kx{}, ky{}, kz{}, sx{}, sy{}, sz{}, ex{}, ey{}, ez{}, live{};
+  std::size_t next = 0;
+  auto refill = [&](int l) {
+    RayWalk w;
+    bool outside = false;
+    while (next < n) {
+      octomap::point3d a, b;
+      segment(next++, &a, &b);
+      if (!start_walk(tree, a, b, &w, &outside)) continue;
+      visit(w.k[0], w.k[1], w.k[2]);
+      tx[l] = w.t[0], ty[l] = w.t[1], tz[l] = w.t[2];
+      dx[l] = w.d[0], dy[l] = w.d[1], dz[l] = w.d[2];
+      kx[l] = w.k[0], ky[l] = w.k[1], kz[l] = w.k[2];
+      sx[l] = static_cast<int>(w.s[0]), sy[l] = static_cast<int>(w.s[1]), sz[l] = static_cast<int>(w.s[2]);
+      ex[l] = w.e[0], ey[l] = w.e[1], ez[l] = w.e[2];
+      len[l] = w.len;
+      live[l] = -1;
+      return true;
+    }
+    live[l] = 0;
+    return false;
+  };
+  int alive = 0;
+  for (int l = 0; l < 4; ++l) alive += refill(l);
+  const V4l mask16 = {0xFFFF, 0xFFFF, 0xFFFF, 0xFFFF};
+  while (alive > 0) {
+    const V4l xy = tx < ty, xz = tx < tz, yz = ty < tz;
+    const V4l cx = xy & xz, cy = ~xy & yz, cz = ~(cx | cy);
+    kx = (kx + (sx & cx)) & mask16;
+    ky = (ky + (sy & cy)) & mask16;
+    kz = (kz + (sz & cz)) & mask16;
+    tx += reinterpret_cast<V4d>(reinterpret_cast<V4l>(dx) & cx);
+    ty += reinterpret_cast<V4d>(reinterpret_cast<V4l>(dy) & cy);
+    tz += reinterpret_cast<V4d>(reinterpret_cast<V4l>(dz) & cz);
+    const V4d m = tx < ty ? (tz < tx ? tz : tx) : (tz < ty ? tz : ty);
+    const V4l stop = ((kx == ex) & (ky == ey) & (kz == ez)) | (m > len) | ~live;
+    if (!(stop[0] | stop[1] | stop[2] | stop[3])) {
+      for (int l = 0; l < 4; ++l) visit(unsigned(kx[l]), unsigned(ky[l]), unsigned(kz[l]));
+      continue;
+    }
+    for (int l = 0; l < 4; ++l) {
+      if (!live[l]) continue;
+      if (stop[l]) {
+        if (!refill(l)) --alive;
+      } else {
+        visit(unsigned(kx[l]), unsigned(ky[l]), unsigned(kz[l]));
+      }
+    }
+  }
+}
+}  // namespace detail
+
+/// Walks every segment i < n (segment(i, &origin, &end)) as walk_ray does, visiting each
+/// segment's voxels in no set order across segments: the union of their walks, for callers
+/// that only mark voxels (free-space carving). Uses AVX2 lanes when the processor has them
+/// and `vectorised` is true (the same voxels: tests compare both).
+template <typename Tree, typename Segment, typename Visit>
+void walk_rays(const Tree& tree, std::size_t n, Segment&& segment, Visit&& visit, bool vectorised = true) {
+  if (vectorised && __builtin_cpu_supports("avx2")) {
+    detail::walk_rays_avx2(tree, n, segment, visit);
+    return;
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    octomap::point3d a, b;
+    segment(i, &a, &b);
+    walk_ray(tree, a, b, [&](unsigned x, unsigned y, unsigned z) {
+      visit(x, y, z);
+      return true;
+    });
   }
 }
 
