@@ -181,7 +181,6 @@ struct Mission::Impl {
     return rec.reached_goal;
   }
 
-
   // A new attempt's record.
   ViewRecord open_record(const nbv::PlannedView& view, ViewPhase phase) const {
     ViewRecord rec;
@@ -224,7 +223,7 @@ struct Mission::Impl {
       }
       if (metrics) {
         ScopedPhase phase_time(t, kEvaluation);
-        background_metrics_ = evaluator.update(map, inserter.last_updates());
+        evaluator.update(map, inserter.last_updates());  // settle() reads evaluator.metrics()
       }
       return t;
     });
@@ -235,7 +234,7 @@ struct Mission::Impl {
   void settle() {
     if (!background_.valid()) return;
     const PhaseTimes t = background_.get();
-    if (settings.mission.record.metrics_every_view) last_metrics = background_metrics_;
+    if (settings.mission.record.metrics_every_view) last_metrics = evaluator.metrics();
     result.times.merge(t);
     for (std::size_t i = background_view_; i < result.views.size(); ++i) {
       ViewRecord& v = result.views[i];
@@ -572,7 +571,6 @@ struct Mission::Impl {
   Stopwatch elapsed_;
   // The last scan's background work (start_background); last, so it ends before the members
   // it reads are destroyed.
-  evaluation::MapMetrics background_metrics_;
   std::size_t background_view_ = 0;
   std::future<PhaseTimes> background_;
 };
