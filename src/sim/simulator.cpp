@@ -142,6 +142,7 @@ SimState Simulator::snapshot() const {
   s.act.assign(data_->act, data_->act + model_->na);
   s.ctrl.assign(data_->ctrl, data_->ctrl + model_->nu);
   s.qacc_warmstart.assign(data_->qacc_warmstart, data_->qacc_warmstart + model_->nv);
+  s.qfrc_bias.assign(data_->qfrc_bias, data_->qfrc_bias + model_->nv);
   return s;
 }
 
@@ -156,6 +157,9 @@ void Simulator::restore(const SimState& s) {
   std::copy(s.qacc_warmstart.begin(), s.qacc_warmstart.end(), data_->qacc_warmstart);
   for (int w = 0; w < mjNWARNING; ++w) data_->warning[w].number = 0;
   mj_forward(model_.get(), data_.get());
+  // mj_forward computed the bias forces of the restored positions; the next step's gravity
+  // compensation reads those of the step before the snapshot.
+  if (int(s.qfrc_bias.size()) == model_->nv) std::copy(s.qfrc_bias.begin(), s.qfrc_bias.end(), data_->qfrc_bias);
 }
 
 int Simulator::require_id(int type, const std::string& name) const {

@@ -26,10 +26,13 @@ struct RobotContact {
   double depth_m = 0.0;         ///< Penetration depth (positive when overlapping).
 };
 
-/// A copy of the simulation state, to go back to after a fault.
+/// A copy of the simulation state, to go back to after a fault or to repeat a move: stepping
+/// on from a restored snapshot gives the same states, bit for bit, as stepping on from where
+/// it was taken. Besides MuJoCo's state it holds qfrc_bias, which the arm's gravity
+/// compensation reads from the previous step.
 struct SimState {
   double time = 0.0;
-  std::vector<double> qpos, qvel, act, ctrl, qacc_warmstart;
+  std::vector<double> qpos, qvel, act, ctrl, qacc_warmstart, qfrc_bias;
 };
 
 /// Owns the MuJoCo models and data of a scene. With the robot in a generated world there are
