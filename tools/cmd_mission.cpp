@@ -137,12 +137,13 @@ void run_mission(const MissionCliOptions& o, CLI::App* sub) {
     };
   }
   const mission::Mission* running = nullptr;  // the map inset reads its map
-  cb.on_view = [&video, &dataset, &running](const mission::ViewRecord&, const LabelledFrame& f,
-                                            const sim::Simulator& sim) {
-    if (video) video->set_wrist(f);
-    if (video && running) video->set_map(running->map(), sim.base_pose());
-    if (dataset) dataset->add_train(f);
-  };
+  if (!o.video.empty() || dataset)  // (a callback that reads the map waits for each scan's insertion)
+    cb.on_view = [&video, &dataset, &running](const mission::ViewRecord&, const LabelledFrame& f,
+                                              const sim::Simulator& sim) {
+      if (video) video->set_wrist(f);
+      if (video && running) video->set_map(running->map(), sim.base_pose());
+      if (dataset) dataset->add_train(f);
+    };
   mission::Mission mission(world, settings, o.seed, cb);
   running = &mission;
   if (!o.video.empty())

@@ -20,6 +20,7 @@
 #include "canopy/motion/workspace_filter.h"
 #include "canopy/perception/semantic_extractor.h"
 #include "canopy/sim/renderer.h"
+#include "scan_pipeline.h"
 
 namespace canopy::mission {
 
@@ -209,31 +210,11 @@ struct Mission::Impl {
     return rec;
   }
 
-  // Background work of a scan: what only reads the map until the next insertion (the NBV
-  // index following the scan, the metrics with the ground truth) runs on the second core
-  // beside the next move; settle() waits for it before the map changes or its results are
-  // read, so the results are those of running it in line.
-  void start_background(std::uint64_t revision) {
-    const bool metrics = settings.mission.record.metrics_every_view;
-    background_ = std::async(std::launch::async, [this, revision, metrics] {
-      PhaseTimes t;
-      {
-        ScopedPhase phase_time(t, kMapping);
-        index.apply_updates(map, revision, inserter.last_updates());
-      }
-      if (metrics) {
-        ScopedPhase phase_time(t, kEvaluation);
-        evaluator.update(map, inserter.last_updates());  // settle() reads evaluator.metrics()
-      }
-      return t;
-    });
-    background_view_ = result.views.size();  // the row the scan's record will take
-  }
-
-  // Waits for the background work and completes the records that waited for its metrics.
+  // Waits for the last scan's mapping (scan_pipeline.h) and completes the records that waited
+  // for its metrics.
   void settle() {
-    if (!background_.valid()) return;
-    const PhaseTimes t = background_.get();
+    if (!scans.busy()) return;
+    const PhaseTimes t = scans.settle();
     if (settings.mission.record.metrics_every_view) last_metrics = evaluator.metrics();
     result.times.merge(t);
     for (std::size_t i = background_view_; i < result.views.size(); ++i) {
@@ -245,6 +226,44 @@ struct Mission::Impl {
     update_caption();
   }
 
+  // A move may start before the last scan is in the map (mission.loop.overlap_moves): with no
+  // video or test hook to see it, when the scan's environment is not followed yet, and only as
+  // a straight move (its plan draws no random number). Once the scan is in, the move is planned
+  // again; a different plan undoes the move and makes the new one, so results never change.
+  bool may_overlap() const {
+    return settings.mission.loop.overlap_moves && scans.unfollowed() && !callbacks.video_tick && !callbacks.before_step;
+  }
+
+  // The arm plan to one of `goals`, in the map's environment without the robot's own volume.
+  motion::PlanResult plan_move(const BasePose& base, const ArmConfig& q0, const std::vector<ArmConfig>& goals) {
+    // Where the robot is cannot be an obstacle (leaves it brushed aside, seen up close).
+    map_env->clear_robot_volume(model, base, q0, settings.motion.collision.environment_padding_m);
+    return planner.plan_to_configs(base, q0, goals, mix_seed(seed, 1000000 + std::uint64_t(current_attempt)));
+  }
+
+  // The planned move on the simulator's servos; a divergence restores the state before it.
+  struct Move {
+    motion::MoveReport report;
+    std::string diverged;  // what diverged ("" = it did not)
+    double time_s = 0.0;
+  };
+  Move move_arm(const motion::PlanResult& plan, const nbv::PlannedView& view, PhaseTimes& times) {
+    ScopedPhase phase_time(times, kControl);
+    Move m;
+    const sim::SimState before = sim.snapshot();
+    SteppedSim<motion::RobotModel> stepped(stepper, model);
+    const double t0 = sim.time();
+    try {
+      m.report = motion::execute_arm_move(stepped, plan.trajectory, view.T_world_camera, settings.motion.execution,
+                                          &truth_checker);
+    } catch (const SimulationDiverged& e) {
+      sim.restore(before);
+      m.diverged = e.what();
+    }
+    m.time_s = sim.time() - t0;
+    return m;
+  }
+
   ViewRecord attempt(const nbv::PlannedView& view, ViewPhase phase) {
     ViewRecord rec = open_record(view, phase);
     const BasePose base = sim.base_pose();
@@ -253,48 +272,63 @@ struct Mission::Impl {
 
     // Motion planning: IK, then OMPL against the map.
     motion::PlanResult plan;
+    std::vector<ArmConfig> goals;
+    bool overlap = false;
     {
       ScopedPhase phase_time(rec.times, kMotionPlanning);
-      const std::vector<ArmConfig> goals = motion::view_goal_configs(model, view, base, q0);
+      goals = motion::view_goal_configs(model, view, base, q0);
       if (goals.empty()) return finish(failure::kNoIk, "no IK solution within the joint limits");
-      // Where the robot is cannot be an obstacle (leaves it brushed aside, seen up close).
-      map_env->clear_robot_volume(model, base, q0, settings.motion.collision.environment_padding_m);
-      plan = planner.plan_to_configs(base, q0, goals, mix_seed(seed, 1000000 + std::uint64_t(current_attempt)));
+      overlap = may_overlap();
+      if (!overlap) scans.follow();
+      plan = plan_move(base, q0, goals);
+      if (overlap && !(plan.ok() && plan.direct)) {  // planned again with the scan
+        overlap = false;
+        scans.follow();
+        plan = plan_move(base, q0, goals);
+      }
     }
     if (!plan.ok()) return finish(failure_of(plan.status), plan.message);
 
-    // Control: the move on the simulator's servos; a divergence restores the state before it.
-    motion::MoveReport move;
-    {
-      ScopedPhase phase_time(rec.times, kControl);
-      const sim::SimState before = sim.snapshot();
-      SteppedSim<motion::RobotModel> stepped(stepper, model);
-      const double t0 = sim.time();
-      const std::vector<ArmConfig>& w = plan.trajectory.waypoints();
-      for (std::size_t i = 1; i < w.size(); ++i) {
-        double d2 = 0.0;
-        for (int j = 0; j < kArmDof; ++j) d2 += (w[i][j] - w[i - 1][j]) * (w[i][j] - w[i - 1][j]);
-        rec.arm_path_rad += std::sqrt(d2);
+    // Control; an overlapped move is kept when the plan with the last scan is the same.
+    const sim::SimState start = overlap ? sim.snapshot() : sim::SimState{};
+    Move move = move_arm(plan, view, rec.times);
+    if (overlap) {
+      motion::PlanResult checked;
+      {
+        ScopedPhase phase_time(rec.times, kMotionPlanning);
+        scans.follow();
+        checked = plan_move(base, q0, goals);
       }
-      result.arm_path_rad += rec.arm_path_rad;
-      try {
-        move = motion::execute_arm_move(stepped, plan.trajectory, view.T_world_camera, settings.motion.execution,
-                                        &truth_checker);
-      } catch (const SimulationDiverged& e) {
-        sim.restore(before);
-        ++result.unstable_faults;
-        rec.move_time_s = sim.time() - t0;
-        progress(std::string("view ") + std::to_string(current_attempt) + ": " + e.what() +
-                 "; restored the state before the move");
-        return finish(failure::kUnstable, e.what());
+      ++result.overlapped_moves;
+      if (checked.status == plan.status && checked.path == plan.path) {
+        ++result.overlapped_kept;
+      } else {
+        sim.restore(start);
+        plan = std::move(checked);
+        if (!plan.ok()) return finish(failure_of(plan.status), plan.message);
+        move = move_arm(plan, view, rec.times);
       }
-      rec.move_time_s = move.duration_s;
-      rec.truth_contacts = move.truth_contact_checks;
-      rec.self_contacts = move.self_contact_steps;
-      rec.position_error_m = move.position_error_m;
-      rec.angle_error_rad = move.angle_error_rad;
     }
-    if (!move.success) return finish(failure::kNotReached, move.message);
+    const std::vector<ArmConfig>& w = plan.trajectory.waypoints();
+    for (std::size_t i = 1; i < w.size(); ++i) {
+      double d2 = 0.0;
+      for (int j = 0; j < kArmDof; ++j) d2 += (w[i][j] - w[i - 1][j]) * (w[i][j] - w[i - 1][j]);
+      rec.arm_path_rad += std::sqrt(d2);
+    }
+    result.arm_path_rad += rec.arm_path_rad;
+    rec.move_time_s = move.time_s;
+    if (!move.diverged.empty()) {
+      ++result.unstable_faults;
+      progress(std::string("view ") + std::to_string(current_attempt) + ": " + move.diverged +
+               "; restored the state before the move");
+      return finish(failure::kUnstable, move.diverged);
+    }
+    rec.move_time_s = move.report.duration_s;
+    rec.truth_contacts = move.report.truth_contact_checks;
+    rec.self_contacts = move.report.self_contact_steps;
+    rec.position_error_m = move.report.position_error_m;
+    rec.angle_error_rad = move.report.angle_error_rad;
+    if (!move.report.success) return finish(failure::kNotReached, move.report.message);
 
     // Rendering from the pose actually reached.
     LabelledFrame frame;
@@ -303,24 +337,23 @@ struct Mission::Impl {
       frame = renderer.render_wrist_camera();
     }
     rec.T_reached = frame.T_world_camera;
-    // Mapping: segmentation, insertion, the planner's collision environment.
-    std::uint64_t revision = 0;
+    // Mapping: segmentation here; the insertion, the NBV index and the metrics on the second
+    // core beside the next move (scan_pipeline.h), the planner's environment before it plans.
     {
       ScopedPhase phase_time(rec.times, kMapping);
-      const perception::LabelledCloud cloud = extractor.extract(frame);
+      perception::LabelledCloud cloud = extractor.extract(frame);
       rec.target_points = static_cast<long>(cloud.stats.target_points);
       rec.true_target_pixels = static_cast<long>(cloud.stats.true_target_pixels);
-      settle();  // the last scan's background work ends before the map changes
-      revision = map.revision();
-      inserter.insert(cloud);
-      map_env->follow_scan(map, inserter.last_updates(), inserter.last_occupancy());
+      settle();  // the last scan's mapping ends before the map changes
+      scans.start(std::move(cloud), settings.mission.record.metrics_every_view);
+      background_view_ = result.views.size();  // the row this record will take
     }
     view_planner->taken(frame.T_world_camera);
-    // The NBV index follows the scan's updates (a cost of the scan, not of the map's size),
-    // and the metrics are computed, beside the next move.
-    start_background(revision);
     close_record(rec, "", "camera within tolerance");
-    if (callbacks.on_view) callbacks.on_view(rec, frame, sim);
+    if (callbacks.on_view) {
+      scans.follow();  // the callback may read the map
+      callbacks.on_view(rec, frame, sim);
+    }
     update_caption();
     return rec;
   }
@@ -339,7 +372,7 @@ struct Mission::Impl {
       s.nbv_ok += v.success;
     }
     if (!v.success) ++s.failures[v.failure];
-    if (!background_.valid()) report(v);  // else once its metrics are known (settle)
+    if (!scans.busy()) report(v);  // else once its metrics are known (settle)
   }
 
   // The progress line of a recorded attempt.
@@ -569,10 +602,9 @@ struct Mission::Impl {
   }
 
   Stopwatch elapsed_;
-  // The last scan's background work (start_background); last, so it ends before the members
-  // it reads are destroyed.
-  std::size_t background_view_ = 0;
-  std::future<PhaseTimes> background_;
+  std::size_t background_view_ = 0;  // the record of the scan in the pipeline
+  // The last scan's mapping; last, so it ends before the members it uses are destroyed.
+  ScanPipeline scans{map, inserter, index, evaluator, *map_env};
 };
 
 Mission::Mission(const world::World& world, const Settings& settings, std::uint64_t seed, MissionCallbacks callbacks)

@@ -68,6 +68,7 @@ nlohmann::json summary_json(const MissionResult& r) {
   j["views_successful"] = r.successful_views();
   j["failures"] = r.failures;
   j["unstable_faults"] = r.unstable_faults;
+  j["overlapped_moves"] = {{"started", r.overlapped_moves}, {"kept", r.overlapped_kept}};
   if (!r.zero_coverage_reason.empty()) j["zero_coverage_reason"] = r.zero_coverage_reason;
   int truth_contacts = 0, base_contacts = 0;
   for (const auto& v : r.views) truth_contacts += v.truth_contacts;

@@ -133,6 +133,10 @@ struct MissionResult {
   PhaseTimes times;              ///< mapping, nbv_planning, motion_planning, control, rendering, evaluation.
   evaluation::MapMetrics final_metrics;
   int unstable_faults = 0;
+  /// Moves started before the last scan was in the map (mission.loop.overlap_moves), and those
+  /// of them kept (the plan with the scan was the same); the others were made again.
+  int overlapped_moves = 0;
+  int overlapped_kept = 0;
   std::map<std::string, int> failures;
   /// When the final fruit coverage is 0: why (no successful view, no target pixel segmented,
   /// ...); empty otherwise.

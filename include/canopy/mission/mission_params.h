@@ -79,6 +79,7 @@ struct LoopParams {
   double region_half_width_m = 1.2;
   double region_min_z_m = 0.05;
   double region_max_z_m = 1.8;
+  bool overlap_moves = true;
 
   template <class A>
   void visit(A& a) {
@@ -91,6 +92,9 @@ struct LoopParams {
     a("region_min_z_m", region_min_z_m, limits::finite(), "Lowest target height [m]");
     a("region_max_z_m", region_max_z_m, limits::finite(), "Highest target height [m]");
     a.check(region_max_z_m > region_min_z_m, "region_max_z_m", "must be above region_min_z_m");
+    a("overlap_moves", overlap_moves,
+      "Start a straight move while the last scan is inserted on the second core; a move whose plan changes with "
+      "the scan is made again (results are the same either way; only the wall time differs)");
   }
 };
 

@@ -1,0 +1,117 @@
+#include "scan_pipeline.h"
+
+#include <utility>
+
+#include "canopy/common/error.h"
+#include "canopy/mission/mission.h"
+
+namespace canopy::mission {
+
+ScanPipeline::ScanPipeline(mapping::SemanticOcTree& map, mapping::ScanInserter& inserter, nbv::VoxelIndex& index,
+                           evaluation::IncrementalEvaluator& evaluator, motion::CollisionEnvironment& environment)
+    : map_(map), inserter_(inserter), index_(index), evaluator_(evaluator), environment_(environment),
+      thread_([this] { run(); }) {}
+
+ScanPipeline::~ScanPipeline() {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    quit_ = true;
+  }
+  changed_.notify_all();
+  thread_.join();
+}
+
+void ScanPipeline::start(perception::LabelledCloud cloud, bool metrics) {
+  CANOPY_CHECK(!busy_, "the last scan is not settled");
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    cloud_ = std::move(cloud);
+    metrics_ = metrics;
+    insert_error_ = error_ = nullptr;
+    times_ = PhaseTimes{};
+    stage_ = Stage::kQueued;
+  }
+  changed_.notify_all();
+  busy_ = unfollowed_ = true;
+}
+
+void ScanPipeline::run() {
+  for (;;) {
+    bool metrics = false;
+    {
+      std::unique_lock<std::mutex> lock(mutex_);
+      changed_.wait(lock, [this] { return quit_ || stage_ == Stage::kQueued; });
+      if (stage_ != Stage::kQueued) return;  // quit, nothing queued
+      metrics = metrics_;
+    }
+    // The caller touches none of these until kInserted (the map, the inserter) or kDone.
+    PhaseTimes t;
+    std::exception_ptr error;
+    const std::uint64_t revision = map_.revision();
+    try {
+      ScopedPhase phase_time(t, phase::kMapping);
+      inserter_.insert(cloud_);
+    } catch (...) {
+      error = std::current_exception();
+    }
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      insert_error_ = error;
+      stage_ = Stage::kInserted;
+    }
+    changed_.notify_all();
+    if (!error) {
+      try {
+        {
+          ScopedPhase phase_time(t, phase::kMapping);
+          index_.apply_updates(map_, revision, inserter_.last_updates());
+        }
+        if (metrics) {
+          ScopedPhase phase_time(t, phase::kEvaluation);
+          evaluator_.update(map_, inserter_.last_updates());
+        }
+      } catch (...) {
+        error = std::current_exception();
+      }
+    }
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      error_ = error;
+      times_ = t;
+      stage_ = Stage::kDone;
+    }
+    changed_.notify_all();
+  }
+}
+
+void ScanPipeline::follow() {
+  if (!unfollowed_) return;
+  unfollowed_ = false;
+  std::exception_ptr error;
+  {
+    std::unique_lock<std::mutex> lock(mutex_);
+    changed_.wait(lock, [this] { return stage_ == Stage::kInserted || stage_ == Stage::kDone; });
+    error = insert_error_;
+  }
+  if (error) std::rethrow_exception(error);
+  environment_.follow_scan(map_, inserter_.last_updates(), inserter_.last_occupancy());
+}
+
+PhaseTimes ScanPipeline::settle() {
+  if (!busy_) return {};
+  follow();  // rethrows an error of the insertion
+  std::exception_ptr error;
+  PhaseTimes t;
+  {
+    std::unique_lock<std::mutex> lock(mutex_);
+    changed_.wait(lock, [this] { return stage_ == Stage::kDone; });
+    stage_ = Stage::kIdle;
+    error = error_;
+    t = times_;
+  }
+  busy_ = false;
+  if (error) std::rethrow_exception(error);
+  return t;
+}
+
+}  // namespace canopy::mission
