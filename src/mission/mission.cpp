@@ -28,18 +28,6 @@ namespace {
 
 using namespace phase;
 
-const char* failure_of(motion::PlanStatus s) {
-  switch (s) {
-    case motion::PlanStatus::kSuccess: return "";
-    case motion::PlanStatus::kNoIk: return failure::kNoIk;
-    case motion::PlanStatus::kStartInCollision: return failure::kStartInCollision;
-    case motion::PlanStatus::kGoalInCollision: return failure::kGoalInCollision;
-    case motion::PlanStatus::kTimeout: return failure::kPlanTimeout;
-    case motion::PlanStatus::kInvalidInput: return failure::kInvalid;
-  }
-  return failure::kInvalid;
-}
-
 }  // namespace
 
 struct Mission::Impl {
@@ -241,27 +229,12 @@ struct Mission::Impl {
     return planner.plan_to_configs(base, q0, goals, mix_seed(seed, 1000000 + std::uint64_t(current_attempt)));
   }
 
-  // The planned move on the simulator's servos; a divergence restores the state before it.
-  struct Move {
-    motion::MoveReport report;
-    std::string diverged;  // what diverged ("" = it did not)
-    double time_s = 0.0;
-  };
-  Move move_arm(const motion::PlanResult& plan, const nbv::PlannedView& view, PhaseTimes& times) {
+  // The planned move on the simulator's servos from `before`, the current state.
+  ArmMove move(const motion::PlanResult& plan, const nbv::PlannedView& view, const sim::SimState& before,
+               PhaseTimes& times) {
     ScopedPhase phase_time(times, kControl);
-    Move m;
-    const sim::SimState before = sim.snapshot();
-    SteppedSim<motion::RobotModel> stepped(stepper, model);
-    const double t0 = sim.time();
-    try {
-      m.report = motion::execute_arm_move(stepped, plan.trajectory, view.T_world_camera, settings.motion.execution,
-                                          &truth_checker);
-    } catch (const SimulationDiverged& e) {
-      sim.restore(before);
-      m.diverged = e.what();
-    }
-    m.time_s = sim.time() - t0;
-    return m;
+    return move_arm(stepper, model, plan.trajectory, view.T_world_camera, settings.motion.execution, &truth_checker,
+                    before);
   }
 
   ViewRecord attempt(const nbv::PlannedView& view, ViewPhase phase) {
@@ -287,11 +260,11 @@ struct Mission::Impl {
         plan = plan_move(base, q0, goals);
       }
     }
-    if (!plan.ok()) return finish(failure_of(plan.status), plan.message);
+    if (!plan.ok()) return finish(failure::of_plan(plan.status), plan.message);
 
     // Control; an overlapped move is kept when the plan with the last scan is the same.
-    const sim::SimState start = overlap ? sim.snapshot() : sim::SimState{};
-    Move move = move_arm(plan, view, rec.times);
+    const sim::SimState before = sim.snapshot();
+    ArmMove moved = move(plan, view, before, rec.times);
     if (overlap) {
       motion::PlanResult checked;
       {
@@ -303,32 +276,29 @@ struct Mission::Impl {
       if (checked.status == plan.status && checked.path == plan.path) {
         ++result.overlapped_kept;
       } else {
-        sim.restore(start);
+        sim.restore(before);
         plan = std::move(checked);
-        if (!plan.ok()) return finish(failure_of(plan.status), plan.message);
-        move = move_arm(plan, view, rec.times);
+        if (!plan.ok()) return finish(failure::of_plan(plan.status), plan.message);
+        moved = move(plan, view, before, rec.times);
       }
     }
     const std::vector<ArmConfig>& w = plan.trajectory.waypoints();
-    for (std::size_t i = 1; i < w.size(); ++i) {
-      double d2 = 0.0;
-      for (int j = 0; j < kArmDof; ++j) d2 += (w[i][j] - w[i - 1][j]) * (w[i][j] - w[i - 1][j]);
-      rec.arm_path_rad += std::sqrt(d2);
-    }
+    for (std::size_t i = 1; i < w.size(); ++i) rec.arm_path_rad += motion::joint_distance(w[i - 1], w[i]);
     result.arm_path_rad += rec.arm_path_rad;
-    rec.move_time_s = move.time_s;
-    if (!move.diverged.empty()) {
+    rec.move_time_s = moved.time_s;
+    if (!moved.diverged.empty()) {
       ++result.unstable_faults;
-      progress(std::string("view ") + std::to_string(current_attempt) + ": " + move.diverged +
+      progress(std::string("view ") + std::to_string(current_attempt) + ": " + moved.diverged +
                "; restored the state before the move");
-      return finish(failure::kUnstable, move.diverged);
+      return finish(failure::kUnstable, moved.diverged);
     }
-    rec.move_time_s = move.report.duration_s;
-    rec.truth_contacts = move.report.truth_contact_checks;
-    rec.self_contacts = move.report.self_contact_steps;
-    rec.position_error_m = move.report.position_error_m;
-    rec.angle_error_rad = move.report.angle_error_rad;
-    if (!move.report.success) return finish(failure::kNotReached, move.report.message);
+    const motion::MoveReport& report = moved.report;
+    rec.move_time_s = report.duration_s;
+    rec.truth_contacts = report.truth_contact_checks;
+    rec.self_contacts = report.self_contact_steps;
+    rec.position_error_m = report.position_error_m;
+    rec.angle_error_rad = report.angle_error_rad;
+    if (!report.success) return finish(failure::kNotReached, report.message);
 
     // Rendering from the pose actually reached.
     LabelledFrame frame;

@@ -84,4 +84,16 @@ std::string zero_coverage_cause(const std::string& target, perception::LabelSour
   return std::to_string(target_points) + " points were labelled " + t + " but none was kept on a target fruit's surface";
 }
 
+const char* failure::of_plan(motion::PlanStatus s) {
+  switch (s) {
+    case motion::PlanStatus::kSuccess: return "";
+    case motion::PlanStatus::kNoIk: return failure::kNoIk;
+    case motion::PlanStatus::kStartInCollision: return failure::kStartInCollision;
+    case motion::PlanStatus::kGoalInCollision: return failure::kGoalInCollision;
+    case motion::PlanStatus::kTimeout: return failure::kPlanTimeout;
+    case motion::PlanStatus::kInvalidInput: return failure::kInvalid;
+  }
+  return failure::kInvalid;
+}
+
 }  // namespace canopy::mission

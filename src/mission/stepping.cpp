@@ -50,4 +50,21 @@ DriveReport drive_base(SimStepper& stepper, const motion::BaseFollowerParams& pa
   return r;
 }
 
+ArmMove move_arm(SimStepper& stepper, const motion::RobotModel& model, const motion::ArmTrajectory& trajectory,
+                 const Pose& T_world_camera_goal, const motion::ExecutionParams& params,
+                 const motion::CollisionChecker* truth, const sim::SimState& before) {
+  sim::Simulator& sim = stepper.sim();
+  ArmMove m;
+  SteppedSim<motion::RobotModel> stepped(stepper, model);
+  const double t0 = sim.time();
+  try {
+    m.report = motion::execute_arm_move(stepped, trajectory, T_world_camera_goal, params, truth);
+  } catch (const SimulationDiverged& e) {
+    sim.restore(before);
+    m.diverged = e.what();
+  }
+  m.time_s = sim.time() - t0;
+  return m;
+}
+
 }  // namespace canopy::mission

@@ -27,6 +27,7 @@
 #include "canopy/mapping/semantic_octree.h"
 #include "canopy/mission/oracle.h"
 #include "canopy/mission/settings.h"
+#include "canopy/motion/arm_planner.h"
 #include "canopy/motion/robot_model.h"
 #include "canopy/nbv/view_planner.h"
 #include "canopy/sim/simulator.h"
@@ -51,6 +52,8 @@ constexpr const char* kPlanTimeout = "plan_timeout";            ///< No path wit
 constexpr const char* kInvalid = "invalid_input";
 constexpr const char* kNotReached = "not_reached";              ///< Executed, camera outside the tolerance.
 constexpr const char* kUnstable = "unstable";                   ///< The simulation diverged (restored).
+/// The cause of a failed arm plan ("" for success).
+const char* of_plan(motion::PlanStatus status);
 }  // namespace failure
 
 /// Phases of the wall-time split (the paper's Fig. 4 plus rendering and evaluation); the

@@ -8,6 +8,8 @@
 #include <string>
 
 #include "canopy/motion/base_follower.h"
+#include "canopy/motion/execution.h"
+#include "canopy/motion/robot_model.h"
 #include "canopy/sim/simulator.h"
 
 namespace canopy::mission {
@@ -78,5 +80,19 @@ struct DriveReport {
 DriveReport drive_base(SimStepper& stepper, const motion::BaseFollowerParams& params, const BasePose& goal,
                        double timeout_s, const std::function<bool(const BasePose&)>& base_in_contact,
                        double check_period_s);
+
+/// Outcome of an arm move on the simulator.
+struct ArmMove {
+  motion::MoveReport report;
+  std::string diverged;  ///< What diverged ("" = nothing; the simulator is back at `before`).
+  double time_s = 0.0;   ///< Simulated time the move took (0 when it diverged).
+};
+
+/// Executes `trajectory` on the stepper's simulator (motion::execute_arm_move, arm-plant
+/// contacts counted against `truth`); a divergence restores `before`, the state the move
+/// started from.
+ArmMove move_arm(SimStepper& stepper, const motion::RobotModel& model, const motion::ArmTrajectory& trajectory,
+                 const Pose& T_world_camera_goal, const motion::ExecutionParams& params,
+                 const motion::CollisionChecker* truth, const sim::SimState& before);
 
 }  // namespace canopy::mission
