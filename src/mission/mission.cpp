@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <future>
+#include <optional>
 
 #include "canopy/common/error.h"
 #include "canopy/common/random.h"
@@ -237,6 +238,22 @@ struct Mission::Impl {
                     before);
   }
 
+  // The wrist camera's frame from the pose reached, and its segmented cloud.
+  struct Look {
+    LabelledFrame frame;
+    perception::LabelledCloud cloud;
+  };
+  Look take_look(PhaseTimes& times) {
+    Look look;
+    {
+      ScopedPhase phase_time(times, kRendering);
+      look.frame = renderer.render_wrist_camera();
+    }
+    ScopedPhase phase_time(times, kMapping);
+    look.cloud = extractor.extract(look.frame);
+    return look;
+  }
+
   ViewRecord attempt(const nbv::PlannedView& view, ViewPhase phase) {
     ViewRecord rec = open_record(view, phase);
     const BasePose base = sim.base_pose();
@@ -262,10 +279,15 @@ struct Mission::Impl {
     }
     if (!plan.ok()) return finish(failure::of_plan(plan.status), plan.message);
 
-    // Control; an overlapped move is kept when the plan with the last scan is the same.
+    // Control; an overlapped move is kept when the plan with the last scan is the same. Its
+    // frame is drawn and segmented before that check, while the last scan is still going in;
+    // a move made again discards them and puts the noise generators' states back.
     const sim::SimState before = sim.snapshot();
     ArmMove moved = move(plan, view, before, rec.times);
+    std::optional<Look> look;
     if (overlap) {
+      const Rng depth_noise = renderer.noise_state(), label_noise = extractor.noise_state();
+      if (moved.diverged.empty() && moved.report.success) look = take_look(rec.times);
       motion::PlanResult checked;
       {
         ScopedPhase phase_time(rec.times, kMotionPlanning);
@@ -277,6 +299,9 @@ struct Mission::Impl {
         ++result.overlapped_kept;
       } else {
         sim.restore(before);
+        renderer.set_noise_state(depth_noise);
+        extractor.set_noise_state(label_noise);
+        look.reset();
         plan = std::move(checked);
         if (!plan.ok()) return finish(failure::of_plan(plan.status), plan.message);
         moved = move(plan, view, before, rec.times);
@@ -300,22 +325,17 @@ struct Mission::Impl {
     rec.angle_error_rad = report.angle_error_rad;
     if (!report.success) return finish(failure::kNotReached, report.message);
 
-    // Rendering from the pose actually reached.
-    LabelledFrame frame;
-    {
-      ScopedPhase phase_time(rec.times, kRendering);
-      frame = renderer.render_wrist_camera();
-    }
+    if (!look) look = take_look(rec.times);
+    const LabelledFrame& frame = look->frame;
     rec.T_reached = frame.T_world_camera;
-    // Mapping: segmentation here; the insertion, the NBV index and the metrics on the second
-    // core beside the next move (scan_pipeline.h), the planner's environment before it plans.
+    rec.target_points = static_cast<long>(look->cloud.stats.target_points);
+    rec.true_target_pixels = static_cast<long>(look->cloud.stats.true_target_pixels);
+    // The insertion, the NBV index and the metrics on the second core beside the next move
+    // (scan_pipeline.h), the planner's environment before it plans.
     {
       ScopedPhase phase_time(rec.times, kMapping);
-      perception::LabelledCloud cloud = extractor.extract(frame);
-      rec.target_points = static_cast<long>(cloud.stats.target_points);
-      rec.true_target_pixels = static_cast<long>(cloud.stats.true_target_pixels);
       settle();  // the last scan's mapping ends before the map changes
-      scans.start(std::move(cloud), settings.mission.record.metrics_every_view);
+      scans.start(std::move(look->cloud), settings.mission.record.metrics_every_view);
       background_view_ = result.views.size();  // the row this record will take
     }
     view_planner->taken(frame.T_world_camera);
@@ -485,7 +505,7 @@ struct Mission::Impl {
         break;
       }
       motion::NextViews next;
-      settle();  // the index and the metrics of the last scan
+      scans.follow_index();  // the last scan in the map and the index; its metrics may come later
       {
         const Stopwatch watch;
         req.base = sim.base_pose();

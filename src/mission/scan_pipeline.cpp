@@ -27,7 +27,7 @@ void ScanPipeline::start(perception::LabelledCloud cloud, bool metrics) {
     std::lock_guard<std::mutex> lock(mutex_);
     cloud_ = std::move(cloud);
     metrics_ = metrics;
-    insert_error_ = error_ = nullptr;
+    insert_error_ = index_error_ = error_ = nullptr;
     times_ = PhaseTimes{};
     stage_ = Stage::kQueued;
   }
@@ -44,7 +44,8 @@ void ScanPipeline::run() {
       if (stage_ != Stage::kQueued) return;  // quit, nothing queued
       metrics = metrics_;
     }
-    // The caller touches none of these until kInserted (the map, the inserter) or kDone.
+    // The caller touches none of these until kInserted (the map, the inserter), kIndexed (the
+    // index) or kDone.
     PhaseTimes t;
     std::exception_ptr error;
     const std::uint64_t revision = map_.revision();
@@ -62,10 +63,20 @@ void ScanPipeline::run() {
     changed_.notify_all();
     if (!error) {
       try {
-        {
-          ScopedPhase phase_time(t, phase::kMapping);
-          index_.apply_updates(map_, revision, inserter_.last_updates());
-        }
+        ScopedPhase phase_time(t, phase::kMapping);
+        index_.apply_updates(map_, revision, inserter_.last_updates());
+      } catch (...) {
+        error = std::current_exception();
+      }
+    }
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      index_error_ = error;
+      stage_ = Stage::kIndexed;
+    }
+    changed_.notify_all();
+    if (!error) {
+      try {
         if (metrics) {
           ScopedPhase phase_time(t, phase::kEvaluation);
           evaluator_.update(map_, inserter_.last_updates());
@@ -90,11 +101,23 @@ void ScanPipeline::follow() {
   std::exception_ptr error;
   {
     std::unique_lock<std::mutex> lock(mutex_);
-    changed_.wait(lock, [this] { return stage_ == Stage::kInserted || stage_ == Stage::kDone; });
+    changed_.wait(lock, [this] { return stage_ == Stage::kInserted || stage_ == Stage::kIndexed || stage_ == Stage::kDone; });
     error = insert_error_;
   }
   if (error) std::rethrow_exception(error);
   environment_.follow_scan(map_, inserter_.last_updates(), inserter_.last_occupancy());
+}
+
+void ScanPipeline::follow_index() {
+  if (!busy_) return;
+  follow();  // rethrows an error of the insertion
+  std::exception_ptr error;
+  {
+    std::unique_lock<std::mutex> lock(mutex_);
+    changed_.wait(lock, [this] { return stage_ == Stage::kIndexed || stage_ == Stage::kDone; });
+    error = index_error_;
+  }
+  if (error) std::rethrow_exception(error);
 }
 
 PhaseTimes ScanPipeline::settle() {

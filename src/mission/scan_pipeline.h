@@ -3,11 +3,13 @@
 //
 // start() inserts a cloud into the map on another thread and then, on the same thread, makes
 // the NBV index follow the scan and updates the metrics. follow() waits for the insertion
-// and makes the planner's collision environment follow the scan; settle() waits for all of
-// it. From start() to settle() the map, the inserter, the index and the evaluator belong to
-// the other thread, which only reads the map once the insertion is done: the caller may read
-// the map after follow() and must not change any of them before settle(). The environment is
-// the caller's throughout. Every result is the one the same calls in line would give.
+// and makes the planner's collision environment follow the scan; follow_index() waits for the
+// index too; settle() waits for all of it. From start() to settle() the map, the inserter, the
+// index and the evaluator belong to the other thread, which only reads the map once the
+// insertion is done and the index once it is updated: the caller may read the map after
+// follow(), the index after follow_index(), and must not change any of them before settle().
+// The environment is the caller's throughout. Every result is the one the same calls in line
+// would give.
 //
 // The other thread lives as long as the pipeline: a thread started anew for each scan cost
 // about 2 ms a scan (its stack's first pages, its allocator arena, the task scheduler's
@@ -46,6 +48,9 @@ class ScanPipeline {
   /// Waits for the insertion and makes the environment follow the scan (once); rethrows an
   /// error of the insertion.
   void follow();
+  /// follow(), then waits for the index (the metrics may still be in the making); rethrows an
+  /// error of the index. The caller may then read the index as well as the map.
+  void follow_index();
   /// True from start() to settle().
   bool busy() const { return busy_; }
   /// follow(), then waits for the index and the metrics; returns the other thread's times
@@ -60,14 +65,14 @@ class ScanPipeline {
   motion::CollisionEnvironment& environment_;
   bool unfollowed_ = false, busy_ = false;  // the caller's view
 
-  enum class Stage { kIdle, kQueued, kInserted, kDone };
+  enum class Stage { kIdle, kQueued, kInserted, kIndexed, kDone };
   void run();  // the other thread
   std::mutex mutex_;
   std::condition_variable changed_;
   Stage stage_ = Stage::kIdle;  // guarded by mutex_, as are the members below
   bool quit_ = false, metrics_ = false;
   perception::LabelledCloud cloud_;
-  std::exception_ptr insert_error_, error_;
+  std::exception_ptr insert_error_, index_error_, error_;
   PhaseTimes times_;
   std::thread thread_;  // last: started once the members it uses exist
 };

@@ -73,6 +73,10 @@ class SemanticExtractor {
   LabelledCloud extract(const LabelledFrame& frame);
 
   const ExtractorParams& params() const { return params_; }
+  /// The noise generator's state. A caller that discards a cloud puts the state from before it
+  /// back, and the next frame is noised as if the discarded one had never been extracted.
+  Rng noise_state() const { return rng_; }
+  void set_noise_state(const Rng& state) { rng_ = state; }
 
  private:
   ExtractorParams params_;

@@ -65,6 +65,10 @@ class Renderer {
   /// Geoms drawn in the last frame, and geoms of the scene before culling.
   int last_drawn_geom_count() const { return drawn_geoms_; }
   int last_scene_geom_count() const { return scene_geoms_; }
+  /// The depth noise's random state. A caller that discards a frame puts the state from before
+  /// it back, and the next frame is noised as if the discarded one had never been drawn.
+  Rng noise_state() const { return noise_rng_; }
+  void set_noise_state(const Rng& state) { noise_rng_ = state; }
   /// Frustum culling (on by default): geoms that cannot change a pixel are not drawn (outside
   /// the view volume and, with shadows, casting no shadow into it). Images are the same
   /// with it off; the switch exists to compare.
