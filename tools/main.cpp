@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <exception>
 #include <string>
+#include <thread>
 
 #include "canopy/common/error.h"
 #include "canopy/common/interrupt.h"
@@ -84,6 +85,11 @@ void require_finite_numbers(CLI::App& app) {
 
 int main(int argc, char** argv) {
   canopy::install_interrupt_handlers();
+  // With two cores, the software rasteriser's own threads (one per core by default) compete
+  // with the mission's second thread: a frame drawn on the calling thread ends the default
+  // mission sooner, with the same images (docs/architecture.md). A value the user set is kept.
+  // Set before any thread or GL context exists.
+  if (std::thread::hardware_concurrency() <= 2) ::setenv("LP_NUM_THREADS", "0", /*overwrite=*/0);
   CLI::App app{"canopy: simulator and planner for active semantic mapping in greenhouses"};
   app.require_subcommand(1);
   app.set_help_all_flag("--help-all", "Show help for every subcommand");
