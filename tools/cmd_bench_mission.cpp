@@ -89,11 +89,13 @@ void add_bench_mission(CLI::App& bench) {
       line.plants = static_cast<int>(world.plants.size());
       spdlog::info("bench mission: {} plants ({} per row), {} stops, method {}", line.plants, r.plants_per_row, r.stops,
                    opt->method);
+      // Progress from the mission's own lines: an on_view callback would make every move wait
+      // for the last scan (no overlapped moves), unlike `canopy mission`.
       mission::MissionCallbacks cb;
-      int last_stop = -1;
-      cb.on_view = [&](const mission::ViewRecord& v, const LabelledFrame&, const sim::Simulator&) {
-        if (v.stop != last_stop && v.stop % 10 == 0) spdlog::info("  stop {}/{}", v.stop + 1, r.stops);
-        last_stop = v.stop;
+      cb.progress = [&](const std::string& m) {
+        int k = 0, n = 0;
+        if (m.find(": driving") != std::string::npos && std::sscanf(m.c_str(), "stop %d/%d", &k, &n) == 2 && k % 10 == 1)
+          spdlog::info("  stop {}/{}", k, n);
       };
       mission::Mission mission(world, s, opt->seed, cb);
       const mission::MissionResult res = mission.run();
