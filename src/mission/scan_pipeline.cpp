@@ -45,53 +45,35 @@ void ScanPipeline::run() {
       metrics = metrics_;
     }
     // The caller touches none of these until kInserted (the map, the inserter), kIndexed (the
-    // index) or kDone.
+    // index) or kDone. Each step runs unless one before it failed, then says how far it got.
     PhaseTimes t;
     std::exception_ptr error;
-    const std::uint64_t revision = map_.revision();
-    try {
-      ScopedPhase phase_time(t, phase::kMapping);
-      inserter_.insert(cloud_);
-    } catch (...) {
-      error = std::current_exception();
-    }
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      insert_error_ = error;
-      stage_ = Stage::kInserted;
-    }
-    changed_.notify_all();
-    if (!error) {
-      try {
-        ScopedPhase phase_time(t, phase::kMapping);
-        index_.apply_updates(map_, revision, inserter_.last_updates());
-      } catch (...) {
-        error = std::current_exception();
-      }
-    }
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      index_error_ = error;
-      stage_ = Stage::kIndexed;
-    }
-    changed_.notify_all();
-    if (!error) {
-      try {
-        if (metrics) {
-          ScopedPhase phase_time(t, phase::kEvaluation);
-          evaluator_.update(map_, inserter_.last_updates());
+    // A step without a phase does nothing.
+    auto step = [&](const char* phase, Stage reached, std::exception_ptr* outcome, const auto& work) {
+      if (!error) {
+        try {
+          if (phase) {
+            ScopedPhase phase_time(t, phase);
+            work();
+          }
+        } catch (...) {
+          error = std::current_exception();
         }
-      } catch (...) {
-        error = std::current_exception();
       }
-    }
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      error_ = error;
-      times_ = t;
-      stage_ = Stage::kDone;
-    }
-    changed_.notify_all();
+      {
+        std::lock_guard<std::mutex> lock(mutex_);
+        *outcome = error;
+        stage_ = reached;
+        if (reached == Stage::kDone) times_ = t;
+      }
+      changed_.notify_all();
+    };
+    const std::uint64_t revision = map_.revision();
+    step(phase::kMapping, Stage::kInserted, &insert_error_, [&] { inserter_.insert(cloud_); });
+    step(phase::kMapping, Stage::kIndexed, &index_error_,
+         [&] { index_.apply_updates(map_, revision, inserter_.last_updates()); });
+    step(metrics ? phase::kEvaluation : nullptr, Stage::kDone, &error_,  // no metrics: nothing to do
+         [&] { evaluator_.update(map_, inserter_.last_updates()); });
   }
 }
 
