@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <future>
 #include <optional>
 
@@ -111,20 +110,13 @@ struct Mission::Impl {
   }
 
   void update_caption() {
-    char b[160];
-    std::snprintf(b, sizeof b, "%s | stop %d/%zu | views %d | fruit SC %.2f", settings.method.name.c_str(), current_stop + 1,
-                  stops_x.size(), result.successful_views(), last_metrics.coverage);
-    caption_text = b;
+    caption_text = caption_line(settings.method.name, current_stop, static_cast<int>(stops_x.size()),
+                                result.successful_views(), last_metrics.coverage);
   }
 
   BasePose stop_pose(int k) const {
     const double arm_x = model.T_base_arm().translation().x();
     return BasePose{stops_x[static_cast<std::size_t>(k)] - arm_x, settings.mission.stops.base_y_m, 0.0};
-  }
-
-  Eigen::AlignedBox3d stop_region(int k) const {
-    return mission::stop_region(settings.mission.loop, stops_x[static_cast<std::size_t>(k)],
-                                settings.mission.stops.base_y_m);
   }
 
   std::vector<Pose> scan_views(int k, bool extra) const {
@@ -351,17 +343,7 @@ struct Mission::Impl {
   // Records an attempt in the mission and stop.
   void record(const ViewRecord& v) {
     result.views.push_back(v);
-    StopRecord& s = stop_record();
-    if (v.phase == ViewPhase::kInitial) {
-      ++s.initial_attempted;
-      s.initial_ok += v.success;
-      s.initial_target_points += v.target_points;
-      s.initial_true_target_pixels += v.true_target_pixels;
-    } else {
-      ++s.nbv_attempted;
-      s.nbv_ok += v.success;
-    }
-    if (!v.success) ++s.failures[v.failure];
+    stop_record().count(v);
     if (!scans.busy()) report(v);  // else once its metrics are known (settle)
   }
 
@@ -489,7 +471,7 @@ struct Mission::Impl {
     StopRecord& s = stop_record();
     int ok = 0, attempts_left = loop.max_attempts;
     motion::NextViewsRequest req;
-    req.region = stop_region(k);
+    req.region = stop_region(loop, stops_x[static_cast<std::size_t>(k)], settings.mission.stops.base_y_m);
     const nbv::PlannerTraits traits = view_planner->traits();
     if (traits.scripted) req.scripted = scan_views(k, true);
     const motion::StopArm arm{model, workspace, &map_checker, settings.motion.tour};

@@ -61,6 +61,26 @@ std::string progress_line(const ViewRecord& v, int stops, double elapsed_s) {
   return v.success || v.message.empty() ? std::string(b) : std::string(b) + ": " + v.message;
 }
 
+std::string caption_line(const std::string& method, int stop, int stops, int views, double coverage) {
+  char b[160];
+  std::snprintf(b, sizeof b, "%s | stop %d/%d | views %d | fruit SC %.2f", method.c_str(), stop + 1, stops, views,
+                coverage);
+  return b;
+}
+
+void StopRecord::count(const ViewRecord& v) {
+  if (v.phase == ViewPhase::kInitial) {
+    ++initial_attempted;
+    initial_ok += v.success;
+    initial_target_points += v.target_points;
+    initial_true_target_pixels += v.true_target_pixels;
+  } else {
+    ++nbv_attempted;
+    nbv_ok += v.success;
+  }
+  if (!v.success) ++failures[v.failure];
+}
+
 int MissionResult::successful_views() const {
   int n = 0;
   for (const auto& v : views) n += v.success;

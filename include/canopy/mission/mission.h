@@ -121,6 +121,8 @@ struct StopRecord {
   std::map<std::string, int> failures;
   std::string end_reason;        ///< Why the stop's loop ended.
   double sim_time_s = 0.0;       ///< Simulated time spent at (and driving to) this stop.
+  /// Counts an attempt made at this stop (attempted, successful, target points, failures).
+  void count(const ViewRecord& view);
 };
 
 /// The whole run.
@@ -176,6 +178,8 @@ std::string zero_coverage_reason(const MissionResult& result, const std::string&
 void set_map_metrics(const evaluation::MapMetrics& metrics, ViewRecord* record);
 /// The progress line of a recorded attempt ("stop 2/5: nbv view 31 ok (views 30, SC ...)").
 std::string progress_line(const ViewRecord& view, int stops, double elapsed_s);
+/// The video's caption ("ours | stop 2/5 | views 30 | fruit SC 0.15"); `stop` counts from 0.
+std::string caption_line(const std::string& method, int stop, int stops, int views, double coverage);
 
 /// Hooks for the command line (progress, video, Ctrl-C) and for tests (fault injection).
 struct MissionCallbacks {
