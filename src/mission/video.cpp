@@ -84,9 +84,11 @@ VideoWriter::VideoWriter(std::string path, int width, int height, double fps)
   if (!encoder_->started())
     throw InputError("--video: cannot start ffmpeg (" + encoder_->wait().error +
                      "); apt-get install ffmpeg, or run tools/deps.sh");
+  sender_ = std::thread([this] { send_frames(); });
 }
 
 VideoWriter::~VideoWriter() {
+  stop_sender();
   if (encoder_) {
     encoder_->wait();
     std::error_code ec;
@@ -94,26 +96,105 @@ VideoWriter::~VideoWriter() {
   }
 }
 
+void VideoWriter::send_frames() {
+  for (;;) {
+    std::vector<std::uint8_t> frame;
+    {
+      std::unique_lock<std::mutex> lock(mutex_);
+      changed_.wait(lock, [this] { return stop_ || !queue_.empty(); });
+      if (queue_.empty()) return;  // stopped, all sent
+      frame = std::move(queue_.front());
+      queue_.pop_front();
+      sending_ = true;
+    }
+    const bool sent = encoder_->write(frame.data(), frame.size());
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      sending_ = false;
+      spare_.push_back(std::move(frame));
+      if (sent) {
+        ++sent_;
+      } else {
+        broken_ = true;
+        queue_.clear();
+      }
+    }
+    changed_.notify_all();
+    if (!sent) return;
+  }
+}
+
+void VideoWriter::stop_sender() {
+  if (!sender_.joinable()) return;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    stop_ = true;
+  }
+  changed_.notify_all();
+  sender_.join();
+}
+
+void VideoWriter::failed_sending() {
+  stop_sender();
+  fail("ffmpeg stopped reading frames after " + std::to_string(frames()) + " (" + encoder_->wait().describe() + ")");
+}
+
 void VideoWriter::fail(const std::string& why) {
   if (error_.empty()) error_ = why;
+  stop_sender();
   if (encoder_) encoder_->wait();
   std::error_code ec;
   fs::remove(tmp_path_, ec);
+}
+
+int VideoWriter::frames() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return sent_;
 }
 
 void VideoWriter::write(const Image<Rgb8>& frame) {
   CANOPY_CHECK(frame.width == width_ && frame.height == height_, "video frame size changed");
   static_assert(sizeof(Rgb8) == 3, "Rgb8 must be packed");
   if (!ok() || !encoder_) return;
-  if (!encoder_->write(frame.data.data(), frame.data.size() * sizeof(Rgb8))) {
-    fail("ffmpeg stopped reading frames after " + std::to_string(frames_) + " (" + encoder_->wait().describe() + ")");
-    return;
+  std::vector<std::uint8_t> copy;
+  {
+    std::unique_lock<std::mutex> lock(mutex_);
+    changed_.wait(lock, [this] { return queue_.size() < kQueueFrames || broken_; });
+    if (broken_) {
+      lock.unlock();
+      failed_sending();
+      return;
+    }
+    if (!spare_.empty()) {  // a buffer the sender is done with
+      copy = std::move(spare_.front());
+      spare_.pop_front();
+    }
   }
-  ++frames_;
+  const std::size_t bytes = frame.data.size() * sizeof(Rgb8);
+  copy.resize(bytes);
+  std::memcpy(copy.data(), frame.data.data(), bytes);
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    queue_.push_back(std::move(copy));
+  }
+  changed_.notify_all();
+}
+
+void VideoWriter::flush() {
+  if (!ok() || !encoder_) return;
+  bool broken = false;
+  {
+    std::unique_lock<std::mutex> lock(mutex_);
+    changed_.wait(lock, [this] { return (queue_.empty() && !sending_) || broken_; });
+    broken = broken_;
+  }
+  if (broken) failed_sending();
 }
 
 bool VideoWriter::close() {
   if (!encoder_) return ok();
+  flush();
+  stop_sender();
   if (ok()) {
     const ProcessStatus status = encoder_->wait();
     if (!status.ok()) {

@@ -6,6 +6,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 
 #include "canopy/common/error.h"
@@ -76,6 +77,7 @@ TEST(VideoWriter, EncoderThatDiesIsReportedNotFatal) {
   VideoWriter video(path, 64, 48, 25.0);
   EXPECT_TRUE(video.ok());
   for (int i = 0; i < 50; ++i) video.write(frame(64, 48, static_cast<std::uint8_t>(i)));  // never throws
+  video.flush();  // the failure is noticed by then
   EXPECT_FALSE(video.ok());
   EXPECT_NE(video.error().find("exited with code 7"), std::string::npos) << video.error();
   EXPECT_LT(video.frames(), 50);
@@ -90,10 +92,38 @@ TEST(VideoWriter, EncoderFailingAtTheEndIsReported) {
   FakeEncoder encoder("fake_ffmpeg_fails_late", "cat > /dev/null; exit 1");
   VideoWriter video(path, 64, 48, 25.0);
   for (int i = 0; i < 5; ++i) video.write(frame(64, 48, 10));
+  video.flush();
   EXPECT_EQ(video.frames(), 5);
   EXPECT_FALSE(video.close());
   EXPECT_NE(video.error().find("exited with code 1"), std::string::npos) << video.error();
   EXPECT_FALSE(fs::exists(path));
+}
+
+// Frames go to the encoder through the writer's queue (more frames than it holds, to a reader
+// that starts late): all of them, whole and in order.
+TEST(VideoWriter, EveryFrameReachesTheEncoderInOrder) {
+  const fs::path d = fresh_dir("video_queue");
+  const std::string path = (d / "run.mp4").string();
+  const fs::path raw = d / "stream.raw";
+  // The fake encoder keeps what it reads and writes an empty output file (its last argument).
+  FakeEncoder encoder("fake_ffmpeg_keeps", "for a; do out=$a; done; sleep 0.2; cat > '" + raw.string() + "'; : > \"$out\"");
+  constexpr int kFrames = 30;
+  std::string expected;
+  {
+    VideoWriter video(path, 64, 48, 25.0);
+    for (int i = 0; i < kFrames; ++i) {
+      const Image<Rgb8> f = frame(64, 48, static_cast<std::uint8_t>(7 * i));
+      expected.append(reinterpret_cast<const char*>(f.data.data()), f.data.size() * sizeof(Rgb8));
+      video.write(f);
+    }
+    EXPECT_TRUE(video.close()) << video.error();
+    EXPECT_EQ(video.frames(), kFrames);
+  }
+  std::ifstream in(raw, std::ios::binary);
+  const std::string got((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(got.size(), expected.size());
+  EXPECT_TRUE(got == expected);
+  EXPECT_TRUE(fs::exists(path));
 }
 
 TEST(VideoWriter, WritesAPlayableFileWithRealFfmpeg) {

@@ -5,9 +5,15 @@
 // (common/process.h).
 
 #include <array>
+#include <condition_variable>
+#include <cstdint>
+#include <deque>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
+#include <thread>
+#include <vector>
 
 #include "canopy/common/classes.h"
 #include "canopy/common/frame.h"
@@ -24,6 +30,10 @@ namespace canopy::mission {
 /// Streams same-sized RGB frames into an MP4 file. The file appears under its final name
 /// only after close() succeeds. An encoder that dies mid-run does not end the caller's
 /// run: write() then drops frames, ok() turns false and error() says why.
+///
+/// Frames reach ffmpeg from a thread of the writer's own, through a queue of a few frames:
+/// write() copies the frame and returns while ffmpeg is busy, and waits only when the queue is
+/// full. An encoder's failure is noticed by the write(), flush() or close() after it.
 class VideoWriter {
  public:
   /// Checks the output path (validate_output_path) and starts ffmpeg; throws InputError
@@ -44,12 +54,15 @@ class VideoWriter {
   /// Appends one frame (must match the size given at construction). After an encoder
   /// failure the frame is dropped; nothing throws.
   void write(const Image<Rgb8>& frame);
+  /// Waits until every frame written so far has reached the encoder, or the encoder failed.
+  void flush();
   /// Finishes encoding and moves the file into place. Returns ok(); never throws for an
   /// encoder failure.
   bool close();
-  /// Frames the encoder accepted.
-  int frames() const { return frames_; }
-  /// False once the encoder has failed (or publishing the file failed).
+  /// Frames the encoder accepted so far (every frame written, once flush() or close() returned
+  /// and the encoder did not fail).
+  int frames() const;
+  /// False once a failure of the encoder was noticed (or publishing the file failed).
   bool ok() const { return error_.empty(); }
   /// Why the video is missing ("" while ok()).
   const std::string& error() const { return error_; }
@@ -57,12 +70,22 @@ class VideoWriter {
 
  private:
   void fail(const std::string& why);
+  void send_frames();  // the sender thread
+  void stop_sender();  // lets the sender send what is queued, then joins it
+  void failed_sending();  // after the sender failed: the encoder's status into error_
 
   std::string path_, tmp_path_;
   int width_, height_;
   std::unique_ptr<PipedProcess> encoder_;
-  int frames_ = 0;
-  std::string error_;
+  std::string error_;  // the caller's thread's
+
+  static constexpr std::size_t kQueueFrames = 8;
+  mutable std::mutex mutex_;
+  std::condition_variable changed_;
+  std::deque<std::vector<std::uint8_t>> queue_, spare_;  // guarded by mutex_, as are the below
+  bool stop_ = false, sending_ = false, broken_ = false;
+  int sent_ = 0;
+  std::thread sender_;
 };
 
 /// Off-screen video of a mission: every tick renders the chase view (without shadows, which
