@@ -12,6 +12,12 @@ double wrap_angle(double a) {
   return a;
 }
 
+double joint_distance(const ArmConfig& a, const ArmConfig& b) {
+  double s = 0.0;
+  for (int i = 0; i < kArmDof; ++i) s += (a[i] - b[i]) * (a[i] - b[i]);
+  return std::sqrt(s);
+}
+
 namespace detail {
 void check_failed(const char* expr, const char* file, int line, const std::string& msg) {
   std::ostringstream os;

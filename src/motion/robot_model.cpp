@@ -24,12 +24,6 @@ double bounding_radius(const robot::Shape& s) {
 
 }  // namespace
 
-double joint_distance(const ArmConfig& a, const ArmConfig& b) {
-  double s = 0.0;
-  for (int i = 0; i < kArmDof; ++i) s += (a[i] - b[i]) * (a[i] - b[i]);
-  return std::sqrt(s);
-}
-
 RobotModel RobotModel::load(const RobotConfig& config) {
   return RobotModel(robot::RobotDescription::load_urdf(config.urdf_path), config);
 }

@@ -38,4 +38,8 @@ using ArmConfig = std::array<double, kArmDof>;
 /// Wraps an angle to (-pi, pi].
 double wrap_angle(double a);
 
+/// Joint-space distance between two arm configurations (Euclidean, rad): ranks IK solutions,
+/// orders views, measures arm paths.
+double joint_distance(const ArmConfig& a, const ArmConfig& b);
+
 }  // namespace canopy

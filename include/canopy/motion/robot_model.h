@@ -101,7 +101,6 @@ class RobotModel {
   std::vector<CollisionBody> bodies_;
 };
 
-/// Joint-space distance used to rank IK solutions and order views (Euclidean, rad).
-double joint_distance(const ArmConfig& a, const ArmConfig& b);
+using canopy::joint_distance;  // common/types.h
 
 }  // namespace canopy::motion

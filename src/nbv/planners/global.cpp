@@ -59,12 +59,6 @@ std::uint64_t pack(const octomap::OcTreeKey& k) {
   return (std::uint64_t(k[0]) << 32) | (std::uint64_t(k[1]) << 16) | std::uint64_t(k[2]);
 }
 
-double joint_distance(const ArmConfig& a, const ArmConfig& b) {
-  double d2 = 0.0;
-  for (int j = 0; j < kArmDof; ++j) d2 += (a[j] - b[j]) * (a[j] - b[j]);
-  return std::sqrt(d2);
-}
-
 class GlobalPlanner : public ViewPlanner {
  public:
   explicit GlobalPlanner(const ViewPlannerSettings& s)
