@@ -161,9 +161,9 @@ void add_map_command(CLI::App& app) {
     if (!opt->seg.empty()) bundle.set("mapping.extractor.source", opt->seg, "--seg");
     if (opt->pgt >= 0.0) bundle.set("mapping.extractor.p_gt", format_number(opt->pgt, "%.17g"), "--pgt");
     if (!opt->frames.empty()) return map_recorded(*opt, bundle);
-    const world::WorldSpec spec = load_world_spec(opt->world);
-    const world::World world = build_world(spec);
-    check_world_colours(world, cfg.extractor);
+    const world::WorldSpec spec = jobs::load_world_spec(opt->world);
+    const world::World world = jobs::build_world(spec);
+    jobs::check_world_colours(world, cfg.extractor);
     const std::vector<Pose> views = evaluation::views_from_spec(opt->views, world);
     StagedDir out(opt->out, "map");
     std::unique_ptr<StagedDir> export_out;
@@ -179,7 +179,7 @@ void add_map_command(CLI::App& app) {
     mapping::ScanInserter inserter(map);
     perception::SemanticExtractor extractor(cfg.extractor, spec.classes);
     write_file_atomic(out.path("settings.yaml"), bundle.to_yaml_text());  // a loadable --config
-    YAML::Node run = run_record("map", spec);
+    YAML::Node run = jobs::run_record("map", spec);
     run["views"] = opt->views;
     nlohmann::json poses = nlohmann::json::array();
     for (const Pose& T : views) poses.push_back(pose_to_json(T));
