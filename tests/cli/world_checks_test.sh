@@ -58,11 +58,14 @@ cli_message() {
   msg=$("$canopy" "$@" 2>&1 >/dev/null)
   code=$?
   [[ $code -eq 2 ]] || fail "canopy $*: exit $code (want 2): $msg"
-  [[ $(printf '%s\n' "$msg" | grep -c .) -eq 1 ]] || fail "canopy $*: not one line: $msg"
-  printf '%s\n' "$msg" | tail -1 | sed 's/^canopy: error: //'
+  [[ $(printf '%s\n' "$msg" | grep -c '^canopy: error: ') -eq 1 ]] || fail "canopy $*: not one error line: $msg"
+  printf '%s\n' "$msg" | grep '^canopy: error: ' | sed 's/^canopy: error: //'
 }
 # py_message WORLD SEG: ValueError's message of canopy.World(WORLD) under labels SEG ("" when it loads).
 py_message() {
+  py_run "$@" | grep '^refused: ' | sed 's/^refused: //'
+}
+py_run() {
   "$python" - "$1" "$2" <<'PY' 2>"$tmp/py.err"
 import sys
 import canopy
@@ -70,7 +73,7 @@ settings = canopy.Settings().set("mapping.extractor.source", sys.argv[2])
 try:
     canopy.World(sys.argv[1], settings=settings)
 except ValueError as e:
-    print(e)
+    print("refused:", e)
 PY
 }
 
