@@ -7,7 +7,8 @@
 #include "canopy/evaluation/view_presets.h"
 #include "canopy/jobs/world_job.h"
 #include "canopy/mapping/scan_inserter.h"
-#include "canopy/nbv/planner.h"
+#include "canopy/nbv/clusters.h"
+#include "canopy/nbv/view_evaluator.h"
 #include "canopy/sim/renderer.h"
 
 namespace canopy::jobs {
