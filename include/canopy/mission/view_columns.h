@@ -3,7 +3,7 @@
 // record, one line of meaning, and where else the column appears. Every writer loops over it:
 // views.csv (run_folder.h), Python's MissionResult.views, `canopy map`'s metrics.json history,
 // the experiment report's curves and its field metrics at the end (field.csv, findings.md
-// section 5), and docs/metrics.md's table of columns (view_columns_markdown()).
+// section 5), and docs/commands.md's table of columns (view_columns_markdown()).
 
 #include <string>
 #include <variant>
@@ -48,11 +48,11 @@ using ColumnGetter = ColumnValue (*)(const ViewRecord& view, const std::string& 
 
 /// One column of views.csv.
 struct ViewColumn {
-  const char* name;             ///< views.csv's header, Python's key.
-  const char* unit;             ///< "" for counts, flags, texts and ratios.
-  ColumnType type;
-  ColumnGetter get;
-  const char* doc;              ///< One line of meaning (docs/metrics.md's table).
+  const char* name = "";        ///< views.csv's header, Python's key.
+  const char* unit = "";        ///< "" for counts, flags, texts and ratios.
+  ColumnType type = ColumnType::kReal;
+  ColumnGetter get = nullptr;
+  const char* doc = "";         ///< One line of meaning (docs/commands.md's table).
   const char* map_key = nullptr;  ///< Its key in `canopy map`'s metrics.json history (nullptr: not there).
   int curve = 0;                ///< Position among the per-view curves the report reads back (0: not one).
   FinalFigure final;            ///< The report's figure at the end, from summary.json (key nullptr: none).
@@ -78,7 +78,7 @@ std::vector<const ViewColumn*> final_figure_columns();
 /// same record set_map_metrics fills in a mission).
 nlohmann::json map_history_metrics(const evaluation::MapMetrics& metrics);
 
-/// The table of columns (name, unit, meaning) as Markdown: docs/metrics.md holds it.
+/// The table of columns (name, unit, meaning) as Markdown: docs/commands.md holds it.
 std::string view_columns_markdown();
 
 }  // namespace canopy::mission
