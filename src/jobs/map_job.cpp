@@ -1,5 +1,6 @@
 #include "canopy/jobs/map_job.h"
 
+
 #include <spdlog/spdlog.h>
 
 #include <memory>
@@ -13,6 +14,7 @@
 #include "canopy/mapping/frame_mapping.h"
 #include "canopy/mapping/map_io.h"
 #include "canopy/mission/dataset_export.h"
+#include "canopy/mission/view_columns.h"
 #include "canopy/sim/renderer.h"
 
 namespace canopy::jobs {
@@ -40,20 +42,10 @@ namespace {
 // A view's entry of metrics.json's history.
 nlohmann::json history_step(std::size_t i, const Pose& T, double ms_render, const mapping::FrameMapStep& fs,
                             const evaluation::MapMetrics& m) {
-  return {{"view", i},
-          {"pose", pose_to_json(T)},
-          {"ms_render", ms_render},
-          {"insert", insert_stats_json(fs.insert, fs.extract)},
-          {"coverage", m.coverage},
-          {"total_entropy", m.total_entropy},
-          {"coverage_paper", m.paper.coverage},
-          {"coverage_prototype", m.prototype.coverage},
-          {"entropy_paper", m.paper.entropy},
-          {"entropy_prototype", m.prototype.entropy},
-          {"fruits_sc50", m.fruits_sc50},
-          {"fruits_sc80", m.fruits_sc80},
-          {"detection_f1", m.detection.f1},
-          {"fruit_voxel_precision", m.voxel_precision.precision}};
+  nlohmann::json step = mission::map_history_metrics(m);  // the view columns' map figures
+  step.update({{"view", i}, {"pose", pose_to_json(T)}, {"ms_render", ms_render},
+               {"insert", insert_stats_json(fs.insert, fs.extract)}});
+  return step;
 }
 
 }  // namespace
