@@ -1,4 +1,4 @@
-// The frontier planner's pieces on hand-built maps (planners/frontier.h): its targets, the
+// The frontier planner's pieces on hand-built maps (planners/frontier/frontier.h): its targets, the
 // inflated ROI field, the single-ray utility and the camera orientation, each against values
 // worked out by hand.
 
@@ -6,7 +6,7 @@
 
 #include "canopy/common/camera.h"
 #include "canopy/mapping/semantic_octree.h"
-#include "canopy/nbv/planners/frontier.h"
+#include "canopy/nbv/planners/frontier/frontier.h"
 #include "canopy/nbv/voxel_index.h"
 
 using namespace canopy;

@@ -1,4 +1,4 @@
-// The global planner (planners/global.h): greedy weighted set cover against brute force on
+// The global planner (planners/global/global.h): greedy weighted set cover against brute force on
 // small instances (its stated bounds), and the planner on the small analytic scene.
 
 #include <gtest/gtest.h>
@@ -6,7 +6,7 @@
 #include <cmath>
 
 #include "canopy/common/random.h"
-#include "canopy/nbv/planners/global.h"
+#include "canopy/nbv/planners/global/global.h"
 #include "canopy/nbv/voxel_index.h"
 #include "scene.h"
 

@@ -1,6 +1,8 @@
-// Dense predefined scanning (planners/predefined.h).
+// Dense predefined scanning (planners/predefined/predefined.h).
 
-#include "canopy/nbv/planners/predefined.h"
+#include "canopy/nbv/planners/predefined/predefined.h"
+
+#include <algorithm>
 
 namespace canopy::nbv::predefined {
 
@@ -15,6 +17,7 @@ class PredefinedPlanner : public ViewPlanner {
     PlannerTraits t;
     t.scripted = true;
     t.execute_whole_batch = true;
+    t.replaces_failed = true;
     return t;
   }
   ViewBatch next(const ViewRequest& req) override {
@@ -43,16 +46,45 @@ class PredefinedPlanner : public ViewPlanner {
     }
     return batch;
   }
-  void begin_stop() override { served_ = false; }
+  void begin_stop() override {
+    served_ = false;
+    replacements_.clear();
+  }
+
+  // The nearest option first; views without IK at this base are skipped (not attempted), a
+  // scripted view or a replacement tried before at this stop is never repeated, and at most
+  // max_attempts are attempted, until one succeeds.
+  bool replace_failed(const FailedScriptedView& req) override {
+    int tries = 0;
+    for (const PlannedView& v : req.options) {
+      if (tries >= req.max_attempts || (req.attempts_left && *req.attempts_left <= 0)) break;
+      const auto same = [&](const Pose& u) { return same_view(u, v.T_world_camera); };
+      if (std::any_of(req.scripted.begin(), req.scripted.end(), same) ||
+          std::any_of(replacements_.begin(), replacements_.end(), same))
+        continue;
+      if (req.reachable && !req.reachable(v)) continue;
+      replacements_.push_back(v.T_world_camera);
+      ++tries;
+      if (req.attempt(v)) return true;
+    }
+    return false;
+  }
 
  private:
   bool served_ = false;
+  std::vector<Pose> replacements_;  // replacements tried at this stop
 };
 
 }  // namespace
 
 std::unique_ptr<ViewPlanner> make_planner(const ViewPlannerSettings& settings) {
   return std::unique_ptr<ViewPlanner>(new PredefinedPlanner(settings));
+}
+
+ViewPlannerEntry entry() {
+  return {"predefined",
+          "dense predefined scanning: the scripted views of every stop, no planning",
+          make_planner};
 }
 
 }  // namespace canopy::nbv::predefined

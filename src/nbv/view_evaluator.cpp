@@ -1,10 +1,11 @@
-#include "canopy/nbv/planner.h"
+// One view scored by a gain over its ray set (view_evaluator.h).
+
+#include "canopy/nbv/view_evaluator.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstring>
 
-#include "canopy/common/random.h"
 #include "canopy/common/timer.h"
 
 namespace canopy::nbv {
@@ -153,68 +154,6 @@ ViewScore ViewEvaluator::evaluate_reference(const Pose& T, const Vec3& target, c
   if (!std::isfinite(s.gain)) s.gain = 0.0;
   s.ms = watch.ms();
   return s;
-}
-
-ClusterPlanner::ClusterPlanner(const NbvParams& params, const CameraIntrinsics& intrinsics)
-    : params_(params), intrinsics_(intrinsics) {}
-
-Plan ClusterPlanner::plan(const VoxelIndex& index, const std::vector<Cluster>& clusters, const GainFunction& gain,
-                          const RaySetEntry& rays, std::uint64_t seed, const CandidateFilter& filter,
-                          const CandidateObserver& observer) const {
-  Plan plan;
-  if (clusters.empty()) {
-    plan.reason = "no clusters";
-    return plan;
-  }
-  ViewEvaluator eval(index, intrinsics_, params_.rays);
-  std::size_t filtered = 0;
-  for (std::size_t c = 0; c < clusters.size(); ++c) {
-    ClusterResult cr;
-    cr.cluster = int(c);
-    const Stopwatch sampling;
-    std::vector<Candidate> cands = sample_candidates(clusters[c].centroid, int(c), params_.candidates);
-    plan.ms_candidates += sampling.ms();
-    std::vector<ScoredView> scored;
-    for (std::size_t i = 0; i < cands.size(); ++i) {
-      if (filter) {
-        const Stopwatch filtering;
-        const bool keep = filter(&cands[i]);
-        plan.ms_filter += filtering.ms();
-        if (!keep) {
-          ++filtered;
-          continue;
-        }
-      }
-      const std::uint64_t view_seed = mix_seed(seed, c * 100000 + i);
-      ScoredView sv{cands[i], eval.evaluate(cands[i].T_world_camera, cands[i].target, gain, rays, view_seed)};
-      plan.ms_raycast += sv.score.ms;
-      if (observer) observer(sv);
-      scored.push_back(sv);
-    }
-    cr.candidates = scored.size();
-    plan.candidates += scored.size();
-    std::stable_sort(scored.begin(), scored.end(),
-                     [](const ScoredView& a, const ScoredView& b) { return a.score.gain > b.score.gain; });
-    cr.best_gain = scored.empty() ? 0.0 : scored.front().score.gain;
-    cr.done = !(cr.best_gain > 0.0);
-    if (!cr.done)
-      for (const ScoredView& sv : scored) {
-        if (int(cr.top.size()) >= params_.planner.top_k || !(sv.score.gain > 0.0)) break;
-        cr.top.push_back(sv);
-      }
-    plan.views.insert(plan.views.end(), cr.top.begin(), cr.top.end());
-    plan.clusters.push_back(std::move(cr));
-  }
-  std::stable_sort(plan.views.begin(), plan.views.end(),
-                   [](const ScoredView& a, const ScoredView& b) { return a.score.gain > b.score.gain; });
-  plan.filtered = filtered;
-  if (plan.views.empty()) {
-    if (plan.candidates == 0)
-      plan.reason = filtered > 0 ? "every candidate was filtered out" : "no candidates";
-    else
-      plan.reason = "every cluster is done (best gain <= 0)";
-  }
-  return plan;
 }
 
 }  // namespace canopy::nbv

@@ -1,6 +1,6 @@
-// canopy's own planner (planners/reveal.h).
+// canopy's own planner (planners/reveal/reveal.h).
 
-#include "canopy/nbv/planners/reveal.h"
+#include "canopy/nbv/planners/reveal/reveal.h"
 
 #include <algorithm>
 #include <unordered_set>
@@ -78,7 +78,7 @@ class RevealPlanner : public ViewPlanner {
                      [](const ScoredView& a, const ScoredView& b) { return a.score.gain > b.score.gain; });
     for (const ScoredView& sv : scored) {
       if (int(batch.views.size()) >= params_.max_views || !(sv.score.gain > 0.0)) break;
-      batch.views.push_back(planned_view(sv.candidate, sv.score.gain, "nbv"));
+      batch.views.push_back(planned_view(sv.candidate, sv.score.gain, "reveal"));
       failed_.offered(sv.candidate.T_world_camera);
     }
     batch.finished = batch.views.empty();
@@ -160,6 +160,13 @@ class RevealPlanner : public ViewPlanner {
 
 std::unique_ptr<ViewPlanner> make_planner(const ViewPlannerSettings& settings) {
   return std::unique_ptr<ViewPlanner>(new RevealPlanner(settings));
+}
+
+ViewPlannerEntry entry() {
+  return {"reveal",
+          "canopy's own: ours' clusters and reach test, one view at a time on the latest map, the gain "
+          "that ranks views closest to the truth, a relative done rule (docs/experiments/)",
+          make_planner};
 }
 
 }  // namespace canopy::nbv::reveal

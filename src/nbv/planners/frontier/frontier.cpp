@@ -1,6 +1,6 @@
-// Zaenker et al.'s ROI frontier planner (planners/frontier.h).
+// Zaenker et al.'s ROI frontier planner (planners/frontier/frontier.h).
 
-#include "canopy/nbv/planners/frontier.h"
+#include "canopy/nbv/planners/frontier/frontier.h"
 
 #include <algorithm>
 #include <cmath>
@@ -214,6 +214,13 @@ namespace frontier {
 std::unique_ptr<ViewPlanner> make_planner(const ViewPlannerSettings& s) {
   return std::unique_ptr<ViewPlanner>(new FrontierPlanner(s));
 }
+
+ViewPlannerEntry entry() {
+  return {"frontier",
+          "Zaenker et al.'s ROI / exploration frontier planner (as implemented, docs/background/frontier_baseline.md)",
+          make_planner};
+}
+
 }  // namespace frontier
 
 }  // namespace canopy::nbv

@@ -1,13 +1,35 @@
-// The paper's cluster-centric planner (planners/ours.h).
+// The paper's cluster-centric planner (planners/ours/ours.h).
 
-#include "canopy/nbv/planners/ours.h"
+#include "canopy/nbv/planners/ours/ours.h"
 
 #include <algorithm>
 
 #include "canopy/common/error.h"
-#include "canopy/nbv/clusters.h"
 
 namespace canopy::nbv::ours {
+
+std::vector<Cluster> open_clusters(const ViewRequest& req, const ClusterParams& params, const DoneClusters& done,
+                                   ViewBatch* batch) {
+  std::vector<Cluster> clusters;
+  {
+    ScopedPhase phase(batch->times, "clustering");
+    req.index->refresh(*req.map);
+    for (Cluster& c : find_clusters(*req.map, params, &req.region))
+      if (!done.contains(c.centroid)) clusters.push_back(c);
+  }
+  batch->clusters = clusters.size();
+  if (clusters.empty()) batch->reason = done.size() ? "every cluster in reach is done" : "no fruit clusters in reach";
+  return clusters;
+}
+
+CandidateFilter candidate_filter(const ViewRequest& req, const TakenViews& taken) {
+  // Taken views are dropped before and after the reachability move.
+  return [&req, &taken](Candidate* c) {
+    if (taken.contains(c->T_world_camera)) return false;
+    if (req.reach && !req.reach(c)) return false;
+    return !taken.contains(c->T_world_camera);
+  };
+}
 
 namespace {
 
@@ -25,27 +47,14 @@ class OursPlanner : public ViewPlanner {
     CANOPY_CHECK(req.map && req.index, "view request without a map");
     ViewBatch batch;
     batch.order = BatchOrder::kTour;
-    std::vector<Cluster> clusters;
-    {
-      ScopedPhase phase(batch.times, "clustering");
-      req.index->refresh(*req.map);
-      for (Cluster& c : find_clusters(*req.map, settings_.params.cluster, &req.region))
-        if (!done_.contains(c.centroid)) clusters.push_back(c);
-    }
-    batch.clusters = clusters.size();
+    const std::vector<Cluster> clusters = open_clusters(req, settings_.params.cluster, done_, &batch);
     if (clusters.empty()) {
       batch.finished = true;
-      batch.reason = done_.size() ? "every cluster in reach is done" : "no fruit clusters in reach";
       return batch;
     }
-    // Taken views are dropped before and after the reachability move.
-    const CandidateFilter filter = [&](Candidate* c) {
-      if (taken_.contains(c->T_world_camera)) return false;
-      if (req.reach && !req.reach(c)) return false;
-      return !taken_.contains(c->T_world_camera);
-    };
     const Stopwatch watch;
-    const Plan plan = planner_.plan(*req.index, clusters, *gain_, rays_, req.seed, filter, req.on_scored);
+    const Plan plan =
+        planner_.plan(*req.index, clusters, *gain_, rays_, req.seed, candidate_filter(req, taken_), req.on_scored);
     const double total_s = watch.seconds();
     batch.times.add("candidates", plan.ms_candidates * 1e-3);
     batch.times.add("filtering", plan.ms_filter * 1e-3);
@@ -54,12 +63,12 @@ class OursPlanner : public ViewPlanner {
     batch.filtered = plan.filtered;
     for (const ClusterResult& cr : plan.clusters)
       if (cr.done) done_.mark(clusters[static_cast<std::size_t>(cr.cluster)].centroid);
+    // "nbv", not "ours": the tag views.csv has always had for ours' views.
     for (const ScoredView& sv : plan.views) batch.views.push_back(planned_view(sv.candidate, sv.score.gain, "nbv"));
     batch.reason = plan.reason;
     batch.finished = batch.views.empty();
     return batch;
   }
-
 
  private:
   ViewPlannerSettings settings_;
@@ -73,6 +82,11 @@ class OursPlanner : public ViewPlanner {
 
 std::unique_ptr<ViewPlanner> make_planner(const ViewPlannerSettings& settings) {
   return std::unique_ptr<ViewPlanner>(new OursPlanner(settings));
+}
+
+ViewPlannerEntry entry() {
+  return {"ours", "cluster-centric NBV: fruit clusters, candidates on a sphere, workspace filter, gain, top-k, tour",
+          make_planner};
 }
 
 }  // namespace canopy::nbv::ours

@@ -40,5 +40,7 @@ std::vector<int> greedy_cover(const std::vector<CoverSet>& sets, const std::vect
 
 /// The planner (registry name "global").
 std::unique_ptr<ViewPlanner> make_planner(const ViewPlannerSettings& settings);
+/// Its registry entry.
+ViewPlannerEntry entry();
 
 }  // namespace canopy::nbv::global

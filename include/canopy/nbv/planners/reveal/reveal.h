@@ -22,5 +22,7 @@ namespace canopy::nbv::reveal {
 
 /// The planner (registry name "reveal").
 std::unique_ptr<ViewPlanner> make_planner(const ViewPlannerSettings& settings);
+/// Its registry entry.
+ViewPlannerEntry entry();
 
 }  // namespace canopy::nbv::reveal

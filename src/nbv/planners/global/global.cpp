@@ -1,14 +1,15 @@
-// The global view planner (planners/global.h).
+// The global view planner (planners/global/global.h).
 
-#include "canopy/nbv/planners/global.h"
+#include "canopy/nbv/planners/global/global.h"
 
 #include <algorithm>
 #include <cmath>
 #include <unordered_map>
 
 #include "canopy/common/error.h"
+#include "canopy/mapping/voxel_key.h"
 #include "canopy/nbv/clusters.h"
-#include "canopy/nbv/planner.h"
+#include "canopy/nbv/view_evaluator.h"
 
 namespace canopy::nbv::global {
 
@@ -54,10 +55,6 @@ std::vector<int> greedy_cover(const std::vector<CoverSet>& sets, const std::vect
 }
 
 namespace {
-
-std::uint64_t pack(const octomap::OcTreeKey& k) {
-  return (std::uint64_t(k[0]) << 32) | (std::uint64_t(k[1]) << 16) | std::uint64_t(k[2]);
-}
 
 class GlobalPlanner : public ViewPlanner {
  public:
@@ -142,7 +139,7 @@ class GlobalPlanner : public ViewPlanner {
               bool near = false;
               for (const Cluster& cl : clusters) near = near || (p - cl.centroid).squaredNorm() <= r2;
               if (near && v.entropy > 0.f) {
-                const auto ins = ids.emplace(pack(keys[i]), static_cast<std::uint32_t>(weights.size()));
+                const auto ins = ids.emplace(mapping::morton_code(keys[i]), static_cast<std::uint32_t>(weights.size()));
                 if (ins.second) weights.push_back(v.entropy);
                 set.items.push_back(ins.first->second);
               }
@@ -183,6 +180,13 @@ class GlobalPlanner : public ViewPlanner {
 
 std::unique_ptr<ViewPlanner> make_planner(const ViewPlannerSettings& settings) {
   return std::unique_ptr<ViewPlanner>(new GlobalPlanner(settings));
+}
+
+ViewPlannerEntry entry() {
+  return {"global",
+          "global view planning: weighted set cover of the uncertain voxels near the clusters by the "
+          "stop's reachable candidates, costed by arm motion, then a tour",
+          make_planner};
 }
 
 }  // namespace canopy::nbv::global

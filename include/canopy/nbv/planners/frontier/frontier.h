@@ -46,6 +46,8 @@ double ray_utility(const VoxelIndex& index, const InflatedRoi& roi, const Fronti
 Pose point_at(const Pose& current, const Vec3& eye, const Vec3& target);
 /// The planner (registry name "frontier").
 std::unique_ptr<ViewPlanner> make_planner(const ViewPlannerSettings& settings);
+/// Its registry entry.
+ViewPlannerEntry entry();
 
 }  // namespace frontier
 
