@@ -18,6 +18,7 @@
 #include "canopy/mapping/scan_inserter.h"
 #include "canopy/evaluation/view_presets.h"
 #include "canopy/mission/dataset_export.h"
+#include "canopy/mission/view_columns.h"
 #include "canopy/sim/renderer.h"
 #include "cli_util.h"
 #include "commands.h"
@@ -206,20 +207,9 @@ void add_map_command(CLI::App& app) {
       const std::size_t occupied = mapping::export_ply(map, out.path("map.ply"));
       mapping::export_bt(map, out.path("map.bt"));
 
-      nlohmann::json step = {{"view", i},
-                             {"pose", pose_to_json(views[i])},
-                             {"ms_render", ms_render},
-                             {"insert", insert_json(st, fs.extract)},
-                             {"coverage", m.coverage},
-                             {"total_entropy", m.total_entropy},
-                             {"coverage_paper", m.paper.coverage},
-                             {"coverage_prototype", m.prototype.coverage},
-                             {"entropy_paper", m.paper.entropy},
-                             {"entropy_prototype", m.prototype.entropy},
-                             {"fruits_sc50", m.fruits_sc50},
-                             {"fruits_sc80", m.fruits_sc80},
-                             {"detection_f1", m.detection.f1},
-                             {"fruit_voxel_precision", m.voxel_precision.precision}};
+      nlohmann::json step = mission::map_history_metrics(m);  // the view columns' map figures
+      step.update({{"view", i}, {"pose", pose_to_json(views[i])}, {"ms_render", ms_render},
+                   {"insert", insert_json(st, fs.extract)}});
       history.push_back(step);
       nlohmann::json j = m.to_json();
       j["world"] = spec.name;

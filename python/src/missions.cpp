@@ -12,6 +12,7 @@
 #include "canopy/mission/mission.h"
 #include "canopy/mission/run_folder.h"
 #include "canopy/mission/video.h"
+#include "canopy/mission/view_columns.h"
 #include "objects.h"
 #include "python_planner.h"
 
@@ -26,67 +27,50 @@ struct PyMissionResult {
   std::shared_ptr<PyMap> map;
 };
 
-// One entry per attempted view, the columns of views.csv (plus the poses).
-py::dict views_dict(const mission::MissionResult& r) {
-  const std::size_t n = r.views.size();
-  std::vector<int> attempt, stop, cluster, successful, truth_contacts, self_contacts;
-  std::vector<std::string> phase, source, failure;
-  std::vector<bool> success;
-  std::vector<double> position_error, angle_error, gain, coverage, entropy, coverage_paper, entropy_paper,
-      coverage_prototype, entropy_prototype, sim_time, move_time;
+// One entry per attempted view: every column of views.csv (mission::view_columns(), empty
+// fields as NaN), plus the goal and reached poses as 4x4 matrices.
+py::dict views_dict(const mission::MissionResult& r, const std::string& method) {
+  py::dict d;
+  for (const mission::ViewColumn& c : mission::view_columns()) {
+    std::vector<mission::ColumnValue> values;
+    for (const mission::ViewRecord& v : r.views) values.push_back(c.get(v, method));
+    switch (c.type) {
+      case mission::ColumnType::kInt: {
+        std::vector<int> a;
+        for (const auto& x : values) a.push_back(static_cast<int>(std::get<long long>(x)));
+        d[c.name] = array_of(a);
+        break;
+      }
+      case mission::ColumnType::kFlag: {
+        std::vector<bool> a;
+        for (const auto& x : values) a.push_back(std::get<long long>(x) != 0);
+        d[c.name] = array_of(a);
+        break;
+      }
+      case mission::ColumnType::kReal: {
+        std::vector<double> a;
+        for (const auto& x : values) a.push_back(std::holds_alternative<double>(x) ? std::get<double>(x) : std::nan(""));
+        d[c.name] = array_of(a);
+        break;
+      }
+      case mission::ColumnType::kText: {
+        std::vector<std::string> a;
+        for (const auto& x : values) a.push_back(std::get<std::string>(x));
+        d[c.name] = strings_array(a);
+        break;
+      }
+    }
+  }
   std::vector<Pose> goal, reached;
   for (const mission::ViewRecord& v : r.views) {
-    attempt.push_back(v.attempt);
-    stop.push_back(v.stop);
-    phase.push_back(mission::to_string(v.phase));
-    source.push_back(v.source);
-    success.push_back(v.success);
-    failure.push_back(v.failure);
     goal.push_back(v.T_goal);
     reached.push_back(v.T_reached);
-    position_error.push_back(v.position_error_m);
-    angle_error.push_back(v.angle_error_rad * 180.0 / M_PI);
-    gain.push_back(v.gain);
-    cluster.push_back(v.cluster);
-    successful.push_back(v.successful_views);
-    coverage.push_back(v.coverage);
-    entropy.push_back(v.entropy);
-    coverage_paper.push_back(v.coverage_paper);
-    entropy_paper.push_back(v.entropy_paper);
-    coverage_prototype.push_back(v.coverage_prototype);
-    entropy_prototype.push_back(v.entropy_prototype);
-    sim_time.push_back(v.sim_time_s);
-    move_time.push_back(v.move_time_s);
-    truth_contacts.push_back(v.truth_contacts);
-    self_contacts.push_back(v.self_contacts);
   }
   py::array_t<double> reached_array = poses_array(reached);
-  for (std::size_t i = 0; i < n; ++i)  // no frame, no pose
-    if (!success[i]) std::fill_n(reached_array.mutable_data() + 16 * i, 16, std::nan(""));
-  py::dict d;
-  d["attempt"] = array_of(attempt);
-  d["stop"] = array_of(stop);
-  d["phase"] = strings_array(phase);
-  d["source"] = strings_array(source);
-  d["success"] = array_of(success);
-  d["failure"] = strings_array(failure);
+  for (std::size_t i = 0; i < r.views.size(); ++i)  // no frame, no pose
+    if (!r.views[i].success) std::fill_n(reached_array.mutable_data() + 16 * i, 16, std::nan(""));
   d["goal_pose"] = poses_array(goal);
   d["reached_pose"] = reached_array;
-  d["position_error_m"] = array_of(position_error);
-  d["angle_error_deg"] = array_of(angle_error);
-  d["gain"] = array_of(gain);
-  d["cluster"] = array_of(cluster);
-  d["successful_views"] = array_of(successful);
-  d["coverage"] = array_of(coverage);
-  d["entropy"] = array_of(entropy);
-  d["coverage_paper"] = array_of(coverage_paper);
-  d["entropy_paper"] = array_of(entropy_paper);
-  d["coverage_prototype"] = array_of(coverage_prototype);
-  d["entropy_prototype"] = array_of(entropy_prototype);
-  d["sim_time_s"] = array_of(sim_time);
-  d["move_time_s"] = array_of(move_time);
-  d["truth_contacts"] = array_of(truth_contacts);
-  d["self_contacts"] = array_of(self_contacts);
   return d;
 }
 
@@ -94,13 +78,13 @@ py::dict views_dict(const mission::MissionResult& r) {
 
 void bind_missions(py::module_& m) {
   py::class_<PyMissionResult, std::shared_ptr<PyMissionResult>>(m, "MissionResult", "What a mission did.")
-      .def_property_readonly("views", [](const PyMissionResult& r) { return views_dict(r.result); },
-                             R"(One entry per attempted view, as a dict of arrays (the columns of views.csv):
-attempt, stop, phase (initial, nbv, predefined), source, success, failure (a cause or ''),
-goal_pose and reached_pose (N, 4, 4; reached NaN for failed views), position_error_m,
-angle_error_deg, gain, cluster, successful_views, coverage and entropy after the view
-(headline rule) and under each rule (coverage_paper, ...), sim_time_s, move_time_s,
-truth_contacts, self_contacts.)")
+      .def_property_readonly("views", [](const PyMissionResult& r) { return views_dict(r.result, r.settings.method.name); },
+                             R"(One entry per attempted view, as a dict of arrays: every column of views.csv, by
+its name (attempt, stop, method, phase, source, success, failure, the goal and reached
+position and orientation, the pose errors, gain, cluster, coverage and entropy under each
+rule, times, contacts, motion cost and the field's metrics: docs/metrics.md lists them;
+empty fields, such as a failed view's reached pose or an error without a matched fruit, are
+NaN), plus goal_pose and reached_pose (N, 4, 4; reached NaN for failed views).)")
       .def("sc_curve", [](const PyMissionResult& r) {
         std::vector<int> views;
         std::vector<double> coverage, entropy;

@@ -42,6 +42,19 @@ def test_builtin_method_equals_the_cli_mission(world, cli, tmp_path):
     assert list(curve["views"]) == list(range(1, int(ok.sum()) + 1))
     assert np.all(np.isnan(views["reached_pose"][~ok])) and not np.any(np.isnan(views["reached_pose"][ok]))
     assert result.stops[0]["nbv_successful"] == int(np.sum(ok & (views["phase"] == "nbv")))
+    # Every column of views.csv, by name, with its values; plus the two poses.
+    header = result.views_csv.splitlines()[0].split(",")
+    assert set(views) == set(header) | {"goal_pose", "reached_pose"}
+    rows = [line.split(",") for line in result.views_csv.splitlines()[1:]]
+    for i, name in enumerate(header):
+        assert len(views[name]) == len(rows)
+        if views[name].dtype.kind == "f":
+            csv = np.array([float(r[i]) if r[i] else np.nan for r in rows])
+            assert np.allclose(views[name], csv, rtol=1e-8, atol=0, equal_nan=True), name
+        elif views[name].dtype.kind == "b":
+            assert [str(int(x)) for x in views[name]] == [r[i] for r in rows], name
+        else:
+            assert [str(x) for x in views[name]] == [r[i] for r in rows], name
 
 
 def run_greedy(world, seed, **kwargs):

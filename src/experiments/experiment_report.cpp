@@ -17,6 +17,7 @@
 #include "canopy/common/io.h"
 #include "canopy/common/stats.h"
 #include "canopy/mission/run_folder.h"
+#include "canopy/mission/view_columns.h"
 
 namespace canopy::experiments {
 
@@ -50,23 +51,18 @@ void read_mission(const fs::path& mission, TrialResult* r) {
     if (v.is_number()) r->field[name] = v.get<double>();
   };
   const nlohmann::json none;
-  const auto at = [&](const nlohmann::json& j, const char* k) -> const nlohmann::json& {
+  const auto at = [&](const nlohmann::json& j, const std::string& k) -> const nlohmann::json& {
     return j.is_object() && j.contains(k) ? j.at(k) : none;
   };
-  const nlohmann::json& fin = at(s, "final");
-  const nlohmann::json& det = at(fin, "detection");
-  take("fruits_sc50", at(fin, "fruits_sc50"));
-  take("fruits_sc80", at(fin, "fruits_sc80"));
-  for (const char* k : {"precision", "recall", "f1", "centre_error_m", "voxel_volume_error", "ellipsoid_volume_error"})
-    take(std::string("detection_") + k, at(det, k));
-  take("fruit_voxel_precision", at(at(fin, "fruit_voxel_precision"), "precision"));
-  take("false_fruit_volume_cm3", at(at(fin, "fruit_voxel_precision"), "false_volume_m3"));
-  if (r->field.count("false_fruit_volume_cm3")) r->field["false_fruit_volume_cm3"] *= 1e6;
-  const nlohmann::json& mc = at(s, "motion_cost");
-  take("arm_path_rad", at(mc, "arm_path_rad"));
-  take("base_travel_m", at(mc, "base_travel_m"));
-  take("simulated_time_s", at(mc, "simulated_time_s"));
-  const nlohmann::json& cat = at(mc, "coverage_at_time");
+  // Each per-view column's figure at the end, where the column table says summary.json holds it.
+  for (const mission::ViewColumn* c : mission::final_figure_columns()) {
+    const nlohmann::json* v = &s;
+    std::stringstream path(c->final.path);
+    for (std::string k; std::getline(path, k, '/');) v = &at(*v, k);
+    take(c->final.key, *v);
+    if (c->final.scale != 1.0 && r->field.count(c->final.key)) r->field[c->final.key] *= c->final.scale;
+  }
+  const nlohmann::json& cat = at(at(s, "motion_cost"), "coverage_at_time");
   if (cat.is_array())
     for (const nlohmann::json& e : cat)
       if (e.is_object() && e.contains("time_s") && e.contains("coverage"))
@@ -166,10 +162,8 @@ const Group* find_group(const std::vector<Group>& gs, const std::string& method,
 }  // namespace
 
 std::vector<std::string> field_metric_names(const std::vector<TrialResult>& trials) {
-  std::vector<std::string> names = {"detection_precision", "detection_recall", "detection_f1", "detection_centre_error_m",
-                                    "detection_voxel_volume_error", "detection_ellipsoid_volume_error", "fruits_sc50",
-                                    "fruits_sc80", "fruit_voxel_precision", "false_fruit_volume_cm3", "arm_path_rad",
-                                    "base_travel_m", "simulated_time_s"};
+  std::vector<std::string> names;
+  for (const mission::ViewColumn* c : mission::final_figure_columns()) names.push_back(c->final.key);
   std::vector<std::pair<double, std::string>> budgets;
   for (const TrialResult& t : trials)
     for (const auto& [k, v] : t.field)
@@ -311,7 +305,7 @@ ExperimentReport make_experiment_report(const MergedTrials& m) {
   // field_curves.csv: the field's per-view metrics, the same way (trials having the column).
   std::string fcv = "method,label,p_gt,metric,view,trials,mean,std\n";
   for (const Group& g : groups)
-    for (const char* metric : mission::kCurveColumns) {
+    for (const std::string& metric : mission::curve_column_names()) {
       std::vector<std::vector<double>> runs;
       for (const TrialResult* r : g.trials) {
         const auto it = r->curves.find(metric);
@@ -516,16 +510,18 @@ ExperimentReport make_experiment_report(const MergedTrials& m) {
        "fruits, fruit-level completeness, the voxel precision of the fruit class, and motion cost "
        "(docs/metrics.md). Mean ± std over the trials that have the figure (n); a centre or volume "
        "error needs a matched fruit. All of them per group in field.csv.\n\n";
-  const std::vector<std::pair<std::string, std::vector<std::string>>> tables = {
-      {"Detection and shape",
-       {"detection_precision", "detection_recall", "detection_f1", "detection_centre_error_m",
-        "detection_voxel_volume_error", "detection_ellipsoid_volume_error"}},
-      {"Completeness and voxel precision", {"fruits_sc50", "fruits_sc80", "fruit_voxel_precision", "false_fruit_volume_cm3"}},
-      {"Motion cost", {"arm_path_rad", "base_travel_m", "simulated_time_s"}}};
+  // One table per report group of the column table, in its order; then the time budgets.
+  std::vector<std::pair<std::string, std::vector<std::string>>> all_tables;
+  std::map<std::string, const char*> formats;
+  for (const mission::ViewColumn* c : mission::final_figure_columns()) {
+    const std::string title = mission::report_group_title(c->final.group);
+    if (all_tables.empty() || all_tables.back().first != title) all_tables.push_back({title, {}});
+    all_tables.back().second.push_back(c->final.key);
+    formats[c->final.key] = c->final.format;
+  }
   std::vector<std::string> budget_keys;
   for (const std::string& k : field)
     if (k.rfind("sc_at_", 0) == 0) budget_keys.push_back(k);
-  std::vector<std::pair<std::string, std::vector<std::string>>> all_tables = tables;
   if (!budget_keys.empty()) all_tables.push_back({"Coverage reached by a simulated time budget", budget_keys});
   for (const auto& [title, keys] : all_tables) {
     f += "**" + title + "**\n\n| P_gt | method";
@@ -535,7 +531,7 @@ ExperimentReport make_experiment_report(const MergedTrials& m) {
     f += "|\n";
     for (const Group& g : groups) {
       f += "| " + pgt_text(g.p_gt) + " | " + g.method.label;
-      for (const std::string& k : keys) f += " | " + pm(field_stat(g, k), k == "false_fruit_volume_cm3" || k == "base_travel_m" ? "%.2f" : "%.3f");
+      for (const std::string& k : keys) f += " | " + pm(field_stat(g, k), formats.count(k) ? formats.at(k) : "%.3f");
       f += " |\n";
     }
     f += "\n";

@@ -10,38 +10,13 @@
 #include "canopy/common/error.h"
 #include "canopy/common/io.h"
 #include "canopy/mapping/map_io.h"
+#include "canopy/mission/view_columns.h"
 
 namespace canopy::mission {
 
 std::string views_csv(const MissionResult& r, const std::string& method) {
-  const auto num = [](double x) { return format_number(x); };
-  std::string s =
-      "attempt,stop,method,phase,source,success,failure,goal_x,goal_y,goal_z,reached_x,reached_y,reached_z,"
-      "reached_qw,reached_qx,reached_qy,reached_qz,position_error_m,angle_error_deg,gain,cluster,successful_views,"
-      "coverage,entropy,sim_time_s,move_time_s,truth_contacts,self_contacts,coverage_paper,entropy_paper,"
-      "coverage_prototype,entropy_prototype,arm_path_rad,base_travel_m,fruits_sc50,fruits_sc80,fruit_clusters,"
-      "fruits_matched,detection_precision,detection_recall,detection_f1,centre_error_m,voxel_volume_error,"
-      "ellipsoid_volume_error,fruit_voxel_precision,false_fruit_volume_m3\n";
-  const auto opt = [&](double x) { return std::isfinite(x) ? num(x) : std::string(); };  // NaN: no match yet
-  for (const ViewRecord& v : r.views) {
-    const Vec3 g = v.T_goal.translation(), p = v.T_reached.translation();
-    const Quat q(v.T_reached.linear());
-    s += std::to_string(v.attempt) + "," + std::to_string(v.stop) + "," + method + "," + to_string(v.phase) + "," +
-         v.source + "," + (v.success ? "1" : "0") + "," + v.failure + "," + num(g.x()) + "," + num(g.y()) + "," +
-         num(g.z()) + "," + (v.success ? num(p.x()) + "," + num(p.y()) + "," + num(p.z()) + "," + num(q.w()) + "," +
-                                             num(q.x()) + "," + num(q.y()) + "," + num(q.z())
-                                       : std::string(",,,,,,")) +
-         "," + num(v.position_error_m) + "," + num(v.angle_error_rad * 180.0 / M_PI) + "," + num(v.gain) + "," +
-         std::to_string(v.cluster) + "," + std::to_string(v.successful_views) + "," + num(v.coverage) + "," +
-         num(v.entropy) + "," + num(v.sim_time_s) + "," + num(v.move_time_s) + "," + std::to_string(v.truth_contacts) +
-         "," + std::to_string(v.self_contacts) + "," + num(v.coverage_paper) + "," + num(v.entropy_paper) + "," +
-         num(v.coverage_prototype) + "," + num(v.entropy_prototype) + "," + num(v.arm_path_rad) + "," +
-         num(v.base_travel_m) + "," + num(v.fruits_sc50) + "," + num(v.fruits_sc80) + "," +
-         std::to_string(v.fruit_clusters) + "," + std::to_string(v.fruits_matched) + "," + num(v.detection_precision) +
-         "," + num(v.detection_recall) + "," + num(v.detection_f1) + "," + opt(v.centre_error_m) + "," +
-         opt(v.voxel_volume_error) + "," + opt(v.ellipsoid_volume_error) + "," + num(v.fruit_voxel_precision) + "," +
-         num(v.false_fruit_volume_m3) + "\n";
-  }
+  std::string s = views_csv_header();
+  for (const ViewRecord& v : r.views) s += views_csv_row(v, method);
   return s;
 }
 
@@ -208,7 +183,7 @@ RunFolder read_run_folder(const std::string& dir) {
   };
   const std::size_t c_success = col("success"), c_cov = col("coverage"), c_ent = col("entropy");
   std::vector<std::pair<std::string, std::size_t>> curve_cols;  // the optional columns present
-  for (const char* name : kCurveColumns)
+  for (const std::string& name : curve_column_names())
     for (std::size_t i = 0; i < header.size(); ++i)
       if (header[i] == name) curve_cols.emplace_back(name, i);
   int row = 1;

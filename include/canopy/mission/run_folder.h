@@ -21,7 +21,8 @@
 
 namespace canopy::mission {
 
-/// views.csv (one row per attempted view, no wall times: byte-identical for a seed).
+/// views.csv (one row per attempted view, no wall times: byte-identical for a seed); its
+/// columns are view_columns() (view_columns.h).
 std::string views_csv(const MissionResult& result, const std::string& method);
 /// timing.csv (wall time per attempted view and phase).
 std::string timing_csv(const MissionResult& result);
@@ -48,15 +49,11 @@ nlohmann::json run_summary(const MissionResult& result, const Settings& settings
 nlohmann::json write_run_folder(const std::string& dir, const MissionResult& result, const Settings& settings,
                                 const mapping::SemanticOcTree& map, const RunContext& context);
 
-/// The views.csv columns read back as per-view curves besides coverage and entropy (the
-/// field's metrics that a report plots against the views).
-inline constexpr const char* kCurveColumns[] = {"fruits_sc80", "detection_f1", "fruit_voxel_precision", "sim_time_s"};
-
 /// A mission folder read back.
 struct RunFolder {
   std::string views_csv;                 ///< The file's text.
   std::vector<double> coverage, entropy; ///< After each successful view (headline rule).
-  /// kCurveColumns present in the file, after each successful view (NaN where a field is empty).
+  /// The curve columns (curve_column_names(), view_columns.h) present in the file, after each successful view (NaN where a field is empty).
   std::map<std::string, std::vector<double>> curves;
   nlohmann::json summary;
 };
