@@ -11,8 +11,9 @@
 namespace canopy {
 namespace {
 
+namespace fs = std::filesystem;
+
 TEST(OutputDir, StagedDirOnlyAppearsOnCommit) {
-  namespace fs = std::filesystem;
   const std::string out = testing::TempDir() + "/staged_out";
   fs::remove_all(out);
   {
@@ -44,7 +45,6 @@ TEST(OutputDir, StagedDirOnlyAppearsOnCommit) {
 }
 
 TEST(OutputDir, StagedDirResumeAddsToCanopyFoldersOnly) {
-  namespace fs = std::filesystem;
   const std::string out = testing::TempDir() + "/staged_resume";
   fs::remove_all(out);
   fs::remove_all(out + ".partial");
@@ -109,7 +109,6 @@ TEST(OutputDir, StagedDirResumeAddsToCanopyFoldersOnly) {
 // Each folder's marker names its kind; output of another kind never replaces or joins it
 // (an experiment is never replaced by a report), and two commands never write one folder.
 TEST(OutputDir, StagedDirKeepsKindsApartAndOneWriterAtATime) {
-  namespace fs = std::filesystem;
   const std::string exp = testing::TempDir() + "/kind_experiment";
   fs::remove_all(exp);
   fs::create_directories(exp + "/trials/t1");
