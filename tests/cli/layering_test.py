@@ -22,7 +22,8 @@ ALLOWED = {
     "evaluation": {"common", "perception", "mapping", "world"},
     "nbv": {"common", "perception", "mapping"},
     "motion": {"common", "robot", "perception", "mapping", "nbv"},
-    "mission": {"common", "robot", "world", "sim", "perception", "mapping", "evaluation", "nbv", "motion"},
+    "mission": {"common", "robot", "world", "sim", "perception", "mapping", "datasets", "evaluation", "nbv",
+                "motion"},
     "experiments": {"common", "robot", "world", "sim", "perception", "mapping", "evaluation", "nbv", "motion",
                     "mission"},
 }
