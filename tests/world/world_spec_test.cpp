@@ -15,7 +15,7 @@
 namespace canopy::world {
 namespace {
 
-std::string write_temp(const std::string& name, const std::string& text) {
+std::string spec_file(const std::string& name, const std::string& text) {
   const std::string path = testing::TempDir() + "/" + name;
   std::ofstream(path) << text;
   return path;
@@ -47,7 +47,7 @@ WorldSpec changed_spec() {
 TEST(WorldSpec, YamlOutReadsBackToTheSameSpec) {
   for (const WorldSpec& s : {WorldSpec{}, changed_spec()}) {
     const std::string text = yaml_text(params_to_yaml(s));
-    const WorldSpec back = WorldSpec::load(write_temp("round_trip.yaml", text));
+    const WorldSpec back = WorldSpec::load(spec_file("round_trip.yaml", text));
     EXPECT_TRUE(same_params(s, back)) << text;
     EXPECT_EQ(back.to_json(), s.to_json());
     EXPECT_EQ(back.camera.cx_px, s.camera.cx_px);
@@ -66,7 +66,7 @@ TEST(WorldSpec, SavedJsonLoadsBackForEveryWorld) {
     EXPECT_TRUE(j["rows"]["plants_per_row"].is_number_integer());
     EXPECT_TRUE(j["plant"]["height_m"][0].is_number_float());
     EXPECT_TRUE(j["camera"]["width_px"].is_number_integer());
-    const WorldSpec back = WorldSpec::load(write_temp("saved.yaml", j.dump(2)));  // JSON is YAML
+    const WorldSpec back = WorldSpec::load(spec_file("saved.yaml", j.dump(2)));  // JSON is YAML
     EXPECT_TRUE(same_params(s, back)) << file;
     EXPECT_EQ(back.to_json(), j) << file;
   }
@@ -84,7 +84,7 @@ TEST(WorldSpec, DefaultsFileEqualsStructDefaults) {
 }
 
 TEST(WorldSpec, CameraCentredUnlessGiven) {
-  const WorldSpec s = WorldSpec::load(write_temp("wide.yaml", "camera: {width_px: 640, height_px: 480}\n"));
+  const WorldSpec s = WorldSpec::load(spec_file("wide.yaml", "camera: {width_px: 640, height_px: 480}\n"));
   EXPECT_EQ(s.camera.cx_px, 320.0);
   EXPECT_EQ(s.camera.cy_px, 240.0);
 }
@@ -114,7 +114,7 @@ TEST(WorldSpec, LimitsNameKeyAndValue) {
       {"camera: {fx_px: 400}\n", "key 'camera.fy_px': value '381.36' must equal fx_px"},
   };
   for (const auto& [yaml, fragment] : cases) {
-    const std::string path = write_temp("limits.yaml", yaml);
+    const std::string path = spec_file("limits.yaml", yaml);
     try {
       WorldSpec::load(path);
       ADD_FAILURE() << "no error for: " << yaml;
@@ -123,8 +123,8 @@ TEST(WorldSpec, LimitsNameKeyAndValue) {
     }
   }
   // A name of 64 characters is fine, 65 is not.
-  EXPECT_NO_THROW(WorldSpec::load(write_temp("long.yaml", "name: " + std::string(64, 'a') + "\n")));
-  EXPECT_THROW(WorldSpec::load(write_temp("long.yaml", "name: " + std::string(65, 'a') + "\n")), InputError);
+  EXPECT_NO_THROW(WorldSpec::load(spec_file("long.yaml", "name: " + std::string(64, 'a') + "\n")));
+  EXPECT_THROW(WorldSpec::load(spec_file("long.yaml", "name: " + std::string(65, 'a') + "\n")), InputError);
 }
 
 TEST(WorldSpec, LimitsHoldForSpecsBuiltInCode) {

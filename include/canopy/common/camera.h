@@ -67,8 +67,8 @@ struct CameraIntrinsics {
     a("height_px", height_px, limits::in(1, kMaxCameraSidePx), "Image height [px]");
     a("fx_px", fx_px, limits::positive(), "Focal length along x [px]");
     a("fy_px", fy_px, limits::positive(), "Focal length along y [px]");
-    a("cx_px", cx_px, limits::finite(), "Principal point x [px] from the image's left edge");
-    a("cy_px", cy_px, limits::finite(), "Principal point y [px] from the image's top edge");
+    a("cx_px", cx_px, limits::finite(), "Principal point x [px] from the image's left edge (0 to width_px)");
+    a("cy_px", cy_px, limits::finite(), "Principal point y [px] from the image's top edge (0 to height_px)");
     a.check(cx_px >= 0.0 && cx_px <= width_px, "cx_px", "must lie in the image (0 to width_px)");
     a.check(cy_px >= 0.0 && cy_px <= height_px, "cy_px", "must lie in the image (0 to height_px)");
     a("min_range_m", min_range_m, limits::positive(), "Depths below this are invalid [m] (D405 min-Z 0.07)");

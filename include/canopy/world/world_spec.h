@@ -68,7 +68,7 @@ struct RowLayout {
     a.check(plant_spacing_m * (plants_per_row - 1) <= kMaxWorldExtentM, "plant_spacing_m",
             "makes a row longer than the world (at most 1000 m)");
     a("row_offset_m", row_offset_m, limits::in(0.25, kMaxWorldExtentM),
-      "|y| of each row's centre line [m] (from 0.25: the robot drives between the rows)");
+      "Distance of each row's centre line from the aisle's (y = 0) [m]; the robot drives between");
     a("x_start_m", x_start_m, limits::in(-kMaxWorldExtentM, kMaxWorldExtentM), "x of each row's first plant [m]");
     a.check(std::abs(x_start_m + plant_spacing_m * (plants_per_row - 1)) <= kMaxWorldExtentM, "x_start_m",
             "puts the row's last plant outside the world (at most 1000 m from the origin)");
