@@ -13,21 +13,13 @@
 #include <Eigen/Eigenvalues>
 
 #include "canopy/common/point_kdtree.h"
+#include "canopy/mapping/voxel_key.h"
 
 namespace canopy::evaluation {
 
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-// Grid cell of a voxel centre, packed into one integer (21 bits per axis, offset to positive).
-std::int64_t cell_of(const Vec3& c, double res, int* ix, int* iy, int* iz) {
-  *ix = static_cast<int>(std::floor(c.x() / res));
-  *iy = static_cast<int>(std::floor(c.y() / res));
-  *iz = static_cast<int>(std::floor(c.z() / res));
-  const std::int64_t o = std::int64_t(1) << 20;
-  return ((std::int64_t(*ix) + o) << 42) | ((std::int64_t(*iy) + o) << 21) | (std::int64_t(*iz) + o);
-}
 
 double mean_finite(const std::vector<double>& v) {
   double s = 0.0;
@@ -61,12 +53,14 @@ void fit_ellipsoid(const std::vector<Vec3>& points, Vec3* semi_axes, double* vol
 }
 
 std::vector<FruitCluster> fruit_clusters(const std::vector<Vec3>& centres, double res, int min_voxels) {
+  // Cells keyed as mapping::grid_key (21 bits per axis), so sorting keys sorts cells.
   std::unordered_map<std::int64_t, std::size_t> index;
   index.reserve(centres.size() * 2);
-  std::vector<std::array<int, 3>> cells(centres.size());
+  std::vector<mapping::GridCell> cells(centres.size());
   std::vector<std::pair<std::int64_t, std::size_t>> order(centres.size());  // (cell, input index)
   for (std::size_t i = 0; i < centres.size(); ++i) {
-    const std::int64_t c = cell_of(centres[i], res, &cells[i][0], &cells[i][1], &cells[i][2]);
+    cells[i] = mapping::grid_cell(centres[i], res);
+    const auto c = static_cast<std::int64_t>(mapping::grid_key(cells[i]));
     index.emplace(c, i);
     order[i] = {c, i};
   }
@@ -91,9 +85,7 @@ std::vector<FruitCluster> fruit_clusters(const std::vector<Vec3>& centres, doubl
         for (int dy = -1; dy <= 1; ++dy)
           for (int dx = -1; dx <= 1; ++dx) {
             if (!dx && !dy && !dz) continue;
-            int a, b, c;
-            const Vec3 n((cells[i][0] + dx + 0.5) * res, (cells[i][1] + dy + 0.5) * res, (cells[i][2] + dz + 0.5) * res);
-            const auto it = index.find(cell_of(n, res, &a, &b, &c));
+            const auto it = index.find(static_cast<std::int64_t>(mapping::grid_key(cells[i] + mapping::GridCell(dx, dy, dz))));
             if (it == index.end() || label[it->second] >= 0) continue;
             label[it->second] = 1;
             stack.push_back(it->second);
@@ -110,8 +102,7 @@ std::vector<FruitCluster> fruit_clusters(const std::vector<Vec3>& centres, doubl
 }
 
 std::int64_t fruit_cell(const Vec3& centre, double res) {
-  int x, y, z;
-  return cell_of(centre, res, &x, &y, &z);
+  return static_cast<std::int64_t>(mapping::grid_key(centre, res));
 }
 
 FruitCluster make_fruit_cluster(const std::vector<Vec3>& pts, double res) {

@@ -143,6 +143,270 @@ void camera_voxel_filter(const perception::LabelledCloud& in, double res, int nu
   }
 }
 
+bool all_finite(const Vec3& v) { return std::isfinite(v.x()) && std::isfinite(v.y()) && std::isfinite(v.z()); }
+
+// Stage 1's view of the scan: the cloud, its origin, and the limits each point is held to.
+struct PointCoding {
+  const perception::LabelledCloud& cloud;
+  Vec3f origin;
+  double max_range2;
+  double inv_res;
+  int num_classes;
+};
+
+// Points stage 1 skipped or found beyond range, summed over its chunks.
+struct PointCounts {
+  std::atomic<std::size_t> bad_point{0}, bad_label{0}, outside{0}, beyond{0};
+};
+
+constexpr std::uint64_t kLow56 = (1ull << 56) - 1;
+constexpr std::uint64_t kMaxRun = 254;  // so a value never equals kInvalid
+
+// Stage 1 on the points of `r`: each point's (code << 8 | label) or, beyond range, its code
+// with kBeyond; runs of equal values merged into one carrying the run length in its top byte,
+// written from r.begin() on; the rest of the chunk kInvalid.
+void code_point_chunk(const PointCoding& c, const tbb::blocked_range<std::size_t>& r,
+                      std::vector<std::uint64_t>& values, PointCounts& counts) {
+  std::size_t nb = 0, nl = 0, no = 0, nf = 0;
+  std::size_t out = r.begin();  // write cursor within this chunk
+  std::uint64_t run_value = kInvalid, run_length = 0;
+  octomap::OcTreeKey last_key(0, 0, 0);
+  std::uint64_t last_code = morton_code(last_key) << 8;
+  auto flush = [&] {
+    if (run_length) values[out++] = (run_length << 56) | run_value;
+    run_length = 0;
+  };
+  for (std::size_t i = r.begin(); i != r.end(); ++i) {
+    const Vec3f& p = c.cloud.points_world[i];
+    const std::uint8_t label = c.cloud.labels[i];
+    octomap::OcTreeKey key;
+    if (!std::isfinite(p.x()) || !std::isfinite(p.y()) || !std::isfinite(p.z())) {
+      ++nb;
+    } else if (label >= c.num_classes) {
+      ++nl;
+    } else if (!point_key(p, c.inv_res, &key)) {
+      ++no;
+    } else {
+      const bool far = double((p - c.origin).squaredNorm()) > c.max_range2;
+      nf += far;
+      if (!(key == last_key)) {  // neighbouring pixels mostly share a voxel
+        last_key = key;
+        last_code = morton_code(key) << 8;
+      }
+      const std::uint64_t v = last_code | (far ? kBeyond : label);
+      if (v == run_value && run_length < kMaxRun) {
+        ++run_length;
+      } else {
+        flush();
+        run_value = v;
+        run_length = 1;
+      }
+    }
+  }
+  flush();
+  for (std::size_t i = out; i != r.end(); ++i) values[i] = kInvalid;
+  counts.bad_point += nb;
+  counts.bad_label += nl;
+  counts.outside += no;
+  counts.beyond += nf;
+}
+
+// 1. Per point: key code and label, or kInvalid (bad input is counted). Neighbouring pixels
+//    mostly fall in the same voxel, so each chunk merges runs of equal (code, label) into one
+//    value carrying the run length in its top byte. Leaves the values sorted by (code, label).
+void code_points(const PointCoding& c, std::size_t n, int threads, std::vector<std::uint64_t>* values,
+                 std::vector<std::uint64_t>* scratch, InsertStats* stats) {
+  values->resize(n);
+  PointCounts counts;
+  auto point_chunk = [&](const tbb::blocked_range<std::size_t>& r) { code_point_chunk(c, r, *values, counts); };
+  // Threads pay only for large clouds: waking a worker costs about what 20k points do.
+  if (n < kParallelPoints || threads == 1) {
+    point_chunk(tbb::blocked_range<std::size_t>(0, n));
+  } else {
+    run_in_arena(threads, [&] {
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 8192), point_chunk);
+    });
+  }
+  stats->bad_point = counts.bad_point;
+  stats->bad_label = counts.bad_label;
+  stats->outside_map = counts.outside;
+  stats->beyond_range = counts.beyond;
+  values->erase(std::remove(values->begin(), values->end(), kInvalid), values->end());
+  detail::radix_sort_u64(*values, *scratch, 56);  // by (code, label); run lengths ride along
+}
+
+// 2. Voxel filter: one ray target per voxel; a hit with the majority label when any point
+//    in it is within range (ties go to the smaller class index).
+//    per_endpoint: every point left by the camera-frame filter is a hit of its voxel: the
+//    voxel's labels by count (most first, ties to the smaller class), each as often as it
+//    was seen; the first goes with the free cells, the others into `extra` layers.
+//    Returns the number of hit updates.
+std::size_t voxel_targets(const std::vector<std::uint64_t>& values, bool per_endpoint, std::vector<VoxelUpdate>* hits,
+                          std::vector<std::uint64_t>* ray_targets, std::vector<std::vector<VoxelUpdate>>* extra) {
+  hits->clear();
+  ray_targets->clear();
+  std::size_t hit_updates = 0;
+  std::vector<std::pair<std::uint64_t, std::uint8_t>> seen;  // (count, label) of one voxel
+  for (std::size_t i = 0; i < values.size();) {
+    const std::uint64_t code = (values[i] & kLow56) >> 8;
+    int best_label = -1;
+    std::uint64_t best_count = 0;
+    std::size_t j = i;
+    seen.clear();
+    while (j < values.size() && ((values[j] & kLow56) >> 8) == code) {
+      const std::uint64_t v = values[j] & kLow56;
+      const std::uint8_t label = v & 0xff;
+      std::uint64_t count = 0;
+      for (; j < values.size() && (values[j] & kLow56) == v; ++j) count += values[j] >> 56;
+      if (label != kBeyond && count > best_count) {
+        best_count = count;
+        best_label = label;
+      }
+      if (label != kBeyond) seen.emplace_back(count, label);
+    }
+    if (best_label >= 0) {
+      hits->push_back({code, static_cast<std::uint8_t>(best_label)});
+      ++hit_updates;
+    }
+    if (per_endpoint && best_label >= 0) {
+      std::stable_sort(seen.begin(), seen.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+      std::size_t layer = 0;
+      for (const auto& [count, label] : seen)
+        for (std::uint64_t c = (label == best_label ? 1 : 0); c < count; ++c) {
+          if (extra->size() <= layer) extra->emplace_back();
+          (*extra)[layer++].push_back({code, label});
+          ++hit_updates;
+        }
+    }
+    ray_targets->push_back(best_label >= 0 ? code : (code | kBeyondFlag));
+    i = j;
+  }
+  return hit_updates;
+}
+
+// Stage 3's first step: the segment of every ray target, and the box of keys holding the
+// origin and every segment's end, with one cell to spare on each side.
+KeyBox ray_segments(const SemanticOcTree& map, const SemanticMapParams& P, const octomap::OcTreeKey& origin_key,
+                    const octomap::point3d& origin, const std::vector<std::uint64_t>& ray_targets,
+                    std::vector<RaySegment>* segments) {
+  segments->resize(ray_targets.size());
+  KeyBox box;
+  int lo[3] = {origin_key[0], origin_key[1], origin_key[2]}, hi[3] = {lo[0], lo[1], lo[2]};
+  for (std::size_t r = 0; r < ray_targets.size(); ++r) {
+    (*segments)[r] = ray_segment(map, origin, ray_targets[r], P.ray_range_m, P.max_range_m);
+    octomap::OcTreeKey ke;
+    if (!map.coordToKeyChecked((*segments)[r].end, ke)) continue;
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = std::min(lo[a], int(ke[a]));
+      hi[a] = std::max(hi[a], int(ke[a]));
+    }
+  }
+  for (int a = 0; a < 3; ++a) {
+    box.lo[a] = lo[a] - 1;
+    box.n[a] = hi[a] - lo[a] + 3;
+  }
+  return box;
+}
+
+// Marks every cell the rays cross in the box's byte grid as free (1) unless it is untouched
+// no longer (2: hit in this scan).
+void mark_rays(const SemanticOcTree& map, const KeyBox& box, const std::vector<RaySegment>& segments, int threads,
+               bool vectorised, std::uint8_t* grid) {
+  const std::size_t ray_grain = segments.size() < kParallelRays || threads == 1 ? segments.size() + 1 : 256;
+  run_in_arena(threads, [&] {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, segments.size(), ray_grain), [&](const auto& r) {
+      const RaySegment* chunk = segments.data() + r.begin();
+      walk_rays(
+          map, r.size(),
+          [chunk](std::size_t i, octomap::point3d* a, octomap::point3d* b) {
+            *a = chunk[i].origin;
+            *b = chunk[i].end;
+          },
+          [&](unsigned x, unsigned y, unsigned z) {
+            std::size_t idx;
+            if (!box.index(octomap::OcTreeKey(static_cast<octomap::key_type>(x), static_cast<octomap::key_type>(y),
+                                              static_cast<octomap::key_type>(z)),
+                           &idx))
+              return;
+            // Read first: cells near the origin are shared by every ray; writing only
+            // untouched cells keeps their cache lines shared between the cores.
+            if (__atomic_load_n(grid + idx, __ATOMIC_RELAXED) == 0) __atomic_store_n(grid + idx, 1, __ATOMIC_RELAXED);
+          },
+          vectorised);
+    });
+  });
+}
+
+// The free cells of one z-slice of the grid, in order, into `out`; clears the slice.
+void collect_slice(const KeyBox& box, int z, std::uint8_t* grid, std::vector<std::uint64_t>& out) {
+  const std::size_t plane = std::size_t(box.n[0]) * box.n[1];
+  std::uint8_t* g = grid + std::size_t(z) * plane;
+  for (std::size_t i = 0; i < plane; ++i) {
+    if ((i & 7) == 0 && i + 8 <= plane) {
+      std::uint64_t word;
+      std::memcpy(&word, g + i, 8);
+      if (word == 0) {
+        i += 7;
+        continue;
+      }
+    }
+    if (g[i] == 0) continue;
+    if (g[i] == 1) {
+      const int x = int(i % box.n[0]), y = int(i / box.n[0]);
+      const octomap::OcTreeKey k(static_cast<octomap::key_type>(box.lo[0] + x),
+                                 static_cast<octomap::key_type>(box.lo[1] + y),
+                                 static_cast<octomap::key_type>(box.lo[2] + z));
+      out.push_back(morton_code(k));
+    }
+    g[i] = 0;
+  }
+}
+
+// The grid's free cells as sorted codes, collected per z-slice (in order, so the result does
+// not depend on threads); leaves the grid cleared.
+void collect_free(const KeyBox& box, int threads, std::uint8_t* grid, std::vector<std::vector<std::uint64_t>>* slices,
+                  std::vector<std::uint64_t>* free_codes, std::vector<std::uint64_t>* scratch) {
+  if (slices->size() < static_cast<std::size_t>(box.n[2])) slices->resize(static_cast<std::size_t>(box.n[2]));
+  for (auto& sl : *slices) sl.clear();
+  const int slice_grain = box.cells() < kParallelCells || threads == 1 ? box.n[2] + 1 : 4;
+  run_in_arena(threads, [&] {
+    tbb::parallel_for(tbb::blocked_range<int>(0, box.n[2], slice_grain), [&](const auto& r) {
+      for (int z = r.begin(); z != r.end(); ++z) collect_slice(box, z, grid, (*slices)[static_cast<std::size_t>(z)]);
+    });
+  });
+  for (const auto& s : *slices) free_codes->insert(free_codes->end(), s.begin(), s.end());
+  detail::radix_sort_u64(*free_codes, *scratch, 48);
+}
+
+// Rays too long for a dense grid: collect, sort and de-duplicate the keys, then drop the hits.
+void free_by_sorting(const SemanticOcTree& map, const std::vector<RaySegment>& segments,
+                     const std::vector<VoxelUpdate>& hits, std::vector<std::uint64_t>* free_codes,
+                     std::vector<std::uint64_t>* scratch) {
+  for (const Segment& s : segments)
+    traverse(map, s, [&](const octomap::OcTreeKey& k) { free_codes->push_back(morton_code(k)); });
+  detail::radix_sort_u64(*free_codes, *scratch, 48);
+  free_codes->erase(std::unique(free_codes->begin(), free_codes->end()), free_codes->end());
+  std::size_t w = 0, h = 0;
+  for (const std::uint64_t c : *free_codes) {
+    while (h < hits.size() && hits[h].code < c) ++h;
+    if (h < hits.size() && hits[h].code == c) continue;
+    (*free_codes)[w++] = c;
+  }
+  free_codes->resize(w);
+}
+
+// 4. Merges hits and free cells (both sorted) into one sorted batch.
+void merge_updates(const std::vector<VoxelUpdate>& hits, const std::vector<std::uint64_t>& free_codes,
+                   std::vector<VoxelUpdate>* updates) {
+  updates->reserve(hits.size() + free_codes.size());
+  std::size_t h = 0;
+  for (const std::uint64_t c : free_codes) {
+    while (h < hits.size() && hits[h].code < c) updates->push_back(hits[h++]);
+    updates->push_back({c, VoxelUpdate::kFree});
+  }
+  while (h < hits.size()) updates->push_back(hits[h++]);
+}
+
 }  // namespace
 
 bool ray_free_keys(const SemanticOcTree& map, const Vec3& origin, const Vec3& end, std::vector<octomap::OcTreeKey>* keys) {
@@ -166,18 +430,11 @@ void ScanInserter::compute_updates(const perception::LabelledCloud& input, std::
   updates->clear();
   for (auto& layer : extra_) layer.clear();
   const bool per_endpoint = P.insertion == Insertion::kPerEndpoint;
-  if (per_endpoint && std::isfinite(input.origin_world.x()) && std::isfinite(input.origin_world.y()) &&
-      std::isfinite(input.origin_world.z()))
+  if (per_endpoint && all_finite(input.origin_world))
     camera_voxel_filter(input, map_.getResolution(), num_classes, &filtered_);
   const perception::LabelledCloud& cloud = per_endpoint ? filtered_ : input;
   const std::size_t n = per_endpoint ? cloud.points_world.size() : input.points_world.size();
-  if (per_endpoint && !(std::isfinite(input.origin_world.x()) && std::isfinite(input.origin_world.y()) &&
-                        std::isfinite(input.origin_world.z()))) {
-    stats->bad_point = stats->points;
-    return;
-  }
-  if (!std::isfinite(cloud.origin_world.x()) || !std::isfinite(cloud.origin_world.y()) ||
-      !std::isfinite(cloud.origin_world.z())) {
+  if ((per_endpoint && !all_finite(input.origin_world)) || !all_finite(cloud.origin_world)) {
     stats->bad_point = stats->points;
     return;
   }
@@ -187,119 +444,10 @@ void ScanInserter::compute_updates(const perception::LabelledCloud& input, std::
     return;
   }
   const Stopwatch t0;
-
-  // 1. Per point: key code and label, or kInvalid (bad input is counted). Neighbouring
-  //    pixels mostly fall in the same voxel, so each chunk merges runs of equal (code, label)
-  //    into one value carrying the run length in its top byte.
-  values_.resize(n);
-  std::atomic<std::size_t> bad_point{0}, bad_label{0}, outside{0}, beyond{0};
   const Vec3f o = cloud.origin_world.cast<float>();
-  const double max_range2 = P.max_range_m * P.max_range_m;
-  const double inv_res = 1.0 / map_.getResolution();
-  constexpr std::uint64_t kLow56 = (1ull << 56) - 1;
-  constexpr std::uint64_t kMaxRun = 254;  // so a value never equals kInvalid
-  auto point_chunk = [&](const tbb::blocked_range<std::size_t>& r) {
-      std::size_t nb = 0, nl = 0, no = 0, nf = 0;
-      std::size_t out = r.begin();  // write cursor within this chunk
-      std::uint64_t run_value = kInvalid, run_length = 0;
-      octomap::OcTreeKey last_key(0, 0, 0);
-      std::uint64_t last_code = morton_code(last_key) << 8;
-      auto flush = [&] {
-        if (run_length) values_[out++] = (run_length << 56) | run_value;
-        run_length = 0;
-      };
-      for (std::size_t i = r.begin(); i != r.end(); ++i) {
-        const Vec3f& p = cloud.points_world[i];
-        const std::uint8_t label = cloud.labels[i];
-        octomap::OcTreeKey key;
-        if (!std::isfinite(p.x()) || !std::isfinite(p.y()) || !std::isfinite(p.z())) {
-          ++nb;
-        } else if (label >= num_classes) {
-          ++nl;
-        } else if (!point_key(p, inv_res, &key)) {
-          ++no;
-        } else {
-          const bool far = double((p - o).squaredNorm()) > max_range2;
-          nf += far;
-          if (!(key == last_key)) {  // neighbouring pixels mostly share a voxel
-            last_key = key;
-            last_code = morton_code(key) << 8;
-          }
-          const std::uint64_t v = last_code | (far ? kBeyond : label);
-          if (v == run_value && run_length < kMaxRun) {
-            ++run_length;
-          } else {
-            flush();
-            run_value = v;
-            run_length = 1;
-          }
-        }
-      }
-      flush();
-      for (std::size_t i = out; i != r.end(); ++i) values_[i] = kInvalid;
-      bad_point += nb;
-      bad_label += nl;
-      outside += no;
-      beyond += nf;
-  };
-  // Threads pay only for large clouds: waking a worker costs about what 20k points do.
-  if (n < kParallelPoints || P.threads == 1) {
-    point_chunk(tbb::blocked_range<std::size_t>(0, n));
-  } else {
-    run_in_arena(P.threads, [&] {
-      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 8192), point_chunk);
-    });
-  }
-  stats->bad_point = bad_point;
-  stats->bad_label = bad_label;
-  stats->outside_map = outside;
-  stats->beyond_range = beyond;
-  values_.erase(std::remove(values_.begin(), values_.end(), kInvalid), values_.end());
-  detail::radix_sort_u64(values_, scratch_, 56);  // by (code, label); run lengths ride along
-
-  // 2. Voxel filter: one ray target per voxel; a hit with the majority label when any point
-  //    in it is within range (ties go to the smaller class index).
-  //    per_endpoint: every point left by the camera-frame filter is a hit of its voxel: the
-  //    voxel's labels by count (most first, ties to the smaller class), each as often as it
-  //    was seen; the first goes with the free cells, the others into extra_ layers.
-  hits_.clear();
-  ray_targets_.clear();
-  std::size_t hit_updates = 0;
-  std::vector<std::pair<std::uint64_t, std::uint8_t>> seen;  // (count, label) of one voxel
-  for (std::size_t i = 0; i < values_.size();) {
-    const std::uint64_t code = (values_[i] & kLow56) >> 8;
-    int best_label = -1;
-    std::uint64_t best_count = 0;
-    std::size_t j = i;
-    seen.clear();
-    while (j < values_.size() && ((values_[j] & kLow56) >> 8) == code) {
-      const std::uint64_t v = values_[j] & kLow56;
-      const std::uint8_t label = v & 0xff;
-      std::uint64_t count = 0;
-      for (; j < values_.size() && (values_[j] & kLow56) == v; ++j) count += values_[j] >> 56;
-      if (label != kBeyond && count > best_count) {
-        best_count = count;
-        best_label = label;
-      }
-      if (label != kBeyond) seen.emplace_back(count, label);
-    }
-    if (best_label >= 0) {
-      hits_.push_back({code, static_cast<std::uint8_t>(best_label)});
-      ++hit_updates;
-    }
-    if (per_endpoint && best_label >= 0) {
-      std::stable_sort(seen.begin(), seen.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
-      std::size_t layer = 0;
-      for (const auto& [count, label] : seen)
-        for (std::uint64_t c = (label == best_label ? 1 : 0); c < count; ++c) {
-          if (extra_.size() <= layer) extra_.emplace_back();
-          extra_[layer++].push_back({code, label});
-          ++hit_updates;
-        }
-    }
-    ray_targets_.push_back(best_label >= 0 ? code : (code | kBeyondFlag));
-    i = j;
-  }
+  const PointCoding coding{cloud, o, P.max_range_m * P.max_range_m, 1.0 / map_.getResolution(), num_classes};
+  code_points(coding, n, P.threads, &values_, &scratch_, stats);
+  const std::size_t hit_updates = voxel_targets(values_, per_endpoint, &hits_, &ray_targets_, &extra_);
   stats->rays = ray_targets_.size();
   stats->hit_voxels = hits_.size();
   stats->hit_updates = hit_updates;
@@ -309,23 +457,8 @@ void ScanInserter::compute_updates(const perception::LabelledCloud& input, std::
   // 3. Free space: mark the cells of every ray in a byte grid over the rays' box
   //    (0 untouched, 1 free, 2 hit in this scan), then collect the free ones.
   const octomap::point3d origin(o.x(), o.y(), o.z());
-  std::vector<RaySegment>& segments = segments_;  // reused: large vectors would be mmap'ed anew
-  segments.resize(ray_targets_.size());
-  KeyBox box;
-  int lo[3] = {origin_key[0], origin_key[1], origin_key[2]}, hi[3] = {lo[0], lo[1], lo[2]};
-  for (std::size_t r = 0; r < ray_targets_.size(); ++r) {
-    segments[r] = ray_segment(map_, origin, ray_targets_[r], P.ray_range_m, P.max_range_m);
-    octomap::OcTreeKey ke;
-    if (!map_.coordToKeyChecked(segments[r].end, ke)) continue;
-    for (int a = 0; a < 3; ++a) {
-      lo[a] = std::min(lo[a], int(ke[a]));
-      hi[a] = std::max(hi[a], int(ke[a]));
-    }
-  }
-  for (int a = 0; a < 3; ++a) {
-    box.lo[a] = lo[a] - 1;
-    box.n[a] = hi[a] - lo[a] + 3;
-  }
+  // segments_ is reused: large vectors would be mmap'ed anew
+  const KeyBox box = ray_segments(map_, P, origin_key, origin, ray_targets_, &segments_);
   free_codes_.clear();
   if (box.cells() <= kMaxGridCells) {
     if (grid_.size() < box.cells()) grid_.assign(box.cells(), 0);
@@ -334,88 +467,14 @@ void ScanInserter::compute_updates(const perception::LabelledCloud& input, std::
       std::size_t idx;
       if (box.index(morton_key(h.code), &idx)) grid[idx] = 2;
     }
-    const std::size_t ray_grain = segments.size() < kParallelRays || P.threads == 1 ? segments.size() + 1 : 256;
-    run_in_arena(P.threads, [&] {
-      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, segments.size(), ray_grain), [&](const auto& r) {
-        const RaySegment* chunk = segments.data() + r.begin();
-        walk_rays(
-            map_, r.size(),
-            [chunk](std::size_t i, octomap::point3d* a, octomap::point3d* b) {
-              *a = chunk[i].origin;
-              *b = chunk[i].end;
-            },
-            [&](unsigned x, unsigned y, unsigned z) {
-              std::size_t idx;
-              if (!box.index(octomap::OcTreeKey(static_cast<octomap::key_type>(x), static_cast<octomap::key_type>(y),
-                                                static_cast<octomap::key_type>(z)),
-                             &idx))
-                return;
-              // Read first: cells near the origin are shared by every ray; writing only
-              // untouched cells keeps their cache lines shared between the cores.
-              if (__atomic_load_n(grid + idx, __ATOMIC_RELAXED) == 0) __atomic_store_n(grid + idx, 1, __ATOMIC_RELAXED);
-            },
-            vectorised_);
-      });
-    });
-    // Collect per z-slice (in order, so the result does not depend on threads) and clear.
-    std::vector<std::vector<std::uint64_t>>& slices = slices_;
-    if (slices.size() < static_cast<std::size_t>(box.n[2])) slices.resize(static_cast<std::size_t>(box.n[2]));
-    for (auto& sl : slices) sl.clear();
-    const int slice_grain = box.cells() < kParallelCells || P.threads == 1 ? box.n[2] + 1 : 4;
-    run_in_arena(P.threads, [&] {
-      tbb::parallel_for(tbb::blocked_range<int>(0, box.n[2], slice_grain), [&](const auto& r) {
-        for (int z = r.begin(); z != r.end(); ++z) {
-          auto& out = slices[static_cast<std::size_t>(z)];
-          const std::size_t plane = std::size_t(box.n[0]) * box.n[1];
-          std::uint8_t* g = grid + std::size_t(z) * plane;
-          for (std::size_t i = 0; i < plane; ++i) {
-            if ((i & 7) == 0 && i + 8 <= plane) {
-              std::uint64_t word;
-              std::memcpy(&word, g + i, 8);
-              if (word == 0) {
-                i += 7;
-                continue;
-              }
-            }
-            if (g[i] == 0) continue;
-            if (g[i] == 1) {
-              const int x = int(i % box.n[0]), y = int(i / box.n[0]);
-              const octomap::OcTreeKey k(static_cast<octomap::key_type>(box.lo[0] + x),
-                                         static_cast<octomap::key_type>(box.lo[1] + y),
-                                         static_cast<octomap::key_type>(box.lo[2] + z));
-              out.push_back(morton_code(k));
-            }
-            g[i] = 0;
-          }
-        }
-      });
-    });
-    for (const auto& s : slices) free_codes_.insert(free_codes_.end(), s.begin(), s.end());
-    detail::radix_sort_u64(free_codes_, scratch_, 48);
+    mark_rays(map_, box, segments_, P.threads, vectorised_, grid);
+    collect_free(box, P.threads, grid, &slices_, &free_codes_, &scratch_);
   } else {
-    // Rays too long for a dense grid: collect, sort and de-duplicate the keys.
-    for (const Segment& s : segments)
-      traverse(map_, s, [&](const octomap::OcTreeKey& k) { free_codes_.push_back(morton_code(k)); });
-    detail::radix_sort_u64(free_codes_, scratch_, 48);
-    free_codes_.erase(std::unique(free_codes_.begin(), free_codes_.end()), free_codes_.end());
-    std::size_t w = 0, h = 0;
-    for (const std::uint64_t c : free_codes_) {
-      while (h < hits_.size() && hits_[h].code < c) ++h;
-      if (h < hits_.size() && hits_[h].code == c) continue;
-      free_codes_[w++] = c;
-    }
-    free_codes_.resize(w);
+    free_by_sorting(map_, segments_, hits_, &free_codes_, &scratch_);
   }
   stats->free_voxels = free_codes_.size();
 
-  // 4. Merge hits and free cells into one sorted batch.
-  updates->reserve(hits_.size() + free_codes_.size());
-  std::size_t h = 0;
-  for (const std::uint64_t c : free_codes_) {
-    while (h < hits_.size() && hits_[h].code < c) updates->push_back(hits_[h++]);
-    updates->push_back({c, VoxelUpdate::kFree});
-  }
-  while (h < hits_.size()) updates->push_back(hits_[h++]);
+  merge_updates(hits_, free_codes_, updates);
   stats->ms_raycast = t1.ms();
 }
 

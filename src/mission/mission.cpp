@@ -376,60 +376,55 @@ struct Mission::Impl {
     return ok;
   }
 
-  // Predefined scanning replaces each failed scripted view of a stop by the nearest reachable
-  // view of the same scan pattern (mission.scan.replace_failed; planners with scripted views only).
+  // Planners that replace failed scripted views (PlannerTraits::replaces_failed) get them,
+  // when mission.scan.replace_failed allows it.
   bool replaces_failed_scripted() const {
-    return view_planner->traits().scripted && settings.mission.scan.replace_failed;
+    return view_planner->traits().replaces_failed && settings.mission.scan.replace_failed;
   }
 
-  // Tries replacements of the failed scripted views, nearest first: views without IK at this
-  // base are skipped (the reach test), the others attempted until one succeeds or
-  // replace_max_attempts were made (and while `attempts_left`, when given, lasts). Returns
-  // the successes.
+  // Hands each failed scripted view to the planner with what it may replace it by: the scan
+  // pattern's views around it, nearest first (mission.scan.replace_*), the stop's whole pattern,
+  // the IK test at this base and an attempt that records (and spends `attempts_left`, when
+  // given). Which views are attempted is the planner's choice. Returns the views replaced.
   int replace_failed(const std::vector<nbv::PlannedView>& failed, ViewPhase phase, int* attempts_left) {
     const ScanParams& scan = settings.mission.scan;
     const Pose T_world_base = motion::RobotModel::T_world_base(stop_pose(current_stop));
     std::vector<ScanView> pattern = scan_view_list(scan, world.spec, model.T_base_arm(), false);
     for (const ScanView& v : scan_view_list(scan, world.spec, model.T_base_arm(), true)) pattern.push_back(v);
-    std::vector<Pose> used;  // world poses a replacement must not repeat
-    for (const ScanView& v : pattern) used.push_back(T_world_base * v.T_base_camera);
-    for (const ViewRecord& r : result.views)
-      if (r.stop == current_stop && r.source == "replacement") used.push_back(r.T_goal);
+    nbv::FailedScriptedView req;
+    for (const ScanView& v : pattern) req.scripted.push_back(T_world_base * v.T_base_camera);
+    req.max_attempts = scan.replace_max_attempts;
+    req.attempts_left = attempts_left;
+    req.reachable = [&](const nbv::PlannedView& v) {
+      ScopedPhase t(result.times, kNbvPlanning);
+      return !motion::view_goal_configs(model, v, sim.base_pose(), sim.arm_positions()).empty();
+    };
+    req.attempt = [&](const nbv::PlannedView& v) {
+      if (attempts_left) --*attempts_left;
+      ++stop_record().replacement_attempts;
+      const ViewRecord r = attempt(v, phase);
+      record(r);
+      return r.success;
+    };
     int ok = 0;
     for (const nbv::PlannedView& f : failed) {
       const ScanView* spec = nullptr;
       for (const ScanView& v : pattern)
         if (same_view(T_world_base * v.T_base_camera, f.T_world_camera)) spec = &v;
       if (!spec) continue;
-      int tries = 0;
-      bool replaced = false;
-      std::vector<ScanView> options;
+      req.failed = f;
+      req.options.clear();
       {
         ScopedPhase t(result.times, kNbvPlanning);
-        options = scan_replacements(scan, model.T_base_arm(), *spec);
-      }
-      for (const ScanView& c : options) {
-        if (tries >= scan.replace_max_attempts || (attempts_left && *attempts_left <= 0)) break;
-        nbv::PlannedView v;
-        v.T_world_camera = T_world_base * c.T_base_camera;
-        v.target = v.T_world_camera * Vec3(0, 0, scan.distance_m);
-        v.source = "replacement";
-        if (std::any_of(used.begin(), used.end(), [&](const Pose& u) { return same_view(u, v.T_world_camera); })) continue;
-        {
-          ScopedPhase t(result.times, kNbvPlanning);
-          if (motion::view_goal_configs(model, v, sim.base_pose(), sim.arm_positions()).empty()) continue;
-        }
-        used.push_back(v.T_world_camera);
-        ++tries;
-        if (attempts_left) --*attempts_left;
-        ++stop_record().replacement_attempts;
-        const ViewRecord r = attempt(v, phase);
-        record(r);
-        if (r.success) {
-          replaced = true;
-          break;
+        for (const ScanView& c : scan_replacements(scan, model.T_base_arm(), *spec)) {
+          nbv::PlannedView v;
+          v.T_world_camera = T_world_base * c.T_base_camera;
+          v.target = v.T_world_camera * Vec3(0, 0, scan.distance_m);
+          v.source = "replacement";
+          req.options.push_back(v);
         }
       }
+      const bool replaced = view_planner->replace_failed(req);
       stop_record().scripted_replaced += replaced;
       ok += replaced;
     }
@@ -521,7 +516,7 @@ struct Mission::Impl {
       if (batch.order == nbv::BatchOrder::kTour) {
         std::vector<nbv::PlannedView> failed = unreachable;
         ok += execute(ordered, phase, traits.execute_whole_batch ? -1 : wanted, &attempts_left, &failed);
-        if (traits.scripted && replaces_failed_scripted()) ok += replace_failed(failed, phase, &attempts_left);
+        if (replaces_failed_scripted()) ok += replace_failed(failed, phase, &attempts_left);
       } else {
         ok += execute(ordered, phase, 1, &attempts_left);  // frontier: the first view that succeeds
       }

@@ -83,8 +83,4 @@ std::vector<ScanView> scan_replacements(const ScanParams& params, const Pose& T_
   return views;
 }
 
-bool same_view(const Pose& a, const Pose& b) {
-  return (a.translation() - b.translation()).norm() < 1e-3 && rotation_angle(a, b) < 0.1 * M_PI / 180.0;
-}
-
 }  // namespace canopy::mission

@@ -26,7 +26,9 @@
 #include <cmath>
 #include <functional>
 #include <map>
+#include <memory>
 #include <mutex>
+#include <optional>
 
 #include "canopy/common/error.h"
 #include "canopy/common/random.h"
@@ -130,6 +132,140 @@ std::string config_text(const ArmConfig& q) {
   return s + "]";
 }
 
+// A plan's early end: its status and one line saying why.
+struct PlanFailure {
+  PlanStatus status;
+  std::string message;
+};
+
+// A measured start may overshoot a limit slightly (a goal at the limit, servo error): within
+// `tol` of a limit it is moved onto it.
+ArmConfig start_within_limits(const ArmConfig& start_in, const ArmLimits& limits, double tol) {
+  ArmConfig start = start_in;
+  for (int i = 0; i < kArmDof; ++i) {
+    if (start[i] < limits.lower[i] && start[i] >= limits.lower[i] - tol) start[i] = limits.lower[i];
+    if (start[i] > limits.upper[i] && start[i] <= limits.upper[i] + tol) start[i] = limits.upper[i];
+  }
+  return start;
+}
+
+// Why a plan from `start` to `goals` cannot start: a base pose not finite, a start or goal not
+// finite or outside the joint limits, no goal, or the base or start in collision.
+std::optional<PlanFailure> request_failure(const CollisionChecker& checker, const BasePose& base,
+                                           const ArmConfig& start, const std::vector<ArmConfig>& goals) {
+  const RobotModel& model = checker.model();
+  if (!std::isfinite(base.x_m) || !std::isfinite(base.y_m) || !std::isfinite(base.yaw_rad))
+    return PlanFailure{PlanStatus::kInvalidInput, "base pose is not finite"};
+  if (!model.within_limits(start))
+    return PlanFailure{PlanStatus::kInvalidInput,
+                       "start configuration " + config_text(start) + " is not finite or outside the joint limits"};
+  if (goals.empty()) return PlanFailure{PlanStatus::kInvalidInput, "no goal configuration given"};
+  for (const ArmConfig& g : goals)
+    if (!model.within_limits(g))
+      return PlanFailure{PlanStatus::kInvalidInput,
+                         "goal configuration " + config_text(g) + " is not finite or outside the joint limits"};
+
+  if (checker.base_in_collision(base))
+    return PlanFailure{PlanStatus::kStartInCollision, "the base itself is in collision with the map"};
+  const CollisionReport start_report = checker.report(base, start);
+  if (start_report.in_collision)
+    return PlanFailure{PlanStatus::kStartInCollision, "start state in collision: " + start_report.pairs.front()};
+  return std::nullopt;
+}
+
+// The goals nearest `start` first, those in collision dropped, at most `max_goals`;
+// `first_collision` names the first colliding goal's pair.
+std::vector<ArmConfig> free_goals_nearest_first(const CollisionChecker& checker, const BasePose& base,
+                                                const ArmConfig& start, const std::vector<ArmConfig>& goals_in,
+                                                int max_goals, std::string* first_collision) {
+  std::vector<ArmConfig> goals = goals_in;
+  std::stable_sort(goals.begin(), goals.end(), [&](const ArmConfig& a, const ArmConfig& b) {
+    return joint_distance(a, start) < joint_distance(b, start);
+  });
+  std::vector<ArmConfig> free_goals;
+  for (const ArmConfig& g : goals) {
+    const CollisionReport gr = checker.report(base, g);
+    if (gr.in_collision) {
+      if (first_collision->empty()) *first_collision = gr.pairs.front();
+    } else if (static_cast<int>(free_goals.size()) < max_goals) {
+      free_goals.push_back(g);
+    }
+  }
+  return free_goals;
+}
+
+// OMPL's problem in the 6-D joint space bounded by the planning limits: states valid when the
+// arm is free, the start, the goals and the parameters' planner, its streams seeded from `seed`.
+std::unique_ptr<og::SimpleSetup> make_setup(const CollisionChecker& checker_ref, const PlannerParams& params,
+                                            const BasePose& base, const ArmConfig& start,
+                                            const std::vector<ArmConfig>& free_goals, std::uint64_t seed) {
+  const ArmLimits& lim = checker_ref.model().limits();
+  auto space = std::make_shared<ob::RealVectorStateSpace>(kArmDof);
+  const std::uint_fast32_t sampler_seed = stream_seed(seed, 1);
+  space->setStateSamplerAllocator([sampler_seed](const ob::StateSpace* s) -> ob::StateSamplerPtr {
+    return std::make_shared<SeededSampler>(s, sampler_seed);
+  });
+  ob::RealVectorBounds bounds(kArmDof);
+  for (int i = 0; i < kArmDof; ++i) {
+    bounds.setLow(static_cast<unsigned>(i), lim.lower[i]);
+    bounds.setHigh(static_cast<unsigned>(i), lim.upper[i]);
+  }
+  space->setBounds(bounds);
+  auto ss = std::make_unique<og::SimpleSetup>(space);
+  const CollisionChecker* checker = &checker_ref;
+  ss->setStateValidityChecker([checker, base, space](const ob::State* s) {
+    if (!space->satisfiesBounds(s)) return false;
+    const auto* v = s->as<ob::RealVectorStateSpace::StateType>();
+    ArmConfig q;
+    for (int i = 0; i < kArmDof; ++i) q[i] = v->values[i];
+    return !checker->in_collision(base, q, BodySet::kArmOnly);
+  });
+  // A fixed joint-space resolution: OMPL takes it as a fraction of the space's extent.
+  ss->getSpaceInformation()->setStateValidityCheckingResolution(params.motion_check_resolution_rad /
+                                                                 space->getMaximumExtent());
+  ob::ScopedState<> start_state(space);
+  for (int i = 0; i < kArmDof; ++i) start_state[static_cast<unsigned>(i)] = start[i];
+  ss->setStartState(start_state);
+  auto goal_states = std::make_shared<ob::GoalStates>(ss->getSpaceInformation());
+  for (const ArmConfig& g : free_goals) {
+    ob::ScopedState<> gs(space);
+    for (int i = 0; i < kArmDof; ++i) gs[static_cast<unsigned>(i)] = g[i];
+    goal_states->addState(gs);
+  }
+  ss->setGoal(goal_states);
+  ss->setPlanner(planner_registry().at(params.planner)(ss->getSpaceInformation(), params.range_rad, stream_seed(seed, 2)));
+  ss->setup();
+  return ss;
+}
+
+// Solves within `max_iterations` planner iterations: the termination condition is polled once
+// per iteration, so a seed gives the same path however loaded the machine is; the wall clock
+// limit `remaining_s` is only a safety net (`timed_out` says it ended the search).
+ob::PlannerStatus solve_within_budget(og::SimpleSetup& ss, int max_iterations, double remaining_s, bool* timed_out) {
+  int iterations = 0;
+  const ob::PlannerTerminationCondition budget([&iterations, max_iterations] { return ++iterations > max_iterations; });
+  const ob::PlannerTerminationCondition clock = ob::timedPlannerTerminationCondition(remaining_s);
+  const ob::PlannerTerminationCondition ptc([&] {
+    if (budget()) return true;
+    if (clock()) return *timed_out = true;
+    return false;
+  });
+  return ss.solve(ptc);
+}
+
+// The solution path's states as joint configurations.
+std::vector<ArmConfig> solution_configs(og::SimpleSetup& ss) {
+  og::PathGeometric& p = ss.getSolutionPath();
+  std::vector<ArmConfig> path;
+  for (size_t k = 0; k < p.getStateCount(); ++k) {
+    const auto* v = p.getState(static_cast<unsigned>(k))->as<ob::RealVectorStateSpace::StateType>();
+    ArmConfig q;
+    for (int i = 0; i < kArmDof; ++i) q[i] = v->values[i];
+    path.push_back(q);
+  }
+  return path;
+}
+
 }  // namespace
 
 const char* to_string(PlanStatus s) {
@@ -219,42 +355,12 @@ PlanResult ArmPlanner::plan_to_configs(const BasePose& base, const ArmConfig& st
     return r;
   };
   const RobotModel& model = checker_->model();
-  // A measured start may overshoot a limit slightly (a goal at the limit, servo error).
-  ArmConfig start = start_in;
-  for (int i = 0; i < kArmDof; ++i) {
-    const double tol = params_.start_limit_tolerance_rad;
-    if (start[i] < model.limits().lower[i] && start[i] >= model.limits().lower[i] - tol) start[i] = model.limits().lower[i];
-    if (start[i] > model.limits().upper[i] && start[i] <= model.limits().upper[i] + tol) start[i] = model.limits().upper[i];
-  }
-  if (!std::isfinite(base.x_m) || !std::isfinite(base.y_m) || !std::isfinite(base.yaw_rad))
-    return fail(PlanStatus::kInvalidInput, "base pose is not finite");
-  if (!model.within_limits(start))
-    return fail(PlanStatus::kInvalidInput, "start configuration " + config_text(start) + " is not finite or outside the joint limits");
-  if (goals_in.empty()) return fail(PlanStatus::kInvalidInput, "no goal configuration given");
-  for (const ArmConfig& g : goals_in)
-    if (!model.within_limits(g))
-      return fail(PlanStatus::kInvalidInput, "goal configuration " + config_text(g) + " is not finite or outside the joint limits");
-
-  if (checker_->base_in_collision(base)) return fail(PlanStatus::kStartInCollision, "the base itself is in collision with the map");
-  const CollisionReport start_report = checker_->report(base, start);
-  if (start_report.in_collision)
-    return fail(PlanStatus::kStartInCollision, "start state in collision: " + start_report.pairs.front());
-
-  // Goals nearest first, those in collision dropped.
-  std::vector<ArmConfig> goals = goals_in;
-  std::stable_sort(goals.begin(), goals.end(), [&](const ArmConfig& a, const ArmConfig& b) {
-    return joint_distance(a, start) < joint_distance(b, start);
-  });
+  const ArmConfig start = start_within_limits(start_in, model.limits(), params_.start_limit_tolerance_rad);
+  if (const std::optional<PlanFailure> failure = request_failure(*checker_, base, start, goals_in))
+    return fail(failure->status, failure->message);
   std::string goal_collision;
-  std::vector<ArmConfig> free_goals;
-  for (const ArmConfig& g : goals) {
-    const CollisionReport gr = checker_->report(base, g);
-    if (gr.in_collision) {
-      if (goal_collision.empty()) goal_collision = gr.pairs.front();
-    } else if (static_cast<int>(free_goals.size()) < params_.max_goal_configs) {
-      free_goals.push_back(g);
-    }
-  }
+  const std::vector<ArmConfig> free_goals =
+      free_goals_nearest_first(*checker_, base, start, goals_in, params_.max_goal_configs, &goal_collision);
   if (free_goals.empty())
     return fail(PlanStatus::kGoalInCollision, "every goal configuration is in collision (first: " + goal_collision + ")");
 
@@ -273,78 +379,22 @@ PlanResult ArmPlanner::plan_to_configs(const BasePose& base, const ArmConfig& st
       if (motion_valid(base, start, g)) return succeed({start, g}, true);
   }
 
-  // OMPL in the 6-D joint space bounded by the planning limits.
-  const ArmLimits& lim = model.limits();
-  auto space = std::make_shared<ob::RealVectorStateSpace>(kArmDof);
-  const std::uint_fast32_t sampler_seed = stream_seed(seed, 1);
-  space->setStateSamplerAllocator([sampler_seed](const ob::StateSpace* s) -> ob::StateSamplerPtr {
-    return std::make_shared<SeededSampler>(s, sampler_seed);
-  });
-  ob::RealVectorBounds bounds(kArmDof);
-  for (int i = 0; i < kArmDof; ++i) {
-    bounds.setLow(static_cast<unsigned>(i), lim.lower[i]);
-    bounds.setHigh(static_cast<unsigned>(i), lim.upper[i]);
-  }
-  space->setBounds(bounds);
-  og::SimpleSetup ss(space);
-  const CollisionChecker* checker = checker_;
-  ss.setStateValidityChecker([checker, base, space](const ob::State* s) {
-    if (!space->satisfiesBounds(s)) return false;
-    const auto* v = s->as<ob::RealVectorStateSpace::StateType>();
-    ArmConfig q;
-    for (int i = 0; i < kArmDof; ++i) q[i] = v->values[i];
-    return !checker->in_collision(base, q, BodySet::kArmOnly);
-  });
-  // A fixed joint-space resolution: OMPL takes it as a fraction of the space's extent.
-  ss.getSpaceInformation()->setStateValidityCheckingResolution(params_.motion_check_resolution_rad /
-                                                                space->getMaximumExtent());
-  ob::ScopedState<> start_state(space);
-  for (int i = 0; i < kArmDof; ++i) start_state[static_cast<unsigned>(i)] = start[i];
-  ss.setStartState(start_state);
-  auto goal_states = std::make_shared<ob::GoalStates>(ss.getSpaceInformation());
-  for (const ArmConfig& g : free_goals) {
-    ob::ScopedState<> gs(space);
-    for (int i = 0; i < kArmDof; ++i) gs[static_cast<unsigned>(i)] = g[i];
-    goal_states->addState(gs);
-  }
-  ss.setGoal(goal_states);
-  ss.setPlanner(planner_registry().at(params_.planner)(ss.getSpaceInformation(), params_.range_rad, stream_seed(seed, 2)));
-  ss.setup();
-
-  // The budget is a count of planner iterations (the termination condition is polled once
-  // per iteration), so a seed gives the same path however loaded the machine is; the wall
-  // clock limit is only a safety net.
+  const std::unique_ptr<og::SimpleSetup> ss = make_setup(*checker_, params_, base, start, free_goals, seed);
   const double remaining = params_.time_limit_s - watch.seconds();
   if (remaining <= 0.0) return fail(PlanStatus::kTimeout, "time limit used up before planning started");
-  int iterations = 0;
-  const int max_iterations = params_.max_iterations;
   bool timed_out = false;
-  const ob::PlannerTerminationCondition budget([&iterations, max_iterations] { return ++iterations > max_iterations; });
-  const ob::PlannerTerminationCondition clock = ob::timedPlannerTerminationCondition(remaining);
-  const ob::PlannerTerminationCondition ptc([&] {
-    if (budget()) return true;
-    if (clock()) return timed_out = true;
-    return false;
-  });
-  const ob::PlannerStatus solved = ss.solve(ptc);
+  const ob::PlannerStatus solved = solve_within_budget(*ss, params_.max_iterations, remaining, &timed_out);
   if (solved != ob::PlannerStatus::EXACT_SOLUTION)
     return fail(PlanStatus::kTimeout,
                 timed_out ? "no path within the " + std::to_string(params_.time_limit_s) + " s safety limit (" +
                                 solved.asString() + ")"
-                          : "no path within " + std::to_string(max_iterations) + " planner iterations (" +
+                          : "no path within " + std::to_string(params_.max_iterations) + " planner iterations (" +
                                 solved.asString() + ")");
   if (params_.simplify) {
-    SeededSimplifier simplifier(ss.getSpaceInformation(), stream_seed(seed, 3));
-    simplifier.simplifyMax(ss.getSolutionPath());
+    SeededSimplifier simplifier(ss->getSpaceInformation(), stream_seed(seed, 3));
+    simplifier.simplifyMax(ss->getSolutionPath());
   }
-  og::PathGeometric& p = ss.getSolutionPath();
-  std::vector<ArmConfig> path;
-  for (size_t k = 0; k < p.getStateCount(); ++k) {
-    const auto* v = p.getState(static_cast<unsigned>(k))->as<ob::RealVectorStateSpace::StateType>();
-    ArmConfig q;
-    for (int i = 0; i < kArmDof; ++i) q[i] = v->values[i];
-    path.push_back(q);
-  }
+  std::vector<ArmConfig> path = solution_configs(*ss);
   // Defensive re-check with our own interpolation: what the robot executes must be free.
   for (size_t k = 1; k < path.size(); ++k)
     if (!motion_valid(base, path[k - 1], path[k]))

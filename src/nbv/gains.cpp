@@ -181,7 +181,7 @@ double mutual_information_per_cell(const RayVoxel* v, std::size_t n) {
 const std::vector<GainEntry>& gain_registry() {
   static const std::vector<GainEntry> registry = {
       {"osamcep", "occlusion- and semantic-aware multi-class entropy with proximity (ours)",
-       [](const GainParams& p) { return std::unique_ptr<GainFunction>(new Osamcep(p)); }},
+       [](const GainParams& p) { return std::unique_ptr<GainFunction>(new Osamcep(p)); }, /*uses_proximity=*/true},
       {"ae", "average entropy (Delmerico 2018), summed until an occupied voxel",
        [](const GainParams& p) { return std::unique_ptr<GainFunction>(new AverageEntropy(p)); }},
       {"uvc", "unknown voxel count",

@@ -7,11 +7,7 @@
 
 #include "canopy/common/error.h"
 #include "canopy/common/random.h"
-#include "canopy/nbv/planners/frontier.h"
-#include "canopy/nbv/planners/global.h"
-#include "canopy/nbv/planners/ours.h"
-#include "canopy/nbv/planners/predefined.h"
-#include "canopy/nbv/planners/reveal.h"
+#include "canopy/nbv/planners/planners.h"
 
 namespace canopy::nbv {
 
@@ -23,6 +19,11 @@ bool TakenViews::contains(const Pose& T) const {
     if (std::abs(d.angle()) <= max_angle) return true;
   }
   return false;
+}
+
+bool same_view(const Pose& a, const Pose& b) {
+  return (a.translation() - b.translation()).norm() < 1e-3 &&
+         Eigen::AngleAxisd(a.rotation().transpose() * b.rotation()).angle() < 0.1 * M_PI / 180.0;
 }
 
 bool DoneClusters::contains(const Vec3& centroid) const {
@@ -52,21 +53,7 @@ struct Registry {
   std::mutex mutex;
   std::deque<ViewPlannerEntry> entries;
   Registry() {
-    entries.push_back({"ours", "cluster-centric NBV: fruit clusters, candidates on a sphere, workspace filter, gain, top-k, tour",
-                       [](const ViewPlannerSettings& s) { return ours::make_planner(s); }});
-    entries.push_back({"frontier",
-                       "Zaenker et al.'s ROI / exploration frontier planner (as implemented, docs/background/frontier_baseline.md)",
-                       [](const ViewPlannerSettings& s) { return frontier::make_planner(s); }});
-    entries.push_back({"predefined", "dense predefined scanning: the scripted views of every stop, no planning",
-                       [](const ViewPlannerSettings& s) { return predefined::make_planner(s); }});
-    entries.push_back({"global",
-                       "global view planning: weighted set cover of the uncertain voxels near the clusters by the "
-                       "stop's reachable candidates, costed by arm motion, then a tour",
-                       [](const ViewPlannerSettings& s) { return global::make_planner(s); }});
-    entries.push_back({"reveal",
-                       "canopy's own: ours' clusters and reach test, one view at a time on the latest map, the gain "
-                       "that ranks views closest to the truth, a relative done rule (docs/experiments/)",
-                       [](const ViewPlannerSettings& s) { return reveal::make_planner(s); }});
+    for (ViewPlannerEntry& e : builtin_view_planners()) entries.push_back(std::move(e));
   }
 };
 

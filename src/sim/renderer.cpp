@@ -150,10 +150,6 @@ struct Renderer::Impl {
   mjrContext context;
   std::vector<unsigned char> rgb, seg;
   std::vector<float> depth;
-  // The still-camera video frame: the kept world (RGB, depth), the world with the caption,
-  // and the frame as last composed (all full size, OpenGL rows).
-  std::vector<unsigned char> world_rgb, captioned_rgb, frame_rgb;
-  std::vector<float> world_depth;
   bool scene_made = false, context_made = false;
   int width = 0, height = 0;
 
@@ -173,7 +169,7 @@ struct Renderer::Impl {
 
 Renderer::Renderer(Simulator& sim, const CameraIntrinsics& intrinsics, const RenderOptions& options)
     : impl_(std::make_unique<Impl>()), sim_(sim), intrinsics_(intrinsics), options_(options),
-      noise_rng_(options.noise_seed) {
+      noise_rng_(options.noise_seed), video_(intrinsics.width_px, intrinsics.height_px) {
   intrinsics_.validate("camera");
   const mjModel* m = sim_.render_model();
   if (m->vis.global.offwidth < intrinsics_.width_px || m->vis.global.offheight < intrinsics_.height_px)
@@ -224,7 +220,7 @@ void Renderer::warm_up() {
   Impl& r = *impl_;
   std::unique_lock<std::mutex> lock(gl_mutex());
   r.make_current();
-  video_background_ = false;  // the GL buffers are reused
+  video_.forget_world();  // the GL buffers are reused
   pass(T, true, true, "", true);
   label_pass();
 }
@@ -259,76 +255,22 @@ Image<Rgb8> Renderer::render_video_frame(const Pose& T_world_camera, const std::
   if (!T_world_camera.matrix().allFinite()) throw InputError("camera pose: not finite (NaN or inf)");
   Impl& r = *impl_;
   const int W = intrinsics_.width_px, H = intrinsics_.height_px;
-  const bool still = !options_.shadows && T_world_camera.matrix() == video_T_.matrix();
-  video_T_ = T_world_camera;
+  const bool still = video_.camera_still(T_world_camera, options_.shadows);
   Image<Rgb8> out(W, H);
   std::unique_lock<std::mutex> lock(gl_mutex());
   r.make_current();
   if (!still) {  // the camera moves: the whole scene
-    video_background_ = false;
-    video_path_ = VideoPath::kFull;
+    video_.full_frame();
     pass(T_world_camera, true, true, caption, false);
   } else {
     robot_over_kept_world(T_world_camera, caption);
   }
-  video_caption_ = caption;
-  const std::vector<unsigned char>& rgb = still ? r.frame_rgb : r.rgb;
+  video_.end_frame(caption);
+  const std::vector<unsigned char>& rgb = still ? video_.frame_rgb() : r.rgb;
   for (int y = 0; y < H; ++y)
     std::memcpy(static_cast<void*>(&out.at(0, y)), &rgb[3 * static_cast<size_t>(H - 1 - y) * W], 3 * static_cast<size_t>(W));
   return out;
 }
-
-namespace {
-// {left, bottom, width, height} in OpenGL rows (bottom-up) of the pixels that the scene's geoms
-// may cover, seen from T_world_camera (pinhole fx = fy, principal point at the centre, as the
-// passes draw): the bounding box of each geom's bounding sphere's projection, padded by 2
-// pixels, within the frame. The whole frame when a geom has no bound or reaches the near plane;
-// an empty rectangle when no geom is in front of the camera and inside the frame.
-std::array<int, 4> screen_rect(const mjvScene& scene, const Pose& T_world_camera, double f_px, int W, int H,
-                               double near_m) {
-  const std::array<int, 4> whole{0, 0, W, H};
-  const Pose T_camera_world = T_world_camera.inverse();
-  double u0 = std::numeric_limits<double>::infinity(), v0 = u0, u1 = -u0, v1 = -u0;
-  for (int i = 0; i < scene.ngeom; ++i) {
-    const mjvGeom& g = scene.geoms[i];
-    if (!(g.modelrbound > 0.f)) return whole;
-    const Vec3 c = T_camera_world * Vec3(g.pos[0], g.pos[1], g.pos[2]);
-    const double rad = g.modelrbound * (1.0 + 1e-4) + 1e-3;  // float positions
-    if (c.z() - rad <= near_m) return whole;
-    // x / z over the sphere's bounding box [x - r, x + r] x [z - r, z + r] is extreme at a corner.
-    for (const double dz : {-rad, rad})
-      for (const double d : {-rad, rad}) {
-        const double z = c.z() + dz;
-        u0 = std::min(u0, f_px * (c.x() + d) / z);
-        u1 = std::max(u1, f_px * (c.x() + d) / z);
-        v0 = std::min(v0, f_px * (c.y() + d) / z);
-        v1 = std::max(v1, f_px * (c.y() + d) / z);
-      }
-  }
-  if (!(u0 <= u1)) return {0, 0, 0, 0};
-  // Image column u = x / z * f + W / 2; OpenGL row = H / 2 - y / z * f (image rows grow downwards).
-  const int left = std::max(0, static_cast<int>(std::floor(u0 + 0.5 * W)) - 2);
-  const int right = std::min(W, static_cast<int>(std::ceil(u1 + 0.5 * W)) + 2);
-  const int bottom = std::max(0, static_cast<int>(std::floor(0.5 * H - v1)) - 2);
-  const int top = std::min(H, static_cast<int>(std::ceil(0.5 * H - v0)) + 2);
-  if (left >= right || bottom >= top) return {0, 0, 0, 0};
-  return {left, bottom, right - left, top - bottom};
-}
-
-bool overlap(const std::array<int, 4>& a, const std::array<int, 4>& b) {
-  return a[2] > 0 && a[3] > 0 && b[2] > 0 && b[3] > 0 && a[0] < b[0] + b[2] && b[0] < a[0] + a[2] &&
-         a[1] < b[1] + b[3] && b[1] < a[1] + a[3];
-}
-
-// Copies the rectangle `rect` of full-frame RGB rows (width W) from `from` into `to`.
-void copy_rect(const std::vector<unsigned char>& from, std::vector<unsigned char>* to, const std::array<int, 4>& rect,
-               int W) {
-  for (int y = rect[1]; y < rect[1] + rect[3]; ++y) {
-    const std::size_t at = 3 * (static_cast<std::size_t>(y) * W + rect[0]);
-    std::memcpy(to->data() + at, from.data() + at, 3 * static_cast<std::size_t>(rect[2]));
-  }
-}
-}  // namespace
 
 void Renderer::robot_over_kept_world(const Pose& T_world_camera, const std::string& caption) {
   Impl& r = *impl_;
@@ -336,77 +278,33 @@ void Renderer::robot_over_kept_world(const Pose& T_world_camera, const std::stri
   const int W = intrinsics_.width_px, H = intrinsics_.height_px;
   const mjrRect whole{0, 0, W, H};
   bool redraw = false;
-  if (!video_background_) {  // the camera stopped: keep the world without the robot
+  if (!video_.has_world()) {  // the camera stopped: keep the world without the robot
     pass(T_world_camera, true, false, "", true);
-    r.world_rgb = r.rgb;
-    r.world_depth = r.depth;
-    video_background_ = true;
-    video_captioned_ = false;
+    video_.keep_world(r.rgb, r.depth);
   }
-  if (!video_captioned_ || caption != video_caption_) {
+  if (video_.needs_caption(caption)) {
     // The caption over the kept world, as mjr_overlay draws it after mjr_render.
-    r.captioned_rgb = r.world_rgb;
-    caption_box_ = {0, 0, 0, 0};
+    std::vector<unsigned char> captioned = video_.world_rgb();
     if (!caption.empty()) {
       glDisable(GL_DEPTH_TEST);
-      mjr_drawPixels(r.world_rgb.data(), nullptr, whole, &r.context);
+      mjr_drawPixels(video_.world_rgb().data(), nullptr, whole, &r.context);
       mjr_overlay(mjFONT_NORMAL, mjGRID_TOPLEFT, whole, caption.c_str(), nullptr, &r.context);
-      mjr_readPixels(r.captioned_rgb.data(), nullptr, whole, &r.context);
-      // Where the caption changed the world, padded by 4 pixels (a backdrop may leave a pixel
-      // unchanged): a robot rectangle reaching it draws the caption too.
-      int x0 = W, y0 = H, x1 = -1, y1 = -1;
-      for (int y = 0; y < H; ++y)
-        for (int x = 0; x < W; ++x) {
-          const std::size_t s = 3 * (static_cast<std::size_t>(y) * W + x);
-          if (std::memcmp(&r.captioned_rgb[s], &r.world_rgb[s], 3) != 0) {
-            x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
-          }
-        }
-      if (x1 >= 0) {
-        x0 = std::max(0, x0 - 4), y0 = std::max(0, y0 - 4), x1 = std::min(W - 1, x1 + 4), y1 = std::min(H - 1, y1 + 4);
-        caption_box_ = {x0, y0, x1 - x0 + 1, y1 - y0 + 1};
-      }
+      mjr_readPixels(captioned.data(), nullptr, whole, &r.context);
     }
-    r.frame_rgb = r.captioned_rgb;
-    video_rect_ = {0, 0, 0, 0};
-    video_captioned_ = true;
+    video_.set_captioned_world(std::move(captioned), caption);
     redraw = true;
   }
 
-  // The robot's geoms where they are now; the same as in the last frame: the same frame.
   r.option.geomgroup[kGroupGround] = 0;
   r.option.geomgroup[kGroupPlants] = 0;
   r.option.geomgroup[kGroupRobotVisual] = 1;
   mjv_updateScene(m, sim_.render_data(), &r.option, nullptr, &r.camera, mjCAT_ALL, &r.scene);
-  std::vector<float> robot;
-  robot.reserve(13 * static_cast<std::size_t>(r.scene.ngeom));
-  for (int i = 0; i < r.scene.ngeom; ++i) {
-    const mjvGeom& g = r.scene.geoms[i];
-    robot.insert(robot.end(), g.pos, g.pos + 3);
-    robot.insert(robot.end(), g.mat, g.mat + 9);
-    robot.push_back(static_cast<float>(g.objid));
-  }
-  if (!redraw && robot == video_robot_) {
-    video_path_ = VideoPath::kReused;
-    return;
-  }
-  video_robot_ = std::move(robot);
-  video_path_ = VideoPath::kRobotOnly;
+  if (!video_.robot_changed(r.scene, redraw)) return;
   const double near_m = m->vis.map.znear * m->stat.extent;
-  const std::array<int, 4> rect = screen_rect(r.scene, T_world_camera, intrinsics_.fy_px, W, H, near_m);
-  copy_rect(r.captioned_rgb, &r.frame_rgb, video_rect_, W);  // the last frame's robot away
-  video_rect_ = rect;
-  robot_rect_pixels_ = static_cast<long>(rect[2]) * rect[3];
-  if (robot_rect_pixels_ == 0) return;  // the robot is out of view
-  pass(T_world_camera, false, true, overlap(rect, caption_box_) ? caption : "", true, &rect);
-  // The robot where it is nearer than the world (the caption, drawn over both, is in both).
-  for (int j = 0; j < rect[3]; ++j)
-    for (int i = 0; i < rect[2]; ++i) {
-      const std::size_t s = static_cast<std::size_t>(j) * rect[2] + i;
-      const std::size_t f = static_cast<std::size_t>(rect[1] + j) * W + rect[0] + i;
-      const unsigned char* from = r.depth[s] < r.world_depth[f] ? &r.rgb[3 * s] : &r.captioned_rgb[3 * f];
-      std::memcpy(&r.frame_rgb[3 * f], from, 3);
-    }
+  const ScreenRect rect = video_.start_robot(r.scene, T_world_camera, intrinsics_.fy_px, near_m);
+  if (video_.robot_rect_pixels() == 0) return;  // the robot is out of view
+  pass(T_world_camera, false, true, video_.rect_meets_caption(rect) ? caption : "", true, &rect);
+  video_.compose_robot(r.rgb, r.depth);
 }
 
 void Renderer::pass(const Pose& T_world_camera, bool world, bool show_robot, const std::string& caption, bool depth,
@@ -479,7 +377,7 @@ LabelledFrame Renderer::draw(const Pose& T_world_camera, bool show_robot, bool l
   if (!T_world_camera.matrix().allFinite()) throw InputError("camera pose: not finite (NaN or inf)");
   std::unique_lock<std::mutex> lock(gl_mutex());
   r.make_current();
-  video_background_ = false;  // the GL buffers are reused
+  video_.forget_world();  // the GL buffers are reused
   pass(T_world_camera, true, show_robot, caption, depth);
   const mjModel* m = sim_.render_model();
   const double near_m = m->vis.map.znear * m->stat.extent;

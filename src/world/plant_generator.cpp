@@ -144,21 +144,16 @@ std::string pick_color(Rng& rng, const std::map<std::string, double>& weights) {
   return weights.rbegin()->first;
 }
 
-Plant make_plant(const WorldSpec& spec, int index, const Vec3& base, int* next_instance) {
-  const PlantParams& pp = spec.plant;
-  Rng rng(mix_seed(spec.seed, static_cast<std::uint64_t>(index) + 1000));
+// A procedural plant being built: the world's settings, the plant's random stream (every
+// stage draws from it in turn, so the stages' order is the plant's seed), its parts so far.
+struct PlantBuild {
+  const WorldSpec& spec;
+  Rng rng;
   Plant plant;
-  plant.index = index;
-  plant.base_position = base;
-  plant.height_m = rng.uniform(pp.height_min_m, pp.height_max_m);
-  const double H = plant.height_m;
-  const double r_stem = 0.5 * rng.uniform(pp.stem_diameter_min_m, pp.stem_diameter_max_m);
-  const double split_z = rng.uniform(0.15, 0.25);
-  const double v_azimuth = rng.uniform(0.0, 2.0 * M_PI);
-  const std::string prefix = "p" + std::to_string(index) + "_";
-  const Color stem_color{0.30f, 0.48f, 0.18f};
+  std::string prefix;  // of the parts' names: "p<index>_"
 
-  auto add_part = [&](const std::string& kind, int k, TriMesh mesh, Color c) -> PlantPart& {
+  // Adds the part <prefix><kind>_<k> of the kind's class, coloured `c`.
+  PlantPart& add_part(const std::string& kind, int k, TriMesh mesh, Color c) {
     PlantPart part;
     part.name = prefix + kind + "_" + std::to_string(k);
     part.kind = kind;
@@ -167,11 +162,18 @@ Plant make_plant(const WorldSpec& spec, int index, const Vec3& base, int* next_i
     set_rgba(&part, c);
     plant.parts.push_back(std::move(part));
     return plant.parts.back();
-  };
+  }
+};
 
-  // Trunk and the two stems of the V.
-  add_part("stem", 0,
-           make_tube({base, base + Vec3(0, 0, split_z)}, {1.2 * r_stem, 1.1 * r_stem}, 6), stem_color);
+constexpr Color kStemColor{0.30f, 0.48f, 0.18f};
+
+// Trunk and the two stems of the V.
+std::vector<Stem> add_stems(PlantBuild& b, const Vec3& base, double r_stem, double split_z, double v_azimuth) {
+  Rng& rng = b.rng;
+  const PlantParams& pp = b.spec.plant;
+  const double H = b.plant.height_m;
+  b.add_part("stem", 0,
+             make_tube({base, base + Vec3(0, 0, split_z)}, {1.2 * r_stem, 1.1 * r_stem}, 6), kStemColor);
   std::vector<Stem> stems(2);
   for (int k = 0; k < 2; ++k) {
     const double az = v_azimuth + k * M_PI + rng.uniform(-20.0, 20.0) * kDeg;
@@ -187,10 +189,16 @@ Plant make_plant(const WorldSpec& spec, int index, const Vec3& base, int* next_i
       stems[k].points.push_back(base + Vec3(0, 0, z) + (z - split_z) * std::tan(lean) * out + wiggle * side);
       stems[k].radii.push_back(r_stem * (1.0 - 0.45 * s));
     }
-    add_part("stem", k + 1, make_tube(stems[k].points, stems[k].radii, 6), stem_color);
+    b.add_part("stem", k + 1, make_tube(stems[k].points, stems[k].radii, 6), kStemColor);
   }
+  return stems;
+}
 
-  // Leaves: alternate (137.5 degree) along each stem, on petioles.
+// Leaves: alternate (137.5 degree) along each stem, on petioles.
+void add_leaves(PlantBuild& b, const std::vector<Stem>& stems, const Vec3& base) {
+  Rng& rng = b.rng;
+  const PlantParams& pp = b.spec.plant;
+  const double H = b.plant.height_m;
   int leaf_count = 0;
   for (int k = 0; k < 2; ++k) {
     const int n = rng.integer(pp.leaves_per_stem_min, pp.leaves_per_stem_max);
@@ -202,8 +210,9 @@ Plant make_plant(const WorldSpec& spec, int index, const Vec3& base, int* next_i
       const Vec3 out(std::cos(azimuth), std::sin(azimuth), 0.0);
       const double lp = rng.uniform(pp.petiole_length_min_m, pp.petiole_length_max_m);
       const Vec3 tip = node + lp * (out + Vec3(0, 0, 0.5)).normalized();
-      add_part("petiole", leaf_count,
-               make_tube({node, 0.5 * (node + tip) + Vec3(0, 0, 0.004), tip}, {0.0018, 0.0016, 0.0014}, 4), stem_color);
+      b.add_part("petiole", leaf_count,
+                 make_tube({node, 0.5 * (node + tip) + Vec3(0, 0, 0.004), tip}, {0.0018, 0.0016, 0.0014}, 4),
+                 kStemColor);
       const double L = rng.uniform(pp.leaf_length_min_m, pp.leaf_length_max_m);
       TriMesh blade = make_leaf(L, pp.leaf_width_ratio * L, rng.uniform(0.1, 0.35), rng.uniform(0.5, 3.0), 0.001);
       const double pitch = rng.uniform(-10.0, 35.0) * kDeg;  // positive: blade points down
@@ -214,57 +223,84 @@ Plant make_plant(const WorldSpec& spec, int index, const Vec3& base, int* next_i
       T.rotate(Eigen::AngleAxisd(pitch, Vec3::UnitY()));
       T.rotate(Eigen::AngleAxisd(roll, Vec3::UnitX()));
       blade.transform(T);
-      add_part("leaf", leaf_count, std::move(blade), jitter(rng, {0.22f, 0.52f, 0.14f}, 0.04f));
+      b.add_part("leaf", leaf_count, std::move(blade), jitter(rng, {0.22f, 0.52f, 0.14f}, 0.04f));
       ++leaf_count;
     }
   }
+}
 
-  // Fruits hanging from peduncles, not overlapping each other.
-  const int n_fruits = rng.integer(pp.fruits_min, pp.fruits_max);
-  plant.fruits_drawn = n_fruits;
+// One attempt to hang fruit `f` from a peduncle: a fruit drawn at random, kept (true) unless
+// it reaches the ground or overlaps a fruit `placed` before it.
+bool try_hang_fruit(PlantBuild& b, const std::vector<Stem>& stems, const Vec3& base, int f,
+                    std::vector<std::pair<Vec3, double>>* placed, int* next_instance) {
+  Rng& rng = b.rng;
+  const PlantParams& pp = b.spec.plant;
+  const double H = b.plant.height_m;
+  const bool blocky = rng.bernoulli(pp.blocky_fraction);
+  const double width = blocky ? rng.uniform(pp.blocky_width_min_m, pp.blocky_width_max_m)
+                              : rng.uniform(pp.conical_width_min_m, pp.conical_width_max_m);
+  const double length = blocky ? rng.uniform(pp.blocky_length_min_m, pp.blocky_length_max_m)
+                               : rng.uniform(pp.conical_length_min_m, pp.conical_length_max_m);
+  const int k = rng.integer(0, 1);
+  const double z = base.z() + H * rng.uniform(pp.fruit_zone_min, pp.fruit_zone_max);
+  const double azimuth = rng.uniform(0.0, 2.0 * M_PI);
+  const Vec3 node = stems[k].at_height(z);
+  const Vec3 out(std::cos(azimuth), std::sin(azimuth), 0.0);
+  const Vec3 top = node + (0.5 * width + 0.02) * out + Vec3(0, 0, -0.015);
+  const Vec3 axis = (Vec3(0, 0, -1) + std::tan(rng.uniform(0.0, 15.0) * kDeg) *
+                                          Vec3(std::cos(rng.uniform(0.0, 2 * M_PI)), std::sin(rng.uniform(0.0, 2 * M_PI)), 0))
+                        .normalized();
+  const Vec3 centre = top + 0.5 * length * axis;
+  const double radius = 0.5 * std::max(width, length);
+  if (top.z() - length < base.z() + 0.05) return false;
+  bool clash = false;
+  for (const auto& [c, r] : *placed) clash |= (c - centre).norm() < r + radius;
+  if (clash) return false;
+  placed->push_back({centre, radius});
+  ++b.plant.fruits_placed;
+  const std::string color = pick_color(rng, pp.fruit_colors);
+  TriMesh mesh = make_lobed_revolution(fruit_profile(blocky, width, length), 14, blocky ? 4 : 3,
+                                       blocky ? 0.10 : 0.06);
+  Pose T = Pose::Identity();
+  T.translation() = top;
+  T.linear() = frame_with_z(-axis) * Eigen::AngleAxisd(rng.uniform(0.0, 2 * M_PI), Vec3::UnitZ()).toRotationMatrix();
+  mesh.transform(T);
+  b.add_part("peduncle", f, make_tube({node, top + Vec3(0, 0, 0.012)}, {0.003, 0.0035}, 5), {0.25f, 0.45f, 0.15f});
+  PlantPart& fruit = b.add_part("fruit", f, std::move(mesh), jitter(rng, fruit_color(color), 0.03f));
+  fruit.instance_id = (*next_instance)++;
+  fruit.fruit_color = color;
+  fruit.fruit_target = b.spec.is_ripe(color);
+  if (!fruit.fruit_target) fruit.class_id = b.spec.class_of("unripe_fruit");
+  fruit.fruit_shape = blocky ? "blocky" : "conical";
+  return true;
+}
+
+// Fruits hanging from peduncles, not overlapping each other (60 attempts each).
+void add_fruits(PlantBuild& b, const std::vector<Stem>& stems, const Vec3& base, int* next_instance) {
+  const PlantParams& pp = b.spec.plant;
+  const int n_fruits = b.rng.integer(pp.fruits_min, pp.fruits_max);
+  b.plant.fruits_drawn = n_fruits;
   std::vector<std::pair<Vec3, double>> placed;  // bounding spheres
   for (int f = 0; f < n_fruits; ++f) {
-    for (int attempt = 0; attempt < 60; ++attempt) {
-      const bool blocky = rng.bernoulli(pp.blocky_fraction);
-      const double width = blocky ? rng.uniform(pp.blocky_width_min_m, pp.blocky_width_max_m)
-                                  : rng.uniform(pp.conical_width_min_m, pp.conical_width_max_m);
-      const double length = blocky ? rng.uniform(pp.blocky_length_min_m, pp.blocky_length_max_m)
-                                   : rng.uniform(pp.conical_length_min_m, pp.conical_length_max_m);
-      const int k = rng.integer(0, 1);
-      const double z = base.z() + H * rng.uniform(pp.fruit_zone_min, pp.fruit_zone_max);
-      const double azimuth = rng.uniform(0.0, 2.0 * M_PI);
-      const Vec3 node = stems[k].at_height(z);
-      const Vec3 out(std::cos(azimuth), std::sin(azimuth), 0.0);
-      const Vec3 top = node + (0.5 * width + 0.02) * out + Vec3(0, 0, -0.015);
-      const Vec3 axis = (Vec3(0, 0, -1) + std::tan(rng.uniform(0.0, 15.0) * kDeg) *
-                                              Vec3(std::cos(rng.uniform(0.0, 2 * M_PI)), std::sin(rng.uniform(0.0, 2 * M_PI)), 0))
-                            .normalized();
-      const Vec3 centre = top + 0.5 * length * axis;
-      const double radius = 0.5 * std::max(width, length);
-      if (top.z() - length < base.z() + 0.05) continue;
-      bool clash = false;
-      for (const auto& [c, r] : placed) clash |= (c - centre).norm() < r + radius;
-      if (clash) continue;
-      placed.push_back({centre, radius});
-      ++plant.fruits_placed;
-      const std::string color = pick_color(rng, pp.fruit_colors);
-      TriMesh mesh = make_lobed_revolution(fruit_profile(blocky, width, length), 14, blocky ? 4 : 3,
-                                           blocky ? 0.10 : 0.06);
-      Pose T = Pose::Identity();
-      T.translation() = top;
-      T.linear() = frame_with_z(-axis) * Eigen::AngleAxisd(rng.uniform(0.0, 2 * M_PI), Vec3::UnitZ()).toRotationMatrix();
-      mesh.transform(T);
-      add_part("peduncle", f, make_tube({node, top + Vec3(0, 0, 0.012)}, {0.003, 0.0035}, 5), {0.25f, 0.45f, 0.15f});
-      PlantPart& fruit = add_part("fruit", f, std::move(mesh), jitter(rng, fruit_color(color), 0.03f));
-      fruit.instance_id = (*next_instance)++;
-      fruit.fruit_color = color;
-      fruit.fruit_target = spec.is_ripe(color);
-      if (!fruit.fruit_target) fruit.class_id = spec.class_of("unripe_fruit");
-      fruit.fruit_shape = blocky ? "blocky" : "conical";
-      break;
-    }
+    for (int attempt = 0; attempt < 60; ++attempt)
+      if (try_hang_fruit(b, stems, base, f, &placed, next_instance)) break;
   }
-  return plant;
+}
+
+Plant make_plant(const WorldSpec& spec, int index, const Vec3& base, int* next_instance) {
+  const PlantParams& pp = spec.plant;
+  PlantBuild b{spec, Rng(mix_seed(spec.seed, static_cast<std::uint64_t>(index) + 1000)), Plant{},
+               "p" + std::to_string(index) + "_"};
+  b.plant.index = index;
+  b.plant.base_position = base;
+  b.plant.height_m = b.rng.uniform(pp.height_min_m, pp.height_max_m);
+  const double r_stem = 0.5 * b.rng.uniform(pp.stem_diameter_min_m, pp.stem_diameter_max_m);
+  const double split_z = b.rng.uniform(0.15, 0.25);
+  const double v_azimuth = b.rng.uniform(0.0, 2.0 * M_PI);
+  const std::vector<Stem> stems = add_stems(b, base, r_stem, split_z, v_azimuth);
+  add_leaves(b, stems, base);
+  add_fruits(b, stems, base, next_instance);
+  return std::move(b.plant);
 }
 
 // An imported plant (its folder read once into `asset`) with its base at `base`, turned by

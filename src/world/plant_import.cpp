@@ -1,16 +1,10 @@
-// Plant import through assimp. assimp reads the file (triangulated, identical vertices
-// joined, its COLLADA Z-up -> Y-up rotation switched off); canopy walks the node tree itself
-// so every instance gets its own node transform, then converts units and the up axis, puts
-// the base at the origin, welds, maps materials to classes and splits fruit into instances.
+// Plant import: the file's per-material triangle soups (plant_scene.cpp reads them through
+// assimp) become a plant: units and the up axis converted, the base at the origin, welded,
+// materials mapped to classes and colours, fruit split into instances with their ground
+// truth, leaves and stems simplified to the triangle budget.
 
 #include "canopy/world/plant_import.h"
 #include "canopy/world/world_spec.h"
-
-#include <assimp/Importer.hpp>
-#include <assimp/config.h>
-#include <assimp/material.h>
-#include <assimp/postprocess.h>
-#include <assimp/scene.h>
 
 #include <algorithm>
 #include <cmath>
@@ -26,8 +20,8 @@
 #include <unordered_map>
 
 #include "canopy/common/error.h"
-#include "canopy/common/io.h"
 #include "canopy/common/random.h"
+#include "plant_scene.h"
 
 namespace canopy::world {
 
@@ -58,18 +52,6 @@ double box_gap(const Vec3& lo_a, const Vec3& hi_a, const Vec3& lo_b, const Vec3&
   return gap.norm();
 }
 
-std::string lower(std::string s) {
-  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return s;
-}
-
-
-Eigen::Matrix4d to_eigen(const aiMatrix4x4& m) {
-  Eigen::Matrix4d e;
-  e << m.a1, m.a2, m.a3, m.a4, m.b1, m.b2, m.b3, m.b4, m.c1, m.c2, m.c3, m.c4, m.d1, m.d2, m.d3, m.d4;
-  return e;
-}
-
 // Fallback flat colours (materials without a diffuse colour) per class.
 void default_rgba(const std::string& class_name, bool target, float* rgba) {
   const float leaf[3] = {0.22f, 0.52f, 0.14f}, ripe[3] = {0.75f, 0.06f, 0.05f}, unripe[3] = {0.55f, 0.70f, 0.10f},
@@ -88,192 +70,11 @@ std::string rule_text(const ClassRule& r) {
   return r.class_name + (r.target ? "" : ":unripe") + "=" + r.pattern;
 }
 
-// One material's triangles in the plant frame, with an "exact duplicate" flag per triangle.
-struct MaterialSoup {
-  std::string name;
-  std::vector<std::array<Vec3, 3>> triangles;
-  std::vector<bool> duplicate;
-  std::vector<FaceUv> uv;    // per triangle; NaN where its mesh has no texture coordinates
-  long without_uv = 0;       // triangles without texture coordinates
-  std::string texture_ref;   // its diffuse texture as the material names it ("" for none)
-  bool has_texture = false;
-  bool has_color = false;
-  float rgba[4] = {0.5f, 0.5f, 0.5f, 1.f};
-};
-
-// Hash of a triangle by its exact vertex coordinates, in any vertex order.
-struct TriangleKey {
-  std::array<double, 9> v;
-  bool operator==(const TriangleKey& o) const { return v == o.v; }
-};
-struct TriangleHash {
-  size_t operator()(const TriangleKey& k) const {
-    size_t h = 0;
-    for (double d : k.v) h = h * 1000003u ^ std::hash<double>()(d);
-    return h;
-  }
-};
-TriangleKey triangle_key(const std::array<Vec3, 3>& t) {
-  std::array<Vec3, 3> s = t;
-  std::sort(s.begin(), s.end(), [](const Vec3& a, const Vec3& b) {
-    return std::lexicographical_compare(a.data(), a.data() + 3, b.data(), b.data() + 3);
-  });
-  TriangleKey k;
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) k.v[static_cast<size_t>(3 * i + j)] = s[static_cast<size_t>(i)][j];
-  return k;
-}
-
-// Reads the file with assimp; the importer owns the scene.
-const aiScene* read_scene(Assimp::Importer& importer, const std::string& path) {
-  std::error_code ec;
-  if (!fs::is_regular_file(path, ec)) throw InputError(path + ": no such file");
-  importer.SetPropertyBool(AI_CONFIG_IMPORT_COLLADA_IGNORE_UP_DIRECTION, true);
-  // Points and lines go to meshes of their own (SortByPType) and are counted and dropped
-  // below; canopy applies node transforms and drops degenerate triangles itself.
-  const aiScene* scene =
-      importer.ReadFile(path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_SortByPType);
-  if (!scene || (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE) || !scene->mRootNode) {
-    std::string why = importer.GetErrorString();
-    for (char& c : why)
-      if (c == '\n' || c == '\r') c = ' ';
-    throw InputError(path + ": assimp cannot read it: " + (why.empty() ? std::string("incomplete scene") : why));
-  }
-  if (scene->mNumMeshes == 0) throw InputError(path + ": the file holds no mesh");
-  return scene;
-}
-
-std::string material_name(const aiScene* scene, unsigned index) {
-  aiString name;
-  if (scene->mMaterials[index]->Get(AI_MATKEY_NAME, name) == AI_SUCCESS && name.length > 0) return name.C_Str();
-  return "material_" + std::to_string(index);
-}
-
-// Every node instance's triangles, transformed by `T_out_root * (node chain)`, into one
-// soup per material. Counts what is dropped and what repeats exactly.
-void collect_triangles(const aiScene* scene, const Eigen::Matrix4d& T_out_file, std::vector<MaterialSoup>* soups,
-                       ImportReport* report) {
-  soups->assign(scene->mNumMaterials, MaterialSoup{});
-  for (unsigned i = 0; i < scene->mNumMaterials; ++i) (*soups)[i].name = material_name(scene, i);
-  std::unordered_map<TriangleKey, std::string, TriangleHash> first_node;
-  std::set<std::string> pairs;
-  std::function<void(const aiNode*, const Eigen::Matrix4d&)> walk = [&](const aiNode* node, const Eigen::Matrix4d& T_parent) {
-    const Eigen::Matrix4d T = T_parent * to_eigen(node->mTransformation);
-    const std::string node_name = node->mName.length ? node->mName.C_Str() : "(unnamed)";
-    for (unsigned k = 0; k < node->mNumMeshes; ++k) {
-      const aiMesh* mesh = scene->mMeshes[node->mMeshes[k]];
-      MaterialSoup& soup = (*soups)[mesh->mMaterialIndex];
-      for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
-        const aiFace& face = mesh->mFaces[f];
-        if (face.mNumIndices != 3) {
-          ++report->non_triangles_dropped;
-          continue;
-        }
-        std::array<Vec3, 3> t;
-        FaceUv uv;
-        const bool has_uv = mesh->HasTextureCoords(0);
-        for (int c = 0; c < 3; ++c) {
-          const aiVector3D& v = mesh->mVertices[face.mIndices[c]];
-          t[static_cast<size_t>(c)] = (T * Eigen::Vector4d(v.x, v.y, v.z, 1.0)).head<3>();
-          if (has_uv) {
-            const aiVector3D& w = mesh->mTextureCoords[0][face.mIndices[c]];
-            uv[static_cast<size_t>(c)] = Vec2(w.x, w.y);
-          } else {
-            uv[static_cast<size_t>(c)] = Vec2::Constant(std::numeric_limits<double>::quiet_NaN());
-          }
-        }
-        soup.uv.push_back(uv);
-        if (!has_uv) ++soup.without_uv;
-        ++report->triangles_in;
-        const auto [it, fresh] = first_node.try_emplace(triangle_key(t), node_name);
-        soup.duplicate.push_back(!fresh);
-        if (!fresh) {
-          ++report->duplicate_triangles;
-          pairs.insert(it->second + " = " + node_name);
-        }
-        soup.triangles.push_back(t);
-      }
-    }
-    for (unsigned c = 0; c < node->mNumChildren; ++c) walk(node->mChildren[c], T);
-  };
-  walk(scene->mRootNode, T_out_file);
-  report->duplicate_nodes.assign(pairs.begin(), pairs.end());
-  for (unsigned i = 0; i < scene->mNumMaterials; ++i) {
-    const aiMaterial* m = scene->mMaterials[i];
-    MaterialSoup& s = (*soups)[i];
-    aiColor4D c;
-    if (m->Get(AI_MATKEY_COLOR_DIFFUSE, c) == AI_SUCCESS) {
-      s.has_color = true;
-      s.rgba[0] = std::clamp(c.r, 0.f, 1.f);
-      s.rgba[1] = std::clamp(c.g, 0.f, 1.f);
-      s.rgba[2] = std::clamp(c.b, 0.f, 1.f);
-    }
-    aiString texture;
-    if (m->GetTextureCount(aiTextureType_DIFFUSE) > 0 && m->GetTexture(aiTextureType_DIFFUSE, 0, &texture) == AI_SUCCESS)
-      s.texture_ref = texture.C_Str();
-    s.has_texture = !s.texture_ref.empty();
-  }
-}
-
-// The file's own unit [m per unit]. assimp 5.2 bakes COLLADA's <unit meter> into the root
-// node as a uniform scale (a visual_scene has no transform of its own), so it is read back
-// from there; other formats carry no unit assimp reports (glTF is metres, OBJ unitless).
-double file_unit(const aiScene* scene, const std::string& format) {
-  if (lower(format).find("collada") == std::string::npos) return 1.0;
-  const Eigen::Matrix4d R = to_eigen(scene->mRootNode->mTransformation);
-  const double s = R(0, 0);
-  const Eigen::Matrix4d uniform = Eigen::Vector4d(s, s, s, 1.0).asDiagonal();
-  if (!(s > 0.0) || (R - uniform).cwiseAbs().maxCoeff() > 1e-9 * s) return 1.0;
-  // assimp holds it as a float; the file's decimal (0.0254, not 0.025399999693) is the
-  // float printed to its 7 significant digits.
-  char text[32];
-  std::snprintf(text, sizeof(text), "%.7g", s);
-  return std::strtod(text, nullptr);
-}
-
-std::string scene_format(const aiScene* scene) {
-  aiString f;
-  if (scene->mMetaData && scene->mMetaData->Get("SourceAsset_Format", f)) return f.C_Str();
-  return "";
-}
-
-// Largest texture file read [bytes].
-constexpr std::uintmax_t kMaxTextureFileBytes = std::uintmax_t(256) << 20;
-
 // A name usable as a file name.
 std::string texture_stem(const std::string& s) {
   std::string out;
   for (char c : s) out += (std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_') ? c : '_';
   return out.empty() ? std::string("material") : out;
-}
-
-// The diffuse texture `ref` of a material of the model at `model_path`, decoded: embedded in
-// the file (glTF, "*0") or an image file beside it (as named, relative to the model's folder,
-// or its bare file name there). nullopt when no such file exists; InputError when it is not
-// an image.
-std::optional<Image<Rgb8>> load_texture(const aiScene* scene, const std::string& model_path, const std::string& ref) {
-  if (const aiTexture* t = scene->GetEmbeddedTexture(ref.c_str())) {
-    const std::string what = model_path + ": embedded texture '" + ref + "'";
-    if (t->mHeight == 0)  // compressed (PNG, JPEG, ...): mWidth bytes
-      return decode_image(std::string(reinterpret_cast<const char*>(t->pcData), t->mWidth), what);
-    if (t->mWidth > static_cast<unsigned>(kMaxTextureSidePx) || t->mHeight > static_cast<unsigned>(kMaxTextureSidePx))
-      throw InputError(what + ": larger than " + std::to_string(kMaxTextureSidePx) + " px a side");
-    Image<Rgb8> image(static_cast<int>(t->mWidth), static_cast<int>(t->mHeight));
-    for (size_t i = 0; i < image.data.size(); ++i) image.data[i] = Rgb8{t->pcData[i].r, t->pcData[i].g, t->pcData[i].b};
-    return image;
-  }
-  std::string rel = ref;
-  std::replace(rel.begin(), rel.end(), '\\', '/');
-  if (rel.rfind("file://", 0) == 0) rel = rel.substr(7);
-  const fs::path dir = fs::path(model_path).parent_path();
-  std::vector<fs::path> candidates;
-  if (fs::path(rel).is_absolute()) candidates.push_back(rel);
-  else candidates.push_back(dir / rel);
-  candidates.push_back(dir / fs::path(rel).filename());
-  std::error_code ec;
-  for (const auto& c : candidates)
-    if (fs::is_regular_file(c, ec)) return decode_image(read_file(c.string(), kMaxTextureFileBytes), c.string());
-  return std::nullopt;
 }
 
 }  // namespace
@@ -363,12 +164,9 @@ void check_geometry(const std::string& path, const std::vector<MaterialSoup>& so
   }
 }
 
-}  // namespace
-
-ImportedPlant import_plant(const std::string& path, const ImportOptions& opt) {
-  check_options(opt);
+// Stage 1: the rules' regexes, compiled (a rule that does not compile is named).
+std::vector<CompiledRule> compile_rules(const std::vector<ClassRule>& all) {
   std::vector<CompiledRule> rules;
-  std::vector<ClassRule> all = opt.rules;
   for (const auto& r : all) {
     try {
       rules.push_back({r, std::regex(r.pattern, std::regex::ECMAScript | std::regex::icase)});
@@ -376,21 +174,11 @@ ImportedPlant import_plant(const std::string& path, const ImportOptions& opt) {
       throw InputError("--class '" + rule_text(r) + "': the regex does not compile: " + e.what());
     }
   }
+  return rules;
+}
 
-  ImportedPlant plant;
-  plant.source_path = fs::absolute(path).string();
-  plant.options = opt;
-  ImportReport& rep = plant.report;
-  Assimp::Importer importer;
-  const aiScene* scene = read_scene(importer, path);
-  plant.source_sha256 = file_sha256(path);
-  rep.format = scene_format(scene);
-  rep.file_unit_m = file_unit(scene, rep.format);
-  rep.unit_scale = opt.unit_scale ? *opt.unit_scale : rep.file_unit_m;
-  const std::string ext = lower(fs::path(path).extension().string());
-  rep.up = opt.up != "auto" ? opt.up : (ext == ".gltf" || ext == ".glb") ? "y" : "z";
-
-  // File -> plant frame: the root's unit replaced by the scale in use, then Y-up -> Z-up.
+// Stage 2: file -> plant frame: the root's unit replaced by the scale in use, then Y-up -> Z-up.
+Eigen::Matrix4d file_to_plant_frame(const ImportReport& rep) {
   Eigen::Matrix4d T_out_file = Eigen::Matrix4d::Identity();
   T_out_file.topLeftCorner<3, 3>() *= rep.unit_scale / rep.file_unit_m;
   if (rep.up == "y") {
@@ -398,37 +186,45 @@ ImportedPlant import_plant(const std::string& path, const ImportOptions& opt) {
     R(0, 0) = R(3, 3) = 1.0, R(1, 2) = -1.0, R(2, 1) = 1.0;
     T_out_file = R * T_out_file;
   }
-  std::vector<MaterialSoup> soups;
-  collect_triangles(scene, T_out_file, &soups, &rep);
-  if (rep.triangles_in == 0) throw InputError(path + ": the file holds no triangles");
-  check_geometry(path, soups);
-  if (rep.duplicate_triangles > 0) {
-    std::string nodes;
-    for (size_t i = 0; i < rep.duplicate_nodes.size() && i < 3; ++i) nodes += (i ? "; " : "") + rep.duplicate_nodes[i];
-    rep.warnings.push_back(std::to_string(rep.duplicate_triangles) +
-                           " triangles exactly repeat others (the same geometry instanced twice at the same place: " + nodes +
-                           "); kept as the file says, counted once in the ground truth");
-  }
+  return T_out_file;
+}
 
-  // Base at the origin: lowest point at z = 0, x and y at the centre of the lowest slice
-  // (the stem where it leaves the ground, not the centre of the canopy).
+// Stage 3's warning about triangles that exactly repeat others.
+void warn_duplicates(ImportReport* rep) {
+  if (rep->duplicate_triangles > 0) {
+    std::string nodes;
+    for (size_t i = 0; i < rep->duplicate_nodes.size() && i < 3; ++i) nodes += (i ? "; " : "") + rep->duplicate_nodes[i];
+    rep->warnings.push_back(std::to_string(rep->duplicate_triangles) +
+                            " triangles exactly repeat others (the same geometry instanced twice at the same place: " +
+                            nodes + "); kept as the file says, counted once in the ground truth");
+  }
+}
+
+// Stage 4: base at the origin: lowest point at z = 0, x and y at the centre of the lowest
+// slice (the stem where it leaves the ground, not the centre of the canopy).
+void move_base_to_origin(std::vector<MaterialSoup>* soups) {
   double z_lo = std::numeric_limits<double>::infinity(), z_hi = -z_lo;
-  for (const auto& s : soups)
+  for (const auto& s : *soups)
     for (const auto& t : s.triangles)
       for (const auto& v : t) z_lo = std::min(z_lo, v.z()), z_hi = std::max(z_hi, v.z());
   const double slice = z_lo + std::max(0.01, 0.02 * (z_hi - z_lo));
   Vec2 xy_lo(std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()), xy_hi = -xy_lo;
-  for (const auto& s : soups)
+  for (const auto& s : *soups)
     for (const auto& t : s.triangles)
       for (const auto& v : t)
         if (v.z() <= slice) xy_lo = xy_lo.cwiseMin(v.head<2>()), xy_hi = xy_hi.cwiseMax(v.head<2>());
   const Vec2 xy = 0.5 * (xy_lo + xy_hi);
   const Vec3 base(xy.x(), xy.y(), z_lo);
-  for (auto& s : soups)
+  for (auto& s : *soups)
     for (auto& t : s.triangles)
       for (auto& v : t) v -= base;
+}
 
-  // Classes: first matching rule, else the fallback; unmatched materials are an error.
+// Stage 5: the class of every material with triangles: the first matching rule, else the
+// fallback; unmatched materials, or no material of the fruit class, are an error.
+std::vector<std::optional<ClassRule>> classify_materials(const std::string& path, const std::vector<MaterialSoup>& soups,
+                                                         const std::vector<CompiledRule>& rules,
+                                                         const ImportOptions& opt) {
   std::vector<std::string> unmatched, fruit_materials;
   std::vector<std::optional<ClassRule>> class_of(soups.size());
   for (size_t i = 0; i < soups.size(); ++i) {
@@ -453,14 +249,56 @@ ImportedPlant import_plant(const std::string& path, const ImportOptions& opt) {
       if (!s.triangles.empty()) list += (list.empty() ? "'" : ", '") + s.name + "'";
     throw InputError(path + ": no material maps to the fruit class '" + opt.fruit_class + "' (materials: " + list + ")");
   }
+  return class_of;
+}
 
-  // Colour of every material: its texture (as an image or its UV-area-weighted mean), else
-  // its diffuse colour, else its class colour.
-  struct Look {
-    std::shared_ptr<const Image<Rgb8>> texture;  // rendered with it (TextureMode::kImage)
-    std::string file;                            // its PNG in the plant folder
-    float rgba[4] = {0.5f, 0.5f, 0.5f, 1.f};
-  };
+// How a material is drawn: its texture, or a flat colour.
+struct Look {
+  std::shared_ptr<const Image<Rgb8>> texture;  // rendered with it (TextureMode::kImage)
+  std::string file;                            // its PNG in the plant folder
+  float rgba[4] = {0.5f, 0.5f, 0.5f, 1.f};
+};
+
+// Stage 6 for a textured material (number `i`): its texture as an image, or its UV-area-
+// weighted mean colour, or (no texture coordinates) its plain mean; a missing file keeps the
+// flat colour already in `look`.
+void texture_look(const PlantScene& scene, size_t i, const MaterialSoup& s, const ImportOptions& opt, Look* look,
+                  MaterialReport* mr, ImportReport* rep) {
+  std::optional<Image<Rgb8>> image = scene.load_texture(s.texture_ref);
+  if (!image) {
+    mr->colour = "missing";
+    rep->warnings.push_back("material '" + s.name + "': its texture '" + s.texture_ref +
+                            "' is not found beside the model; rendered in its flat " +
+                            (s.has_color ? "diffuse colour" : "class colour"));
+    return;
+  }
+  mr->texture_width = image->width;
+  mr->texture_height = image->height;
+  const bool has_uv = s.without_uv == 0;
+  std::vector<double> weights;
+  if (has_uv) weights = texel_weights(image->width, image->height, s.uv);
+  const std::array<float, 3> mean = mean_color(*image, weights);
+  std::copy(mean.begin(), mean.end(), look->rgba);
+  look->rgba[3] = 1.f;
+  if (!has_uv) {
+    mr->colour = "no-uv";
+    rep->warnings.push_back("material '" + s.name + "': " + std::to_string(s.without_uv) +
+                            " of its triangles have no texture coordinates; rendered in the plain mean colour of "
+                            "its texture '" + s.texture_ref + "'");
+  } else if (opt.texture == TextureMode::kMean) {
+    mr->colour = "mean";
+  } else {
+    mr->colour = "image";
+    look->texture = std::make_shared<const Image<Rgb8>>(std::move(*image));
+    look->file = "textures/" + std::to_string(i) + "_" + texture_stem(s.name) + ".png";
+  }
+}
+
+// Stage 6: colour of every material: its texture (as an image or its UV-area-weighted mean),
+// else its diffuse colour, else its class colour; each reported in `rep`.
+std::vector<Look> material_looks(const PlantScene& scene, const std::vector<MaterialSoup>& soups,
+                                 const std::vector<std::optional<ClassRule>>& class_of, const ImportOptions& opt,
+                                 ImportReport* rep) {
   std::vector<Look> looks(soups.size());
   for (size_t i = 0; i < soups.size(); ++i) {
     if (!class_of[i]) continue;
@@ -475,60 +313,62 @@ ImportedPlant import_plant(const std::string& path, const ImportOptions& opt) {
     mr.texture_source = s.texture_ref;
     if (s.has_color) std::copy(s.rgba, s.rgba + 4, look.rgba);
     else default_rgba(cls.class_name, cls.target, look.rgba);
-    if (s.has_texture) {
-      std::optional<Image<Rgb8>> image = load_texture(scene, path, s.texture_ref);
-      if (!image) {
-        mr.colour = "missing";
-        rep.warnings.push_back("material '" + s.name + "': its texture '" + s.texture_ref +
-                               "' is not found beside the model; rendered in its flat " +
-                               (s.has_color ? "diffuse colour" : "class colour"));
-      } else {
-        mr.texture_width = image->width;
-        mr.texture_height = image->height;
-        const bool has_uv = s.without_uv == 0;
-        std::vector<double> weights;
-        if (has_uv) weights = texel_weights(image->width, image->height, s.uv);
-        const std::array<float, 3> mean = mean_color(*image, weights);
-        std::copy(mean.begin(), mean.end(), look.rgba);
-        look.rgba[3] = 1.f;
-        if (!has_uv) {
-          mr.colour = "no-uv";
-          rep.warnings.push_back("material '" + s.name + "': " + std::to_string(s.without_uv) +
-                                 " of its triangles have no texture coordinates; rendered in the plain mean colour of "
-                                 "its texture '" + s.texture_ref + "'");
-        } else if (opt.texture == TextureMode::kMean) {
-          mr.colour = "mean";
-        } else {
-          mr.colour = "image";
-          look.texture = std::make_shared<const Image<Rgb8>>(std::move(*image));
-          look.file = "textures/" + std::to_string(i) + "_" + texture_stem(s.name) + ".png";
-        }
-      }
-    }
+    if (s.has_texture) texture_look(scene, i, s, opt, &look, &mr, rep);
     std::copy(look.rgba, look.rgba + 4, mr.rgba);
-    rep.materials.push_back(std::move(mr));
+    rep->materials.push_back(std::move(mr));
   }
-  auto paint = [&](size_t material, ImportedPart* part) {
-    const Look& look = looks[material];
-    if (look.texture) {
-      part->texture = look.texture;
-      part->texture_file = look.file;
-      std::fill(part->rgba, part->rgba + 4, 1.f);  // the texture replaces the diffuse colour
-    } else {
-      std::copy(look.rgba, look.rgba + 4, part->rgba);
-      part->uv.clear();
-    }
-  };
+  return looks;
+}
 
-  // Parts: one per material, fruit materials split into connected components.
-  struct Component {
-    size_t material;
-    TriMesh mesh;
-    std::vector<bool> duplicate;
-    std::vector<FaceUv> uv;
-    Vec3 lo = Vec3::Zero(), hi = Vec3::Zero();
-    bool fragment = false;
-  };
+// Gives a part its material's look: the texture (white under it), or the flat colour and no
+// texture coordinates.
+void paint(const Look& look, ImportedPart* part) {
+  if (look.texture) {
+    part->texture = look.texture;
+    part->texture_file = look.file;
+    std::fill(part->rgba, part->rgba + 4, 1.f);  // the texture replaces the diffuse colour
+  } else {
+    std::copy(look.rgba, look.rgba + 4, part->rgba);
+    part->uv.clear();
+  }
+}
+
+// A connected component of a fruit material's welded triangles.
+struct Component {
+  size_t material;
+  TriMesh mesh;
+  std::vector<bool> duplicate;
+  std::vector<FaceUv> uv;
+  Vec3 lo = Vec3::Zero(), hi = Vec3::Zero();
+  bool fragment = false;
+};
+
+// Splits one fruit material's welded mesh (number `material`) into connected components,
+// appended to `fruits` with their faces' duplicate flags and texture coordinates.
+void add_components(size_t material, const TriMesh& mesh, const std::vector<bool>& dup, const std::vector<FaceUv>& uv,
+                    std::vector<Component>* fruits) {
+  UnionFind uf(static_cast<int>(mesh.vertices.size()));
+  for (const auto& f : mesh.faces) uf.unite(f[0], f[1]), uf.unite(f[1], f[2]);
+  std::map<int, size_t> comp_of_root;  // root vertex -> index in `fruits`
+  for (size_t t = 0; t < mesh.faces.size(); ++t) {
+    const int root = uf.find(mesh.faces[t][0]);
+    auto [it, fresh] = comp_of_root.try_emplace(root, fruits->size());
+    if (fresh) {
+      fruits->push_back(Component{material, {}, {}, {}, Vec3::Zero(), Vec3::Zero(), false});
+      fruits->back().mesh.vertices = mesh.vertices;  // compacted below
+    }
+    Component& c = (*fruits)[it->second];
+    c.mesh.faces.push_back(mesh.faces[t]);
+    c.duplicate.push_back(dup[t]);
+    c.uv.push_back(uv[t]);
+  }
+}
+
+// Stage 7: parts: one per material, welded; fruit materials are returned split into
+// connected components (compacted, bounded, fragments marked) instead.
+std::vector<Component> material_parts(std::vector<MaterialSoup>& soups,
+                                      const std::vector<std::optional<ClassRule>>& class_of,
+                                      const std::vector<Look>& looks, const ImportOptions& opt, ImportedPlant* plant) {
   std::vector<Component> fruits;
   for (size_t i = 0; i < soups.size(); ++i) {
     if (!class_of[i]) continue;
@@ -540,41 +380,36 @@ ImportedPlant import_plant(const std::string& path, const ImportOptions& opt) {
     std::vector<bool> dup;
     std::vector<FaceUv> uv;
     for (size_t k : kept) dup.push_back(s.duplicate[k]), uv.push_back(s.uv[k]);
-    rep.degenerate_dropped += dropped;
+    plant->report.degenerate_dropped += dropped;
     if (mesh.faces.empty()) continue;
+    if (cls.class_name == opt.fruit_class) {
+      add_components(i, mesh, dup, uv, &fruits);
+      continue;
+    }
     ImportedPart part;
     part.material = s.name;
     part.class_name = cls.class_name;
     part.target = cls.target;
-    if (cls.class_name != opt.fruit_class) {
-      part.mesh = std::move(mesh);
-      part.uv = std::move(uv);
-      paint(i, &part);
-      plant.parts.push_back(std::move(part));
-      continue;
-    }
-    UnionFind uf(static_cast<int>(mesh.vertices.size()));
-    for (const auto& f : mesh.faces) uf.unite(f[0], f[1]), uf.unite(f[1], f[2]);
-    std::map<int, size_t> comp_of_root;  // root vertex -> index in `fruits`
-    for (size_t t = 0; t < mesh.faces.size(); ++t) {
-      const int root = uf.find(mesh.faces[t][0]);
-      auto [it, fresh] = comp_of_root.try_emplace(root, fruits.size());
-      if (fresh) {
-        fruits.push_back(Component{i, {}, {}, {}, Vec3::Zero(), Vec3::Zero(), false});
-        fruits.back().mesh.vertices = mesh.vertices;  // compacted below
-      }
-      Component& c = fruits[it->second];
-      c.mesh.faces.push_back(mesh.faces[t]);
-      c.duplicate.push_back(dup[t]);
-      c.uv.push_back(uv[t]);
-    }
+    part.mesh = std::move(mesh);
+    part.uv = std::move(uv);
+    paint(looks[i], &part);
+    plant->parts.push_back(std::move(part));
   }
   for (auto& c : fruits) {
     c.mesh = compact(c.mesh);
     c.mesh.bounds(&c.lo, &c.hi);
     c.fragment = (c.hi - c.lo).norm() < opt.min_fruit_size_m;
   }
-  // Fragments join the nearest whole fruit of the same ripeness within merge_distance_m.
+  return fruits;
+}
+
+// Stage 7, fruits: fragments join the nearest whole fruit of the same ripeness within
+// merge_distance_m (others are dropped); the whole fruits numbered by material name, then in
+// the file's order.
+std::vector<Component> whole_fruits(const std::string& path, const std::vector<Component>& fruits,
+                                    const std::vector<MaterialSoup>& soups,
+                                    const std::vector<std::optional<ClassRule>>& class_of, const ImportOptions& opt,
+                                    ImportReport* rep) {
   std::vector<Component> whole;
   for (auto& c : fruits)
     if (!c.fragment) whole.push_back(c);
@@ -588,51 +423,61 @@ ImportedPlant import_plant(const std::string& path, const ImportOptions& opt) {
       if (gap <= best_gap) best_gap = gap, best = static_cast<int>(w);
     }
     if (best < 0) {
-      ++rep.fragments_dropped;
+      ++rep->fragments_dropped;
       continue;
     }
     Component& into = whole[static_cast<size_t>(best)];
     into.mesh.append(c.mesh);
     into.duplicate.insert(into.duplicate.end(), c.duplicate.begin(), c.duplicate.end());
     into.uv.insert(into.uv.end(), c.uv.begin(), c.uv.end());
-    ++rep.fragments_merged;
+    ++rep->fragments_merged;
   }
-  if (rep.fragments_dropped + rep.fragments_merged > 0)
-    rep.warnings.push_back(std::to_string(rep.fragments_merged) + " fruit fragment(s) smaller than " +
-                           std::to_string(opt.min_fruit_size_m) + " m merged into their nearest fruit, " +
-                           std::to_string(rep.fragments_dropped) + " dropped (no fruit within " +
-                           std::to_string(opt.merge_distance_m) + " m)");
-  // Fruit numbering: by material name, then in the file's order.
+  if (rep->fragments_dropped + rep->fragments_merged > 0)
+    rep->warnings.push_back(std::to_string(rep->fragments_merged) + " fruit fragment(s) smaller than " +
+                            std::to_string(opt.min_fruit_size_m) + " m merged into their nearest fruit, " +
+                            std::to_string(rep->fragments_dropped) + " dropped (no fruit within " +
+                            std::to_string(opt.merge_distance_m) + " m)");
   std::stable_sort(whole.begin(), whole.end(),
                    [&](const Component& a, const Component& b) { return soups[a.material].name < soups[b.material].name; });
   if (whole.empty()) throw InputError(path + ": the fruit materials hold no fruit larger than " +
                                       std::to_string(opt.min_fruit_size_m) + " m");
+  return whole;
+}
 
-  // Ground truth per fruit, from the unique triangles (exact duplicates counted once).
-  plant.truth.point_spacing_m = opt.point_spacing_m;
+// Stage 8: ground truth of fruit `k`, from its unique triangles (exact duplicates counted once).
+FruitTruth fruit_truth(const Component& c, size_t k, const MaterialSoup& s, const ClassRule& cls,
+                       const ImportOptions& opt) {
+  TriMesh unique = c.mesh;
+  unique.faces.clear();
+  for (size_t t = 0; t < c.mesh.faces.size(); ++t)
+    if (!c.duplicate[t]) unique.faces.push_back(c.mesh.faces[t]);
+  unique = compact(unique);
+  FruitTruth f;
+  f.instance_id = static_cast<int>(k);
+  f.plant_index = 0;
+  f.color = s.name;
+  f.shape = "imported";
+  f.target = cls.target;
+  unique.bounds(&f.bbox_min, &f.bbox_max);
+  f.center = 0.5 * (f.bbox_min + f.bbox_max);
+  f.surface_area_m2 = unique.area();
+  f.volume_m3 = std::abs(unique.volume());
+  f.surface_points = opt.truth == TruthMode::kVertices
+                         ? unique.vertices
+                         : sample_surface_points(unique, opt.point_spacing_m, mix_seed(opt.seed, 1000000 + k));
+  return f;
+}
+
+// Stage 8: every whole fruit becomes a part of its own and a fruit of the ground truth.
+void add_fruit_parts(std::vector<Component>& whole, const std::vector<MaterialSoup>& soups,
+                const std::vector<std::optional<ClassRule>>& class_of, const std::vector<Look>& looks,
+                const ImportOptions& opt, ImportedPlant* plant) {
+  plant->truth.point_spacing_m = opt.point_spacing_m;
   for (size_t k = 0; k < whole.size(); ++k) {
     Component& c = whole[k];
     const MaterialSoup& s = soups[c.material];
     const ClassRule& cls = *class_of[c.material];
-    TriMesh unique = c.mesh;
-    unique.faces.clear();
-    for (size_t t = 0; t < c.mesh.faces.size(); ++t)
-      if (!c.duplicate[t]) unique.faces.push_back(c.mesh.faces[t]);
-    unique = compact(unique);
-    FruitTruth f;
-    f.instance_id = static_cast<int>(k);
-    f.plant_index = 0;
-    f.color = s.name;
-    f.shape = "imported";
-    f.target = cls.target;
-    unique.bounds(&f.bbox_min, &f.bbox_max);
-    f.center = 0.5 * (f.bbox_min + f.bbox_max);
-    f.surface_area_m2 = unique.area();
-    f.volume_m3 = std::abs(unique.volume());
-    f.surface_points = opt.truth == TruthMode::kVertices
-                           ? unique.vertices
-                           : sample_surface_points(unique, opt.point_spacing_m, mix_seed(opt.seed, 1000000 + k));
-    plant.truth.fruits.push_back(std::move(f));
+    plant->truth.fruits.push_back(fruit_truth(c, k, s, cls, opt));
     ImportedPart part;
     part.material = s.name;
     part.class_name = cls.class_name;
@@ -640,59 +485,95 @@ ImportedPlant import_plant(const std::string& path, const ImportOptions& opt) {
     part.fruit = static_cast<int>(k);
     part.mesh = std::move(c.mesh);
     part.uv = std::move(c.uv);
-    paint(c.material, &part);
-    plant.parts.push_back(std::move(part));
+    paint(looks[c.material], &part);
+    plant->parts.push_back(std::move(part));
   }
+}
 
-  // Budget: leaves and stems are simplified by vertex clustering with growing cells; fruit
-  // geometry is kept as it is (its ground truth and instances come from it).
-  if (plant.triangle_count() > opt.max_triangles) {
-    const std::vector<ImportedPart> original = plant.parts;
-    for (double cell : kSimplifyCellsM) {
-      for (size_t p = 0; p < plant.parts.size(); ++p) {
-        if (plant.parts[p].fruit >= 0) continue;
-        std::vector<size_t> kept;
-        plant.parts[p].mesh = cluster_vertices(original[p].mesh, cell, &kept);
-        if (!original[p].uv.empty()) {
-          plant.parts[p].uv.clear();
-          for (size_t k : kept) plant.parts[p].uv.push_back(original[p].uv[k]);
-        }
+// Stage 9, the budget: leaves and stems are simplified by vertex clustering with growing
+// cells; fruit geometry is kept as it is (its ground truth and instances come from it).
+void simplify_to_budget(const std::string& path, const ImportOptions& opt, ImportedPlant* plant) {
+  ImportReport& rep = plant->report;
+  if (plant->triangle_count() <= opt.max_triangles) return;
+  const std::vector<ImportedPart> original = plant->parts;
+  for (double cell : kSimplifyCellsM) {
+    for (size_t p = 0; p < plant->parts.size(); ++p) {
+      if (plant->parts[p].fruit >= 0) continue;
+      std::vector<size_t> kept;
+      plant->parts[p].mesh = cluster_vertices(original[p].mesh, cell, &kept);
+      if (!original[p].uv.empty()) {
+        plant->parts[p].uv.clear();
+        for (size_t k : kept) plant->parts[p].uv.push_back(original[p].uv[k]);
       }
-      rep.simplify_cell_m = cell;
-      if (plant.triangle_count() <= opt.max_triangles) break;
     }
-    if (plant.triangle_count() > opt.max_triangles) {
-      long fruit_tris = 0;
-      for (const auto& p : plant.parts) fruit_tris += p.fruit >= 0 ? static_cast<long>(p.mesh.faces.size()) : 0;
-      throw InputError(path + ": " + std::to_string(plant.triangle_count()) + " triangles (" +
-                       std::to_string(fruit_tris) + " of them fruit, never simplified) after simplifying leaves and stems with " +
-                       std::to_string(rep.simplify_cell_m * 1000) + " mm cells; --max-triangles is " +
-                       std::to_string(opt.max_triangles));
-    }
-    plant.parts.erase(std::remove_if(plant.parts.begin(), plant.parts.end(),
-                                     [](const ImportedPart& p) { return p.mesh.faces.empty(); }),
-                      plant.parts.end());
-    rep.warnings.push_back("simplified leaves and stems with " + std::to_string(rep.simplify_cell_m * 1000) +
-                           " mm cells to meet --max-triangles " + std::to_string(opt.max_triangles));
+    rep.simplify_cell_m = cell;
+    if (plant->triangle_count() <= opt.max_triangles) break;
   }
+  if (plant->triangle_count() > opt.max_triangles) {
+    long fruit_tris = 0;
+    for (const auto& p : plant->parts) fruit_tris += p.fruit >= 0 ? static_cast<long>(p.mesh.faces.size()) : 0;
+    throw InputError(path + ": " + std::to_string(plant->triangle_count()) + " triangles (" +
+                     std::to_string(fruit_tris) + " of them fruit, never simplified) after simplifying leaves and stems with " +
+                     std::to_string(rep.simplify_cell_m * 1000) + " mm cells; --max-triangles is " +
+                     std::to_string(opt.max_triangles));
+  }
+  plant->parts.erase(std::remove_if(plant->parts.begin(), plant->parts.end(),
+                                    [](const ImportedPart& p) { return p.mesh.faces.empty(); }),
+                     plant->parts.end());
+  rep.warnings.push_back("simplified leaves and stems with " + std::to_string(rep.simplify_cell_m * 1000) +
+                         " mm cells to meet --max-triangles " + std::to_string(opt.max_triangles));
+}
 
+// The plant's bounding-box size and radius (largest horizontal distance from the base).
+void measure(ImportedPlant* plant) {
+  ImportReport& rep = plant->report;
   Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
-  for (const auto& p : plant.parts) {
+  for (const auto& p : plant->parts) {
     Vec3 a, b;
     p.mesh.bounds(&a, &b);
     lo = lo.cwiseMin(a), hi = hi.cwiseMax(b);
     for (const auto& v : p.mesh.vertices) rep.radius_m = std::max(rep.radius_m, v.head<2>().norm());
   }
   rep.size_m = hi - lo;
+}
+
+}  // namespace
+
+ImportedPlant import_plant(const std::string& path, const ImportOptions& opt) {
+  check_options(opt);
+  const std::vector<CompiledRule> rules = compile_rules(opt.rules);
+
+  ImportedPlant plant;
+  plant.source_path = fs::absolute(path).string();
+  plant.options = opt;
+  ImportReport& rep = plant.report;
+  const PlantScene scene(path);
+  plant.source_sha256 = file_sha256(path);
+  rep.format = scene.format();
+  rep.file_unit_m = scene.file_unit_m();
+  rep.unit_scale = opt.unit_scale ? *opt.unit_scale : rep.file_unit_m;
+  rep.up = opt.up != "auto" ? opt.up : scene.default_up();
+
+  std::vector<MaterialSoup> soups = scene.triangles_by_material(file_to_plant_frame(rep), &rep);
+  if (rep.triangles_in == 0) throw InputError(path + ": the file holds no triangles");
+  check_geometry(path, soups);
+  warn_duplicates(&rep);
+  move_base_to_origin(&soups);
+
+  const std::vector<std::optional<ClassRule>> class_of = classify_materials(path, soups, rules, opt);
+  const std::vector<Look> looks = material_looks(scene, soups, class_of, opt, &rep);
+  const std::vector<Component> fruits = material_parts(soups, class_of, looks, opt, &plant);
+  std::vector<Component> whole = whole_fruits(path, fruits, soups, class_of, opt, &rep);
+  add_fruit_parts(whole, soups, class_of, looks, opt, &plant);
+  simplify_to_budget(path, opt, &plant);
+  measure(&plant);
   return plant;
 }
 
 TriMesh read_mesh_file(const std::string& path, std::vector<FaceUv>* uv) {
-  Assimp::Importer importer;
-  const aiScene* scene = read_scene(importer, path);
-  std::vector<MaterialSoup> soups;
+  const PlantScene scene(path);
   ImportReport rep;
-  collect_triangles(scene, Eigen::Matrix4d::Identity(), &soups, &rep);
+  const std::vector<MaterialSoup> soups = scene.triangles_by_material(Eigen::Matrix4d::Identity(), &rep);
   std::vector<std::array<Vec3, 3>> all;
   std::vector<FaceUv> all_uv;
   long without_uv = 0;

@@ -175,6 +175,33 @@ TEST(Mission, PredefinedReplacesFailedScriptedViews) {
   EXPECT_EQ(views_csv(Mission(w.world, o, 1).run(), "ours"), views_csv(Mission(w.world, w.settings, 1).run(), "ours"));
 }
 
+// canopy's own planner (nbv/planners/reveal/) in the mission on the small world: one view per
+// round, each scored by the surface it reveals (positive) and tagged "reveal", coverage grows,
+// and it never reads the truth.
+TEST(Mission, RevealTakesViewsThatRevealSurfaceOneAtATime) {
+  const SmallWorld& w = small();
+  Settings s = w.settings;
+  s.method.name = "reveal";
+  const nbv::ViewPlannerEntry* e = nbv::find_view_planner("reveal");
+  ASSERT_NE(e, nullptr);
+  EXPECT_FALSE(e->reads_ground_truth);
+  Mission m(w.world, s, 1);
+  const MissionResult r = m.run();
+  int nbv_ok = 0;
+  double before = 0.0;
+  for (const ViewRecord& v : r.views) {
+    if (v.phase == ViewPhase::kInitial && v.success) before = v.coverage;
+    if (v.phase != ViewPhase::kNbv || !v.success) continue;
+    ++nbv_ok;
+    EXPECT_GE(v.gain, 1.0);  // at least one surface voxel revealed
+    EXPECT_EQ(v.source, "reveal");
+  }
+  EXPECT_EQ(nbv_ok, 3);
+  ASSERT_EQ(r.stops.size(), 1u);
+  EXPECT_GE(r.stops[0].rounds, 3);  // one view per round
+  EXPECT_GT(r.final_metrics.coverage, before);
+}
+
 // The replacement candidates of a scripted view: its pattern neighbours, nearest first.
 TEST(Mission, ScanReplacementsAreThePatternsNeighboursNearestFirst) {
   ScanParams p;

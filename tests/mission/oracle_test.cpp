@@ -1,20 +1,36 @@
-// The oracle (it reads the ground truth): the truth scorer on a hand-built scene (a fruit
-// behind a leaf), its coarse render against the full one and an analytic count, branch and
-// bound against scoring every view, the oracle planners in a mission, and the candidate audit.
+// The oracle's room (mission/oracle/; it reads the ground truth): the truth scorer with the
+// simulator's render (make_truth_scorer) on a hand-built scene (a fruit behind a leaf), its
+// coarse render against the full one and an analytic count, branch and bound against scoring
+// every view, the oracle planners in a mission, the candidate audit and candidates.csv read by
+// its header. The scorer alone, on an analytic render: tests/evaluation/truth_score_test.cpp.
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <set>
+#include <sstream>
 
 #include "canopy/common/error.h"
 #include "canopy/common/io.h"
 #include "canopy/mission/mission.h"
 #include "canopy/mission/oracle.h"
+#include "canopy/nbv/gains.h"
 #include "canopy/world/world_spec.h"
 
 namespace canopy::mission {
 namespace {
+
+using evaluation::TruthScore;
+using evaluation::TruthViewScorer;
+
+// The mission's truth scorer of `sim` at the camera divided by `downsample`.
+std::unique_ptr<TruthViewScorer> scorer_of(sim::Simulator& sim, const CameraIntrinsics& K, int downsample) {
+  OracleParams p;
+  p.render_downsample = downsample;
+  p.depth_tolerance_m = 0.005;
+  return make_truth_scorer(sim, K, p);
+}
 
 const Vec3 kFruit(0.0, 0.5, 1.0);
 constexpr double kRadius = 0.04;
@@ -54,7 +70,8 @@ std::size_t facing(const std::vector<evaluation::UncoveredPoint>& pts, const Vec
 TEST(Oracle, FruitBehindALeafIsNotSeenAndTheUnoccludedViewWins) {
   sim::Simulator sim(fruit_behind_leaf());
   const CameraIntrinsics K;
-  TruthViewScorer scorer(sim, K, 4, 0.005);
+  const auto owned = scorer_of(sim, K, 4);
+  TruthViewScorer& scorer = *owned;
   const std::vector<evaluation::UncoveredPoint> pts = fruit_points(2000);
   scorer.set_points(pts);
   const Vec3 eye_leaf(0.0, 0.1, 1.0), eye_side(0.4, 0.5, 1.0), eye_top(0.0, 0.5, 1.4);
@@ -70,7 +87,7 @@ TEST(Oracle, FruitBehindALeafIsNotSeenAndTheUnoccludedViewWins) {
   const std::size_t side = scorer.visible(views[1]);
   EXPECT_GE(side, facing(pts, eye_side, std::cos(70.0 * M_PI / 180.0)));
   EXPECT_LE(side, facing(pts, eye_side, 0.0));
-  const std::vector<TruthScore> best = best_truth_views(scorer, &views, 1);
+  const std::vector<TruthScore> best = evaluation::best_truth_views(scorer, &views, 1);
   ASSERT_EQ(best.size(), 1u);
   EXPECT_TRUE(best[0].view == 1 || best[0].view == 2);  // an unoccluded view, never the one behind the leaf
   EXPECT_GE(best[0].score, side);
@@ -79,7 +96,8 @@ TEST(Oracle, FruitBehindALeafIsNotSeenAndTheUnoccludedViewWins) {
 TEST(Oracle, CoarseRenderAgreesWithTheFullOne) {
   sim::Simulator sim(fruit_behind_leaf());
   const CameraIntrinsics K;
-  TruthViewScorer full(sim, K, 1, 0.005), coarse(sim, K, 4, 0.005);
+  const auto full_scorer = scorer_of(sim, K, 1), coarse_scorer = scorer_of(sim, K, 4);
+  TruthViewScorer &full = *full_scorer, &coarse = *coarse_scorer;
   const std::vector<evaluation::UncoveredPoint> pts = fruit_points(2000);
   full.set_points(pts);
   coarse.set_points(pts);
@@ -100,7 +118,8 @@ TEST(Oracle, CoarseRenderAgreesWithTheFullOne) {
 
 TEST(Oracle, BranchAndBoundEqualsScoringEveryView) {
   sim::Simulator sim(fruit_behind_leaf());
-  TruthViewScorer scorer(sim, CameraIntrinsics{}, 4, 0.005);
+  const auto owned = scorer_of(sim, CameraIntrinsics{}, 4);
+  TruthViewScorer& scorer = *owned;
   scorer.set_points(fruit_points(1500));
   ViewSphere sphere;
   sphere.radius_m = 0.35;
@@ -118,7 +137,7 @@ TEST(Oracle, BranchAndBoundEqualsScoringEveryView) {
   std::stable_sort(every.begin(), every.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
   const std::size_t renders_before = scorer.renders();
   std::vector<Pose> copy = views;
-  const std::vector<TruthScore> best = best_truth_views(scorer, &copy, 5);
+  const std::vector<TruthScore> best = evaluation::best_truth_views(scorer, &copy, 5);
   ASSERT_EQ(best.size(), 5u);
   for (std::size_t k = 0; k < 5; ++k) {
     EXPECT_EQ(best[k].view, every[k].second) << k;
@@ -127,7 +146,7 @@ TEST(Oracle, BranchAndBoundEqualsScoringEveryView) {
   EXPECT_LE(scorer.renders() - renders_before, views.size() - 10);  // the bound spared renders
   // A refused view is skipped.
   const std::vector<TruthScore> refused =
-      best_truth_views(scorer, &copy, 1, [&](std::size_t i, Pose*) { return i != every[0].second; });
+      evaluation::best_truth_views(scorer, &copy, 1, [&](std::size_t i, Pose*) { return i != every[0].second; });
   ASSERT_EQ(refused.size(), 1u);
   EXPECT_NE(refused[0].view, every[0].second);
 }
@@ -220,28 +239,65 @@ TEST(Oracle, CandidateAuditScoresEveryCandidateByEveryGainAndTheTruth) {
   EXPECT_THROW(gain_truth({file + ".missing"}), InputError);
 }
 
-// canopy's own planner on the small world: one view per round, each scored by the surface it
-// reveals (positive), coverage grows, and it never reads the truth.
-TEST(Reveal, TakesViewsThatRevealSurfaceOneAtATime) {
-  OracleWorld w;
-  w.settings.method.name = "reveal";
-  const nbv::ViewPlannerEntry* e = nbv::find_view_planner("reveal");
-  ASSERT_NE(e, nullptr);
-  EXPECT_FALSE(e->reads_ground_truth);
-  Mission m(w.world, w.settings, 1);
-  const MissionResult r = m.run();
-  int nbv_ok = 0;
-  double before = 0.0;
-  for (const ViewRecord& v : r.views) {
-    if (v.phase == ViewPhase::kInitial && v.success) before = v.coverage;
-    if (v.phase != ViewPhase::kNbv || !v.success) continue;
-    ++nbv_ok;
-    EXPECT_GE(v.gain, 1.0);  // at least one surface voxel revealed
+// candidates.csv is read by its header's names: columns in another order give the same table,
+// a missing score column is named; the scores are the gain registry's, osamcep once per
+// proximity test.
+TEST(Oracle, CandidatesCsvIsReadByItsHeader) {
+  std::vector<std::string> expected;
+  for (const nbv::GainEntry& g : nbv::gain_registry()) {
+    if (!g.uses_proximity) expected.push_back(g.name);
+    else
+      for (const auto& p : nbv::kProximityNames) expected.push_back(g.name + "_" + p.name);
   }
-  EXPECT_EQ(nbv_ok, 3);
-  ASSERT_EQ(r.stops.size(), 1u);
-  EXPECT_GE(r.stops[0].rounds, 3);  // one view per round
-  EXPECT_GT(r.final_metrics.coverage, before);
+  EXPECT_EQ(audit_score_names(), expected);
+  ASSERT_EQ(expected.size(), nbv::gain_registry().size() + 1);
+  // Two rounds of three candidates; score k of candidate i is (i * (k + 1)) % 5.
+  std::vector<CandidateRecord> records;
+  for (int round = 0; round < 2; ++round)
+    for (int i = 0; i < 3; ++i) {
+      CandidateRecord r;
+      r.round = round;
+      r.planner_gain = double(3 - i);
+      r.truth = std::size_t(i + round);
+      r.frustum = r.truth + 1;
+      for (std::size_t k = 0; k < expected.size(); ++k) r.scores.push_back(double((i * int(k + 1)) % 5));
+      records.push_back(r);
+    }
+  const std::string csv = candidates_csv(records);
+  const std::string file = testing::TempDir() + "/oracle_test_header.csv";
+  write_file_atomic(file, csv);
+  const std::vector<GainTruthRow> rows = gain_truth({file});
+  // The same file with its columns reversed.
+  std::string reversed;
+  std::istringstream in(csv);
+  for (std::string line; std::getline(in, line);) {
+    std::vector<std::string> f;
+    std::istringstream ls(line);
+    for (std::string item; std::getline(ls, item, ',');) f.push_back(item);
+    std::reverse(f.begin(), f.end());
+    for (std::size_t k = 0; k < f.size(); ++k) reversed += (k ? "," : "") + f[k];
+    reversed += "\n";
+  }
+  write_file_atomic(file + ".rev", reversed);
+  const std::vector<GainTruthRow> again = gain_truth({file + ".rev"});
+  ASSERT_EQ(rows.size(), expected.size() + 1);
+  ASSERT_EQ(again.size(), rows.size());
+  EXPECT_EQ(rows[0].agreement.rounds, 2u);
+  EXPECT_NEAR(rows[0].agreement.mean_spearman(), -1.0, 1e-12);  // the planner ranks the truth backwards
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    EXPECT_EQ(again[k].score, rows[k].score);
+    EXPECT_EQ(again[k].agreement.rounds, rows[k].agreement.rounds);
+    EXPECT_EQ(again[k].agreement.mean_spearman(), rows[k].agreement.mean_spearman()) << rows[k].score;
+    EXPECT_EQ(again[k].agreement.mean_rank(), rows[k].agreement.mean_rank()) << rows[k].score;
+  }
+  // A file without the column of a score is refused, naming the column.
+  write_file_atomic(file + ".short", "stop,round,planner_gain,truth\n0,0,1,2\n");
+  try {
+    gain_truth({file + ".short"});
+    ADD_FAILURE() << "a candidates.csv without its score columns was read";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("no column 'osamcep_per_voxel'"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

@@ -6,6 +6,8 @@
 
 #include "../mapping/synthetic.h"
 #include "canopy/mapping/scan_inserter.h"
+#include "canopy/nbv/nbv_params.h"
+#include "canopy/nbv/voxel_index.h"
 #include "canopy/perception/semantic_extractor.h"
 
 namespace canopy::nbv_test {
@@ -34,5 +36,13 @@ inline mapping::SemanticOcTree scanned_map(int views = 4) {
   }
   return map;
 }
+
+/// The scene's map, its voxel index, default settings and camera.
+struct Fixture {
+  mapping::SemanticOcTree map = scanned_map();
+  nbv::VoxelIndex index{map};
+  nbv::NbvParams params;
+  CameraIntrinsics K;
+};
 
 }  // namespace canopy::nbv_test

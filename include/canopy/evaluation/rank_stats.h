@@ -2,7 +2,7 @@
 // Rank statistics of a view score against the ground truth's score of the same views (the
 // oracle's): Spearman's rank correlation with ties, the oracle rank of a chosen view, and
 // their summary over many planning rounds. Pure arithmetic; the truth scores come from the
-// caller (mission/oracle.h computes them).
+// caller (the candidate audit of mission/oracle/ computes them).
 
 #include <cstddef>
 #include <optional>

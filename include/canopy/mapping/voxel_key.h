@@ -116,12 +116,18 @@ inline unsigned brick_cell(unsigned x, unsigned y, unsigned z) {
 constexpr int kGridBits = 21;
 constexpr std::int64_t kGridOrigin = std::int64_t{1} << (kGridBits - 1);
 
-/// The grid key of point p on a cubic grid of edge `res` (cell = floor(p / res) per axis).
-inline std::uint64_t grid_key(const Vec3& p, double res) {
-  const auto k = (p / res).array().floor().cast<std::int64_t>() + kGridOrigin;
+/// A cell of an unbounded cubic grid: floor(p / res) per axis.
+using GridCell = Eigen::Array<std::int64_t, 3, 1>;
+/// The cell of point p on a cubic grid of edge `res`.
+inline GridCell grid_cell(const Vec3& p, double res) { return (p / res).array().floor().cast<std::int64_t>(); }
+/// The grid key of a cell (21 bits per axis around the origin).
+inline std::uint64_t grid_key(const GridCell& cell) {
+  const GridCell k = cell + kGridOrigin;
   return (static_cast<std::uint64_t>(k.x()) << (2 * kGridBits)) | (static_cast<std::uint64_t>(k.y()) << kGridBits) |
          static_cast<std::uint64_t>(k.z());
 }
+/// The grid key of point p on a cubic grid of edge `res` (its cell's key).
+inline std::uint64_t grid_key(const Vec3& p, double res) { return grid_key(grid_cell(p, res)); }
 /// Centre of the cell with grid key `key`.
 inline Vec3 grid_center(std::uint64_t key, double res) {
   constexpr std::uint64_t mask = (std::uint64_t{1} << kGridBits) - 1;

@@ -9,6 +9,7 @@
 
 #include "canopy/common/types.h"
 #include "canopy/common/params.h"
+#include "canopy/nbv/view_planner.h"
 
 namespace canopy::world {
 struct WorldSpec;
@@ -121,7 +122,7 @@ struct RecordParams {
   }
 };
 
-/// The oracle planners (methods oracle, oracle_any; mission/oracle.h). They READ THE GROUND
+/// The oracle planners (methods oracle, oracle_any; mission/oracle/oracle_planners.h). They READ THE GROUND
 /// TRUTH: a view's score is the number of not yet covered target-fruit surface points it sees.
 struct OracleParams {
   int render_downsample = 4;
@@ -198,6 +199,6 @@ std::vector<ScanView> scan_view_list(const ScanParams& params, const world::Worl
 /// left out. Ties keep grid order, so the list is deterministic.
 std::vector<ScanView> scan_replacements(const ScanParams& params, const Pose& T_base_arm, const ScanView& failed);
 /// True when two camera poses are the same view (within 1 mm and 0.1 deg).
-bool same_view(const Pose& a, const Pose& b);
+using nbv::same_view;
 
 }  // namespace canopy::mission

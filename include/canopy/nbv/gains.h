@@ -63,6 +63,8 @@ struct GainEntry {
   std::string name;
   std::string description;
   std::function<std::unique_ptr<GainFunction>(const GainParams&)> make;
+  /// It reads GainParams::proximity (osamcep): an audit scores each proximity test apart.
+  bool uses_proximity = false;
 };
 
 /// All gains, in the paper's order: osamcep, ae, uvc, uvpc, oae, mi, rs.

@@ -1,6 +1,8 @@
 #pragma once
-// Parameters of the next-best-view core (paper Methods (iii), Table I; docs/background/nbv_pipeline.md).
-// Defaults equal the paper's values; configs/nbv.yaml restates them.
+// Parameters of the next-best-view core (paper Methods (iii), Table I; docs/background/nbv_pipeline.md)
+// and the nbv section of the settings bundle, which holds every planner's own parameters (from
+// its room, planners/<name>/<name>_params.h). Defaults equal the paper's values; configs/nbv.yaml
+// restates them.
 
 #include <yaml-cpp/yaml.h>
 
@@ -9,6 +11,11 @@
 
 #include "canopy/common/params.h"
 #include "canopy/common/view_sphere.h"
+// Each planner's own parameters live in its room; the bundle composes them here.
+#include "canopy/nbv/planners/frontier/frontier_params.h"
+#include "canopy/nbv/planners/global/global_params.h"
+#include "canopy/nbv/planners/ours/ours_params.h"
+#include "canopy/nbv/planners/reveal/reveal_params.h"
 
 namespace canopy::nbv {
 
@@ -90,37 +97,6 @@ struct GainParams {
   }
 };
 
-/// Cluster planner.
-struct PlannerParams {
-  int top_k = 1;
-
-  template <class A>
-  void visit(A& a) {
-    a("top_k", top_k, limits::in(1, 1000), "Views kept per cluster (prototype: 1)");
-  }
-};
-
-/// The global view planner (planners/global.h): weighted set cover of the uncertain voxels
-/// near the fruit clusters by the stop's reachable candidates, costed by arm motion.
-struct GlobalParams {
-  double roi_radius_m = 0.08;
-  double min_visibility = 0.25;
-  double motion_weight_per_rad = 0.1;
-  double cover_fraction = 0.9;
-
-  template <class A>
-  void visit(A& a) {
-    a("roi_radius_m", roi_radius_m, limits::positive(),
-      "A voxel counts when its centre lies within this of a fruit cluster's centroid [m]");
-    a("min_visibility", min_visibility, limits::above_up_to(0.0, 1.0),
-      "A view observes a voxel while prod (1 - p_occ) of the occupied voxels before it on a ray is at least this");
-    a("motion_weight_per_rad", motion_weight_per_rad, limits::at_least(0.0),
-      "Cost of a view: 1 + this x its joint-space distance from the arm now [1/rad]");
-    a("cover_fraction", cover_fraction, limits::above_up_to(0.0, 1.0),
-      "A batch ends once its views observe this share of what all candidates observe");
-  }
-};
-
 /// Bookkeeping rules of the view planners.
 struct ViewRules {
   double taken_position_m = 0.01;
@@ -135,51 +111,6 @@ struct ViewRules {
     a("done_epsilon_m", done_epsilon_m, limits::positive(),
       "A done cluster stays done while a later centroid lies this close [m]");
   }
-};
-
-/// Zaenker et al.'s ROI frontier planner as implemented (docs/background/frontier_baseline.md).
-struct FrontierParams {
-  int max_targets = 100;
-  double min_view_distance_m = 0.3;
-  double max_view_distance_m = 0.5;
-  double roi_inflation_radius_m = 0.3;
-  double roi_inflation_resolution_m = 0.05;
-  double unknown_low = 0.4;
-  double unknown_high = 0.6;
-  double unknown_weight = 0.5;
-  double roi_weight = 0.5;
-  double distance_cost_per_m = 0.2;
-  double roi_utility_threshold = 0.2;
-
-  template <class A>
-  void visit(A& a) {
-    a("max_targets", max_targets, limits::in(1, 100000), "Targets drawn per kind (uniformly, with replacement)");
-    a("min_view_distance_m", min_view_distance_m, limits::positive(), "Camera origin at U(min, max) from its target [m]");
-    a("max_view_distance_m", max_view_distance_m, limits::positive(), "... [m]");
-    a("roi_inflation_radius_m", roi_inflation_radius_m, limits::positive(),
-      "Inflated ROI falls linearly from 1 to 0 at this radius [m]");
-    a("roi_inflation_resolution_m", roi_inflation_resolution_m, limits::positive(), "Cell of the inflated ROI [m]");
-    a("unknown_low", unknown_low, limits::in(0.0, 1.0), "Known voxels with p in (low, high] count as unknown");
-    a("unknown_high", unknown_high, limits::in(0.0, 1.0), "The utility ray stops at the first voxel with p > high");
-    a("unknown_weight", unknown_weight, limits::finite(), "An unknown voxel adds unknown_weight + roi_weight * inflated ROI");
-    a("roi_weight", roi_weight, limits::finite(), "See unknown_weight");
-    a("distance_cost_per_m", distance_cost_per_m, limits::finite(), "Utility -= this * distance from the current camera");
-    a("roi_utility_threshold", roi_utility_threshold, limits::finite(),
-      "ROI views are used when the best ROI utility exceeds this");
-    a.check(max_view_distance_m >= min_view_distance_m, "max_view_distance_m", "must be >= min_view_distance_m");
-    a.check(unknown_high >= unknown_low, "unknown_high", "must be in [unknown_low, 1]");
-  }
-};
-
-/// canopy's own planner "reveal" (planners/reveal.h): ours' clusters and reach test, one view
-/// at a time on the latest map, scored by the fruit surface it would reveal.
-struct RevealParams {
-  std::vector<double> radii_m = {0.4};
-  int unknown_pass = 3;
-  int max_views = 5;
-
-  template <class A>
-  void visit(A& a);
 };
 
 /// All next-best-view settings (configs/nbv.yaml sections).
@@ -208,13 +139,5 @@ struct NbvParams {
   }
   bool operator==(const NbvParams& o) const { return same_params(*this, o); }
 };
-
-template <class A>
-void RevealParams::visit(A& a) {
-  a("radii_m", radii_m, limits::in(0.05, 2.0), "Candidate spheres around each cluster (each like nbv.candidates.sphere) [m]");
-  a("unknown_pass", unknown_pass, limits::in(0, 100000),
-    "A sight line to a surface voxel may cross this many unknown voxels (occupied ones always block)");
-  a("max_views", max_views, limits::in(1, 1000), "Views per round, best first, tried until one succeeds");
-}
 
 }  // namespace canopy::nbv

@@ -1,12 +1,10 @@
 #pragma once
 // One interface for the methods that choose the robot's next views, chosen by name from one
-// registry (view_planner_registry), and the bookkeeping they share. One file per planner
-// (nbv/planners/):
-//  - ours: the paper's cluster-centric planner (planners/ours.h);
-//  - frontier: Zaenker et al.'s ROI / exploration frontier planner as implemented
-//    (planners/frontier.h);
-//  - predefined: dense predefined scanning, no planning (planners/predefined.h);
-//  - global: a weighted set cover of the stop's candidates (planners/global.h).
+// registry (view_planner_registry), and the bookkeeping they share. Each built-in planner has
+// its room, nbv/planners/<name>/ (algorithm, parameters, registry entry), listed in one table
+// (planners/planners.h): ours, frontier, predefined, global and canopy's own reveal. Planners
+// from outside this library join through register_view_planner: the oracles of mission/oracle/
+// (they read the ground truth) and a planner written in Python.
 // Planners see only the map, the robot's state and its budget (MuJoCo-free, so the same
 // planner could drive a real robot); reachability comes in as callbacks.
 
@@ -21,7 +19,7 @@
 #include "canopy/common/timer.h"
 #include "canopy/common/params.h"
 #include "canopy/nbv/gains.h"
-#include "canopy/nbv/planner.h"
+#include "canopy/nbv/view_evaluator.h"
 #include "canopy/nbv/ray_sets.h"
 
 namespace canopy::nbv {
@@ -35,7 +33,7 @@ struct PlannedView {
   double shift_m = 0.0;                    ///< Move along the viewing direction by the filter.
   bool has_q = false;                      ///< q: IK solution found by the reachability check.
   ArmConfig q{};
-  std::string source;                      ///< "nbv", "roi", "exploration", "predefined".
+  std::string source;                      ///< Who chose it: "nbv" (ours), "roi", "exploration", "predefined", "global", "reveal", ...
 };
 
 /// How the mission executes a batch.
@@ -85,6 +83,26 @@ struct PlannerTraits {
   bool scripted = false;
   /// Every view of a kTour batch is attempted, even past the stop's budget of successful views.
   bool execute_whole_batch = false;
+  /// A scripted view (the initial scan's or ViewRequest::scripted) that fails is handed to
+  /// replace_failed (when the mission's scan settings allow replacements).
+  bool replaces_failed = false;
+};
+
+/// True when two camera poses are the same view (within 1 mm and 0.1 deg).
+bool same_view(const Pose& a, const Pose& b);
+
+/// A scripted view the robot could not take, what the controller offers in its place and how
+/// it attempts a view (ViewPlanner::replace_failed).
+struct FailedScriptedView {
+  PlannedView failed;                ///< The view that failed.
+  std::vector<PlannedView> options;  ///< Views of the stop's scan pattern around it, nearest first.
+  std::vector<Pose> scripted;        ///< The stop's whole scan pattern (initial and extra views).
+  int max_attempts = 0;              ///< Replacements attempted at most.
+  const int* attempts_left = nullptr;  ///< The stop's attempt budget, when it has one (attempt() spends it).
+  /// True when the arm has an IK solution for the view at this base.
+  std::function<bool(const PlannedView&)> reachable;
+  /// Executes the view and records it; true when it succeeded.
+  std::function<bool(const PlannedView&)> attempt;
 };
 
 /// Views already taken: a candidate within the tolerances of one of them is never taken again.
@@ -130,6 +148,9 @@ class ViewPlanner {
   virtual void taken(const Pose& T_world_camera) { taken_.add(T_world_camera); }
   /// A new base stop begins.
   virtual void begin_stop() {}
+  /// Replaces a scripted view that failed by attempting others through `request.attempt`
+  /// (PlannerTraits::replaces_failed); true when one succeeded. Default: no replacement.
+  virtual bool replace_failed(const FailedScriptedView& /*request*/) { return false; }
   const TakenViews& taken_views() const { return taken_; }
 
  protected:
@@ -176,7 +197,7 @@ struct ViewPlannerEntry {
 /// A PlannedView of a scored candidate (what the filter moved, the IK it found).
 PlannedView planned_view(const Candidate& candidate, double gain, const std::string& source);
 
-/// The registry: ours, frontier, predefined, then the registered planners in the order they
+/// The registry: the built-in planners (builtin_view_planners), then the registered planners in the order they
 /// were registered.
 std::vector<ViewPlannerEntry> view_planner_registry();
 /// Adds a planner under a new name, from outside this library (another module of canopy, or

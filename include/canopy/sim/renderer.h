@@ -10,6 +10,7 @@
 #include "canopy/common/frame.h"
 #include "canopy/common/random.h"
 #include "canopy/sim/simulator.h"
+#include "canopy/sim/video_frame_cache.h"
 
 namespace canopy::sim {
 
@@ -56,10 +57,10 @@ class Renderer {
   /// robot casts none on the kept world).
   Image<Rgb8> render_video_frame(const Pose& T_world_camera, const std::string& caption);
   /// How the last render_video_frame was made.
-  enum class VideoPath { kFull, kRobotOnly, kReused };
-  VideoPath last_video_path() const { return video_path_; }
+  using VideoPath = sim::VideoPath;
+  VideoPath last_video_path() const { return video_.last_path(); }
   /// Pixels of the robot's screen rectangle in the last robot-only frame (0 when it was out of view).
-  long last_robot_rect_pixels() const { return robot_rect_pixels_; }
+  long last_robot_rect_pixels() const { return video_.robot_rect_pixels(); }
   /// Triangles drawn in the last frame (meshes exactly, primitives as tessellated).
   long last_triangle_count() const { return last_triangles_; }
   /// Geoms drawn in the last frame, and geoms of the scene before culling.
@@ -102,14 +103,7 @@ class Renderer {
   long last_triangles_ = 0;
   int drawn_geoms_ = 0, scene_geoms_ = 0;
   bool culling_ = true;
-  Pose video_T_ = Pose::Identity();
-  std::string video_caption_;
-  bool video_background_ = false;  // the kept world (and frame buffers) are valid
-  bool video_captioned_ = false;    // the kept world carries video_caption_
-  std::vector<float> video_robot_;  // the robot geoms' poses in the last frame
-  std::array<int, 4> video_rect_{0, 0, 0, 0}, caption_box_{0, 0, 0, 0};
-  VideoPath video_path_ = VideoPath::kFull;
-  long robot_rect_pixels_ = 0;
+  VideoFrameCache video_;  ///< the still-camera video frame: kept world, caption, robot rectangle
 };
 
 }  // namespace canopy::sim

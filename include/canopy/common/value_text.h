@@ -1,0 +1,36 @@
+#pragma once
+// Numbers and poses as text: numbers formatted for CSV and report files, command-line values
+// parsed strictly, poses as JSON.
+
+#include <nlohmann/json.hpp>
+
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "canopy/common/types.h"
+
+namespace canopy {
+
+/// A number as text for CSV and report files, by a printf format for one double
+/// ("%.9g" keeps a float's value; "%.17g" a double's).
+std::string format_number(double x, const char* printf_format = "%.9g");
+
+/// Parses "a,b,c" into exactly `count` finite numbers (count < 0: any number); throws
+/// InputError naming `what` otherwise.
+std::vector<double> parse_numbers(const std::string& text, int count, const std::string& what);
+/// Parses a whole number in [0, max] written in decimal digits only (no sign, no wrap-around:
+/// "-1" and "99999999999999999999" are errors naming `what`).
+std::uint64_t parse_uint64(const std::string& text, const std::string& what,
+                           std::uint64_t max = std::numeric_limits<std::uint64_t>::max());
+/// Parses "x,y,z,qw,qx,qy,qz"; the quaternion must be unit length within 1e-3.
+Pose parse_pose7(const std::string& text, const std::string& what);
+/// Parses "x,y,yaw" (metres, radians).
+BasePose parse_base_pose(const std::string& text, const std::string& what);
+
+/// JSON of a pose as {"position":[x,y,z],"quaternion_wxyz":[w,x,y,z]}.
+nlohmann::json pose_to_json(const Pose& T);
+Pose pose_from_json(const nlohmann::json& j);
+
+}  // namespace canopy

@@ -1,0 +1,30 @@
+#pragma once
+// candidates.csv, written and read in one place: the candidate audit's records
+// (mission/oracle/candidate_audit.h) and the agreement of each score with the truth over
+// planning rounds (gain_truth.csv of `canopy report`).
+
+#include <string>
+#include <vector>
+
+#include "canopy/evaluation/rank_stats.h"
+#include "canopy/mission/oracle/candidate_audit.h"
+
+namespace canopy::mission {
+
+/// candidates.csv: stop,round,views_before,cluster,x,y,z,qw,qx,qy,qz,chosen,planner_gain,frustum,truth,<scores>.
+std::string candidates_csv(const std::vector<CandidateRecord>& records);
+
+/// Agreement of each score with the truth over planning rounds.
+struct GainTruthRow {
+  std::string score;                  ///< "planner" (the planner's own gain) or a score name.
+  evaluation::RankAgreement agreement;
+};
+
+/// Reads candidates.csv files by their header's column names and compares the planner's gain
+/// and every score of audit_score_names() with the truth, round by round (rounds with fewer
+/// than 2 candidates are left out). Throws InputError on a malformed file or a missing column.
+std::vector<GainTruthRow> gain_truth(const std::vector<std::string>& candidate_files);
+/// The table as CSV: score,rounds,spearman,top1,top5,mean_oracle_rank,truth_share.
+std::string gain_truth_csv(const std::vector<GainTruthRow>& rows);
+
+}  // namespace canopy::mission

@@ -1,0 +1,84 @@
+#include "canopy/common/value_text.h"
+
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <sstream>
+
+#include "canopy/common/error.h"
+
+namespace canopy {
+
+std::string format_number(double x, const char* printf_format) {
+  char b[64];
+  std::snprintf(b, sizeof b, printf_format, x);
+  return b;
+}
+
+std::vector<double> parse_numbers(const std::string& text, int count, const std::string& what) {
+  std::vector<double> out;
+  std::stringstream ss(text);
+  std::string item;
+  while (std::getline(ss, item, ',')) {
+    // Plain decimal numbers only: stod would also take hexadecimal ("0x10" = 16), "inf" and
+    // "nan".
+    const std::size_t first = item.find_first_not_of(" \t");
+    if (first == std::string::npos || item.find_first_not_of("0123456789+-.eE \t") != std::string::npos)
+      throw InputError(what + ": value '" + text + "': '" + item + "' is not a decimal number");
+    size_t used = 0;
+    double v = 0.0;
+    try {
+      v = std::stod(item, &used);
+    } catch (const std::exception&) {
+      throw InputError(what + ": value '" + text + "': '" + item + "' is not a number");
+    }
+    while (used < item.size() && std::isspace(static_cast<unsigned char>(item[used]))) ++used;
+    if (used != item.size()) throw InputError(what + ": value '" + text + "': '" + item + "' is not a number");
+    if (!std::isfinite(v)) throw InputError(what + ": value '" + text + "': '" + item + "' is not finite");
+    out.push_back(v);
+  }
+  if (count >= 0 && static_cast<int>(out.size()) != count)
+    throw InputError(what + ": value '" + text + "' must have " + std::to_string(count) +
+                     " comma-separated numbers, has " + std::to_string(out.size()));
+  return out;
+}
+
+std::uint64_t parse_uint64(const std::string& text, const std::string& what, std::uint64_t max) {
+  if (text.empty() || text.size() > 20 || text.find_first_not_of("0123456789") != std::string::npos)
+    throw InputError(what + ": value '" + text + "' is not a whole number >= 0");
+  errno = 0;
+  const unsigned long long v = std::strtoull(text.c_str(), nullptr, 10);
+  if (errno == ERANGE || v > max)
+    throw InputError(what + ": value '" + text + "' is larger than " + std::to_string(max));
+  return v;
+}
+
+Pose parse_pose7(const std::string& text, const std::string& what) {
+  const auto v = parse_numbers(text, 7, what);
+  const Quat q(v[3], v[4], v[5], v[6]);
+  if (std::abs(q.norm() - 1.0) > 1e-3)
+    throw InputError(what + ": value '" + text + "': quaternion (qw,qx,qy,qz) has norm " +
+                     std::to_string(q.norm()) + ", must be unit length");
+  return make_pose(Vec3(v[0], v[1], v[2]), q);
+}
+
+BasePose parse_base_pose(const std::string& text, const std::string& what) {
+  const auto v = parse_numbers(text, 3, what);
+  return BasePose{v[0], v[1], v[2]};
+}
+
+nlohmann::json pose_to_json(const Pose& T) {
+  const Quat q(T.linear());
+  const Vec3 t = T.translation();
+  return {{"position", {t.x(), t.y(), t.z()}}, {"quaternion_wxyz", {q.w(), q.x(), q.y(), q.z()}}};
+}
+
+Pose pose_from_json(const nlohmann::json& j) {
+  const auto& p = j.at("position");
+  const auto& q = j.at("quaternion_wxyz");
+  return make_pose(Vec3(p.at(0).get<double>(), p.at(1).get<double>(), p.at(2).get<double>()),
+                   Quat(q.at(0).get<double>(), q.at(1).get<double>(), q.at(2).get<double>(), q.at(3).get<double>()));
+}
+
+}  // namespace canopy

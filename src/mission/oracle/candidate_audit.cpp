@@ -1,0 +1,85 @@
+// The candidate audit (mission/oracle/candidate_audit.h). READS THE GROUND TRUTH.
+
+#include "canopy/mission/oracle/candidate_audit.h"
+
+#include <utility>
+
+#include "canopy/common/random.h"
+#include "canopy/mission/oracle/oracle_planners.h"
+#include "canopy/nbv/view_evaluator.h"
+
+namespace canopy::mission {
+
+namespace {
+
+// A score of the audit: a gain of the registry with the proximity test it is scored with.
+struct AuditScore {
+  std::string name;
+  const nbv::GainEntry* gain = nullptr;
+  nbv::Proximity proximity = nbv::Proximity::kPerSegmentEnd;
+  bool sets_proximity = false;
+};
+
+std::vector<AuditScore> audit_scores() {
+  std::vector<AuditScore> out;
+  for (const nbv::GainEntry& g : nbv::gain_registry()) {
+    if (!g.uses_proximity) {
+      out.push_back({g.name, &g});
+      continue;
+    }
+    for (const auto& p : nbv::kProximityNames) out.push_back({g.name + "_" + p.name, &g, p.value, true});
+  }
+  return out;
+}
+
+}  // namespace
+
+std::vector<std::string> audit_score_names() {
+  std::vector<std::string> names;
+  for (const AuditScore& s : audit_scores()) names.push_back(s.name);
+  return names;
+}
+
+CandidateAudit::CandidateAudit(const world::World& world, sim::Simulator& sim, const Settings& settings)
+    : world_(world), settings_(settings),
+      scorer_(make_truth_scorer(sim, world.spec.camera, settings.mission.oracle)) {
+  for (const AuditScore& s : audit_scores()) {
+    nbv::GainParams gp = settings.nbv.gain;
+    if (s.sets_proximity) gp.proximity = s.proximity;
+    gains_.push_back(nbv::make_gain(s.gain->name, gp, "audit"));
+  }
+}
+
+nbv::CandidateObserver CandidateAudit::observer() {
+  pending_.clear();
+  return [this](const nbv::ScoredView& v) { pending_.push_back(v); };
+}
+
+void CandidateAudit::end_round(const mapping::SemanticOcTree& map, const nbv::VoxelIndex& index,
+                               const nbv::ViewBatch& batch, int stop, int round, int views_before, std::uint64_t seed) {
+  if (pending_.empty()) return;
+  scorer_->set_points(evaluation::uncovered_target_points(map, world_.truth, settings_.mapping.metrics));
+  nbv::ViewEvaluator eval(index, world_.spec.camera, settings_.nbv.rays);
+  const nbv::RaySetEntry& rays = nbv::ray_set(settings_.method.rays, "method.rays");
+  const Pose* chosen = batch.views.empty() ? nullptr : &batch.views.front().T_world_camera;
+  bool chosen_marked = false;
+  for (std::size_t i = 0; i < pending_.size(); ++i) {
+    const nbv::ScoredView& v = pending_[i];
+    CandidateRecord r;
+    r.stop = stop;
+    r.round = round;
+    r.views_before = views_before;
+    r.cluster = v.candidate.cluster;
+    r.T_world_camera = v.candidate.T_world_camera;
+    r.planner_gain = v.score.gain;
+    if (chosen && !chosen_marked && r.T_world_camera.isApprox(*chosen, 1e-12)) r.chosen = chosen_marked = true;
+    r.frustum = scorer_->in_frustum(r.T_world_camera);
+    r.truth = scorer_->visible(r.T_world_camera);
+    for (const auto& g : gains_)
+      r.scores.push_back(eval.evaluate(v.candidate.T_world_camera, v.candidate.target, *g, rays, mix_seed(seed, i)).gain);
+    records_.push_back(std::move(r));
+  }
+  pending_.clear();
+}
+
+}  // namespace canopy::mission
