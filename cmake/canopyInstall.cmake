@@ -3,12 +3,12 @@
 #   find_package(canopy REQUIRED COMPONENTS mapping nbv motion)
 # and link canopy::mapping, canopy::nbv, canopy::motion. The MuJoCo-free libraries form one
 # export set (canopyTargets); sim, mission and experiments, which need MuJoCo and OSMesa, another
-# (canopySimTargets), loaded only for those components.
+# (canopySimTargets), loaded only for those components (jobs, over them all, is one of these).
 include(GNUInstallDirs)
 include(CMakePackageConfigHelpers)
 
 set(CANOPY_CORE_MODULES common robot world perception mapping datasets evaluation nbv motion)
-set(CANOPY_SIM_MODULES sim mission experiments)
+set(CANOPY_SIM_MODULES sim mission experiments jobs)
 set(CANOPY_INSTALL_CMAKEDIR ${CMAKE_INSTALL_LIBDIR}/cmake/canopy)
 
 set(canopy_core_targets canopy_ompl canopy_warnings)

@@ -1,57 +1,13 @@
 #include "cli_util.h"
 
-#include <spdlog/spdlog.h>
-
-#include "canopy/common/error.h"
-#include "canopy/evaluation/segmentation_check.h"
-#include "canopy/robot/robot_description.h"
+#include "canopy/common/data_dir.h"
 
 namespace canopy::cli {
 
 std::string default_world_path() { return "worlds/default.yaml"; }
 
-world::WorldSpec load_world_spec(const std::string& path, const RobotConfig& robot) {
-  world::WorldSpec spec = world::WorldSpec::load(find_data_file(path));
-  const robot::RobotDescription description = robot::RobotDescription::load_urdf(robot.urdf_path);
-  const std::string base_link = description.joint(robot.base_joints.back()).child_link;
-  spec.check_aisle(description.collision_half_width_m(base_link), robot.aisle_clearance_m);
-  spdlog::info("world '{}' from {}: {} plants, seed {}", spec.name, path, spec.plant_count(), spec.seed);
-  return spec;
-}
-
 mission::Settings load_settings(const std::string& path) {
   return mission::Settings::load(find_data_file(path), default_robot_config());
-}
-
-world::World build_world(const world::WorldSpec& spec) {
-  world::World w = world::generate_world(spec);
-  for (const std::string& note : world::unplaced_fruit_notes(w)) spdlog::warn("world '{}': {}", spec.name, note);
-  return w;
-}
-
-void check_world_colours(const world::World& world, const perception::ExtractorParams& extractor) {
-  const bool colour = extractor.source == perception::LabelSource::kColor;
-  for (const auto& m : evaluation::check_color_segmentation(world, extractor.color)) {
-    const std::string what = m.plant + ": material '" + m.material + "'";
-    if (m.problem.empty()) {
-      spdlog::info("{} ({}{}): colour segmentation labels its {} {}", what, m.class_name, m.target ? "" : ", unripe",
-                   m.textured ? "texture" : "colour", m.shares(world.spec.classes));
-      continue;
-    }
-    const bool blind_target = m.class_name == world.spec.classes.target && m.target;
-    if (colour && blind_target)
-      throw InputError(what + ": " + m.problem + " (labels: color; give the plant fruit-coloured materials, or map with "
-                       "--seg truth)");
-    spdlog::warn("{}: {}", what, m.problem);
-  }
-}
-
-YAML::Node run_record(const std::string& command, const world::WorldSpec& spec) {
-  YAML::Node n;
-  n["command"] = command;
-  n["world_file"] = spec.source_file;
-  n["world"] = YAML::Load(spec.to_json().dump());  // JSON is YAML
-  return n;
 }
 
 }  // namespace canopy::cli

@@ -1,7 +1,7 @@
 // canopy ablate: the paper's ablation (Fig. 5 and 6) with a free-moving camera (no arm).
 // Parses the flags into an experiments::AblationPlan (the configuration matrix of
-// experiments::ablation_matrix) and calls experiments::run_ablation (ablation_runner.h), then
-// prints the table and draws the plots.
+// experiments::ablation_matrix) and calls jobs::run_ablation_job (canopy/jobs/ablation_job.h),
+// which runs it, draws the plots and publishes the folder; prints the table.
 
 #include <spdlog/spdlog.h>
 
@@ -12,10 +12,7 @@
 
 #include "canopy/common/error.h"
 #include "canopy/common/interrupt.h"
-#include "canopy/common/io.h"
-#include "canopy/common/process.h"
-#include "canopy/experiments/ablation_runner.h"
-#include "canopy/mission/mission.h"
+#include "canopy/jobs/ablation_job.h"
 #include "canopy/nbv/gains.h"
 #include "canopy/nbv/ray_sets.h"
 #include "cli_util.h"
@@ -147,7 +144,8 @@ void add_ablate_command(CLI::App& app) {
       sweeps.push_back(sw);
     }
 
-    experiments::AblationPlan plan;
+    jobs::AblationJobParams job;
+    experiments::AblationPlan& plan = job.plan;
     plan.settings.protocol = experiments::ablation_protocol_from_string(o.protocol, "--protocol");
     plan.settings.views = o.views;
     plan.settings.initial_views = o.initial_views;
@@ -161,56 +159,20 @@ void add_ablate_command(CLI::App& app) {
     plan.configs = experiments::ablation_matrix(gains, rays, pgts, proximities, sweeps);
     for (const auto& c : plan.configs) experiments::ablation_job_settings(bundle, c, plan.settings);  // validates
 
-    world::WorldSpec spec = load_world_spec(o.world);
-    spec.camera.depth_noise_k = 0.0;  // segmentation noise only, and renderers stay stateless
-    const world::World world = build_world(spec);
-    check_world_colours(world, bundle.mapping.extractor);
-    plan.world_name = spec.name;
-    if (o.plants > int(world.plants.size()))
-      throw InputError("--plants: " + std::to_string(o.plants) + " but the world has " +
-                       std::to_string(world.plants.size()));
-
-    // Only --resume (or --summarize-only) adds to an existing folder; a fresh run replaces it.
-    const bool reuse = o.resume || o.summarize_only;
-    StagedDir out_dir(o.out, "ablate", reuse ? StagedDir::Mode::kResume : StagedDir::Mode::kReplace);
-    experiments::AblationRunOptions run;
-    run.threads = o.threads;
-    run.resume = o.resume;
-    run.summarize_only = o.summarize_only;
-    run.coverage_target = o.coverage_target;
-    run.progress = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
-    run.stop_requested = [] { return interrupt_requested(); };
-    const experiments::AblationRunResult r = experiments::run_ablation(plan, bundle, world, out_dir, run);
-    if (r.interrupted) {  // the finished jobs stay; --resume continues the folder
-      out_dir.keep();
-      throw Interrupted("interrupted; the finished jobs are kept in " + out_dir.working_dir() +
-                        ", and the same command with --resume continues");
-    }
-    print_table(r.rows, o.views);
-    if (!o.no_plots) {
-      const std::string script = find_data_file("tools/plot_ablation.py");
-      const ProcessStatus plot = run_process({"/usr/bin/python3", script, out_dir.working_dir()});
-      if (!plot.ok()) spdlog::warn("plots failed (needs python3-matplotlib): {} {}: {}", script, o.out, plot.describe());
-    }
-    out_dir.commit();
-    std::printf("ablation done in %.0f s; wrote %s (summary.csv, table.csv, trials/, jobs/, *.png)\n", r.seconds,
+    job.world_file = o.world;
+    job.out = o.out;
+    job.run.threads = o.threads;
+    job.run.resume = o.resume;
+    job.run.summarize_only = o.summarize_only;
+    job.run.coverage_target = o.coverage_target;
+    job.run.progress = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
+    job.run.stop_requested = [] { return interrupt_requested(); };
+    job.plots = !o.no_plots;
+    job.on_summary = [&o](const experiments::AblationRunResult& r) { print_table(r.rows, o.views); };
+    const jobs::AblationJobResult r = jobs::run_ablation_job(job, bundle);
+    std::printf("ablation done in %.0f s; wrote %s (summary.csv, table.csv, trials/, jobs/, *.png)\n", r.run.seconds,
                 o.out.c_str());
-    // A zero never goes unexplained.
-    bool all_zero = !r.rows.empty();
-    long target_points = 0, true_pixels = 0, uncounted = 0;
-    for (const auto& row : r.rows) {
-      all_zero = all_zero && row.final_coverage == 0.0;
-      target_points += row.target_points;
-      true_pixels += row.true_target_pixels;
-      uncounted += row.steps_without_counts;
-    }
-    if (all_zero && uncounted > 0)
-      std::printf("fruit coverage is 0 in every configuration; %ld views come from job files of an older canopy that "
-                  "did not count target pixels: rerun without --resume to learn why\n", uncounted);
-    else if (all_zero)
-      std::printf("fruit coverage is 0 in every configuration: %s\n",
-                  mission::zero_coverage_cause(world.spec.classes.target, bundle.mapping.extractor.source, target_points,
-                                               true_pixels).c_str());
+    if (!r.zero_coverage.empty()) std::printf("%s\n", r.zero_coverage.c_str());
   });
 }
 

@@ -85,8 +85,8 @@ void add_bench_map(CLI::App& bench) {
   sub->add_option("--repeats", opt->repeats, "Runs over all frames, averaged")->capture_default_str()->check(CLI::Range(1, 100));
   sub->callback([opt] {
     const mission::MappingSettings cfg = load_settings(opt->config).mapping;
-    const world::WorldSpec spec = load_world_spec(opt->world);
-    const world::World world = build_world(spec);
+    const world::WorldSpec spec = jobs::load_world_spec(opt->world);
+    const world::World world = jobs::build_world(spec);
     sim::Simulator sim(world, default_robot_config());
     sim::Renderer renderer(sim, spec.camera);
     const std::vector<Pose> views = opt->views == "aisle" ? evaluation::aisle_views(world, std::max(1, opt->frames / 2))

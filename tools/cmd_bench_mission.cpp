@@ -65,7 +65,7 @@ void add_bench_mission(CLI::App& bench) {
   sub->add_option("--seed", opt->seed, "Mission seed")->capture_default_str();
   sub->callback([opt] {
     const std::vector<RowSize> rows = parse_rows(opt->rows);
-    const world::WorldSpec base = load_world_spec(opt->world);
+    const world::WorldSpec base = jobs::load_world_spec(opt->world);
     mission::Settings settings = load_settings(opt->config);
     settings.set("method.name", opt->method, "--method");
     struct Line {
@@ -84,7 +84,7 @@ void add_bench_mission(CLI::App& bench) {
       Line line;
       line.size = r;
       const Stopwatch build;
-      const world::World world = build_world(spec);
+      const world::World world = jobs::build_world(spec);
       line.build_s = build.seconds();
       line.plants = static_cast<int>(world.plants.size());
       spdlog::info("bench mission: {} plants ({} per row), {} stops, method {}", line.plants, r.plants_per_row, r.stops,

@@ -56,7 +56,7 @@ void add_bench_motion(CLI::App& bench) {
   sub->add_option("--seed", opt->seed, "Seed of the random poses and goals")->capture_default_str();
   sub->add_option("--json", opt->json, "Also write the figures to this JSON file");
   sub->callback([opt] {
-    const world::WorldSpec spec = load_world_spec(opt->world);
+    const world::WorldSpec spec = jobs::load_world_spec(opt->world);
     const RobotConfig robot = default_robot_config();
     const motion::MotionConfig cfg = load_settings(opt->config).motion;
     const BasePose base = parse_base_pose(opt->base, "--base");
@@ -103,7 +103,7 @@ void add_bench_motion(CLI::App& bench) {
     j["ik_solutions_per_pose"] = double(solutions) / poses06.size();
 
     // 2. Validity checks against the world's occupancy (a fully observed map).
-    const world::World world = build_world(spec);
+    const world::World world = jobs::build_world(spec);
     const double res = 0.015;
     const std::vector<Vec3> voxels = evaluation::world_occupied_voxels(world, res);
     const motion::CollisionChecker checker(model, cfg.collision, motion::CollisionEnvironment::from_voxels(voxels, res));

@@ -24,8 +24,8 @@ void add_bench_render(CLI::App& bench) {
   sub->add_option("--frames", opt->frames, "Frames to time")->capture_default_str()->check(CLI::Range(1, 100000));
   sub->add_flag("--shadows", opt->shadows, "Shadows in the RGB pass");
   sub->callback([opt] {
-    const world::WorldSpec spec = load_world_spec(opt->world);
-    const world::World world = build_world(spec);
+    const world::WorldSpec spec = jobs::load_world_spec(opt->world);
+    const world::World world = jobs::build_world(spec);
     sim::Simulator sim(world, default_robot_config());
     sim::RenderOptions ro;
     ro.shadows = opt->shadows;

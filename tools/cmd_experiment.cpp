@@ -50,7 +50,7 @@ void add_experiment_command(CLI::App& app) {
   sub->callback([o] {
     const auto [index, count] = experiments::parse_shard(o->shard);
     const experiments::Experiment e = experiments::Experiment::load(o->config, default_robot_config());
-    load_world_spec(e.world_file);  // the mission's own checks (the robot fits the aisle), before any trial
+    jobs::load_world_spec(e.world_file);  // the mission's own checks (the robot fits the aisle), before any trial
     experiments::ExperimentRunOptions ro;
     ro.mission_command = {std::filesystem::read_symlink("/proc/self/exe").string(), "mission"};
     ro.jobs = o->jobs;

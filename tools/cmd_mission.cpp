@@ -5,18 +5,11 @@
 
 #include <spdlog/spdlog.h>
 
-#include <atomic>
-#include <cmath>
-#include <cstdio>
-#include <sstream>
-
 #include "canopy/common/error.h"
 #include "canopy/common/interrupt.h"
 #include "canopy/common/io.h"
-#include "canopy/common/process.h"
-#include "canopy/mission/dataset_export.h"
-#include "canopy/mission/mission.h"
-#include "canopy/mission/run_folder.h"
+#include "canopy/jobs/mission_job.h"
+#include "canopy/jobs/world_job.h"
 #include "canopy/mission/video.h"
 #include "cli_util.h"
 #include "commands.h"
@@ -24,7 +17,6 @@
 namespace canopy::cli {
 
 namespace {
-
 
 struct MissionCliOptions {
   std::string world = default_world_path();
@@ -75,8 +67,10 @@ void run_mission(const MissionCliOptions& o, CLI::App* sub) {
   const InterruptScope interrupts;
   // Validate every input before any work.
   if (!o.video.empty()) mission::VideoWriter::validate_output_path(o.video);
-  const world::WorldSpec spec = load_world_spec(o.world);
-  mission::Settings settings = load_settings(o.config);
+  const world::WorldSpec spec = jobs::load_world_spec(o.world);
+  jobs::MissionJobParams job;
+  job.settings = load_settings(o.config);
+  mission::Settings& settings = job.settings;
   if (sub->count("--method")) settings.set("method.name", o.method, "--method");
   if (sub->count("--gain")) settings.set("method.gain", o.gain, "--gain");
   if (sub->count("--rays")) settings.set("method.rays", o.rays, "--rays");
@@ -101,88 +95,19 @@ void run_mission(const MissionCliOptions& o, CLI::App* sub) {
     const mission::SettingOverride kv = mission::parse_override(s, "--set");
     settings.set(kv.first, kv.second, "--set " + s);
   }
-  int video_w = 0, video_h = 0;
-  if (!o.video.empty()) {
-    char x = 0;
-    std::istringstream in(o.video_size);
-    if (!(in >> video_w >> x >> video_h) || x != 'x' || !in.eof() || video_w < 64 || video_h < 64 || video_w > 1920 ||
-        video_h > 1080 || video_w % 2 || video_h % 2)
-      throw InputError("--video-size: '" + o.video_size + "' is not WxH with even sizes in [64, 1920] x [64, 1080]");
-    if (!(std::isfinite(o.video_fps) && o.video_fps > 0.0 && o.video_fps <= 120.0))
-      throw InputError("--video-fps: must be in (0, 120]");
-  }
+  job.video = jobs::video_options(o.video, o.video_size, o.video_fps);
+  job.world_file = o.world;
+  job.seed = o.seed;
+  job.out = o.out;
+  job.export_dir = o.export_dir;
+  job.plots = !o.no_plots;
 
-  const world::World world = build_world(spec);
-  check_world_colours(world, settings.mapping.extractor);
-  const nbv::MethodChoice& method = settings.method;
-  spdlog::info("mission: method {}{}, {} plants, {} fruits, P_gt {}, seed {}", method.name,
-               method.name == "ours" ? " (" + method.gain + ", rays " + method.rays + ")" : "", world.plants.size(),
-               world.truth.fruits.size(), settings.mapping.extractor.p_gt, o.seed);
-  StagedDir out(o.out, "mission");
-  std::unique_ptr<StagedDir> export_out;
-  std::unique_ptr<mission::DatasetExport> dataset;
-  if (!o.export_dir.empty()) {
-    export_out = std::make_unique<StagedDir>(o.export_dir, "dataset", StagedDir::Mode::kReplace, "--export");
-    dataset = std::make_unique<mission::DatasetExport>(export_out->working_dir(), spec.classes, spec.camera);
-  }
-
-  std::unique_ptr<mission::MissionVideo> video;
+  const world::World world = jobs::build_world(spec);
   mission::MissionCallbacks cb;
   cb.progress = [](const std::string& m) { spdlog::info("{}", m); };
   cb.stop_requested = [] { return interrupt_requested(); };
-  if (!o.video.empty()) {
-    cb.video_period_s = 1.0 / o.video_fps;
-    cb.video_tick = [&video](sim::Simulator& sim, const std::string& caption) {
-      if (video) video->tick(sim, caption);
-    };
-  }
-  const mission::Mission* running = nullptr;  // the map inset reads its map
-  if (!o.video.empty() || dataset)  // (a callback that reads the map waits for each scan's insertion)
-    cb.on_view = [&video, &dataset, &running](const mission::ViewRecord&, const LabelledFrame& f,
-                                              const sim::Simulator& sim) {
-      if (video) video->set_wrist(f);
-      if (video && running) video->set_map(running->map(), sim.base_pose());
-      if (dataset) dataset->add_train(f);
-    };
-  mission::Mission mission(world, settings, o.seed, cb);
-  running = &mission;
-  if (!o.video.empty())
-    video = std::make_unique<mission::MissionVideo>(o.video, video_w, video_h, o.video_fps, mission.simulator(),
-                                                    spec.classes);
-
-  if (interrupt_requested()) throw Interrupted("interrupted while setting up the mission; nothing was written");
-  const mission::MissionResult result = mission.run();
-
-  // Results.
-  mission::RunContext context;
-  context.seed = o.seed;
-  context.world_file = o.world;
-  context.world = &world;
-  bool video_ok = true;
-  if (video) {  // an encoder failure loses only the video, not the run
-    video_ok = video->writer().close();
-    if (video_ok) {
-      context.video = {{"file", o.video}, {"frames", video->writer().frames()}};
-      spdlog::info("wrote {} ({} frames)", o.video, video->writer().frames());
-    } else {
-      context.video = {{"file", o.video}, {"error", video->writer().error()}};
-      spdlog::error("the video {} is missing: {}", o.video, video->writer().error());
-    }
-  }
-  mission::write_run_folder(out.working_dir(), result, settings, mission.map(), context);
-  if (!o.no_plots) {
-    const std::string script = find_data_file("tools/plot_mission.py");
-    const ProcessStatus plot = run_process({"/usr/bin/python3", script, out.working_dir()});
-    if (!plot.ok()) spdlog::warn("plots failed (needs python3-matplotlib): {}: {}", script, plot.describe());
-  }
-  if (dataset && result.complete) {
-    dataset->render_test_views(mission.simulator(), world, mission::default_test_ring());
-    dataset->finish({{"command", "mission"}, {"world", o.world}, {"method", settings.method.name}, {"seed", o.seed}});
-    export_out->commit();
-    spdlog::info("wrote {}/ (nerfstudio dataset: {} training views, {} held-out views)", o.export_dir,
-                 dataset->train_count(), dataset->test_count());
-  }
-  out.commit();
+  const jobs::MissionJobResult r = jobs::run_mission_job(world, job, cb);
+  const mission::MissionResult& result = r.result;
   spdlog::info("{}: {} of {} views successful, fruit SC {:.3f}, entropy {:.1f} nats, {:.1f} s simulated, {:.1f} s wall",
                result.complete ? "mission done" : "mission INTERRUPTED (partial results, marked incomplete)",
                result.successful_views(), result.views.size(), result.final_metrics.coverage,
@@ -193,8 +118,8 @@ void run_mission(const MissionCliOptions& o, CLI::App* sub) {
   spdlog::info("wrote {}/ (views.csv, timing.csv, summary.json, settings.yaml, map.csm, map.ply, map.bt)", o.out);
   if (!result.zero_coverage_reason.empty()) spdlog::warn("fruit SC is 0: {}", result.zero_coverage_reason);
   if (!result.complete) throw Interrupted();
-  if (!video_ok)
-    throw std::runtime_error("the video " + o.video + " is missing (" + video->writer().error() + "); the other results are in " +
+  if (!r.video_error.empty())
+    throw std::runtime_error("the video " + o.video + " is missing (" + r.video_error + "); the other results are in " +
                              o.out);
 }
 

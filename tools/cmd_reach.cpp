@@ -86,7 +86,7 @@ void add_reach_command(CLI::App& app) {
   sub->add_flag("--no-plan", opt->no_plan, "IK and collisions only (no motion planning)");
   sub->callback([opt] {
     // Validate every input before doing any work.
-    const world::WorldSpec spec = load_world_spec(opt->world);
+    const world::WorldSpec spec = jobs::load_world_spec(opt->world);
     const RobotConfig robot = default_robot_config();
     const motion::MotionConfig cfg = load_settings(opt->config).motion;
     const BasePose base = parse_base_pose(opt->base, "--base");
@@ -104,7 +104,7 @@ void add_reach_command(CLI::App& app) {
     if (!model.within_limits(start)) throw InputError("--joints: outside the joint limits");
 
     motion::seed_planner_rng(cfg.seed);
-    const world::World world = build_world(spec);
+    const world::World world = jobs::build_world(spec);
     const std::vector<Vec3> voxels = evaluation::world_occupied_voxels(world, opt->voxel_m);
     const motion::CollisionChecker checker(model, cfg.collision,
                                            motion::CollisionEnvironment::from_voxels(voxels, opt->voxel_m));

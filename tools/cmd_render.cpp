@@ -37,7 +37,7 @@ void add_render_command(CLI::App& app) {
   sub->add_option("--out", opt->out, "Output folder")->required();
   sub->callback([opt] {
     // Validate every input before doing any work.
-    world::WorldSpec spec = load_world_spec(opt->world);
+    world::WorldSpec spec = jobs::load_world_spec(opt->world);
     std::optional<BasePose> base_pose;
     if (!opt->base.empty()) base_pose = parse_base_pose(opt->base, "--base");
     RobotConfig robot_config = default_robot_config();
@@ -54,7 +54,7 @@ void add_render_command(CLI::App& app) {
 
     StagedDir out(opt->out, "render");
 
-    const world::World world = build_world(spec);
+    const world::World world = jobs::build_world(spec);
     sim::Simulator sim(world, robot_config);
     if (!base_pose) {
       // The world's robot_start sees no plant; put the home camera in front of the first one.
@@ -67,7 +67,7 @@ void add_render_command(CLI::App& app) {
     sim::Renderer renderer(sim, spec.camera, render_options);
     const LabelledFrame frame = free_camera ? renderer.render_free_camera(T_world_camera) : renderer.render_wrist_camera();
     datasets::write_frame(out.path(""), frame, spec.classes);
-    YAML::Node run = run_record("render", spec);
+    YAML::Node run = jobs::run_record("render", spec);
     run["shadows"] = opt->shadows;
     if (free_camera) {
       run["camera_pose"] = YAML::Load(pose_to_json(T_world_camera).dump());

@@ -28,11 +28,11 @@ void add_world_command(CLI::App& app) {
                   "segmentation would not see) or truth (default: the config's)")
       ->check(CLI::IsMember({"color", "truth"}));
   sub->callback([opt] {
-    const world::WorldSpec spec = load_world_spec(opt->world);
-    const world::World world = build_world(spec);
+    const world::WorldSpec spec = jobs::load_world_spec(opt->world);
+    const world::World world = jobs::build_world(spec);
     mission::Settings settings = load_settings(opt->config);
     if (!opt->seg.empty()) settings.set("mapping.extractor.source", opt->seg, "--seg");
-    check_world_colours(world, settings.mapping.extractor);
+    jobs::check_world_colours(world, settings.mapping.extractor);
     const RobotConfig robot_config = default_robot_config();
     const robot::RobotDescription robot = robot::RobotDescription::load_urdf(robot_config.urdf_path);
     const sim::SceneDescription scene = sim::make_scene_mjcf(world, robot, robot_config);

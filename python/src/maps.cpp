@@ -4,6 +4,7 @@
 
 #include "canopy/common/error.h"
 #include "canopy/evaluation/map_metrics.h"
+#include "canopy/jobs/map_job.h"
 #include "canopy/mapping/map_io.h"
 #include "objects.h"
 
@@ -84,12 +85,9 @@ SemanticClasses classes_from(const py::object& classes, const py::object& target
   return c;
 }
 
-py::dict insert_dict(const mapping::InsertStats& s, const perception::ExtractStats& e) {
-  return py::dict(py::arg("points") = s.points, py::arg("hit_voxels") = s.hit_voxels,
-                  py::arg("free_voxels") = s.free_voxels, py::arg("bad_depth") = e.bad_depth,
-                  py::arg("out_of_range") = e.out_of_range, py::arg("bad_label") = e.bad_label + s.bad_label,
-                  py::arg("bad_point") = s.bad_point + s.outside_map, py::arg("masks") = e.masks,
-                  py::arg("masks_flipped") = e.masks_flipped, py::arg("ms_insert") = s.ms_total);
+// A frame's insertion counts under the keys `canopy map` writes into metrics.json.
+py::object insert_dict(const mapping::InsertStats& s, const perception::ExtractStats& e) {
+  return json_to_py(jobs::insert_stats_json(s, e));
 }
 
 // A per-point query over an (N, 3) array: f(map, point) -> value.
@@ -174,8 +172,10 @@ the target class (default: fruit).)")
         }
         return insert_dict(step.insert, step.extract);
       }, py::arg("frame"), R"(Labels a canopy.Frame (the settings' extractor) and inserts it: the frame
-step every canopy command takes. Returns counts: points, hit_voxels, free_voxels, bad_depth,
-out_of_range, bad_label, bad_point, masks, masks_flipped, ms_insert.)")
+step every canopy command takes. Returns its counts under the keys of `canopy map`'s
+metrics.json history ("insert"): points, skipped_bad_depth, skipped_out_of_range,
+carved_missing_depth, skipped_bad_label, skipped_bad_point, masks, masks_flipped, hit_voxels,
+free_voxels, saturated_updates, ms_insert, ms_filter, ms_raycast, ms_update.)")
       .def("insert_cloud", [](PyMap& self, const py::object& points, const py::object& labels, const py::object& origin) {
         perception::LabelledCloud cloud;
         cloud.origin_world = vec3_from(origin, "origin");
@@ -196,7 +196,7 @@ out_of_range, bad_label, bad_point, masks, masks_flipped, ms_insert.)")
         return insert_dict(s, cloud.stats);
       }, py::arg("points"), py::arg("labels"), py::arg("origin"),
       R"(Inserts labelled points (N, 3) [m, world] seen from origin (3,), no extractor: labels are
-class indices (out-of-range ones are skipped and counted as bad_label).)")
+class indices (out-of-range ones are skipped and counted as skipped_bad_label); the counts of insert().)")
       .def("save", [](const PyMap& self, const py::object& path_arg) {
         const std::string path = path_from(path_arg, "path");
         py::gil_scoped_release release;

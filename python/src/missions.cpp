@@ -9,9 +9,9 @@
 #include "canopy/common/error.h"
 #include "canopy/common/io.h"
 #include "canopy/common/timer.h"
+#include "canopy/jobs/mission_job.h"
 #include "canopy/mission/mission.h"
 #include "canopy/mission/run_folder.h"
-#include "canopy/mission/video.h"
 #include "objects.h"
 #include "python_planner.h"
 
@@ -134,20 +134,22 @@ truth_contacts, self_contacts.)")
           mission::Settings s = settings_from(settings);
           choose_method(s, method, planner);
           const std::uint64_t seed = seed_from(seed_arg, "seed");
+          std::string video_error;
           if (!progress.is_none() && !PyCallable_Check(progress.ptr()))
             throw InputError("progress: " + describe(progress) + " is not callable");
-          const std::string video_path = video.is_none() ? "" : path_from(video, "video");
-          const auto [video_w, video_h] = video_size;
-          if (!video_path.empty()) {
-            if (video_w < 64 || video_h < 64 || video_w > 1920 || video_h > 1080 || video_w % 2 || video_h % 2)
-              throw InputError("video_size: (" + std::to_string(video_w) + ", " + std::to_string(video_h) +
-                               ") is not even sizes in [64, 1920] x [64, 1080]");
-            if (!(std::isfinite(video_fps) && video_fps > 0.0 && video_fps <= 120.0))
-              throw InputError("video_fps: " + std::to_string(video_fps) + " is not in (0, 120]");
-            mission::VideoWriter::validate_output_path(video_path, "video");
+          jobs::MissionJobParams job;
+          job.world_file = world.file();
+          job.seed = seed;
+          if (!video.is_none())  // the command line's checks, under the keywords' names
+            job.video = jobs::video_options(path_from(video, "video"),
+                                            std::to_string(video_size.first) + "x" + std::to_string(video_size.second),
+                                            video_fps, {"video", "video_size", "video_fps"});
+          if (!out.is_none()) {
+            job.out = path_from(out, "out");
+            job.out_option = "out";
+            StagedDir::check_writable(job.out, "mission", "out");  // before any work, as the command line
           }
-          std::unique_ptr<StagedDir> staged;
-          if (!out.is_none()) staged = std::make_unique<StagedDir>(path_from(out, "out"), "mission", StagedDir::Mode::kReplace, "out");
+          job.keep_map = true;
 
           mission::MissionCallbacks cb;
           if (!progress.is_none())
@@ -172,61 +174,33 @@ truth_contacts, self_contacts.)")
             }
             return interrupted;
           };
-          std::unique_ptr<mission::MissionVideo> recorder;  // outlives the mission, as in `canopy mission`
-          const mission::Mission* running = nullptr;          // the map inset reads its map
-          if (!video_path.empty()) {
-            cb.video_period_s = 1.0 / video_fps;
-            cb.video_tick = [&recorder](sim::Simulator& sim, const std::string& caption) {
-              if (recorder) recorder->tick(sim, caption);
-            };
-            cb.on_view = [&recorder, &running](const mission::ViewRecord&, const LabelledFrame& frame,
-                                               const sim::Simulator& sim) {
-              if (recorder) recorder->set_wrist(frame);
-              if (recorder && running) recorder->set_map(running->map(), sim.base_pose());
-            };
-          }
+          const auto amend = [&interrupted](mission::MissionResult& r) {
+            if (take_interrupt()) interrupted = true;  // noted after the last poll (the last stop's planner)
+            if (interrupted) {
+              r.complete = false;
+              r.end_reason = "interrupted";
+            }
+          };
 
           auto result = std::make_shared<PyMissionResult>();
           result->settings = s;
-          std::string video_error;
+          job.settings = std::move(s);
           {
-            const PendingPlanner pending(planner, s.mapping);
+            const PendingPlanner pending(planner, job.settings.mapping);
             py::gil_scoped_release release;
-            mission::Mission mission(world.world(), s, seed, cb);
-            running = &mission;
-            if (!video_path.empty())
-              recorder = std::make_unique<mission::MissionVideo>(video_path, video_w, video_h, video_fps,
-                                                                 mission.simulator(), world.world().spec.classes);
-            result->result = mission.run();
-            if (take_interrupt()) interrupted = true;  // noted after the last poll (the last stop's planner)
-            if (interrupted) {
-              result->result.complete = false;
-              result->result.end_reason = "interrupted";
-            }
-            mission::RunContext context;
-            context.seed = seed;
-            context.world_file = world.file();
-            context.world = &world.world();
-            if (recorder) {
-              if (recorder->writer().close()) {
-                context.video = {{"file", video_path}, {"frames", recorder->writer().frames()}};
-              } else {
-                video_error = recorder->writer().error();
-                context.video = {{"file", video_path}, {"error", video_error}};
-              }
-            }
-            result->summary = staged ? write_run_folder(staged->working_dir(), result->result, s, mission.map(), context)
-                                     : mission::run_summary(result->result, s, context);
-            result->map = std::make_shared<PyMap>(mapping::SemanticOcTree(mission.map()), s.mapping);
+            jobs::MissionJobResult r = jobs::run_mission_job(world.world(), job, cb, amend);
+            result->result = std::move(r.result);
+            result->summary = std::move(r.summary);
+            result->map = std::make_shared<PyMap>(std::move(*r.map), job.settings.mapping);
+            video_error = std::move(r.video_error);
           }
-          if (staged) staged->commit();
           if (interrupted) {
             PyErr_SetString(PyExc_KeyboardInterrupt,
                             out.is_none() ? "mission interrupted" : "mission interrupted; the results so far are in the out folder");
             throw py::error_already_set();
           }
           if (!video_error.empty())
-            PyErr_WarnEx(PyExc_RuntimeWarning, ("the video " + video_path + " is missing: " + video_error).c_str(), 1);
+            PyErr_WarnEx(PyExc_RuntimeWarning, ("the video " + job.video.path + " is missing: " + video_error).c_str(), 1);
           return result;
         },
         py::arg("world"), py::arg("settings") = py::none(), py::kw_only(), py::arg("method") = py::none(),

@@ -2,6 +2,7 @@
 // canopy.Settings, and the binding files' parts.
 
 #include <pybind11/stl.h>
+#include <spdlog/spdlog.h>
 
 #include "canopy/common/data_dir.h"
 #include "canopy/common/error.h"
@@ -75,6 +76,9 @@ ValueError names an unknown key or a bad value. Returns the settings (calls chai
 PYBIND11_MODULE(_canopy, m) {
   using namespace canopy::python;
   m.doc() = "canopy's C++ library (the canopy package re-exports it; help(canopy) for the overview).";
+  // The library's jobs log their steps at info level for the command line; Python hands
+  // progress to callbacks, so only warnings and errors print (the module's own spdlog).
+  spdlog::set_level(spdlog::level::warn);
   py::register_exception_translator([](std::exception_ptr p) {
     try {
       if (p) std::rethrow_exception(p);

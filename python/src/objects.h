@@ -33,9 +33,9 @@ py::object frame_object(PyFrame frame);
 /// canopy.World: a generated world and, made on the first render, a simulator and renderer.
 class PyWorld {
  public:
-  /// Loads `path` (found like the command line's --world), with `seed` when given, checks that
-  /// the robot's base fits the aisle and generates the world.
-  PyWorld(const std::string& path, const py::object& seed);
+  /// Loads and checks the world of `path` (found like the command line's --world), with `seed`
+  /// when given, for the labels of `settings` (None: the default bundle): jobs::load_world.
+  PyWorld(const std::string& path, const py::object& seed, const py::object& settings);
 
   const world::World& world() const { return *world_; }
   std::shared_ptr<const world::World> shared() const { return world_; }

@@ -2,24 +2,22 @@
 
 #include <pybind11/stl.h>
 
-#include "canopy/common/data_dir.h"
 #include "canopy/common/error.h"
 #include "canopy/evaluation/view_presets.h"
-#include "canopy/robot/robot_description.h"
+#include "canopy/jobs/world_job.h"
 #include "objects.h"
 
 namespace canopy::python {
 
-PyWorld::PyWorld(const std::string& path, const py::object& seed) : file_(path) {
-  world::WorldSpec spec = world::WorldSpec::load(find_data_file(path));
-  if (!seed.is_none()) spec.seed = seed_from(seed, "seed");
-  // The robot's base must fit the aisle, as every command checks (tools/cli_util.cpp).
-  const robot::RobotDescription& description = robot_model().description();
-  const RobotConfig& config = robot_model().config();
-  spec.check_aisle(description.collision_half_width_m(description.joint(config.base_joints.back()).child_link),
-                   config.aisle_clearance_m);
+PyWorld::PyWorld(const std::string& path, const py::object& seed, const py::object& settings) : file_(path) {
+  // The checks every command that builds a world runs (the robot fits the aisle, the colour
+  // segmentation of the settings' labels sees the target fruit): one job of the library.
+  jobs::WorldJobParams job;
+  job.world_file = path;
+  if (!seed.is_none()) job.seed = seed_from(seed, "seed");
+  job.extractor = settings_from(settings).mapping.extractor;
   py::gil_scoped_release release;
-  world_ = std::make_shared<const world::World>(world::generate_world(spec));
+  world_ = std::make_shared<const world::World>(jobs::load_world(job));
 }
 
 sim::Renderer& PyWorld::renderer() {
@@ -79,16 +77,19 @@ void bind_worlds(py::module_& m) {
 
 The simulator and renderer are made on the first render and kept (one OSMesa context per
 world); renders of one world from several threads take turns.)")
-      .def(py::init([](const py::object& path, const py::object& seed) {
-             return std::make_shared<PyWorld>(path_from(path, "path"), seed);
+      .def(py::init([](const py::object& path, const py::object& seed, const py::object& settings) {
+             return std::make_shared<PyWorld>(path_from(path, "path"), seed, settings);
            }),
            py::arg("path") = "worlds/default.yaml",
-           py::arg("seed") = py::none(),
-           R"(Generates the world of a world file.
+           py::arg("seed") = py::none(), py::kw_only(), py::arg("settings") = py::none(),
+           R"(Generates the world of a world file, with the checks of the command line's world loading.
 
 path: a world file, found like the command line's --world (the current folder, then canopy's
 data folder: worlds/small.yaml works anywhere); seed: replaces the file's seed (same seed,
-same world, bit for bit). ValueError names a bad file, key or value.)")
+same world, bit for bit); settings: the canopy.Settings (or bundle file) whose labels the
+world will be mapped with (default: configs/canopy.yaml). ValueError names a bad file, key or
+value, a robot base wider than the aisle, or (labels color) an imported plant whose ripe-fruit
+material colour segmentation would not see, with the message `canopy world --seg color` gives.)")
       .def_property_readonly("name", [](const PyWorld& w) { return w.world().spec.name; })
       .def_property_readonly("file", &PyWorld::file, "The world file as given.")
       .def_property_readonly("seed", [](const PyWorld& w) { return w.world().spec.seed; })

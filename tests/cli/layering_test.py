@@ -26,6 +26,8 @@ ALLOWED = {
                 "motion"},
     "experiments": {"common", "robot", "world", "sim", "perception", "mapping", "evaluation", "nbv", "motion",
                     "mission"},
+    "jobs": {"common", "robot", "world", "sim", "perception", "mapping", "datasets", "evaluation", "nbv", "motion",
+             "mission", "experiments"},
 }
 INCLUDE = re.compile(r'^\s*#\s*include\s+[<"]([^>"]+)[>"]', re.M)
 problems = []

@@ -1,0 +1,121 @@
+#include "canopy/jobs/mission_job.h"
+
+#include <spdlog/spdlog.h>
+
+#include <cmath>
+#include <sstream>
+
+#include "canopy/common/error.h"
+#include "canopy/common/io.h"
+#include "canopy/jobs/plots.h"
+#include "canopy/jobs/world_job.h"
+#include "canopy/mission/dataset_export.h"
+#include "canopy/mission/run_folder.h"
+#include "canopy/mission/video.h"
+
+namespace canopy::jobs {
+
+VideoOptions video_options(const std::string& path, const std::string& size, double fps, const VideoOptionNames& names) {
+  VideoOptions v;
+  v.path = path;
+  v.fps = fps;
+  if (path.empty()) return v;
+  char x = 0;
+  std::istringstream in(size);
+  if (!(in >> v.width_px >> x >> v.height_px) || x != 'x' || !in.eof() || v.width_px < 64 || v.height_px < 64 ||
+      v.width_px > 1920 || v.height_px > 1080 || v.width_px % 2 || v.height_px % 2)
+    throw InputError(names.size + ": '" + size + "' is not WxH with even sizes in [64, 1920] x [64, 1080]");
+  if (!(std::isfinite(fps) && fps > 0.0 && fps <= 120.0)) throw InputError(names.fps + ": must be in (0, 120]");
+  mission::VideoWriter::validate_output_path(path, names.path);
+  return v;
+}
+
+namespace {
+
+// The export: a staged folder and the frames written into it.
+struct Export {
+  std::unique_ptr<StagedDir> dir;
+  std::unique_ptr<mission::DatasetExport> dataset;
+};
+
+}  // namespace
+
+MissionJobResult run_mission_job(const world::World& world, const MissionJobParams& p,
+                                 mission::MissionCallbacks cb, const std::function<void(mission::MissionResult&)>& amend) {
+  const mission::Settings& settings = p.settings;
+  check_world_colours(world, settings.mapping.extractor);
+  const nbv::MethodChoice& method = settings.method;
+  spdlog::info("mission: method {}{}, {} plants, {} fruits, P_gt {}, seed {}", method.name,
+               method.name == "ours" ? " (" + method.gain + ", rays " + method.rays + ")" : "", world.plants.size(),
+               world.truth.fruits.size(), settings.mapping.extractor.p_gt, p.seed);
+  std::unique_ptr<StagedDir> out;
+  if (!p.out.empty()) out = std::make_unique<StagedDir>(p.out, "mission", StagedDir::Mode::kReplace, p.out_option);
+  Export ex;
+  if (!p.export_dir.empty()) {
+    ex.dir = std::make_unique<StagedDir>(p.export_dir, "dataset", StagedDir::Mode::kReplace, "--export");
+    ex.dataset = std::make_unique<mission::DatasetExport>(ex.dir->working_dir(), world.spec.classes, world.spec.camera);
+  }
+
+  // The video outlives the mission; its callbacks find it (and the map inset the mission's map)
+  // once both exist.
+  const bool filmed = !p.video.path.empty();
+  std::unique_ptr<mission::MissionVideo> video;
+  const mission::Mission* running = nullptr;
+  if (filmed) {
+    cb.video_period_s = 1.0 / p.video.fps;
+    cb.video_tick = [&video](sim::Simulator& sim, const std::string& caption) {
+      if (video) video->tick(sim, caption);
+    };
+  }
+  if (filmed || ex.dataset)  // (a callback that reads the map waits for each scan's insertion)
+    cb.on_view = [&video, &ex, &running](const mission::ViewRecord&, const LabelledFrame& f, const sim::Simulator& sim) {
+      if (video) video->set_wrist(f);
+      if (video && running) video->set_map(running->map(), sim.base_pose());
+      if (ex.dataset) ex.dataset->add_train(f);
+    };
+  const std::function<bool()> stop_requested = cb.stop_requested;
+  mission::Mission mission(world, settings, p.seed, cb);
+  running = &mission;
+  if (filmed)
+    video = std::make_unique<mission::MissionVideo>(p.video.path, p.video.width_px, p.video.height_px, p.video.fps,
+                                                    mission.simulator(), world.spec.classes);
+  if (stop_requested && stop_requested())
+    throw Interrupted("interrupted while setting up the mission; nothing was written");
+
+  MissionJobResult r;
+  r.result = mission.run();
+  if (amend) amend(r.result);
+  mission::RunContext context;
+  context.seed = p.seed;
+  context.world_file = p.world_file;
+  context.world = &world;
+  if (video) {  // an encoder failure loses only the video, not the run
+    if (video->writer().close()) {
+      r.video_frames = video->writer().frames();
+      context.video = {{"file", p.video.path}, {"frames", r.video_frames}};
+      spdlog::info("wrote {} ({} frames)", p.video.path, r.video_frames);
+    } else {
+      r.video_error = video->writer().error();
+      context.video = {{"file", p.video.path}, {"error", r.video_error}};
+      spdlog::error("the video {} is missing: {}", p.video.path, r.video_error);
+    }
+  }
+  r.summary = out ? mission::write_run_folder(out->working_dir(), r.result, settings, mission.map(), context)
+                  : mission::run_summary(r.result, settings, context);
+  if (out && p.plots) draw_plots("tools/plot_mission.py", out->working_dir());
+  if (ex.dataset && r.result.complete) {
+    ex.dataset->render_test_views(mission.simulator(), world, mission::default_test_ring());
+    ex.dataset->finish({{"command", "mission"}, {"world", p.world_file}, {"method", method.name}, {"seed", p.seed}});
+    ex.dir->commit();
+    r.dataset_written = true;
+    r.dataset_train = ex.dataset->train_count();
+    r.dataset_test = ex.dataset->test_count();
+    spdlog::info("wrote {}/ (nerfstudio dataset: {} training views, {} held-out views)", p.export_dir, r.dataset_train,
+                 r.dataset_test);
+  }
+  if (p.keep_map) r.map = std::make_shared<mapping::SemanticOcTree>(mission.map());
+  if (out) out->commit();
+  return r;
+}
+
+}  // namespace canopy::jobs

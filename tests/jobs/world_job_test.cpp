@@ -1,0 +1,101 @@
+// The world job against worlds the test writes itself: an imported plant whose ripe fruit is
+// red passes the colour check, one whose ripe fruit is leaf green is refused under colour
+// labels (naming the plant and the material) and passes under true labels; the seed and the
+// aisle check of the world file.
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "canopy/common/error.h"
+#include "canopy/jobs/world_job.h"
+#include "canopy/world/plant_import.h"
+#include "plant_files.h"
+
+namespace canopy::jobs {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A one-plant world of the test plant (plant_files.h), its ripe fruit material coloured `rgb`.
+std::string plant_world(const std::string& name, const std::string& rgb) {
+  const std::string dir = testing::TempDir() + "/world_job_" + name;
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  std::string dae = test_plant::collada(true);
+  const std::string effect = "<effect id=\"e_Capsicum_frt1\"><profile_COMMON><technique sid=\"common\"><lambert><diffuse><color>";
+  const std::size_t at = dae.find(effect) + effect.size();
+  dae.replace(at, dae.find(" 1</color>", at) - at, rgb);
+  test_plant::write_text(dir + "/plant.dae", dae);
+  world::ImportOptions o;
+  o.rules = world::class_preset("capsicum");
+  world::import_plant(dir + "/plant.dae", o).save(dir + "/plant");
+  test_plant::write_text(dir + "/world.yaml", "name: " + name + "\nseed: 3\nrows: {rows: 1, plants_per_row: 1, "
+                                              "position_jitter_m: 0.0}\nplants:\n  - {plant: {import: " + dir +
+                                              "/plant}, slot: [0, 0]}\n");
+  return dir + "/world.yaml";
+}
+
+WorldJobParams params(const std::string& file, perception::LabelSource source) {
+  WorldJobParams p;
+  p.world_file = file;
+  p.extractor.source = source;
+  return p;
+}
+
+TEST(WorldJob, RedFruitPassesTheColourCheck) {
+  const world::World w = load_world(params(plant_world("red", "0.8 0.1 0.05"), perception::LabelSource::kColor));
+  EXPECT_EQ(w.plants.size(), 1u);
+  EXPECT_EQ(w.truth.fruits.size(), 2u);
+}
+
+TEST(WorldJob, GreenRipeFruitIsRefusedUnderColourLabelsOnly) {
+  const std::string file = plant_world("green", "0.2 0.6 0.1");
+  try {
+    load_world(params(file, perception::LabelSource::kColor));
+    FAIL() << "a ripe fruit colour segmentation cannot see was accepted";
+  } catch (const InputError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("/plant: material 'Capsicum_frt1'"), std::string::npos) << m;
+    EXPECT_NE(m.find("(labels: color;"), std::string::npos) << m;
+  }
+  const world::World w = load_world(params(file, perception::LabelSource::kTruth));
+  EXPECT_EQ(w.plants.size(), 1u);
+  // The check alone gives the same verdicts on the built world.
+  EXPECT_THROW(check_world_colours(w, params(file, perception::LabelSource::kColor).extractor), InputError);
+  EXPECT_NO_THROW(check_world_colours(w, params(file, perception::LabelSource::kTruth).extractor));
+}
+
+TEST(WorldJob, SeedReplacesTheFilesAndTheWorldIsTheGeneratorsWorld) {
+  WorldJobParams p = params("worlds/small.yaml", perception::LabelSource::kColor);
+  p.seed = 77;
+  const world::World w = load_world(p);
+  EXPECT_EQ(w.spec.seed, 77u);
+  world::WorldSpec spec = world::WorldSpec::load("worlds/small.yaml");
+  spec.seed = 77;
+  const world::World direct = world::generate_world(spec);
+  ASSERT_EQ(w.truth.fruits.size(), direct.truth.fruits.size());
+  for (std::size_t i = 0; i < w.truth.fruits.size(); ++i)
+    EXPECT_EQ(w.truth.fruits[i].center, direct.truth.fruits[i].center);
+  EXPECT_EQ(w.triangle_count(), direct.triangle_count());
+  const YAML::Node run = run_record("map", w.spec);
+  EXPECT_EQ(run["command"].as<std::string>(), "map");
+  EXPECT_EQ(run["world"]["seed"].as<std::uint64_t>(), 77u);
+}
+
+TEST(WorldJob, AnAisleNarrowerThanTheBaseIsRefused) {
+  const std::string dir = testing::TempDir() + "/world_job_aisle";
+  fs::create_directories(dir);
+  std::ofstream(dir + "/narrow.yaml") << "name: narrow\nrows: {row_offset_m: 0.3}\n";
+  try {
+    load_world_spec(dir + "/narrow.yaml");
+    FAIL() << "rows at +-0.3 m accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("narrow.yaml: key 'rows.row_offset_m'"), std::string::npos) << e.what();
+  }
+  EXPECT_NO_THROW(load_world_spec("worlds/small.yaml"));
+}
+
+}  // namespace
+}  // namespace canopy::jobs
