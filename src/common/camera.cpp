@@ -24,24 +24,17 @@ Pose look_at(const Vec3& eye, const Vec3& target) {
 }
 
 void CameraIntrinsics::validate(const std::string& where) const {
+  Validate limits(where, "camera");
+  const_cast<CameraIntrinsics&>(*this).visit(limits);
   auto bad = [&](const std::string& key, double value, const std::string& problem) {
     std::ostringstream os;
     os << where << ": key 'camera." << key << "': value '" << value << "' " << problem;
     throw InputError(os.str());
   };
-  if (width_px <= 0 || width_px > 4096) bad("width_px", width_px, "must be in 1..4096");
-  if (height_px <= 0 || height_px > 4096) bad("height_px", height_px, "must be in 1..4096");
-  if (!(fx_px > 0.0) || !std::isfinite(fx_px)) bad("fx_px", fx_px, "must be > 0");
-  if (!(fy_px > 0.0) || !std::isfinite(fy_px)) bad("fy_px", fy_px, "must be > 0");
   if (std::abs(fx_px - fy_px) > 1e-9 * fx_px)
     bad("fy_px", fy_px, "must equal fx_px (square pixels; MuJoCo has one field of view)");
   if (std::abs(cx_px - 0.5 * width_px) > 1e-9 || std::abs(cy_px - 0.5 * height_px) > 1e-9)
     bad("cx_px", cx_px, "must be at the image centre (MuJoCo 2.2 renders no principal-point offset)");
-  if (!(min_range_m > 0.0) || !std::isfinite(min_range_m)) bad("min_range_m", min_range_m, "must be > 0");
-  if (!(max_range_m > min_range_m) || !std::isfinite(max_range_m))
-    bad("max_range_m", max_range_m, "must be > min_range_m");
-  if (!(depth_noise_k >= 0.0) || !std::isfinite(depth_noise_k))
-    bad("depth_noise_k", depth_noise_k, "must be >= 0");
 }
 
 }  // namespace canopy

@@ -42,6 +42,12 @@ std::string shortest(float v) {
   return b;
 }
 
+std::string tuple_text(const char* shape, bool whole, const Limits& each) {
+  std::string lim = each.text();
+  if (lim.rfind("must be ", 0) == 0) lim = lim.substr(8);
+  return std::string(shape) + (whole ? " of whole numbers, each " : " of numbers, each ") + lim;
+}
+
 std::string join(const std::vector<std::string>& names) {
   std::string s;
   for (const auto& n : names) s += (s.empty() ? "" : ", ") + n;
@@ -83,6 +89,16 @@ nlohmann::json yaml_to_json(const YAML::Node& node) {
   } catch (const std::exception&) {
   }
   return s;
+}
+
+std::string params_markdown(const std::vector<ParamDescription>& rows) {
+  std::string out = "| key | default | must be | meaning |\n| --- | --- | --- | --- |\n";
+  for (const ParamDescription& p : rows) {
+    std::string value = p.value;  // a '|' would end the cell
+    for (std::size_t i = 0; (i = value.find('|', i)) != std::string::npos; i += 2) value.replace(i, 1, "\\|");
+    out += "| `" + p.key + "` | `" + value + "` | " + p.limits + " | " + p.help + " |\n";
+  }
+  return out;
 }
 
 std::string yaml_text(const YAML::Node& node) {

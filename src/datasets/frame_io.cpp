@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include "canopy/common/io.h"
 
@@ -23,28 +24,47 @@ Rgb8 instance_color(std::int32_t id) {
   }
 }
 
-void write_frame(const std::string& prefix, const LabelledFrame& frame, const SemanticClasses& classes) {
+EncodedFrame encode_frame(const LabelledFrame& frame, const SemanticClasses& classes, InstanceEncoding instances) {
   const int W = frame.rgb.width, H = frame.rgb.height;
-  write_png(prefix + "rgb.png", frame.rgb);
-  Image<std::uint16_t> depth_mm(W, H, 0);
-  Image<Rgb8> labels(W, H), instances(W, H);
+  EncodedFrame e;
+  e.depth_mm = Image<std::uint16_t>(W, H, 0);
+  e.labels = Image<Rgb8>(W, H);
+  if (instances == InstanceEncoding::kColors) e.instance_colors = Image<Rgb8>(W, H);
+  else e.instance_ids = Image<std::uint16_t>(W, H, 0);
   for (int y = 0; y < H; ++y)
     for (int x = 0; x < W; ++x) {
       const float z = frame.depth_m.at(x, y);
       if (z > 0.f && std::isfinite(z))
-        depth_mm.at(x, y) = static_cast<std::uint16_t>(std::min(65535.0, std::round(1000.0 * z)));
-      labels.at(x, y) = classes.color(frame.class_id.at(x, y));
-      instances.at(x, y) = instance_color(frame.instance.at(x, y));
+        e.depth_mm.at(x, y) = static_cast<std::uint16_t>(std::min(65535.0, std::round(1000.0 * z)));
+      e.labels.at(x, y) = classes.color(frame.class_id.at(x, y));
+      const std::int32_t id = frame.instance.at(x, y);
+      if (instances == InstanceEncoding::kColors) {
+        e.instance_colors.at(x, y) = instance_color(id);
+      } else if (id != kNoInstance) {
+        if (id < 0 || id >= 65535)
+          throw std::invalid_argument("instance id " + std::to_string(id) + " does not fit 16 bits");
+        e.instance_ids.at(x, y) = static_cast<std::uint16_t>(id + 1);
+      }
     }
-  write_png_gray16(prefix + "depth.png", depth_mm);
-  write_png(prefix + "labels.png", labels);
-  write_png(prefix + "instances.png", instances);
-  const CameraIntrinsics& K = frame.intrinsics;
+  return e;
+}
+
+void put_frame_intrinsics(nlohmann::json* frame_json, const CameraIntrinsics& K) {
+  nlohmann::json k = params_to_json(K);
+  (*frame_json)["valid_range_m"] = {k["min_range_m"], k["max_range_m"]};
+  (*frame_json)["depth_noise_k"] = k["depth_noise_k"];
+  for (const char* key : {"min_range_m", "max_range_m", "depth_noise_k"}) k.erase(key);
+  (*frame_json)["intrinsics"] = k;
+}
+
+void write_frame(const std::string& prefix, const LabelledFrame& frame, const SemanticClasses& classes) {
+  const EncodedFrame e = encode_frame(frame, classes, InstanceEncoding::kColors);
+  write_png(prefix + "rgb.png", frame.rgb);
+  write_png_gray16(prefix + "depth.png", e.depth_mm);
+  write_png(prefix + "labels.png", e.labels);
+  write_png(prefix + "instances.png", e.instance_colors);
   nlohmann::json j;
-  j["intrinsics"] = {{"width_px", K.width_px}, {"height_px", K.height_px}, {"fx_px", K.fx_px}, {"fy_px", K.fy_px},
-                     {"cx_px", K.cx_px},       {"cy_px", K.cy_px}};
-  j["valid_range_m"] = {K.min_range_m, K.max_range_m};
-  j["depth_noise_k"] = K.depth_noise_k;
+  put_frame_intrinsics(&j, frame.intrinsics);
   j["T_world_camera"] = pose_to_json(frame.T_world_camera);
   j["camera_frame"] = "x right, y down, z forward; pixel (i, j) centre at (i + 0.5, j + 0.5)";
   j["depth_png"] = "uint16 millimetres of planar z-depth, 0 = invalid";

@@ -7,6 +7,7 @@
 
 #include "canopy/common/error.h"
 #include "canopy/common/io.h"
+#include "canopy/common/params.h"
 #include "canopy/common/yaml_reader.h"
 
 namespace fs = std::filesystem;
@@ -74,42 +75,39 @@ void check_size(const Image<T>& image, const CameraIntrinsics& K, const std::str
                      " but the camera is " + std::to_string(K.width_px) + "x" + std::to_string(K.height_px));
 }
 
+// A recorded camera has no default pinhole: the D405's would silently describe another camera.
+void require_pinhole(YamlReader& y) {
+  for (const char* key : {"width_px", "height_px", "fx_px", "fy_px", "cx_px", "cy_px"}) y.require<YAML::Node>(key);
+}
+
+// frame.json's intrinsics (put_frame_intrinsics' layout): the pinhole keys under "intrinsics",
+// read through CameraIntrinsics::visit, and the depth range from "valid_range_m" [min, max].
+// depth_noise_k is what the renderer added, not a property of the recorded frames.
+CameraIntrinsics read_frame_intrinsics(const nlohmann::json& j, const std::string& json_path) {
+  CameraIntrinsics K;
+  YamlReader y(YAML::Load(j.at("intrinsics").dump()), json_path, "intrinsics");  // JSON is YAML
+  require_pinhole(y);
+  read_params(y, K);
+  y.finish();
+  K.min_range_m = j.at("valid_range_m").at(0).get<double>();
+  K.max_range_m = j.at("valid_range_m").at(1).get<double>();
+  validate_params(K, json_path);
+  return K;
+}
+
 }  // namespace
 
-void validate_recorded_intrinsics(const CameraIntrinsics& K, const std::string& where) {
-  auto bad = [&](const std::string& key, double value, const std::string& problem) {
-    std::ostringstream os;
-    os << where << ": key '" << key << "': value '" << value << "' " << problem;
-    throw InputError(os.str());
-  };
-  if (K.width_px <= 0 || K.width_px > 8192) bad("width_px", K.width_px, "must be in 1..8192");
-  if (K.height_px <= 0 || K.height_px > 8192) bad("height_px", K.height_px, "must be in 1..8192");
-  if (!(K.fx_px > 0.0) || !std::isfinite(K.fx_px)) bad("fx_px", K.fx_px, "must be > 0");
-  if (!(K.fy_px > 0.0) || !std::isfinite(K.fy_px)) bad("fy_px", K.fy_px, "must be > 0");
-  if (!(K.cx_px >= 0.0 && K.cx_px <= K.width_px)) bad("cx_px", K.cx_px, "must lie in the image");
-  if (!(K.cy_px >= 0.0 && K.cy_px <= K.height_px)) bad("cy_px", K.cy_px, "must lie in the image");
-  if (!(K.min_range_m > 0.0) || !std::isfinite(K.min_range_m)) bad("min_range_m", K.min_range_m, "must be > 0");
-  if (!(K.max_range_m > K.min_range_m) || !std::isfinite(K.max_range_m))
-    bad("max_range_m", K.max_range_m, "must be > min_range_m");
-}
+void validate_recorded_intrinsics(const CameraIntrinsics& K, const std::string& where) { validate_params(K, where); }
 
 const char* to_string(FrameLayout layout) { return layout == FrameLayout::kTum ? "tum" : "canopy"; }
 
 RecordedCamera RecordedCamera::load(const std::string& path) {
   YamlReader y = YamlReader::load_file(path);
+  require_pinhole(y);
+  y.check(!y.has("depth_noise_k"), "depth_noise_k", "is the renderer's simulated noise, not a recorded camera's");
   RecordedCamera c;
-  CameraIntrinsics& K = c.intrinsics;
-  K.width_px = y.require<int>("width_px");
-  K.height_px = y.require<int>("height_px");
-  K.fx_px = y.require<double>("fx_px");
-  K.fy_px = y.require<double>("fy_px");
-  K.cx_px = y.require<double>("cx_px");
-  K.cy_px = y.require<double>("cy_px");
-  K.min_range_m = get_finite(y, "min_range_m", K.min_range_m);
-  K.max_range_m = get_finite(y, "max_range_m", K.max_range_m);
-  c.depth_scale_per_m = get_positive(y, "depth_scale_per_m", c.depth_scale_per_m);
+  read_params(y, c);
   y.finish();
-  validate_recorded_intrinsics(K, path);
   return c;
 }
 
@@ -263,16 +261,7 @@ FrameSequence FrameSequence::open_canopy(const std::string& dir, const std::vect
     std::vector<std::string> names;
     try {
       const nlohmann::json j = nlohmann::json::parse(read_file(json_path));
-      const auto& k = j.at("intrinsics");
-      CameraIntrinsics& K = e.intrinsics;
-      K.width_px = k.at("width_px").get<int>();
-      K.height_px = k.at("height_px").get<int>();
-      K.fx_px = k.at("fx_px").get<double>();
-      K.fy_px = k.at("fy_px").get<double>();
-      K.cx_px = k.at("cx_px").get<double>();
-      K.cy_px = k.at("cy_px").get<double>();
-      K.min_range_m = j.at("valid_range_m").at(0).get<double>();
-      K.max_range_m = j.at("valid_range_m").at(1).get<double>();
+      e.intrinsics = read_frame_intrinsics(j, json_path);
       const auto& p = j.at("T_world_camera").at("position");
       const auto& q = j.at("T_world_camera").at("quaternion_wxyz");
       e.T_world_camera = checked_pose(
@@ -283,7 +272,6 @@ FrameSequence FrameSequence::open_canopy(const std::string& dir, const std::vect
     } catch (const nlohmann::json::exception& ex) {
       throw InputError(json_path + ": " + ex.what());
     }
-    validate_recorded_intrinsics(e.intrinsics, json_path);
     if (!have_classes) {
       classes.names = names;
       classes.validate(json_path);

@@ -11,6 +11,7 @@
 
 #include "canopy/common/error.h"
 #include "canopy/common/io.h"
+#include "canopy/datasets/frame_io.h"
 #include "canopy/sim/renderer.h"
 
 namespace canopy::mission {
@@ -97,32 +98,23 @@ DatasetExport::DatasetExport(std::string dir, const SemanticClasses& classes, co
 nlohmann::json DatasetExport::write(const LabelledFrame& f, const std::string& name) {
   const CameraIntrinsics& K = f.intrinsics;
   if (K.width_px != K_.width_px || K.height_px != K_.height_px || K.fx_px != K_.fx_px || K.fy_px != K_.fy_px ||
-      K.cx_px != K_.cx_px || K.cy_px != K_.cy_px)
+      K.cx_px != K_.cx_px || K.cy_px != K_.cy_px)  // the pinhole is shared; the range may differ
     throw std::invalid_argument("dataset export: frame " + name + " has other intrinsics than the dataset's");
   const int W = K.width_px, H = K.height_px;
   if (f.rgb.width != W || f.rgb.height != H || f.depth_m.width != W || f.depth_m.height != H || f.class_id.width != W ||
       f.class_id.height != H || f.instance.width != W || f.instance.height != H)
     throw std::invalid_argument("dataset export: frame " + name + " has images of another size than its intrinsics");
-  Image<std::uint16_t> depth_mm(W, H, 0), instances(W, H, 0);
-  Image<Rgb8> labels(W, H);
-  for (int y = 0; y < H; ++y)
-    for (int x = 0; x < W; ++x) {
-      const float z = f.depth_m.at(x, y);
-      if (z > 0.f && std::isfinite(z))
-        depth_mm.at(x, y) = static_cast<std::uint16_t>(std::min(65535.0, std::round(1000.0 * z)));
-      labels.at(x, y) = classes_.color(f.class_id.at(x, y));
-      const std::int32_t id = f.instance.at(x, y);
-      if (id != kNoInstance) {
-        if (id < 0 || id >= 65535)
-          throw std::invalid_argument("dataset export: instance id " + std::to_string(id) + " does not fit 16 bits");
-        instances.at(x, y) = static_cast<std::uint16_t>(id + 1);
-      }
-    }
+  datasets::EncodedFrame e;
+  try {
+    e = datasets::encode_frame(f, classes_, datasets::InstanceEncoding::kIds16);
+  } catch (const std::invalid_argument& ex) {
+    throw std::invalid_argument("dataset export: frame " + name + ": " + ex.what());
+  }
   write_png(dir_ + "images/" + name + ".png", f.rgb);
-  write_png_gray16(dir_ + "depth/" + name + ".png", depth_mm);
+  write_png_gray16(dir_ + "depth/" + name + ".png", e.depth_mm);
   write_npy_float32(dir_ + "depth/" + name + ".npy", f.depth_m);
-  write_png(dir_ + "labels/" + name + ".png", labels);
-  write_png_gray16(dir_ + "instances/" + name + ".png", instances);
+  write_png(dir_ + "labels/" + name + ".png", e.labels);
+  write_png_gray16(dir_ + "instances/" + name + ".png", e.instance_ids);
   nlohmann::json M = nlohmann::json::array();
   const Eigen::Matrix4d c2w = opengl_camera_to_world(f.T_world_camera);
   for (int r = 0; r < 4; ++r) M.push_back({c2w(r, 0), c2w(r, 1), c2w(r, 2), c2w(r, 3)});

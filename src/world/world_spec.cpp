@@ -13,44 +13,35 @@
 
 namespace canopy::world {
 
+namespace spec_detail {
+
+bool known_fruit_color(const std::string& name) {
+  return name == "red" || name == "yellow" || name == "green" || name == "orange";
+}
+
+bool known_fruit_colors(const std::vector<std::string>& names) {
+  for (const std::string& n : names)
+    if (!known_fruit_color(n)) return false;
+  return true;
+}
+
+bool valid_color_weights(const std::map<std::string, double>& weights) {
+  for (const auto& [name, w] : weights)
+    if (!known_fruit_color(name) || !(w >= 0.0) || !std::isfinite(w)) return false;
+  return true;
+}
+
+bool valid_world_name(const std::string& name) {
+  // The name goes into folder and file names of results and into plots.
+  return !name.empty() && name.size() <= 64 &&
+         name.find_first_not_of("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789_.-") ==
+             std::string::npos &&
+         name.find("..") == std::string::npos;
+}
+
+}  // namespace spec_detail
+
 namespace {
-
-// Reads a [min, max] pair; both must be finite, min <= max and, with `positive`, > 0.
-void read_range(YamlReader& y, const std::string& key, double* lo, double* hi, bool positive = true) {
-  if (!y.has(key)) return;
-  std::vector<double> v;
-  try {
-    v = y.require<std::vector<double>>(key);
-  } catch (const InputError&) {
-    y.fail(key, "must be a pair [min, max] of numbers");
-  }
-  y.check(v.size() == 2, key, "must be a pair [min, max]");
-  y.check(std::isfinite(v[0]) && std::isfinite(v[1]), key, "must be finite");
-  y.check(v[0] <= v[1], key, "must have min <= max");
-  if (positive) y.check(v[0] > 0.0, key, "must be positive");
-  *lo = v[0];
-  *hi = v[1];
-}
-
-void read_int_range(YamlReader& y, const std::string& key, int* lo, int* hi, int max) {
-  if (!y.has(key)) return;
-  std::vector<int> v;
-  try {
-    v = y.require<std::vector<int>>(key);
-  } catch (const InputError&) {
-    y.fail(key, "must be a pair [min, max] of whole numbers");
-  }
-  y.check(v.size() == 2 && v[0] >= 0 && v[0] <= v[1], key, "must be a pair [min, max] with 0 <= min <= max");
-  y.check(v[1] <= max, key, "must be a pair [min, max] with max <= " + std::to_string(max) + " (a plausible plant)");
-  *lo = v[0];
-  *hi = v[1];
-}
-
-double read_positive(YamlReader& y, const std::string& key, double fallback) {
-  const double v = y.get(key, fallback);
-  y.check(std::isfinite(v) && v > 0.0, key, "must be > 0");
-  return v;
-}
 
 // A plant folder named in a world file: as given (current folder or canopy's source tree),
 // else relative to the world file's folder.
@@ -114,114 +105,26 @@ std::vector<PlantPlacement> read_placements(YamlReader& y, const std::string& pa
   return out;
 }
 
+// A world file's camera keeps its principal point at the image centre unless it names one
+// (the renderer demands it there): a world giving only width_px gets cx_px = width_px / 2.
+void centre_principal_point(YamlReader& y, CameraIntrinsics* K) {
+  YamlReader c = y.child("camera");
+  try {
+    if (c.has("width_px") && !c.has("cx_px")) K->cx_px = 0.5 * c.require<double>("width_px");
+    if (c.has("height_px") && !c.has("cy_px")) K->cy_px = 0.5 * c.require<double>("height_px");
+  } catch (const InputError&) {
+    // Not a number: reading the camera through its visit() names the key.
+  }
+}
+
 }  // namespace
 
 WorldSpec WorldSpec::load(const std::string& path) {
   YamlReader y = YamlReader::load_file(path);
   WorldSpec s;
   s.source_file = path;
-  s.name = y.get("name", s.name);
-  // The name goes into folder and file names of results and into plots.
-  y.check(!s.name.empty() && s.name.size() <= 64 &&
-              s.name.find_first_not_of("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789_.-") ==
-                  std::string::npos &&
-              s.name.find("..") == std::string::npos,
-          "name", "must be 1-64 letters, digits, '_', '-' or '.' (no '..', no '/')");
-  const long long seed = y.get<long long>("seed", static_cast<long long>(s.seed));
-  y.check(seed >= 0, "seed", "must be >= 0");
-  s.seed = static_cast<std::uint64_t>(seed);
-  s.classes.names = y.get("classes", s.classes.names);
-  s.classes.target = y.get("target_class", s.classes.target);
-
-  YamlReader pc = y.child("part_classes");
-  s.part_classes.ground = pc.get("ground", s.part_classes.ground);
-  s.part_classes.robot = pc.get("robot", s.part_classes.robot);
-  s.part_classes.stem = pc.get("stem", s.part_classes.stem);
-  s.part_classes.petiole = pc.get("petiole", s.part_classes.petiole);
-  s.part_classes.leaf = pc.get("leaf", s.part_classes.leaf);
-  s.part_classes.peduncle = pc.get("peduncle", s.part_classes.peduncle);
-  s.part_classes.fruit = pc.get("fruit", s.part_classes.fruit);
-  s.part_classes.unripe_fruit = pc.get("unripe_fruit", s.part_classes.unripe_fruit);
-  pc.finish();
-
-  YamlReader r = y.child("rows");
-  s.rows.rows = r.get("rows", s.rows.rows);
-  r.check(s.rows.rows == 1 || s.rows.rows == 2, "rows", "must be 1 or 2");
-  s.rows.plants_per_row = r.get("plants_per_row", s.rows.plants_per_row);
-  r.check(s.rows.plants_per_row >= 1 && s.rows.plants_per_row <= 1000, "plants_per_row", "must be in 1..1000");
-  s.rows.plant_spacing_m = read_positive(r, "plant_spacing_m", s.rows.plant_spacing_m);
-  s.rows.row_offset_m = read_positive(r, "row_offset_m", s.rows.row_offset_m);
-  s.rows.x_start_m = r.get("x_start_m", s.rows.x_start_m);
-  r.check(std::isfinite(s.rows.x_start_m), "x_start_m", "must be finite");
-  s.rows.position_jitter_m = r.get("position_jitter_m", s.rows.position_jitter_m);
-  r.check(s.rows.position_jitter_m >= 0.0 && s.rows.position_jitter_m < 0.5 * s.rows.plant_spacing_m,
-          "position_jitter_m", "must be in [0, plant_spacing_m / 2)");
-  r.finish();
-
-  YamlReader p = y.child("plant");
-  PlantParams& pp = s.plant;
-  read_range(p, "height_m", &pp.height_min_m, &pp.height_max_m);
-  read_range(p, "stem_diameter_m", &pp.stem_diameter_min_m, &pp.stem_diameter_max_m);
-  read_range(p, "v_angle_deg", &pp.v_angle_min_deg, &pp.v_angle_max_deg, false);
-  read_int_range(p, "leaves_per_stem", &pp.leaves_per_stem_min, &pp.leaves_per_stem_max, kMaxLeavesPerStem);
-  read_range(p, "leaf_length_m", &pp.leaf_length_min_m, &pp.leaf_length_max_m);
-  pp.leaf_width_ratio = read_positive(p, "leaf_width_ratio", pp.leaf_width_ratio);
-  read_range(p, "petiole_length_m", &pp.petiole_length_min_m, &pp.petiole_length_max_m);
-  read_int_range(p, "fruits", &pp.fruits_min, &pp.fruits_max, kMaxFruitsPerPlant);
-  read_range(p, "fruit_zone", &pp.fruit_zone_min, &pp.fruit_zone_max);
-  pp.blocky_fraction = p.get("blocky_fraction", pp.blocky_fraction);
-  p.check(pp.blocky_fraction >= 0.0 && pp.blocky_fraction <= 1.0, "blocky_fraction", "must be in [0, 1]");
-  read_range(p, "blocky_width_m", &pp.blocky_width_min_m, &pp.blocky_width_max_m);
-  read_range(p, "blocky_length_m", &pp.blocky_length_min_m, &pp.blocky_length_max_m);
-  read_range(p, "conical_width_m", &pp.conical_width_min_m, &pp.conical_width_max_m);
-  read_range(p, "conical_length_m", &pp.conical_length_min_m, &pp.conical_length_max_m);
-  if (p.has("fruit_colors")) {
-    try {
-      pp.fruit_colors = p.require<std::map<std::string, double>>("fruit_colors");
-    } catch (const InputError&) {
-      p.fail("fruit_colors", "must map colour names to weights");
-    }
-  }
-  if (p.has("ripe_colors")) {
-    try {
-      pp.ripe_colors = p.require<std::vector<std::string>>("ripe_colors");
-    } catch (const InputError&) {
-      p.fail("ripe_colors", "must be a list of colour names");
-    }
-  }
-  p.finish();
-  auto known_color = [](const std::string& c) { return c == "red" || c == "yellow" || c == "green" || c == "orange"; };
-  for (const std::string& name : pp.ripe_colors)
-    if (!known_color(name))
-      throw InputError(path + ": key 'plant.ripe_colors': unknown colour '" + name + "' (use red, yellow, orange, green)");
-  for (const auto& [name, w] : pp.fruit_colors) {
-    if (!known_color(name))
-      throw InputError(path + ": key 'plant.fruit_colors." + name + "': unknown colour (use red, yellow, orange, green)");
-    if (!(w >= 0.0) || !std::isfinite(w))
-      throw InputError(path + ": key 'plant.fruit_colors." + name + "': value '" + std::to_string(w) + "' must be >= 0");
-  }
-
-  YamlReader c = y.child("camera");
-  CameraIntrinsics& K = s.camera;
-  K.width_px = c.get("width_px", K.width_px);
-  K.height_px = c.get("height_px", K.height_px);
-  K.fx_px = c.get("fx_px", K.fx_px);
-  K.fy_px = c.get("fy_px", K.fy_px);
-  K.cx_px = c.get("cx_px", 0.5 * K.width_px);
-  K.cy_px = c.get("cy_px", 0.5 * K.height_px);
-  K.min_range_m = c.get("min_range_m", K.min_range_m);
-  K.max_range_m = c.get("max_range_m", K.max_range_m);
-  K.depth_noise_k = c.get("depth_noise_k", K.depth_noise_k);
-  c.finish();
-
-  if (y.has("robot_start")) {
-    const auto v = y.require<std::vector<double>>("robot_start");
-    y.check(v.size() == 3 && std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]), "robot_start",
-            "must be [x, y, yaw] (finite)");
-    s.robot_start = BasePose{v[0], v[1], v[2]};
-  }
-  s.gt_point_spacing_m = read_positive(y, "gt_point_spacing_m", s.gt_point_spacing_m);
-  y.check(s.gt_point_spacing_m >= 0.0005, "gt_point_spacing_m", "must be >= 0.0005 (too many points otherwise)");
+  centre_principal_point(y, &s.camera);
+  read_params(y, s);
   s.placements = read_placements(y, path);
   y.finish();
   s.validate();
@@ -230,46 +133,13 @@ WorldSpec WorldSpec::load(const std::string& path) {
 
 void WorldSpec::validate() const {
   const std::string where = source_file.empty() ? std::string("world") : source_file;
+  validate_params(*this, where);
   classes.validate(where);
   camera.validate(where);
   for (const std::string part : {"ground", "robot", "stem", "petiole", "leaf", "peduncle", "fruit", "unripe_fruit"}) {
     if (class_of(part) < 0)
       throw InputError(where + ": key 'part_classes." + part + "': its class is not in the class list");
   }
-  double total = 0.0;
-  for (const auto& kv : plant.fruit_colors) total += kv.second;
-  if (plant.fruits_max > 0 && !(total > 0.0))
-    throw InputError(where + ": key 'plant.fruit_colors': the weights must not all be zero");
-  if (plant.fruit_zone_max > 1.0)
-    throw InputError(where + ": key 'plant.fruit_zone': must lie within (0, 1]");
-  // Sizes beyond any greenhouse are typos (1e30 for 1.3) and would make absurd meshes.
-  const std::pair<const char*, double> sizes[] = {
-      {"plant.height_m", plant.height_max_m},
-      {"plant.stem_diameter_m", plant.stem_diameter_max_m},
-      {"plant.leaf_length_m", plant.leaf_length_max_m},
-      {"plant.leaf_width_ratio", plant.leaf_width_ratio * plant.leaf_length_max_m},
-      {"plant.petiole_length_m", plant.petiole_length_max_m},
-      {"plant.blocky_width_m", plant.blocky_width_max_m},
-      {"plant.blocky_length_m", plant.blocky_length_max_m},
-      {"plant.conical_width_m", plant.conical_width_max_m},
-      {"plant.conical_length_m", plant.conical_length_max_m}};
-  for (const auto& [key, v] : sizes)
-    if (!(std::abs(v) <= kMaxPlantSizeM))
-      throw InputError(where + ": key '" + key + "': a size of " + std::to_string(v) + " m is larger than a plant (at most " +
-                       std::to_string(kMaxPlantSizeM) + " m)");
-  const double row_length_m = rows.plant_spacing_m * (rows.plants_per_row - 1);
-  const std::pair<const char*, double> extents[] = {{"rows.plant_spacing_m", row_length_m},
-                                                    {"rows.row_offset_m", rows.row_offset_m},
-                                                    {"rows.x_start_m", rows.x_start_m},
-                                                    {"rows.x_start_m", rows.x_start_m + row_length_m},
-                                                    {"robot_start", robot_start.x_m},
-                                                    {"robot_start", robot_start.y_m}};
-  for (const auto& [key, v] : extents)
-    if (!(std::abs(v) <= kMaxWorldExtentM))
-      throw InputError(where + ": key '" + key + "': the world would reach " + std::to_string(v) +
-                       " m from the origin (at most " + std::to_string(kMaxWorldExtentM) + " m)");
-  if (2.0 * rows.row_offset_m < 0.5)
-    throw InputError(where + ": key 'rows.row_offset_m': rows closer than 0.25 m to the aisle leave no room for the robot");
   std::set<std::pair<int, int>> slots;
   for (size_t i = 0; i < placements.size(); ++i) {
     const PlantPlacement& p = placements[i];
@@ -342,49 +212,9 @@ nlohmann::json placements_json(const std::vector<PlantPlacement>& placements) {
 }  // namespace
 
 nlohmann::json WorldSpec::to_json() const {
-  using nlohmann::json;
-  const PlantParams& p = plant;
-  json colors = json::object();
-  for (const auto& [name, w] : p.fruit_colors) colors[name] = w;
-  return {
-      {"name", name},
-      {"seed", seed},
-      {"classes", classes.names},
-      {"target_class", classes.target},
-      {"part_classes",
-       {{"ground", part_classes.ground}, {"robot", part_classes.robot}, {"stem", part_classes.stem},
-        {"petiole", part_classes.petiole}, {"leaf", part_classes.leaf}, {"peduncle", part_classes.peduncle},
-        {"fruit", part_classes.fruit}, {"unripe_fruit", part_classes.unripe_fruit}}},
-      {"rows",
-       {{"rows", rows.rows}, {"plants_per_row", rows.plants_per_row}, {"plant_spacing_m", rows.plant_spacing_m},
-        {"row_offset_m", rows.row_offset_m}, {"x_start_m", rows.x_start_m},
-        {"position_jitter_m", rows.position_jitter_m}}},
-      {"plant",
-       {{"height_m", {p.height_min_m, p.height_max_m}},
-        {"stem_diameter_m", {p.stem_diameter_min_m, p.stem_diameter_max_m}},
-        {"v_angle_deg", {p.v_angle_min_deg, p.v_angle_max_deg}},
-        {"leaves_per_stem", {p.leaves_per_stem_min, p.leaves_per_stem_max}},
-        {"leaf_length_m", {p.leaf_length_min_m, p.leaf_length_max_m}},
-        {"leaf_width_ratio", p.leaf_width_ratio},
-        {"petiole_length_m", {p.petiole_length_min_m, p.petiole_length_max_m}},
-        {"fruits", {p.fruits_min, p.fruits_max}},
-        {"fruit_zone", {p.fruit_zone_min, p.fruit_zone_max}},
-        {"blocky_fraction", p.blocky_fraction},
-        {"blocky_width_m", {p.blocky_width_min_m, p.blocky_width_max_m}},
-        {"blocky_length_m", {p.blocky_length_min_m, p.blocky_length_max_m}},
-        {"conical_width_m", {p.conical_width_min_m, p.conical_width_max_m}},
-        {"conical_length_m", {p.conical_length_min_m, p.conical_length_max_m}},
-        {"fruit_colors", colors},
-        {"ripe_colors", p.ripe_colors}}},
-      {"camera",
-       {{"width_px", camera.width_px}, {"height_px", camera.height_px}, {"fx_px", camera.fx_px},
-        {"fy_px", camera.fy_px}, {"cx_px", camera.cx_px}, {"cy_px", camera.cy_px},
-        {"min_range_m", camera.min_range_m}, {"max_range_m", camera.max_range_m},
-        {"depth_noise_k", camera.depth_noise_k}}},
-      {"robot_start", {robot_start.x_m, robot_start.y_m, robot_start.yaw_rad}},
-      {"gt_point_spacing_m", gt_point_spacing_m},
-      {"plants", placements_json(placements)},
-  };
+  nlohmann::json j = params_to_json(*this);
+  j["plants"] = placements_json(placements);
+  return j;
 }
 
 int WorldSpec::class_of(const std::string& part) const {

@@ -7,8 +7,11 @@
 #include <fstream>
 
 #include "canopy/common/error.h"
-#include "canopy/datasets/frame_sequence.h"
 #include "canopy/common/io.h"
+#include "canopy/common/params.h"
+#include "canopy/datasets/frame_io.h"
+#include "canopy/datasets/frame_sequence.h"
+#include "canopy/world/world_spec.h"
 
 namespace fs = std::filesystem;
 using namespace canopy;
@@ -207,4 +210,123 @@ TEST(FrameSequence, LabelImagesDecodeByTableAndNameAnUnknownColour) {
   // The default table is the classes' drawing colours (what labels.png holds).
   const ClassColorTable def = ClassColorTable::from_classes(SemanticClasses{});
   EXPECT_EQ(def.colors[2], SemanticClasses{}.color(2));
+}
+
+namespace {
+
+// A canopy frame folder whose frame.json holds `intrinsics` (a JSON object) and the range.
+void write_frame_json(const std::string& folder, const std::string& intrinsics, const std::string& range) {
+  write_text(folder + "/frame.json",
+             "{\"intrinsics\": " + intrinsics + ", \"valid_range_m\": " + range +
+                 ", \"depth_noise_k\": 0.0, \"T_world_camera\": {\"position\": [0, 0, 0], \"quaternion_wxyz\": [1, 0, "
+                 "0, 0]}, \"classes\": [\"background\", \"leaf\", \"fruit\"]}\n");
+}
+
+// The pinhole keys as a flow mapping (YAML and JSON alike), with `key` set to `value`.
+std::string pinhole(const std::string& key, const std::string& value) {
+  const std::pair<std::string, std::string> keys[] = {{"width_px", "400"}, {"height_px", "400"}, {"fx_px", "381.36"},
+                                                      {"fy_px", "381.36"}, {"cx_px", "200"},     {"cy_px", "200"}};
+  std::string s;
+  for (const auto& [k, v] : keys) s += (s.empty() ? "" : ", ") + ("\"" + k + "\": " + (k == key ? value : v));
+  return "{" + s + "}";
+}
+
+// The default intrinsics with `key` set to `value` (as the Python Intrinsics builds them).
+CameraIntrinsics with(const std::string& key, const std::string& value) {
+  CameraIntrinsics K;
+  const double v = std::stod(value);
+  if (key == "width_px") K.width_px = static_cast<int>(v);
+  if (key == "height_px") K.height_px = static_cast<int>(v);
+  if (key == "fx_px") K.fx_px = v;
+  if (key == "fy_px") K.fy_px = v;
+  if (key == "cx_px") K.cx_px = v;
+  if (key == "cy_px") K.cy_px = v;
+  if (key == "min_range_m") K.min_range_m = v;
+  if (key == "max_range_m") K.max_range_m = v;
+  return K;
+}
+
+}  // namespace
+
+// One set of camera limits (CameraIntrinsics::visit): the same bad value gets the same problem
+// from a world file's camera, a TUM sequence's camera.yaml, a frame folder's frame.json and
+// the Python Intrinsics (validate_recorded_intrinsics).
+TEST(CameraLimits, SameFromEveryEntryPoint) {
+  TempDir d;
+  write_tum(d, 1, {0.0}, -1, -1);
+  const std::tuple<std::string, std::string, std::string> cases[] = {
+      {"width_px", "4097", "must be in [1, 4096]"},     {"height_px", "0", "must be in [1, 4096]"},
+      {"fx_px", "-1", "must be > 0"},                   {"fy_px", "0", "must be > 0"},
+      {"cx_px", "401", "must lie in the image (0 to width_px)"},
+      {"cy_px", "-1", "must lie in the image (0 to height_px)"},
+  };
+  for (const auto& [key, value, problem] : cases) {
+    const std::string yaml = pinhole(key, value);
+    write_text(d / "world.yaml", "camera: " + yaml + "\n");
+    EXPECT_EQ(input_error([&] { world::WorldSpec::load(d / "world.yaml"); }),
+              d / "world.yaml" + ": key 'camera." + key + "': value '" + value + "' " + problem);
+    write_text(d / "camera.yaml", yaml + "\n");
+    EXPECT_EQ(input_error([&] { FrameSequence::open(d.path.string()); }),
+              d / "camera.yaml" + ": key '" + key + "': value '" + value + "' " + problem);
+    write_frame_json(d / "frames/f0", yaml, "[0.07, 1.0]");
+    EXPECT_EQ(input_error([&] { FrameSequence::open(d / "frames"); }),
+              d / "frames/f0/frame.json" + ": key 'intrinsics." + key + "': value '" + value + "' " + problem);
+    const std::string python = input_error([&] { validate_recorded_intrinsics(with(key, value), "Intrinsics"); });
+    EXPECT_NE(python.find(key), std::string::npos) << python;
+    EXPECT_NE(python.find(problem), std::string::npos) << python;
+  }
+  // The depth range: frame.json holds it as valid_range_m, checked against the same limits.
+  const std::tuple<std::string, std::string, std::string, std::string> ranges[] = {
+      {"min_range_m", "0", "[0, 1.0]", "must be > 0"},
+      {"max_range_m", "0.05", "[0.07, 0.05]", "must be > min_range_m"},
+  };
+  for (const auto& [key, value, range, problem] : ranges) {
+    write_text(d / "world.yaml", "camera: {" + key + ": " + value + "}\n");
+    EXPECT_EQ(input_error([&] { world::WorldSpec::load(d / "world.yaml"); }),
+              d / "world.yaml" + ": key 'camera." + key + "': value '" + value + "' " + problem);
+    write_text(d / "camera.yaml", "width_px: 400\nheight_px: 400\nfx_px: 381.36\nfy_px: 381.36\ncx_px: 200\ncy_px: 200\n" +
+                                      key + ": " + value + "\n");
+    EXPECT_EQ(input_error([&] { FrameSequence::open(d.path.string()); }),
+              d / "camera.yaml" + ": key '" + key + "': value '" + value + "' " + problem);
+    write_frame_json(d / "frames/f0", pinhole("", ""), range);
+    const std::string frame_error = input_error([&] { FrameSequence::open(d / "frames"); });
+    EXPECT_NE(frame_error.find(d / "frames/f0/frame.json"), std::string::npos) << frame_error;
+    EXPECT_NE(frame_error.find(key), std::string::npos) << frame_error;
+    EXPECT_NE(frame_error.find(problem), std::string::npos) << frame_error;
+    const std::string python = input_error([&] { validate_recorded_intrinsics(with(key, value), "Intrinsics"); });
+    EXPECT_NE(python.find(key), std::string::npos) << python;
+    EXPECT_NE(python.find(problem), std::string::npos) << python;
+  }
+}
+
+// frame.json's intrinsics as write_frame puts them, read back by the frame folder reader.
+TEST(CameraLimits, FrameJsonIntrinsicsReadBack) {
+  TempDir d;
+  CameraIntrinsics K;
+  K.width_px = 64;
+  K.height_px = 48;
+  K.fx_px = 50.5;
+  K.fy_px = 51.0;
+  K.cx_px = 31.5;
+  K.cy_px = 24.25;
+  K.min_range_m = 0.1;
+  K.max_range_m = 2.5;
+  K.depth_noise_k = 0.01;
+  nlohmann::json j;
+  put_frame_intrinsics(&j, K);
+  EXPECT_EQ(j["intrinsics"].size(), 6u);  // the layout frame folders have always had
+  EXPECT_EQ(j["valid_range_m"], nlohmann::json({0.1, 2.5}));
+  EXPECT_EQ(j["depth_noise_k"], 0.01);
+  j["T_world_camera"] = {{"position", {0, 0, 0}}, {"quaternion_wxyz", {1, 0, 0, 0}}};
+  j["classes"] = {"background", "leaf", "fruit"};
+  write_text(d / "f0/frame.json", j.dump());
+  const FrameSequence s = FrameSequence::open(d / "f0");
+  ASSERT_EQ(s.size(), 1u);
+  write_png_gray16(d / "f0/depth.png", Image<std::uint16_t>(64, 48, 1000));
+  write_png(d / "f0/rgb.png", Image<Rgb8>(64, 48));
+  LabelledFrame f;
+  std::string why;
+  ASSERT_TRUE(s.read(0, &f, &why)) << why;
+  K.depth_noise_k = 0.0;  // what the renderer added is not a property of the recorded frame
+  EXPECT_TRUE(same_params(f.intrinsics, K)) << yaml_text(params_to_yaml(f.intrinsics));
 }

@@ -169,22 +169,7 @@ TEST(GroundTruth, TargetFlagsFollowTheRipeColours) {
   }
 }
 
-TEST(WorldSpec, DefaultsInYamlEqualStructDefaults) {
-  const WorldSpec file = WorldSpec::load(find_data_file("worlds/default.yaml"));
-  const WorldSpec d;
-  EXPECT_EQ(file.seed, d.seed);
-  EXPECT_EQ(file.classes.names, d.classes.names);
-  EXPECT_EQ(file.rows.plants_per_row, d.rows.plants_per_row);
-  EXPECT_EQ(file.rows.row_offset_m, d.rows.row_offset_m);
-  EXPECT_EQ(file.plant.leaves_per_stem_max, d.plant.leaves_per_stem_max);
-  EXPECT_EQ(file.plant.leaf_length_max_m, d.plant.leaf_length_max_m);
-  EXPECT_EQ(file.plant.fruit_colors, d.plant.fruit_colors);
-  EXPECT_EQ(file.plant.ripe_colors, d.plant.ripe_colors);
-  EXPECT_EQ(file.part_classes.unripe_fruit, d.part_classes.unripe_fruit);
-  EXPECT_EQ(file.camera.fx_px, d.camera.fx_px);
-  EXPECT_EQ(file.camera.max_range_m, d.camera.max_range_m);
-  EXPECT_EQ(file.gt_point_spacing_m, d.gt_point_spacing_m);
-}
+// The defaults file against the struct's defaults: world_spec_test.cpp.
 
 void expect_error(const std::string& yaml, const std::string& fragment) {
   const std::string path = write_temp("bad_world.yaml", yaml);

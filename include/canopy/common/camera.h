@@ -8,12 +8,22 @@
 //   u = fx * x / z + cx,   v = fy * y / z + cy.
 // With cx = width / 2 the optical axis passes through the image centre.
 // Depth images hold planar z-depth (metres along the optical axis), 0 where invalid.
+//
+// Its keys and limits are stated once, in visit(): the world file's `camera`, the camera YAML
+// of a recorded sequence (`--intrinsics camera.yaml`), a frame folder's frame.json and the
+// Python Intrinsics all read and check them through it. The renderer adds MuJoCo's own two
+// demands on top (validate()).
 
 #include <string>
 
+#include "canopy/common/params.h"
 #include "canopy/common/types.h"
 
 namespace canopy {
+
+/// Largest image side [px] of any camera, rendered or recorded: 4096 x 4096 RGB-D with labels
+/// is a quarter of a gigabyte per frame; depth cameras are far smaller (the D405: 1280 x 720).
+constexpr int kMaxCameraSidePx = 4096;
 
 /// Intrinsics and valid depth range of a depth camera.
 struct CameraIntrinsics {
@@ -45,8 +55,28 @@ struct CameraIntrinsics {
   }
   /// Vertical field of view in degrees (what MuJoCo's camera `fovy` expects).
   double fovy_deg() const;
-  /// Throws InputError naming `where` when a value is out of range.
+  /// Throws InputError naming `where` when a value is out of range (visit()'s limits) or the
+  /// renderer cannot draw it: MuJoCo has one field of view (fx = fy) and no principal-point
+  /// offset (cx, cy at the image centre).
   void validate(const std::string& where) const;
+
+  /// The keys, limits and meaning of every field (common/params.h).
+  template <class Archive>
+  void visit(Archive& a) {
+    a("width_px", width_px, limits::in(1, kMaxCameraSidePx), "Image width [px]");
+    a("height_px", height_px, limits::in(1, kMaxCameraSidePx), "Image height [px]");
+    a("fx_px", fx_px, limits::positive(), "Focal length along x [px]");
+    a("fy_px", fy_px, limits::positive(), "Focal length along y [px]");
+    a("cx_px", cx_px, limits::finite(), "Principal point x [px] from the image's left edge (0 to width_px)");
+    a("cy_px", cy_px, limits::finite(), "Principal point y [px] from the image's top edge (0 to height_px)");
+    a.check(cx_px >= 0.0 && cx_px <= width_px, "cx_px", "must lie in the image (0 to width_px)");
+    a.check(cy_px >= 0.0 && cy_px <= height_px, "cy_px", "must lie in the image (0 to height_px)");
+    a("min_range_m", min_range_m, limits::positive(), "Depths below this are invalid [m] (D405 min-Z 0.07)");
+    a("max_range_m", max_range_m, limits::positive(), "Depths beyond this are invalid [m] (the mapping range)");
+    a.check(max_range_m > min_range_m, "max_range_m", "must be > min_range_m");
+    a("depth_noise_k", depth_noise_k, limits::non_negative(),
+      "Rendered depth noise: sigma = k * z^2 [m]; 0 = none, 0.01 models a D405");
+  }
 };
 
 /// Optical-frame pose at `eye` looking at `target` with zero roll: image x is horizontal and

@@ -3,7 +3,8 @@
 // Serialize(Archive*) and nvblox's Param<T>::Description), and that one list serves:
 //  - reading YAML strictly (YamlIn: absent keys keep their values, unknown keys and bad values
 //    are errors naming the file, the key path and the value),
-//  - writing YAML (YamlOut: every key, in the order visited, floats as the doubles they are),
+//  - writing YAML (YamlOut: every key, in the order visited, floats as the doubles they are)
+//    and JSON (JsonOut: numbers as the C++ types they are, for result records),
 //  - validating a struct built in code (validate_params),
 //  - equality (same_params) and the reference of every setting (describe_params).
 //
@@ -15,6 +16,7 @@
 //     a("prune", prune, "Collapse eight identical children after each scan");
 //     a.choice("noise", noise, kNoiseModelNames, "What one P_gt draw flips");
 //     a.section("cluster", cluster, "Fruit clustering");
+//     a.tuple("height_m", {&min_m, &max_m}, "[min, max]", limits::positive(), "Plant height [m]");
 //     a.check(max_m >= min_m, "max_m", "must be >= min_m");   // across fields, after both
 //   }
 
@@ -23,7 +25,9 @@
 
 #include <cmath>
 #include <cstdint>
+#include <initializer_list>
 #include <limits>
+#include <map>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -71,6 +75,17 @@ template <typename T>
 constexpr bool is_number =
     std::is_arithmetic_v<T> && !std::is_same_v<T, bool>;  // int, unsigned, float, double, ...
 
+template <typename T>
+struct is_vector : std::false_type {};
+template <typename U>
+struct is_vector<std::vector<U>> : std::true_type {};
+template <typename T>
+struct is_map : std::false_type {};
+template <typename K, typename V>
+struct is_map<std::map<K, V>> : std::true_type {};
+/// "[min, max] of numbers": what a tuple must be, for messages and the reference.
+std::string tuple_text(const char* shape, bool whole, const Limits& each);
+
 /// The shortest decimal text that reads back to exactly `v` ("0.015", not "0.014999999999999999").
 std::string shortest(double v);
 /// The same for a float: the shortest text whose double, cast to float, is `v` ("-0.1").
@@ -81,7 +96,15 @@ std::string value_text(const T& v) {
   if constexpr (std::is_same_v<T, bool>) return v ? "true" : "false";
   else if constexpr (std::is_same_v<T, std::string>) return v;
   else if constexpr (std::is_floating_point_v<T>) return shortest(v);
-  else return std::to_string(v);
+  else if constexpr (is_vector<T>::value) {  // on one line, as YAML: [a, b]
+    std::string s;
+    for (const auto& x : v) s += (s.empty() ? "" : ", ") + value_text(x);
+    return "[" + s + "]";
+  } else if constexpr (is_map<T>::value) {  // {key: value, ...}
+    std::string s;
+    for (const auto& [k, x] : v) s += (s.empty() ? "" : ", ") + value_text(k) + ": " + value_text(x);
+    return "{" + s + "}";
+  } else return std::to_string(v);
 }
 std::string join(const std::vector<std::string>& names);
 /// A YAML scalar of a number: floating point as its shortest exact text.
@@ -160,6 +183,32 @@ class YamlIn {
       v.push_back(static_cast<T>(d));
     }
     value = std::move(v);
+  }
+  /// A fixed-length list of numbers held in separate fields (e.g. [min, max]), each within `each`.
+  template <typename T>
+  void tuple(const char* key, std::initializer_list<T*> parts, const char* shape, const Limits& each,
+             const char* /*help*/) {
+    if (!y_.has(key)) {
+      y_.get<std::string>(key, "");
+      return;
+    }
+    const YAML::Node n = y_.require<YAML::Node>(key);
+    const std::string problem = "must be " + params_detail::tuple_text(shape, std::is_integral_v<T>, each);
+    y_.check(n.IsSequence() && n.size() == parts.size(), key, problem);
+    std::vector<T> v;
+    for (const auto& item : n) {
+      double d = 0.0;
+      try {
+        d = item.as<double>();
+      } catch (const YAML::Exception&) {
+        y_.fail(key, problem);
+      }
+      y_.check(each.ok(d), key, problem);
+      if constexpr (std::is_integral_v<T>) y_.check(d == std::floor(d), key, problem);
+      v.push_back(static_cast<T>(d));
+    }
+    std::size_t i = 0;
+    for (T* p : parts) *p = v[i++];
   }
   /// A string that must be present.
   void required(const char* key, std::string& value, const char* /*help*/) { value = y_.require<std::string>(key); }
@@ -249,6 +298,12 @@ class YamlOut {
     for (const T& x : value) s.push_back(params_detail::number_node(x));
     node[key] = s;
   }
+  template <typename T>
+  void tuple(const char* key, std::initializer_list<T*> parts, const char*, const Limits&, const char* /*help*/) {
+    YAML::Node s(YAML::NodeType::Sequence);
+    for (const T* p : parts) s.push_back(params_detail::number_node(*p));
+    node[key] = s;
+  }
   void required(const char* key, const std::string& value, const char* /*help*/) { node[key] = value; }
   template <typename E, std::size_t N>
   void choice(const char* key, const E& value, const EnumName<E> (&names)[N], const char* /*help*/) {
@@ -276,6 +331,55 @@ class YamlOut {
   void check(bool, const char*, const std::string&) {}
 };
 
+// --- JSON out ------------------------------------------------------------------------------
+
+/// Writes every key of a struct as JSON: numbers keep their C++ type (an int stays an
+/// integer, a double a double), so a record reads as the struct's own values.
+class JsonOut {
+ public:
+  nlohmann::json node = nlohmann::json::object();
+
+  template <typename T>
+  void operator()(const char* key, const T& value, const char* /*help*/) {
+    node[key] = value;
+  }
+  template <typename T>
+  void operator()(const char* key, const T& value, const Limits&, const char* /*help*/) {
+    node[key] = value;
+  }
+  template <typename T>
+  void tuple(const char* key, std::initializer_list<T*> parts, const char*, const Limits&, const char* /*help*/) {
+    nlohmann::json a = nlohmann::json::array();
+    for (const T* p : parts) a.push_back(*p);
+    node[key] = a;
+  }
+  void required(const char* key, const std::string& value, const char* /*help*/) { node[key] = value; }
+  template <typename E, std::size_t N>
+  void choice(const char* key, const E& value, const EnumName<E> (&names)[N], const char* /*help*/) {
+    node[key] = std::string(enum_name(names, value));
+  }
+  void one_of(const char* key, const std::string& value, const std::vector<std::string>&, const char* /*help*/) {
+    node[key] = value;
+  }
+  template <typename S>
+  void section(const char* key, const S& s, const char* /*help*/ = "") {
+    JsonOut out;
+    const_cast<S&>(s).visit(out);
+    node[key] = out.node;
+  }
+  template <typename S>
+  void list(const char* key, const std::vector<S>& items, const char* /*help*/) {
+    nlohmann::json a = nlohmann::json::array();
+    for (const S& s : items) {
+      JsonOut out;
+      const_cast<S&>(s).visit(out);
+      a.push_back(out.node);
+    }
+    node[key] = a;
+  }
+  void check(bool, const char*, const std::string&) {}
+};
+
 // --- Validation of a struct built in code ---------------------------------------------------
 
 /// Checks every field's limits and every cross-field check; the first failure throws
@@ -294,6 +398,14 @@ class Validate {
   void operator()(const char* key, const std::vector<T>& value, const Limits& each, const char*) {
     for (const T& x : value)
       if (!each.ok(double(x))) fail(key, params_detail::value_text(x), "holds a value that " + each.text());
+  }
+  template <typename T>
+  void tuple(const char* key, std::initializer_list<T*> parts, const char* shape, const Limits& each, const char*) {
+    std::vector<T> v;
+    for (const T* p : parts) v.push_back(*p);
+    for (const T& x : v)
+      if (!each.ok(double(x)))
+        fail(key, params_detail::value_text(v), "must be " + params_detail::tuple_text(shape, std::is_integral_v<T>, each));
   }
   void required(const char* key, const std::string& value, const char*) {
     if (value.empty()) fail(key, value, "is missing");
@@ -358,6 +470,12 @@ class Describe {
     e << YAML::Flow << o.node[key];
     add(key, e.c_str(), "each " + each.text(), help);
   }
+  template <typename T>
+  void tuple(const char* key, std::initializer_list<T*> parts, const char* shape, const Limits& each, const char* help) {
+    std::vector<T> v;
+    for (const T* p : parts) v.push_back(*p);
+    add(key, params_detail::value_text(v), params_detail::tuple_text(shape, std::is_integral_v<T>, each), help);
+  }
   void required(const char* key, const std::string& value, const char* help) { add(key, value, "required", help); }
   template <typename E, std::size_t N>
   void choice(const char* key, const E& value, const EnumName<E> (&names)[N], const char* help) {
@@ -420,6 +538,16 @@ YAML::Node params_to_yaml(const P& p) {
   const_cast<P&>(p).visit(out);
   return out.node;
 }
+/// `p` as a JSON object (numbers as their C++ types).
+template <typename P>
+nlohmann::json params_to_json(const P& p) {
+  JsonOut out;
+  const_cast<P&>(p).visit(out);
+  return out.node;
+}
+/// The reference table of settings in Markdown ("| key | default | must be | meaning |"), as
+/// docs/settings.md and docs/plants.md hold it.
+std::string params_markdown(const std::vector<ParamDescription>& rows);
 /// YAML text of a node with doubles at full precision (what is saved reads back exactly).
 std::string yaml_text(const YAML::Node& node);
 /// A YAML tree as JSON, for result records that quote settings: scalars become booleans,

@@ -37,16 +37,26 @@ enum class FrameLayout { kCanopy, kTum };
 const char* to_string(FrameLayout layout);
 
 /// The camera of a TUM sequence: intrinsics, valid range and depth units (camera YAML keys
-/// width_px height_px fx_px fy_px cx_px cy_px min_range_m max_range_m depth_scale_per_m).
+/// width_px height_px fx_px fy_px cx_px cy_px, required, and min_range_m max_range_m
+/// depth_scale_per_m; the intrinsics' keys and limits are CameraIntrinsics::visit's).
 struct RecordedCamera {
   CameraIntrinsics intrinsics;
   double depth_scale_per_m = 5000.0;  ///< Depth PNG units per metre (TUM: 5000).
   /// Loads and validates a camera YAML; throws InputError naming the file and key.
   static RecordedCamera load(const std::string& path);
+
+  /// The keys of a camera YAML: the intrinsics' (but depth_noise_k, which only the renderer
+  /// uses) and the depth units.
+  template <class Archive>
+  void visit(Archive& a) {
+    intrinsics.visit(a);
+    a("depth_scale_per_m", depth_scale_per_m, limits::positive(), "Depth PNG units per metre (TUM: 5000)");
+  }
 };
 
-/// Checks the intrinsics of a recorded camera (any principal point in the image, unlike the
-/// renderer's); throws InputError naming `where` and the key.
+/// Checks the intrinsics of a recorded camera against CameraIntrinsics::visit's limits (any
+/// principal point in the image, unlike the renderer's); throws InputError naming `where` and
+/// the key.
 void validate_recorded_intrinsics(const CameraIntrinsics& K, const std::string& where);
 
 /// Class names and the colour of each in label images.

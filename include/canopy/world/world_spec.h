@@ -1,9 +1,14 @@
 #pragma once
 // A greenhouse world as written in worlds/<name>.yaml: rows of procedurally generated
 // sweet-pepper plants along an aisle, the semantic classes, the camera and the robot start.
+// Every key, its limits and its meaning are stated once, in the visit() functions below
+// (common/params.h): load() reads a world file through them, to_json() writes world.json's
+// `spec` from them, and `canopy settings --world --markdown` prints docs/plants.md's table.
+// Only `plants` (imported plant folders, resolved on disk) is read and written by hand.
 
 #include <nlohmann/json.hpp>
 
+#include <cmath>
 #include <cstdint>
 #include <map>
 #include <string>
@@ -11,6 +16,7 @@
 
 #include "canopy/common/camera.h"
 #include "canopy/common/classes.h"
+#include "canopy/common/params.h"
 #include "canopy/common/types.h"
 
 namespace canopy::world {
@@ -25,6 +31,25 @@ constexpr double kMaxWorldExtentM = 1000.0;
 constexpr int kMaxLeavesPerStem = 200;
 constexpr int kMaxFruitsPerPlant = 50;
 
+namespace spec_detail {
+/// A [min, max] pair of fields, each within `each`, min <= max.
+template <class Archive, typename T>
+void range(Archive& a, const char* key, T& lo, T& hi, const Limits& each, const char* help) {
+  a.tuple(key, {&lo, &hi}, "[min, max]", each, help);
+  a.check(lo <= hi, key, "must have min <= max");
+}
+/// A size of plant geometry [m]: (0, kMaxPlantSizeM] (1e30 for 1.3 is a typo, not a plant).
+inline Limits plant_size() { return limits::above_up_to(0.0, kMaxPlantSizeM); }
+/// A fruit colour the generator knows.
+bool known_fruit_color(const std::string& name);
+/// True when every name in `names` is a known fruit colour.
+bool known_fruit_colors(const std::vector<std::string>& names);
+/// True when every colour is known and every weight finite and >= 0.
+bool valid_color_weights(const std::map<std::string, double>& weights);
+/// True when `name` is 1-64 letters, digits, '_', '-' or '.' without "..".
+bool valid_world_name(const std::string& name);
+}  // namespace spec_detail
+
 /// Plants in rows parallel to the world x axis, on both sides of an aisle along y = 0.
 struct RowLayout {
   int rows = 2;                    ///< 1 (left of the aisle, y > 0) or 2 (both sides).
@@ -33,6 +58,23 @@ struct RowLayout {
   double row_offset_m = 0.75;      ///< |y| of each row's centre line.
   double x_start_m = 0.0;          ///< x of the first plant of each row.
   double position_jitter_m = 0.03; ///< Uniform jitter of each plant's position.
+
+  /// The keys of a world file's `rows`.
+  template <class Archive>
+  void visit(Archive& a) {
+    a("rows", rows, limits::in(1, 2), "1: one row left of the aisle (y > 0); 2: both sides");
+    a("plants_per_row", plants_per_row, limits::in(1, 1000), "Plants in each row");
+    a("plant_spacing_m", plant_spacing_m, limits::positive(), "Distance between plants along a row [m]");
+    a.check(plant_spacing_m * (plants_per_row - 1) <= kMaxWorldExtentM, "plant_spacing_m",
+            "makes a row longer than the world (at most 1000 m)");
+    a("row_offset_m", row_offset_m, limits::in(0.25, kMaxWorldExtentM),
+      "Distance of each row's centre line from the aisle's (y = 0) [m]; the robot drives between");
+    a("x_start_m", x_start_m, limits::in(-kMaxWorldExtentM, kMaxWorldExtentM), "x of each row's first plant [m]");
+    a.check(std::abs(x_start_m + plant_spacing_m * (plants_per_row - 1)) <= kMaxWorldExtentM, "x_start_m",
+            "puts the row's last plant outside the world (at most 1000 m from the origin)");
+    a("position_jitter_m", position_jitter_m, limits::non_negative(), "Uniform jitter of each plant's position [m]");
+    a.check(position_jitter_m < 0.5 * plant_spacing_m, "position_jitter_m", "must be < plant_spacing_m / 2");
+  }
 };
 
 /// Ranges from which every plant draws its own shape (docs/background/plants.md).
@@ -55,6 +97,40 @@ struct PlantParams {
   /// Ripe colours: their fruits are targets (in the metrics); others are rendered and
   /// labelled (part class unripe_fruit) but not counted, as in the paper's ground truth.
   std::vector<std::string> ripe_colors = {"red", "yellow", "orange"};
+
+  /// The keys of a world file's `plant` (ranges as [min, max]).
+  template <class Archive>
+  void visit(Archive& a) {
+    using spec_detail::range;
+    const Limits size = spec_detail::plant_size();
+    range(a, "height_m", height_min_m, height_max_m, size, "Plant height [m]");
+    range(a, "stem_diameter_m", stem_diameter_min_m, stem_diameter_max_m, size, "Stem diameter [m]");
+    range(a, "v_angle_deg", v_angle_min_deg, v_angle_max_deg, limits::finite(), "Each stem's lean from vertical [deg]");
+    range(a, "leaves_per_stem", leaves_per_stem_min, leaves_per_stem_max, limits::in(0, kMaxLeavesPerStem),
+          "Leaves on each stem");
+    range(a, "leaf_length_m", leaf_length_min_m, leaf_length_max_m, size, "Leaf blade length [m]");
+    a("leaf_width_ratio", leaf_width_ratio, limits::positive(), "Blade width / length");
+    a.check(leaf_width_ratio * leaf_length_max_m <= kMaxPlantSizeM, "leaf_width_ratio",
+            "makes blades wider than a plant (at most 10 m)");
+    range(a, "petiole_length_m", petiole_length_min_m, petiole_length_max_m, size, "Petiole length [m]");
+    range(a, "fruits", fruits_min, fruits_max, limits::in(0, kMaxFruitsPerPlant), "Fruits per plant");
+    range(a, "fruit_zone", fruit_zone_min, fruit_zone_max, limits::above_up_to(0.0, 1.0),
+          "Where fruits hang, as fractions of the plant height");
+    a("blocky_fraction", blocky_fraction, limits::in(0.0, 1.0), "Share of blocky fruits (the rest conical)");
+    range(a, "blocky_width_m", blocky_width_min_m, blocky_width_max_m, size, "Blocky fruit width [m]");
+    range(a, "blocky_length_m", blocky_length_min_m, blocky_length_max_m, size, "Blocky fruit length [m]");
+    range(a, "conical_width_m", conical_width_min_m, conical_width_max_m, size, "Conical fruit width [m]");
+    range(a, "conical_length_m", conical_length_min_m, conical_length_max_m, size, "Conical fruit length [m]");
+    a("fruit_colors", fruit_colors, "Weight of each fruit colour (red, yellow, orange, green), each >= 0");
+    a.check(spec_detail::valid_color_weights(fruit_colors), "fruit_colors",
+            "must map colours (red, yellow, orange, green) to weights >= 0");
+    double total = 0.0;
+    for (const auto& kv : fruit_colors) total += kv.second;
+    a.check(fruits_max == 0 || total > 0.0, "fruit_colors", "must not have all weights zero");
+    a("ripe_colors", ripe_colors, "Colours whose fruits are targets (the metrics count them)");
+    a.check(spec_detail::known_fruit_colors(ripe_colors), "ripe_colors",
+            "holds an unknown colour (use red, yellow, orange, green)");
+  }
 };
 
 /// Which semantic class each kind of geometry carries (names from SemanticClasses).
@@ -67,6 +143,19 @@ struct PartClasses {
   std::string peduncle = "leaf";
   std::string fruit = "fruit";
   std::string unripe_fruit = "fruit";  ///< Fruits whose colour is not ripe.
+
+  /// The keys of a world file's `part_classes`.
+  template <class Archive>
+  void visit(Archive& a) {
+    a("ground", ground, "Class of the ground");
+    a("robot", robot, "Class of the robot's own body");
+    a("stem", stem, "Class of stems");
+    a("petiole", petiole, "Class of petioles");
+    a("leaf", leaf, "Class of leaf blades");
+    a("peduncle", peduncle, "Class of peduncles");
+    a("fruit", fruit, "Class of ripe fruits");
+    a("unripe_fruit", unripe_fruit, "Class of fruits whose colour is not ripe");
+  }
 };
 
 /// An imported plant (a folder written by `canopy import-plant`) placed in the world, from
@@ -97,6 +186,27 @@ struct WorldSpec {
   BasePose robot_start;               ///< Base pose at the start of the aisle.
   double gt_point_spacing_m = 0.003;  ///< Ground-truth fruit surface sample spacing.
   std::vector<PlantPlacement> placements;  ///< Imported plants (world file key `plants`).
+
+  /// Every key of a world file but `plants` (read and written beside it: imported folders
+  /// are found on disk).
+  template <class Archive>
+  void visit(Archive& a) {
+    a("name", name, "Name of the world in result folders and plots");
+    a.check(spec_detail::valid_world_name(name), "name", "must be 1-64 letters, digits, '_', '-' or '.' (no '..', no '/')");
+    a("seed", seed, limits::non_negative(), "Seed of every plant's shape and place");
+    a("classes", classes.names, "Semantic classes, background first");
+    a("target_class", classes.target, "The class the metrics count (fruit)");
+    a.section("part_classes", part_classes, "Which class each kind of geometry carries");
+    a.section("rows", rows, "Plants in rows along the aisle");
+    a.section("plant", plant, "Ranges each procedural plant draws its shape from");
+    a.section("camera", camera, "The wrist camera (rendered: fx = fy, principal point at the centre)");
+    a.tuple("robot_start", {&robot_start.x_m, &robot_start.y_m, &robot_start.yaw_rad}, "[x, y, yaw]", limits::finite(),
+            "Base pose at the start of the aisle [m, m, rad]");
+    a.check(std::abs(robot_start.x_m) <= kMaxWorldExtentM && std::abs(robot_start.y_m) <= kMaxWorldExtentM,
+            "robot_start", "lies outside the world (at most 1000 m from the origin)");
+    a("gt_point_spacing_m", gt_point_spacing_m, limits::at_least(0.0005),
+      "Spacing of the ground-truth fruit surface points [m]");
+  }
 
   /// Reads and validates a world file; throws InputError naming file, key and value.
   static WorldSpec load(const std::string& path);
