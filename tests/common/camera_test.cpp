@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "canopy/common/camera.h"
 #include "canopy/common/error.h"
 #include "canopy/common/params.h"
@@ -82,6 +84,48 @@ TEST(CameraIntrinsics, ValidateAddsTheRenderersDemands) {
   K.width_px = K.height_px = kMaxCameraSidePx + 2;
   K.cx_px = K.cy_px = 0.5 * K.width_px;
   EXPECT_THROW(validate_params(K, "w.yaml"), InputError);
+}
+
+TEST(Camera, ProjectUnprojectRoundTripAndConvention) {
+  CameraIntrinsics K;
+  // x right, y down, z forward: a point right of and below the axis lands right and below
+  // the image centre.
+  double u = 0, v = 0;
+  ASSERT_TRUE(K.project(Vec3(0.1, 0.05, 1.0), &u, &v));
+  EXPECT_GT(u, K.cx_px);
+  EXPECT_GT(v, K.cy_px);
+  const Vec3 p = K.unproject(u, v, 1.0);
+  EXPECT_NEAR((p - Vec3(0.1, 0.05, 1.0)).norm(), 0.0, 1e-12);
+  EXPECT_FALSE(K.project(Vec3(0, 0, -1), &u, &v));
+  EXPECT_NEAR(K.fovy_deg(), 2.0 * std::atan(200.0 / 381.36) * 180.0 / M_PI, 1e-12);
+}
+
+TEST(Camera, ValidateRejectsBadValues) {
+  CameraIntrinsics K;
+  EXPECT_NO_THROW(K.validate("x.yaml"));
+  K.fx_px = 0.0;
+  EXPECT_THROW(K.validate("x.yaml"), InputError);
+  K = CameraIntrinsics();
+  K.max_range_m = 0.05;
+  EXPECT_THROW(K.validate("x.yaml"), InputError);
+}
+
+TEST(Camera, LookAtHasZeroRollAndLooksAtTheTarget) {
+  const Vec3 eye(0.3, -0.2, 1.0), target(1.0, 0.5, 0.6);
+  const Pose T = look_at(eye, target);
+  EXPECT_LT((T.linear().transpose() * T.linear() - Mat3::Identity()).norm(), 1e-12);
+  EXPECT_NEAR(T.linear().determinant(), 1.0, 1e-12);
+  // The target projects to the image centre, image x is horizontal, image up is world up.
+  CameraIntrinsics K;
+  double u = 0, v = 0;
+  ASSERT_TRUE(K.project(T.inverse() * target, &u, &v));
+  EXPECT_NEAR(u, K.cx_px, 1e-9);
+  EXPECT_NEAR(v, K.cy_px, 1e-9);
+  EXPECT_NEAR(T.linear().col(0).z(), 0.0, 1e-12);
+  EXPECT_LT(T.linear().col(1).z(), 0.0);
+  // Straight down is still a valid rotation.
+  const Pose D = look_at(Vec3(0, 0, 1), Vec3(0, 0, 0));
+  EXPECT_NEAR(D.linear().determinant(), 1.0, 1e-12);
 }
 
 }  // namespace
