@@ -69,6 +69,11 @@ TEST(YamlReader, AliasBombsAndEmptyFilesAreRefused) {
   }
 }
 
+// Named choices: the table's names parse, an absent key gives the fallback, anything else
+// fails naming the file, key, value and the valid names.
+enum class Fruit { kPepper, kTomato };
+constexpr EnumName<Fruit> kFruitNames[] = {{Fruit::kPepper, "pepper"}, {Fruit::kTomato, "tomato"}};
+
 TEST(YamlReader, ChoicesFromANameTable) {
   YamlReader y = YamlReader::load_string("a: tomato\nb: apple\n", "t.yaml");
   EXPECT_EQ(y.get_choice("a", Fruit::kPepper, kFruitNames), Fruit::kTomato);
