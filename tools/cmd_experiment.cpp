@@ -65,6 +65,9 @@ void add_experiment_command(CLI::App& app) {
     spdlog::info("experiment {} shard {}: {} trials ran ({} ok, {} failed), {} complete already, {:.0f} s; results in {}/trials/",
                  e.name, o->shard, s.ok + s.failed, s.ok, s.failed, s.skipped, s.wall_time_s, o->out);
     if (s.interrupted) throw Interrupted("interrupted; the unfinished trials are left .partial, --resume runs them");
+    if (s.busy > 0)
+      throw InputError(std::to_string(s.busy) + " trial(s) of " + o->out +
+                       " are being run by another canopy experiment now and were skipped; --resume when it has finished");
     if (s.failed > 0)
       throw std::runtime_error(std::to_string(s.failed) + " of " + std::to_string(s.ok + s.failed) +
                                " trials failed (their trial.json and log.txt say why); --resume runs them again");

@@ -101,6 +101,7 @@ void run_mission(const MissionCliOptions& o, CLI::App* sub) {
   job.out = o.out;
   job.export_dir = o.export_dir;
   job.plots = !o.no_plots;
+  jobs::check_mission_outputs(job);
 
   const world::World world = jobs::build_world(spec);
   mission::MissionCallbacks cb;

@@ -34,6 +34,41 @@ nlohmann::json view_json(const nbv::PlannedView& v, int order, const std::string
   return j;
 }
 
+// What canopy nbv writes says so: only such a file is replaced by --out.
+constexpr const char* kWrittenBy = "canopy nbv";
+
+bool same_file(const std::string& a, const std::string& b) {
+  std::error_code ec;
+  return !a.empty() && !b.empty() && fs::exists(a, ec) && fs::exists(b, ec) && fs::equivalent(a, b, ec);
+}
+
+// --out names a file that is absent or a views file canopy nbv wrote; never an input, a
+// folder, a link or any other file (a map named by mistake is not overwritten).
+void check_views_out(const std::string& out, const std::vector<std::pair<std::string, std::string>>& inputs) {
+  std::error_code ec;
+  if (out.empty()) throw InputError("--out: the file name is empty");
+  for (const auto& [path, option] : inputs)
+    if (same_file(out, path)) throw InputError("--out: '" + out + "' is the input " + option + "; name another file");
+  if (fs::is_symlink(fs::symlink_status(out, ec)))
+    throw InputError("--out: '" + out + "' is a symbolic link; name a file");
+  if (fs::is_directory(out, ec)) throw InputError("--out: '" + out + "' is a folder; name the views file");
+  const fs::path out_dir = fs::absolute(out).parent_path();
+  if (!fs::is_directory(out_dir)) throw InputError("--out: folder '" + out_dir.string() + "' does not exist");
+  if (!fs::exists(out, ec)) return;
+  bool ours = false;
+  if (fs::is_regular_file(out, ec) && fs::file_size(out, ec) < (64u << 20)) {
+    try {
+      const nlohmann::json j = nlohmann::json::parse(read_file(out));
+      ours = j.is_object() && j.value("written_by", std::string()) == kWrittenBy;
+    } catch (const std::exception&) {
+      ours = false;
+    }
+  }
+  if (!ours)
+    throw InputError("--out: '" + out + "' exists and is not a views file canopy nbv wrote; canopy does not "
+                     "overwrite it (remove it or name another file)");
+}
+
 }  // namespace
 
 void add_nbv_command(CLI::App& app) {
@@ -61,6 +96,7 @@ void add_nbv_command(CLI::App& app) {
   sub->add_option("--out", opt->out, "Output file (JSON)")->required();
   sub->callback([opt] {
     // Validate every input before doing any work.
+    check_views_out(opt->out, {{opt->map, "--map"}, {opt->config, "--config"}, {opt->intrinsics, "--intrinsics"}});
     mission::Settings settings = load_settings(opt->config);
     if (opt->k > 0) settings.nbv.planner.top_k = opt->k;
     const RobotConfig robot = default_robot_config();
@@ -81,9 +117,6 @@ void add_nbv_command(CLI::App& app) {
     if (!opt->rays.empty()) ps.method.rays = opt->rays;
     const std::unique_ptr<nbv::ViewPlanner> planner = nbv::make_view_planner(ps, "nbv");
     const mapping::SemanticOcTree map = mapping::load_map(opt->map);
-    const fs::path out_dir = fs::absolute(opt->out).parent_path();
-    if (fs::is_directory(opt->out)) throw InputError("--out: '" + opt->out + "' is a folder; name the views file");
-    if (!fs::is_directory(out_dir)) throw InputError("--out: folder '" + out_dir.string() + "' does not exist");
 
     motion::NextViewsRequest req;
     req.base = base;
@@ -100,6 +133,7 @@ void add_nbv_command(CLI::App& app) {
     for (const nbv::PlannedView& v : nv.unreachable)
       views.push_back(view_json(v, -1, "no IK solution within the joint limits"));
     const nlohmann::json out = {
+        {"written_by", kWrittenBy},
         {"map", opt->map},
         {"base", {base.x_m, base.y_m, base.yaw_rad}},
         {"joints_now", q},

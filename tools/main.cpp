@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
+#include <filesystem>
 #include <string>
 #include <thread>
 
@@ -133,6 +134,12 @@ int main(int argc, char** argv) {
     return canopy::interrupt_exit_code();
   } catch (const canopy::InputError& e) {
     std::fprintf(stderr, "canopy: error: %s\n", one_line(e.what()).c_str());
+    return 2;
+  } catch (const canopy::IoError& e) {
+    std::fprintf(stderr, "canopy: error: %s\n", one_line(e.what()).c_str());
+    return 2;
+  } catch (const std::filesystem::filesystem_error& e) {  // the system refused a file operation
+    std::fprintf(stderr, "canopy: error: %s\n", one_line(canopy::describe_filesystem_error(e)).c_str());
     return 2;
   } catch (const std::bad_alloc&) {
     std::fprintf(stderr, "canopy: error: out of memory\n");

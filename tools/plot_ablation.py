@@ -6,13 +6,18 @@ OSAMCEP); solid without segmentation noise (P_gt = 1), dashed with it.
 Usage: /usr/bin/python3 tools/plot_ablation.py OUT_DIR   (reads OUT_DIR/summary.csv)
 """
 import csv
+import os
 import sys
 from collections import defaultdict
 
-import matplotlib
+try:
+    import matplotlib
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt  # noqa: E402
+except ImportError as e:  # canopy skips the plots with a warning (exit code 3)
+    print(f"{os.path.basename(sys.argv[0])}: needs python3-matplotlib ({e})", file=sys.stderr)
+    sys.exit(3)
 
 
 def load(path):
@@ -73,4 +78,8 @@ def main():
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    try:
+        sys.exit(main())
+    except OSError as e:  # one line (disk full, unwritable): canopy fails the command
+        print(f"plot_ablation: {e.strerror or e}: {e.filename or ''}", file=sys.stderr)
+        sys.exit(1)

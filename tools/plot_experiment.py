@@ -15,10 +15,14 @@ import csv
 import os
 import sys
 
-import matplotlib
+try:
+    import matplotlib
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt  # noqa: E402
+except ImportError as e:  # canopy skips the plots with a warning (exit code 3)
+    print(f"{os.path.basename(sys.argv[0])}: needs python3-matplotlib ({e})", file=sys.stderr)
+    sys.exit(3)
 
 COLOURS = ["tab:red", "tab:blue", "tab:green", "tab:purple", "tab:orange", "tab:brown", "tab:gray"]
 FIG4 = [("mapping", "mapping"), ("nbv_planning", "NBV planning"), ("motion_planning", "motion planning"),
@@ -148,4 +152,8 @@ def main(report):
 if __name__ == "__main__":
     if len(sys.argv) != 2:
         sys.exit(__doc__)
-    main(sys.argv[1])
+    try:
+        main(sys.argv[1])
+    except OSError as e:  # one line (disk full, unwritable): canopy fails the command
+        print(f"plot_experiment: {e.strerror or e}: {e.filename or ''}", file=sys.stderr)
+        sys.exit(1)

@@ -6,13 +6,18 @@ wall time of mapping, NBV planning, motion planning and control).
 Usage: /usr/bin/python3 tools/plot_mission.py RUN_DIR   (reads views.csv and summary.json)
 """
 import csv
+import os
 import json
 import sys
 
-import matplotlib
+try:
+    import matplotlib
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt  # noqa: E402
+except ImportError as e:  # canopy skips the plots with a warning (exit code 3)
+    print(f"{os.path.basename(sys.argv[0])}: needs python3-matplotlib ({e})", file=sys.stderr)
+    sys.exit(3)
 
 # The paper's Fig. 4 categories and the canopy phases they hold.
 CATEGORIES = [
@@ -68,4 +73,8 @@ def main(run):
 if __name__ == "__main__":
     if len(sys.argv) != 2:
         sys.exit(__doc__)
-    main(sys.argv[1])
+    try:
+        main(sys.argv[1])
+    except OSError as e:  # one line (disk full, unwritable): canopy fails the command
+        print(f"plot_mission: {e.strerror or e}: {e.filename or ''}", file=sys.stderr)
+        sys.exit(1)

@@ -106,11 +106,29 @@ Defaults are the wrist camera of configs (RealSense D405 at 400 x 400).)")
 The image attributes are read-only numpy views of the frame's memory; an array keeps its
 frame alive, so it stays valid after the frame object is deleted.)")
       .def(py::init([](const py::object& depth, const py::object& pose, const py::object& intrinsics,
-                       const py::object& labels, const py::object& rgb, const py::object& instances) {
+                       const py::object& labels, const py::object& rgb, const py::object& instances,
+                       const py::object& depth_scale) {
              PyFrame f;
              f.frame.intrinsics = intrinsics_from(intrinsics, CameraIntrinsics{});
              f.frame.T_world_camera = pose_from(pose, "pose");
+             // Integer depth (a sensor's uint16 millimetres) taken as metres would put every
+             // point 1000 times too far: its unit must be given.
+             double scale = 1.0;
+             if (!depth_scale.is_none()) {
+               scale = py::cast<double>(depth_scale);
+               if (!(std::isfinite(scale) && scale > 0.0 && scale <= 1e3))
+                 throw InputError("depth_scale: value " + py::repr(depth_scale).cast<std::string>() +
+                                  " must be metres per depth unit in (0, 1000] (0.001 for millimetres)");
+             }
+             const py::array as_array = py::array::ensure(depth);
+             const char kind = as_array ? as_array.dtype().kind() : 'f';
+             if ((kind == 'i' || kind == 'u' || kind == 'b') && depth_scale.is_none())
+               throw InputError("depth: an integer depth image (dtype " + py::str(as_array.dtype()).cast<std::string>() +
+                                ") needs depth_scale, its unit in metres (0.001 for millimetres); canopy does not "
+                                "guess it");
              f.frame.depth_m = image_from<float>(depth, f.frame.intrinsics, "depth");
+             if (scale != 1.0)
+               for (float& d : f.frame.depth_m.data) d = static_cast<float>(d * scale);
              f.frame.class_id = image_from<std::uint8_t>(labels, f.frame.intrinsics, "labels");
              f.frame.rgb = image_from<Rgb8>(rgb, f.frame.intrinsics, "rgb");
              f.frame.instance = image_from<std::int32_t>(instances, f.frame.intrinsics, "instances");
@@ -118,10 +136,13 @@ frame alive, so it stays valid after the frame object is deleted.)")
              return f;
            }),
            py::arg("depth"), py::arg("pose"), py::arg("intrinsics") = py::none(), py::arg("labels") = py::none(),
-           py::arg("rgb") = py::none(), py::arg("instances") = py::none(),
+           py::arg("rgb") = py::none(), py::arg("instances") = py::none(), py::kw_only(),
+           py::arg("depth_scale") = py::none(),
            R"(A frame from arrays (copied).
 
-depth: (H, W) planar z-depth [m], 0 where invalid; pose: 4x4 T_world_camera (optical frame);
+depth: (H, W) planar z-depth [m], 0 where invalid; an integer depth image (a sensor's uint16)
+needs depth_scale, metres per unit (0.001 for millimetres), and is refused without it;
+pose: 4x4 T_world_camera (optical frame);
 intrinsics: canopy.Intrinsics (default: the D405 of configs); labels: (H, W) class indices
 (uint8); rgb: (H, W, 3) uint8; instances: (H, W) fruit instance ids (int32, -1 = none).
 Which of labels / rgb a map needs depends on its settings' mapping.extractor.source

@@ -84,6 +84,8 @@ PYBIND11_MODULE(_canopy, m) {
       if (p) std::rethrow_exception(p);
     } catch (const canopy::InputError& e) {
       PyErr_SetString(PyExc_ValueError, e.what());
+    } catch (const canopy::IoError& e) {
+      PyErr_SetString(PyExc_OSError, e.what());
     } catch (const canopy::Interrupted& e) {
       PyErr_SetString(PyExc_KeyboardInterrupt, e.what());
     }

@@ -8,6 +8,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "canopy/common/error.h"
+
 namespace fs = std::filesystem;
 
 namespace canopy {
@@ -92,8 +94,17 @@ std::string find_data_file(const std::string& relative_path) {
   if (!dir.empty()) {
     const fs::path p = fs::path(dir) / relative_path;
     if (fs::exists(p)) return p.string();
+    return relative_path;
   }
-  return relative_path;
+  // No data folder: say where canopy looked, naming the variable that chooses it.
+  const char* env = std::getenv("CANOPY_DATA_DIR");
+  if (env && *env)
+    throw InputError("CANOPY_DATA_DIR: '" + std::string(env) +
+                     "' is not canopy's data folder (it has no configs/canopy.yaml), so '" + relative_path +
+                     "' cannot be found; set it to the folder holding configs/, models/ and worlds/, or unset it");
+  throw InputError("'" + relative_path + "' is not in the current folder and canopy's data folder was not found " +
+                   (env ? std::string("(CANOPY_DATA_DIR is set but empty)") : std::string("beside the program")) +
+                   "; set CANOPY_DATA_DIR to the folder holding configs/, models/ and worlds/");
 }
 
 }  // namespace canopy

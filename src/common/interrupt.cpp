@@ -34,6 +34,17 @@ void install_interrupt_handlers() {
   sa.sa_flags = SA_RESTART;
   sigaction(SIGINT, &sa, nullptr);
   sigaction(SIGTERM, &sa, nullptr);
+  // Progress and log lines are never fatal: with stderr piped into `head`, a write after the
+  // reader has gone fails with EPIPE instead of killing the run with SIGPIPE (exit 141).
+  // (Child processes start with the default action again: see process.cpp.)
+  struct sigaction ignore;
+  std::memset(&ignore, 0, sizeof ignore);
+  ignore.sa_handler = SIG_IGN;
+  sigemptyset(&ignore.sa_mask);
+  sigaction(SIGPIPE, &ignore, nullptr);
+  // Likewise a file-size limit (ulimit -f): a write past it fails with EFBIG, reported as one
+  // line with exit code 2, instead of killing the process mid-commit.
+  sigaction(SIGXFSZ, &ignore, nullptr);
 }
 
 bool interrupt_requested() { return g_signal.load() != 0; }

@@ -4,6 +4,8 @@
 #include <cstdlib>
 #include <filesystem>
 
+#include "canopy/common/value_text.h"
+
 namespace canopy {
 
 namespace {
@@ -27,8 +29,8 @@ namespace params_detail {
 std::string shortest(double v) {
   char b[40];
   for (int p = 1; p <= 17; ++p) {
-    std::snprintf(b, sizeof b, "%.*g", p, v);
-    if (std::strtod(b, nullptr) == v) break;
+    c_snprintf(b, sizeof b, "%.*g", p, v);
+    if (c_strtod(b, nullptr) == v) break;
   }
   return b;
 }
@@ -36,8 +38,8 @@ std::string shortest(double v) {
 std::string shortest(float v) {
   char b[40];
   for (int p = 1; p <= 9; ++p) {
-    std::snprintf(b, sizeof b, "%.*g", p, double(v));
-    if (static_cast<float>(std::strtod(b, nullptr)) == v) break;
+    c_snprintf(b, sizeof b, "%.*g", p, double(v));
+    if (static_cast<float>(c_strtod(b, nullptr)) == v) break;
   }
   return b;
 }
@@ -84,7 +86,7 @@ nlohmann::json yaml_to_json(const YAML::Node& node) {
   }
   try {
     std::size_t used = 0;
-    const double d = std::stod(s, &used);
+    const double d = c_stod(s, &used);
     if (used == s.size()) return d;
   } catch (const std::exception&) {
   }

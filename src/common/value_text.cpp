@@ -1,6 +1,9 @@
 #include "canopy/common/value_text.h"
 
+#include <locale.h>
+
 #include <cerrno>
+#include <cstdarg>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -10,9 +13,51 @@
 
 namespace canopy {
 
+namespace {
+locale_t c_locale() {
+  static const locale_t c = ::newlocale(LC_ALL_MASK, "C", static_cast<locale_t>(nullptr));
+  return c;
+}
+// Switches the calling thread to the "C" locale for its life.
+class CLocaleScope {
+ public:
+  CLocaleScope() : previous_(::uselocale(c_locale())) {}
+  ~CLocaleScope() { ::uselocale(previous_); }
+  CLocaleScope(const CLocaleScope&) = delete;
+  CLocaleScope& operator=(const CLocaleScope&) = delete;
+
+ private:
+  locale_t previous_;
+};
+}  // namespace
+
+int c_snprintf(char* buffer, std::size_t size, const char* format, ...) {
+  const CLocaleScope c;
+  va_list args;
+  va_start(args, format);
+  const int n = std::vsnprintf(buffer, size, format, args);
+  va_end(args);
+  return n;
+}
+
+double c_strtod(const char* text, char** end) { return ::strtod_l(text, end, c_locale()); }
+
+double c_stod(const std::string& text, std::size_t* used) {
+  const char* begin = text.c_str();
+  char* end = nullptr;
+  const int saved = errno;
+  errno = 0;
+  const double v = c_strtod(begin, &end);
+  if (end == begin) throw std::invalid_argument("c_stod: '" + text + "' is not a number");
+  if (errno == ERANGE && (v == HUGE_VAL || v == -HUGE_VAL)) throw std::out_of_range("c_stod: '" + text + "' is out of range");
+  if (errno == 0) errno = saved;
+  if (used) *used = static_cast<std::size_t>(end - begin);
+  return v;
+}
+
 std::string format_number(double x, const char* printf_format) {
   char b[64];
-  std::snprintf(b, sizeof b, printf_format, x);
+  c_snprintf(b, sizeof b, printf_format, x);
   return b;
 }
 
@@ -29,7 +74,7 @@ std::vector<double> parse_numbers(const std::string& text, int count, const std:
     size_t used = 0;
     double v = 0.0;
     try {
-      v = std::stod(item, &used);
+      v = c_stod(item, &used);
     } catch (const std::exception&) {
       throw InputError(what + ": value '" + text + "': '" + item + "' is not a number");
     }

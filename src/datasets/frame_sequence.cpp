@@ -35,7 +35,7 @@ double parse_field(const std::string& text, const std::string& where) {
   std::size_t used = 0;
   double v = 0.0;
   try {
-    v = std::stod(text, &used);
+    v = c_stod(text, &used);
   } catch (const std::exception&) {
     used = 0;
   }
@@ -321,7 +321,7 @@ FrameSequence FrameSequence::open_tum(const std::string& dir, const FrameReaderO
   std::vector<char> paired(rgb.size(), 0);
   for (const auto& [i, j] : pairs) paired[i] = 1;
   char tol[32];
-  std::snprintf(tol, sizeof tol, "%g s", options.max_time_diff_s);
+  c_snprintf(tol, sizeof tol, "%g s", options.max_time_diff_s);
   std::size_t next_pair = 0;
   for (std::size_t i = 0; i < rgb.size(); ++i) {
     const std::string name = fs::path(rgb[i].file).filename().string();

@@ -27,7 +27,7 @@ std::string AblationConfig::label() const {
 
 std::string AblationConfig::id() const {
   char b[128];
-  std::snprintf(b, sizeof b, "%s_%s_pgt%.2f", label().c_str(), rays.c_str(), pgt);
+  c_snprintf(b, sizeof b, "%s_%s_pgt%.2f", label().c_str(), rays.c_str(), pgt);
   return b;
 }
 

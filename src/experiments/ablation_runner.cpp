@@ -9,6 +9,7 @@
 
 #include "canopy/common/error.h"
 #include "canopy/common/timer.h"
+#include "canopy/common/value_text.h"
 #include "canopy/sim/simulator.h"
 
 namespace canopy::experiments {
@@ -137,7 +138,7 @@ AblationRunResult run_ablation(const AblationPlan& plan, const mission::Settings
   const int workers =
       options.summarize_only ? 0 : static_cast<int>(std::min<std::size_t>(std::size_t(options.threads), jobs.size() - reused));
   char head[200];
-  std::snprintf(head, sizeof head, "ablation: %zu configurations x %d trials x %d plants = %zu jobs (%zu reused), %d views each, %d workers",
+  c_snprintf(head, sizeof head, "ablation: %zu configurations x %d trials x %d plants = %zu jobs (%zu reused), %d views each, %d workers",
                 plan.configs.size(), plan.trials, plan.plants, jobs.size(), reused, plan.settings.views, workers);
   progress(head);
 
@@ -168,7 +169,7 @@ AblationRunResult run_ablation(const AblationPlan& plan, const mission::Settings
         const double el = watch.seconds();
         const double eta = d > reused ? el / double(d - reused) * double(jobs.size() - d) : 0.0;
         char line[300];
-        std::snprintf(line, sizeof line,
+        c_snprintf(line, sizeof line,
                       "[%zu/%zu] %s trial %d plant %d: coverage %.3f after %d views (%.1f s; elapsed %.0f s, eta %.0f s)", d,
                       jobs.size(), plan.configs[j.config].id().c_str(), j.trial, j.plant, cov, plan.settings.views,
                       job_watch.seconds(), el, eta);

@@ -226,7 +226,7 @@ TrialSpec TrialSpec::from_json(const nlohmann::json& j, const std::string& where
 
 std::string trial_id(const std::string& label, double p_gt, std::uint64_t seed, std::optional<std::uint64_t> world_seed) {
   char b[64];
-  std::snprintf(b, sizeof b, "_pgt%.6g", p_gt);
+  c_snprintf(b, sizeof b, "_pgt%.6g", p_gt);
   const std::string world = world_seed ? "_world" + std::to_string(*world_seed) : "";
   return label + b + world + "_seed" + std::to_string(seed);
 }

@@ -170,7 +170,7 @@ std::vector<std::string> field_metric_names(const std::vector<TrialResult>& tria
       if (k.rfind("sc_at_", 0) == 0 && std::find_if(budgets.begin(), budgets.end(), [&, &key = k](const auto& b) {
                                          return b.second == key;
                                        }) == budgets.end())
-        budgets.emplace_back(std::atof(k.c_str() + 6), k);
+        budgets.emplace_back(c_strtod(k.c_str() + 6, nullptr), k);
   std::sort(budgets.begin(), budgets.end());
   for (const auto& b : budgets) names.push_back(b.second);
   return names;

@@ -44,10 +44,21 @@ std::string last_line(const fs::path& log) {
   return last.size() > 300 ? last.substr(0, 300) + "..." : last;
 }
 
+void prepare_folder_files(const Experiment& e, const fs::path& out, bool resume);
+
 // Prepares the experiment folder: a new one gets the marker and experiment.json; an existing
 // one (resume) must list the same trials.
 void prepare_folder(const Experiment& e, const fs::path& out, bool resume) {
   StagedDir::check_writable(out.string(), "experiment");
+  check_output_place(out.string(), "--out");
+  try {
+    prepare_folder_files(e, out, resume);
+  } catch (const fs::filesystem_error& ex) {  // disk full, read-only: one line naming --out
+    throw IoError("--out: cannot write the experiment folder '" + out.string() + "': " + ex.code().message());
+  }
+}
+
+void prepare_folder_files(const Experiment& e, const fs::path& out, bool resume) {
   if (!fs::exists(out / kOutputMarker)) {
     // Shards may start at once in one folder: the folder appears with its marker in a single
     // rename, so no shard ever sees it half made (a rename onto a folder someone else made
@@ -55,11 +66,16 @@ void prepare_folder(const Experiment& e, const fs::path& out, bool resume) {
     const fs::path tmp = out.string() + ".new-" + std::to_string(::getpid()) + "-" +
                          std::to_string(std::hash<std::thread::id>()(std::this_thread::get_id()) % 100000);
     fs::remove_all(tmp);
-    fs::create_directories(tmp);
-    write_output_marker(tmp.string(), "experiment");
+    try {
+      fs::create_directories(tmp);
+      write_output_marker(tmp.string(), "experiment");
+    } catch (...) {
+      remove_tree(tmp.string());
+      throw;
+    }
     std::error_code ec;
     fs::rename(tmp, out, ec);
-    fs::remove_all(tmp);
+    remove_tree(tmp.string());
     StagedDir::check_writable(out.string(), "experiment");
     if (!fs::exists(out / kOutputMarker)) write_output_marker(out.string(), "experiment");
   }
@@ -80,7 +96,7 @@ void prepare_folder(const Experiment& e, const fs::path& out, bool resume) {
   write_json_atomic(manifest.string(), expected);
 }
 
-enum class Outcome { kOk, kFailed, kInterrupted };
+enum class Outcome { kOk, kFailed, kInterrupted, kBusy };
 
 struct TrialOutcome {
   Outcome outcome = Outcome::kFailed;
@@ -90,12 +106,36 @@ struct TrialOutcome {
   double wall_s = 0.0;
 };
 
-// Runs one trial into trials/<id>.partial and publishes it as trials/<id> (unless interrupted).
+TrialOutcome run_trial_files(const Experiment& e, const TrialSpec& t, const fs::path& trials_dir,
+                             const ExperimentRunOptions& o);
+
+// Runs one trial into trials/<id>.partial and publishes it as trials/<id> (unless interrupted,
+// or another process runs it now: kBusy).
 TrialOutcome run_trial(const Experiment& e, const TrialSpec& t, const fs::path& trials_dir,
                        const ExperimentRunOptions& o) {
+  try {
+    return run_trial_files(e, t, trials_dir, o);
+  } catch (const fs::filesystem_error& ex) {  // disk full, read-only: one line naming the trial
+    throw IoError("trial " + t.id + ": cannot write '" + ex.path1().string() + "': " + ex.code().message());
+  }
+}
+
+TrialOutcome run_trial_files(const Experiment& e, const TrialSpec& t, const fs::path& trials_dir,
+                             const ExperimentRunOptions& o) {
   const fs::path final_dir = trials_dir / t.id;
   const fs::path work = trials_dir / (t.id + kPartialSuffix);
-  fs::remove_all(work);  // what a killed run left
+  // One process runs a trial at a time: another experiment on this folder (a --resume started
+  // while this one runs) skips it instead of deleting its .partial. The lock is inherited by
+  // the trial's mission, so it is held until that child has ended, even when this process is
+  // killed (the child then gets SIGTERM: PR_SET_PDEATHSIG).
+  LockFile lock;
+  if (!lock.try_lock((trials_dir / (t.id + ".lock")).string(), "--out")) {
+    TrialOutcome busy;
+    busy.outcome = Outcome::kBusy;
+    return busy;
+  }
+  if (!remove_tree(work.string()))  // what a killed run left
+    throw IoError("trial " + t.id + ": cannot remove the unfinished '" + work.string() + "' an earlier run left");
   fs::create_directories(work);
   write_file_atomic((work / "world.yaml").string(), e.trial_world(t).to_json().dump(2) + "\n");
   write_file_atomic((work / "settings.yaml").string(), e.trial_settings(t).to_yaml_text());
@@ -109,6 +149,7 @@ TrialOutcome run_trial(const Experiment& e, const TrialSpec& t, const fs::path& 
   po.output_file = (work / "log.txt").string();
   po.timeout_s = e.trial_timeout_s;
   po.cancel = o.stop_requested;
+  po.inherit_fd = lock.fd();
   Stopwatch watch;
   const ProcessStatus status = run_process(argv, po);
   TrialOutcome r;
@@ -145,8 +186,9 @@ TrialOutcome run_trial(const Experiment& e, const TrialSpec& t, const fs::path& 
                            {"runner", o.runner},
                            {"files", {"world.yaml", "settings.yaml", "log.txt", "mission/"}}};
   write_json_atomic((work / "trial.json").string(), record);
-  fs::remove_all(final_dir);  // a failed record being replaced
-  fs::rename(work, final_dir);
+  if (!remove_tree(final_dir.string()))  // a failed record being replaced
+    throw IoError("trial " + t.id + ": cannot replace '" + final_dir.string() + "'");
+  move_path(work.string(), final_dir.string());
   return r;
 }
 
@@ -216,6 +258,11 @@ ExperimentRunSummary run_experiment(const Experiment& e, const std::string& out_
         return;
       }
       std::lock_guard<std::mutex> lock(mutex);
+      if (r.outcome == Outcome::kBusy) {
+        ++summary.busy;
+        if (o.progress) o.progress("trial " + t.id + ": skipped, another canopy experiment is running it now");
+        continue;
+      }
       if (r.outcome == Outcome::kInterrupted) {
         summary.interrupted = true;
         if (o.progress) o.progress("trial " + t.id + ": interrupted (left .partial; --resume runs it again)");
@@ -228,11 +275,11 @@ ExperimentRunSummary run_experiment(const Experiment& e, const std::string& out_
         const double eta = elapsed / finished * static_cast<double>(todo.size() - static_cast<std::size_t>(finished));
         char line[512];
         if (r.outcome == Outcome::kOk)
-          std::snprintf(line, sizeof line, "[%d/%d] %s: ok, SC %.3f after %d views, %.1f s (elapsed %.0f s, ETA %.0f s)",
+          c_snprintf(line, sizeof line, "[%d/%d] %s: ok, SC %.3f after %d views, %.1f s (elapsed %.0f s, ETA %.0f s)",
                         summary.skipped + finished, summary.in_shard, t.id.c_str(), r.coverage, r.views, r.wall_s,
                         elapsed, eta);
         else
-          std::snprintf(line, sizeof line, "[%d/%d] %s: FAILED after %.1f s: %s (elapsed %.0f s, ETA %.0f s)",
+          c_snprintf(line, sizeof line, "[%d/%d] %s: FAILED after %.1f s: %s (elapsed %.0f s, ETA %.0f s)",
                         summary.skipped + finished, summary.in_shard, t.id.c_str(), r.wall_s, r.message.c_str(),
                         elapsed, eta);
         o.progress(line);

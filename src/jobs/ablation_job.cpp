@@ -53,7 +53,14 @@ AblationJobResult run_ablation_job(const AblationJobParams& params, const missio
                       ", and the same command with --resume continues");
   }
   if (params.on_summary) params.on_summary(r.run);
-  if (params.plots) draw_plots("tools/plot_ablation.py", out.working_dir(), params.out);
+  if (params.plots) {
+    try {
+      draw_plots("tools/plot_ablation.py", out.working_dir(), params.out);
+    } catch (...) {
+      out.keep();  // the finished jobs stay for --resume
+      throw;
+    }
+  }
   out.commit();
   r.zero_coverage = explain_zero_coverage(r.run, world, bundle);
   return r;

@@ -52,6 +52,7 @@ nlohmann::json history_step(std::size_t i, const Pose& T, double ms_render, cons
 
 MapJobResult map_views(const MapJobParams& p) {
   const mission::MappingSettings& cfg = p.settings.mapping;
+  check_disjoint_outputs({{p.out, "--out"}, {p.export_dir, "--export"}});
   const world::WorldSpec spec = load_world_spec(p.world_file);
   const world::World world = build_world(spec);
   check_world_colours(world, cfg.extractor);

@@ -40,8 +40,17 @@ struct Export {
 
 }  // namespace
 
+void check_mission_outputs(const MissionJobParams& p) {
+  check_disjoint_outputs({{p.out, p.out_option}, {p.export_dir, "--export"}, {p.video.path, "--video"}});
+  if (!p.out.empty()) StagedDir::check_writable(p.out, "mission", p.out_option);
+  if (!p.out.empty()) check_output_place(p.out, p.out_option);
+  if (!p.export_dir.empty()) check_output_place(p.export_dir, "--export");
+  if (!p.video.path.empty()) check_output_place(p.video.path, "--video");
+}
+
 MissionJobResult run_mission_job(const world::World& world, const MissionJobParams& p,
                                  mission::MissionCallbacks cb, const std::function<void(mission::MissionResult&)>& amend) {
+  check_mission_outputs(p);
   const mission::Settings& settings = p.settings;
   check_world_colours(world, settings.mapping.extractor);
   const nbv::MethodChoice& method = settings.method;

@@ -3,17 +3,36 @@
 #include <spdlog/spdlog.h>
 
 #include "canopy/common/data_dir.h"
+#include "canopy/common/error.h"
+#include "canopy/common/interrupt.h"
 #include "canopy/common/process.h"
 
 namespace canopy::jobs {
 
+namespace {
+// The scripts exit with this code when matplotlib cannot be imported (tools/plot_*.py).
+constexpr int kNoMatplotlib = 3;
+// Plots take seconds; a script still running after this long is stuck.
+constexpr double kPlotTimeout_s = 900.0;
+}  // namespace
+
 bool draw_plots(const std::string& script, const std::string& folder, const std::string& shown) {
   const std::string path = find_data_file(script);
-  const ProcessStatus plot = run_process({"/usr/bin/python3", path, folder});
+  ProcessOptions options;
+  options.timeout_s = kPlotTimeout_s;
+  options.cancel = [] { return interrupt_requested(); };
+  const ProcessStatus plot = run_process({"/usr/bin/python3", path, folder}, options);
   if (plot.ok()) return true;
-  if (shown.empty()) spdlog::warn("plots failed (needs python3-matplotlib): {}: {}", path, plot.describe());
-  else spdlog::warn("plots failed (needs python3-matplotlib): {} {}: {}", path, shown, plot.describe());
-  return false;
+  const std::string where = shown.empty() ? folder : shown;
+  if (plot.cancelled) throw Interrupted("interrupted while drawing the plots of " + where + "; nothing was published");
+  if (plot.started && plot.exit_code == kNoMatplotlib) {
+    spdlog::warn("plots skipped (needs python3-matplotlib): {}", path);
+    return false;
+  }
+  // Anything else (disk full, a file that cannot be written, a crash) fails the command: a
+  // folder is published only complete.
+  throw IoError("the plots of " + where + " failed (" + path + " " + plot.describe() +
+                "); nothing was published, an earlier output is kept");
 }
 
 }  // namespace canopy::jobs

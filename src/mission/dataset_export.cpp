@@ -42,7 +42,7 @@ bool little_endian() {
 
 std::string frame_name(const std::string& set, std::size_t i) {
   char b[32];
-  std::snprintf(b, sizeof b, "%s_%04zu", set.c_str(), i);
+  c_snprintf(b, sizeof b, "%s_%04zu", set.c_str(), i);
   return b;
 }
 

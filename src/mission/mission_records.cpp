@@ -5,6 +5,7 @@
 #include <string>
 
 #include "canopy/mission/mission.h"
+#include "canopy/common/value_text.h"
 
 namespace canopy::mission {
 
@@ -55,7 +56,7 @@ void set_map_metrics(const evaluation::MapMetrics& m, ViewRecord* rec) {
 
 std::string progress_line(const ViewRecord& v, int stops, double elapsed_s) {
   char b[200];
-  std::snprintf(b, sizeof b, "stop %d/%d: %s view %d %s%s (views %d, SC %.3f, elapsed %.1f s)", v.stop + 1, stops,
+  c_snprintf(b, sizeof b, "stop %d/%d: %s view %d %s%s (views %d, SC %.3f, elapsed %.1f s)", v.stop + 1, stops,
                 to_string(v.phase), v.attempt + 1, v.success ? "ok" : "failed: ", v.success ? "" : v.failure.c_str(),
                 v.successful_views, v.coverage, elapsed_s);
   return v.success || v.message.empty() ? std::string(b) : std::string(b) + ": " + v.message;
@@ -63,7 +64,7 @@ std::string progress_line(const ViewRecord& v, int stops, double elapsed_s) {
 
 std::string caption_line(const std::string& method, int stop, int stops, int views, double coverage) {
   char b[160];
-  std::snprintf(b, sizeof b, "%s | stop %d/%d | views %d | fruit SC %.2f", method.c_str(), stop + 1, stops, views,
+  c_snprintf(b, sizeof b, "%s | stop %d/%d | views %d | fruit SC %.2f", method.c_str(), stop + 1, stops, views,
                 coverage);
   return b;
 }

@@ -195,8 +195,8 @@ RunFolder read_run_folder(const std::string& dir) {
     if (fields[c_success] != "1") continue;
     double cov = 0.0, ent = 0.0;
     try {
-      cov = std::stod(fields[c_cov]);
-      ent = std::stod(fields[c_ent]);
+      cov = c_stod(fields[c_cov]);
+      ent = c_stod(fields[c_ent]);
     } catch (const std::exception&) {
       throw InputError(views_path + ": row " + std::to_string(row) + " has a coverage or entropy that is not a number");
     }
@@ -210,7 +210,7 @@ RunFolder read_run_folder(const std::string& dir) {
       if (!fields[c].empty()) {
         std::size_t used = 0;
         try {
-          x = std::stod(fields[c], &used);
+          x = c_stod(fields[c], &used);
         } catch (const std::exception&) {
           used = 0;
         }

@@ -55,6 +55,9 @@ std::string Settings::to_yaml_text() const { return yaml_text(to_yaml()); }
 
 void Settings::set(const std::string& key, const std::string& value, const std::string& where) {
   const std::vector<std::string> parts = split_key(key);
+  if (parts.empty() || key.back() == '.')  // "", ".", "mission.loop."
+    throw InputError(where + ": the setting's key path '" + key + "' is empty or ends with '.' (settings are named "
+                     "by key paths such as mission.loop.views_per_stop)");
   YAML::Node root = to_yaml();
   YAML::Node node = root;
   for (std::size_t i = 0; i < parts.size(); ++i) {

@@ -5,6 +5,7 @@
 
 #include <cerrno>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -12,7 +13,10 @@
 
 #include "canopy/common/error.h"
 #include "canopy/common/camera.h"
+#include "canopy/common/interrupt.h"
+#include "canopy/common/output_dir.h"
 #include "canopy/common/process.h"
+#include "canopy/common/value_text.h"
 
 namespace fs = std::filesystem;
 
@@ -25,6 +29,23 @@ std::string temp_video_path(const std::string& path) { return path + ".partial.m
 constexpr const char* kVideoComment = "written by canopy";
 
 constexpr Rgb8 kMapBackground{45, 45, 45};
+
+// An encoder that reads no frame for this long is given up (the run goes on without the
+// video). CANOPY_VIDEO_STALL_S overrides it: a test hook, so a test need not wait a minute.
+double encoder_stall_timeout_s() {
+  if (const char* env = std::getenv("CANOPY_VIDEO_STALL_S")) {
+    char* end = nullptr;
+    const double v = c_strtod(env, &end);
+    if (end != env && *end == '\0' && v > 0.0 && v < 1e6) return v;
+  }
+  return 60.0;
+}
+// After its input closed, ffmpeg finishes the file (the last frames, the faststart move).
+constexpr double kEncoderFinishTimeout_s = 300.0;
+
+std::string busy_message(const std::string& what, const std::string& path) {
+  return what + ": '" + path + "' is busy: another canopy command is writing this video now (choose another name)";
+}
 }  // namespace
 
 bool VideoWriter::is_canopy_video(const std::string& path) {
@@ -49,6 +70,17 @@ bool VideoWriter::is_canopy_video(const std::string& path) {
 void VideoWriter::validate_output_path(const std::string& path, const std::string& what) {
   if (path.empty()) throw InputError(what + ": the video file name is empty");
   std::error_code ec;
+  const fs::path parent = fs::path(path).parent_path().empty() ? fs::path(".") : fs::path(path).parent_path();
+  if (fs::is_directory(parent, ec) && !fs::is_directory(path, ec)) {
+    // another run writing the same video (its lock is held) is named as such
+    LockFile probe;
+    if (!probe.try_lock(path + ".lock", what)) throw InputError(busy_message(what, path));
+  }
+  validate_output_path_locked(path, what);
+}
+
+void VideoWriter::validate_output_path_locked(const std::string& path, const std::string& what) {
+  std::error_code ec;
   if (fs::is_directory(path, ec))
     throw InputError(what + ": '" + path + "' is a folder; give a file name such as run.mp4");
   const fs::path parent = fs::path(path).parent_path().empty() ? fs::path(".") : fs::path(path).parent_path();
@@ -56,10 +88,14 @@ void VideoWriter::validate_output_path(const std::string& path, const std::strin
     throw InputError(what + ": cannot write '" + path + "': folder '" + parent.string() + "' does not exist");
   // Only a video canopy wrote may be replaced: a world file or anything else named by mistake
   // is never overwritten.
-  for (const std::string& p : {path, temp_video_path(path)})
+  for (const std::string& p : {path, temp_video_path(path)}) {
+    if (fs::is_symlink(fs::symlink_status(p, ec)))
+      throw InputError(what + ": '" + p + "' is a symbolic link; canopy does not write through it (remove it or "
+                       "choose another name)");
     if (fs::exists(p, ec) && !is_canopy_video(p))
       throw InputError(what + ": '" + p + "' exists and is not a video canopy wrote; canopy does not overwrite it "
                        "(remove it or choose another name)");
+  }
   // Creating the encoder's temporary file is the only reliable test (root ignores modes;
   // read-only mounts do not show in them).
   const std::string probe = temp_video_path(path);
@@ -74,13 +110,20 @@ VideoWriter::VideoWriter(std::string path, int width, int height, double fps)
     : path_(std::move(path)), width_(width), height_(height) {
   if (width % 2 || height % 2) throw InputError("--video: frame size must be even for H.264");
   if (!(fps > 0.0 && fps <= 240.0)) throw InputError("--video-fps: value '" + std::to_string(fps) + "' must be in (0, 240]");
-  validate_output_path(path_);
+  // One run writes a video at a time: a second run naming the same file is refused while the
+  // first holds the lock (both would write the same temporary file).
+  if (!lock_.try_lock(path_ + ".lock", "--video")) throw InputError(busy_message("--video", path_));
+  validate_output_path_locked(path_, "--video");
   tmp_path_ = temp_video_path(path_);
+  PipedProcessOptions options;
+  options.stop = [] { return interrupt_requested(); };
+  options.stall_timeout_s = encoder_stall_timeout_s();
+  options.finish_timeout_s = kEncoderFinishTimeout_s;
   encoder_ = std::make_unique<PipedProcess>(std::vector<std::string>{
       "ffmpeg", "-loglevel", "error", "-y", "-f", "rawvideo", "-pix_fmt", "rgb24", "-s",
-      std::to_string(width) + "x" + std::to_string(height), "-r", std::to_string(fps), "-i", "-", "-c:v", "libx264",
+      std::to_string(width) + "x" + std::to_string(height), "-r", format_number(fps, "%.9g"), "-i", "-", "-c:v", "libx264",
       "-preset", "veryfast", "-crf", "20", "-pix_fmt", "yuv420p", "-metadata", std::string("comment=") + kVideoComment,
-      "-movflags", "+faststart", tmp_path_});
+      "-movflags", "+faststart", tmp_path_}, options);
   if (!encoder_->started())
     throw InputError("--video: cannot start ffmpeg (" + encoder_->wait().error +
                      "); apt-get install ffmpeg, or run tools/deps.sh");

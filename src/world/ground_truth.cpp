@@ -106,7 +106,7 @@ void GroundTruth::save(const std::string& dir) const {
   char line[128];
   for (const auto& f : fruits)
     for (const auto& p : f.surface_points) {
-      std::snprintf(line, sizeof(line), "%d,%.17g,%.17g,%.17g\n", f.instance_id, p.x(), p.y(), p.z());
+      c_snprintf(line, sizeof(line), "%d,%.17g,%.17g,%.17g\n", f.instance_id, p.x(), p.y(), p.z());
       csv += line;
     }
   write_file_atomic(dir + "/fruit_points.csv", csv);

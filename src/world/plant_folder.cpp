@@ -41,26 +41,26 @@ std::string obj_text(const ImportedPart& p) {
   std::string s = "# canopy import-plant: material '" + p.material + "', class " + p.class_name + "\n";
   char line[128];
   for (const auto& v : p.mesh.vertices) {
-    std::snprintf(line, sizeof(line), "v %.9g %.9g %.9g\n", v.x(), v.y(), v.z());
+    c_snprintf(line, sizeof(line), "v %.9g %.9g %.9g\n", v.x(), v.y(), v.z());
     s += line;
   }
   if (p.texture) {
     // One texture coordinate per face corner (OBJ's v = 0 is the image's bottom row).
     for (const auto& f : p.uv)
       for (const auto& t : f) {
-        std::snprintf(line, sizeof(line), "vt %.9g %.9g\n", t.x(), t.y());
+        c_snprintf(line, sizeof(line), "vt %.9g %.9g\n", t.x(), t.y());
         s += line;
       }
     for (size_t k = 0; k < p.mesh.faces.size(); ++k) {
       const auto& f = p.mesh.faces[k];
       const size_t t = 3 * k + 1;
-      std::snprintf(line, sizeof(line), "f %d/%zu %d/%zu %d/%zu\n", f[0] + 1, t, f[1] + 1, t + 1, f[2] + 1, t + 2);
+      c_snprintf(line, sizeof(line), "f %d/%zu %d/%zu %d/%zu\n", f[0] + 1, t, f[1] + 1, t + 1, f[2] + 1, t + 2);
       s += line;
     }
     return s;
   }
   for (const auto& f : p.mesh.faces) {
-    std::snprintf(line, sizeof(line), "f %d %d %d\n", f[0] + 1, f[1] + 1, f[2] + 1);
+    c_snprintf(line, sizeof(line), "f %d %d %d\n", f[0] + 1, f[1] + 1, f[2] + 1);
     s += line;
   }
   return s;
@@ -231,7 +231,7 @@ std::string file_sha256(const std::string& path) {
   std::string hex;
   char two[3];
   for (unsigned i = 0; i < length; ++i) {
-    std::snprintf(two, sizeof(two), "%02x", digest[i]);
+    c_snprintf(two, sizeof(two), "%02x", digest[i]);
     hex += two;
   }
   return hex;

@@ -16,6 +16,7 @@
 #include <set>
 #include <unordered_map>
 
+#include "canopy/common/value_text.h"
 #include "canopy/common/error.h"
 #include "canopy/common/read_file.h"
 #include "canopy/world/texture.h"
@@ -128,8 +129,8 @@ double PlantScene::file_unit_m() const {
   // assimp holds it as a float; the file's decimal (0.0254, not 0.025399999693) is the
   // float printed to its 7 significant digits.
   char text[32];
-  std::snprintf(text, sizeof(text), "%.7g", s);
-  return std::strtod(text, nullptr);
+  c_snprintf(text, sizeof(text), "%.7g", s);
+  return c_strtod(text, nullptr);
 }
 
 std::string PlantScene::default_up() const {

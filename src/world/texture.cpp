@@ -11,9 +11,57 @@
 
 namespace canopy::world {
 
+namespace {
+
+// A TGA has no magic number: it is the format stb_image falls back to when the first bytes are
+// none of the others' signatures and the image type is one TGA defines.
+bool looks_like_tga(const std::string& b) {
+  if (b.size() < 18) return false;
+  const auto u = [&](std::size_t i) { return static_cast<unsigned char>(b[i]); };
+  if (b.compare(0, 4, "\x89PNG") == 0 || (u(0) == 0xFF && u(1) == 0xD8) || b.compare(0, 2, "BM") == 0 ||
+      b.compare(0, 3, "GIF") == 0 || b.compare(0, 4, "8BPS") == 0 || b.compare(0, 2, "#?") == 0 ||
+      (u(0) == 'P' && (u(1) == '5' || u(1) == '6')))
+    return false;
+  const int type = u(2);
+  return type == 1 || type == 2 || type == 3 || type == 9 || type == 10 || type == 11;
+}
+
+// stb_image reads past the end of a TGA as zeros (black texels) without a word: a file cut
+// short would bake black into the plant's colour. Returns why the pixel data are incomplete
+// ("" when they are whole).
+std::string tga_truncation(const std::string& b) {
+  const auto u = [&](std::size_t i) { return static_cast<unsigned char>(b[i]); };
+  const std::size_t id_len = u(0), cmap_type = u(1), type = u(2);
+  const std::size_t cmap_len = u(5) | (u(6) << 8), cmap_bits = u(7);
+  const std::size_t w = u(12) | (u(13) << 8), h = u(14) | (u(15) << 8), bpp = u(16);
+  const std::size_t pixel_bytes = (bpp + 7) / 8;
+  std::size_t at = 18 + id_len + (cmap_type ? cmap_len * ((cmap_bits + 7) / 8) : 0);
+  const std::size_t pixels = w * h;
+  const auto cut = [&](std::size_t need) {
+    return "truncated TGA: " + std::to_string(b.size()) + " bytes, its header needs at least " + std::to_string(need) +
+           " for " + std::to_string(w) + " x " + std::to_string(h) + " px";
+  };
+  if (type < 8) {  // uncompressed
+    const std::size_t need = at + pixels * pixel_bytes;
+    return b.size() < need ? cut(need) : "";
+  }
+  for (std::size_t done = 0; done < pixels;) {  // run-length encoded: walk the packets
+    if (at >= b.size()) return cut(at + 1);
+    const std::size_t head = u(at++), n = (head & 0x7F) + 1;
+    at += (head & 0x80) ? pixel_bytes : n * pixel_bytes;
+    if (at > b.size()) return cut(at);
+    done += n;
+  }
+  return "";
+}
+
+}  // namespace
+
 Image<Rgb8> decode_image(const std::string& bytes, const std::string& what) {
   if (bytes.empty() || bytes.size() > static_cast<size_t>(std::numeric_limits<int>::max()))
     throw InputError(what + ": empty or too large to be a texture");
+  if (looks_like_tga(bytes))
+    if (const std::string why = tga_truncation(bytes); !why.empty()) throw InputError(what + ": " + why);
   const auto* data = reinterpret_cast<const stbi_uc*>(bytes.data());
   const int size = static_cast<int>(bytes.size());
   int w = 0, h = 0, channels = 0;

@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <functional>
 #include <string>
 
 #include "canopy/common/atomic_file.h"
@@ -160,6 +161,127 @@ TEST(OutputDir, StagedDirKeepsKindsApartAndOneWriterAtATime) {
     d.keep();
   }
   EXPECT_TRUE(fs::exists(kept + ".partial/job.json"));
+}
+
+
+// ---- Issue 31 ---------------------------------------------------------------------------------
+
+std::string fresh(const std::string& name) {
+  const std::string p = testing::TempDir() + "/" + name;
+  for (const std::string& q : {p, p + ".partial", p + ".lock"}) fs::remove_all(q);
+  return p;
+}
+
+std::string message_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "";
+}
+
+// Item 9: a dangling symlink as the output was found only at the commit, losing the run.
+TEST(OutputDir, SymbolicLinksAreRefusedBeforeAnyWork) {
+  const std::string link = fresh("link_out");
+  fs::create_symlink(testing::TempDir() + "/nowhere_at_all", link);
+  const std::string m = message_of([&] { StagedDir d(link, "test"); });
+  EXPECT_NE(m.find("is a symbolic link to"), std::string::npos) << m;
+  EXPECT_FALSE(fs::exists(link + ".partial"));
+  EXPECT_FALSE(fs::exists(link + ".lock"));
+  fs::remove(link);
+}
+
+// Item 13: a planted <dir>.lock symlink made canopy create a file at its target.
+TEST(OutputDir, ALockSymlinkIsRefusedAndItsTargetNeverCreated) {
+  const std::string out = fresh("locklink_out");
+  const std::string target = testing::TempDir() + "/lock_target_file";
+  fs::remove(target);
+  fs::create_symlink(target, out + ".lock");
+  EXPECT_THROW(StagedDir(out, "test"), InputError);
+  EXPECT_FALSE(fs::exists(target));
+  EXPECT_FALSE(fs::exists(out + ".partial"));
+  fs::remove(out + ".lock");
+}
+
+// Item 11: killed between the renames of a commit, <dir> was absent and the earlier output
+// stayed in <dir>.old.tmpN for good. The next StagedDir finishes the swap (the staged output is
+// complete: commit() is only reached with complete output) or, without it, puts the old one
+// back; an earlier output whose removal did not finish is removed.
+TEST(OutputDir, ACommitKilledBetweenItsRenamesIsFinishedByTheNextRun) {
+  const std::string out = fresh("window_out");
+  auto make = [](const std::string& dir, const std::string& file) {
+    fs::create_directories(dir);
+    write_output_marker(dir, "test");
+    write_file_atomic(dir + "/" + file, file);
+  };
+  // The window: old output aside, new one staged, <dir> absent.
+  make(out + ".old.tmp99_0", "old.txt");
+  make(out + ".partial", "new.txt");
+  {
+    StagedDir d(out, "test");  // a new run: finishes the swap first, then stages its own
+    EXPECT_TRUE(fs::exists(out + "/new.txt"));
+    EXPECT_FALSE(fs::exists(out + ".old.tmp99_0"));
+  }
+  EXPECT_TRUE(fs::exists(out + "/new.txt"));  // the run failed: the finished swap stays
+  // No staged output: the earlier output is put back.
+  fs::remove_all(out);
+  make(out + ".old.tmp99_1", "old.txt");
+  { StagedDir d(out, "test"); }
+  EXPECT_TRUE(fs::exists(out + "/old.txt"));
+  EXPECT_FALSE(fs::exists(out + ".old.tmp99_1"));
+  // <dir> present and a leftover old output: removed, read-only folders inside it too.
+  make(out + ".old.tmp99_2", "old.txt");
+  fs::create_directories(out + ".old.tmp99_2/sub");
+  fs::permissions(out + ".old.tmp99_2/sub", fs::perms::owner_read | fs::perms::owner_exec);
+  fs::permissions(out + ".old.tmp99_2", fs::perms::owner_read | fs::perms::owner_exec);
+  { StagedDir d(out, "test"); }
+  EXPECT_FALSE(fs::exists(out + ".old.tmp99_2"));
+  EXPECT_TRUE(fs::exists(out + "/old.txt"));
+}
+
+// Item 12: when the staging folder cannot be set up, nothing is left (no .partial, no .lock),
+// and the error is an IoError (exit code 2), not a bare runtime_error.
+TEST(OutputDir, AFolderThatCannotBeSetUpLeavesNothing) {
+  const std::string parent = fresh("setup_parent");
+  fs::create_directories(parent);
+  const std::string out = parent + "/out";
+  // A name whose ".partial" is longer than a file name may be (255 bytes), while the name and
+  // its ".lock" are not: the lock is taken, then the staging folder cannot be made.
+  const std::string out = parent + "/" + std::string(248, 'o');
+  const std::string m = message_of([&] { StagedDir d(out, "test"); });
+  EXPECT_NE(m.find("cannot create folder"), std::string::npos) << m;
+  EXPECT_THROW(StagedDir(out, "test"), IoError);
+  EXPECT_FALSE(fs::exists(out + ".lock"));
+  EXPECT_TRUE(fs::is_empty(parent));
+  EXPECT_THROW(write_file_atomic(parent + "/no/such/folder/x", "x"), IoError);
+}
+
+// Item 3: outputs inside one another are refused before the run.
+TEST(OutputDir, OutputsInsideOneAnotherAreRefused) {
+  const std::string base = fresh("nested");
+  EXPECT_THROW(check_disjoint_outputs({{base, "--out"}, {base + "/ds", "--export"}}), InputError);
+  EXPECT_THROW(check_disjoint_outputs({{base + "/", "--out"}, {base + "/./v.mp4", "--video"}}), InputError);
+  EXPECT_THROW(check_disjoint_outputs({{base, "--out"}, {base, "--export"}}), InputError);
+  EXPECT_THROW(check_disjoint_outputs({{base, "--out"}, {base + ".partial/x", "--export"}}), InputError);
+  EXPECT_NO_THROW(check_disjoint_outputs({{base, "--out"}, {base + "_ds", "--export"}, {"", "--video"}}));
+  {
+    StagedDir d(base, "mission");
+    d.commit();
+  }
+  EXPECT_THROW(check_output_place(base + "/inside", "--out"), InputError);
+  fs::remove_all(base);
+}
+
+// Item 7: the lock a child inherits is held until the child ends.
+TEST(OutputDir, ALockFileIsOneHolderAtATime) {
+  const std::string path = fresh("one_holder") + ".lock";
+  LockFile a, b;
+  ASSERT_TRUE(a.try_lock(path, "--out"));
+  EXPECT_FALSE(b.try_lock(path, "--out"));
+  a.release();
+  EXPECT_FALSE(fs::exists(path));
+  EXPECT_TRUE(b.try_lock(path, "--out"));
 }
 
 }  // namespace

@@ -2,11 +2,14 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <chrono>
+#include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "canopy/common/error.h"
@@ -74,6 +77,43 @@ TEST(Process, AChildThatStopsReadingIsReportedWithoutSigpipe) {
   const ProcessStatus s = p.wait();
   EXPECT_EQ(s.exit_code, 4);
   EXPECT_EQ(p.wait().exit_code, 4);  // same status again
+}
+
+// Issue 31, item 5: an encoder that never reads blocked the writer for good, and no signal
+// ended the run. A stall timeout or a stop request now ends the write; wait() then kills it.
+TEST(Process, AChildThatNeverReadsIsGivenUpOnByStallTimeoutOrStopRequest) {
+  const std::vector<char> chunk(1 << 20, 'x');
+  {
+    PipedProcessOptions o;
+    o.stall_timeout_s = 0.3;
+    o.kill_grace_s = 0.5;
+    PipedProcess p({"sleep", "600"}, o);
+    ASSERT_TRUE(p.started());
+    EXPECT_FALSE(p.write(chunk.data(), chunk.size()));
+    const ProcessStatus s = p.wait();
+    EXPECT_EQ(s.signal, SIGTERM) << s.describe();
+    EXPECT_NE(s.describe().find("read nothing for 0.3 s"), std::string::npos) << s.describe();
+  }
+  {
+    std::atomic<bool> stop{false};
+    PipedProcessOptions o;
+    o.stop = [&] { return stop.load(); };
+    PipedProcess p({"sleep", "600"}, o);
+    std::thread later([&] {
+      std::this_thread::sleep_for(std::chrono::milliseconds(200));
+      stop = true;
+    });
+    EXPECT_FALSE(p.write(chunk.data(), chunk.size()));  // returns once stop is set
+    later.join();
+    EXPECT_FALSE(p.wait().ok());
+  }
+  {
+    // A child that does not end after its input closed is killed past the finish timeout.
+    PipedProcessOptions o;
+    o.finish_timeout_s = 0.2;
+    PipedProcess p({"sh", "-c", "exec sleep 600"}, o);
+    EXPECT_EQ(p.wait().signal, SIGTERM);
+  }
 }
 
 TEST(Process, PipedProgramThatIsMissingDoesNotStart) {

@@ -53,6 +53,19 @@ TEST(Settings, BadBundlesAreInputErrors) {
   }
 }
 
+// Issue 31, item 2: an empty key path crashed (YAML::Node::operator[] on no key).
+TEST(Settings, EmptyOrDanglingKeyPathsAreInputErrors) {
+  Settings s = Settings::defaults(default_robot_config());
+  for (const char* key : {"", ".", "mission.loop.", ".mission"}) {
+    try {
+      s.set(key, "1", "--set");
+      ADD_FAILURE() << "key '" << key << "' was accepted";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("--set: "), std::string::npos) << e.what();
+    }
+  }
+}
+
 // Any setting is named by its key path; the value is validated like the file's.
 TEST(Settings, SetNamesAnySettingByItsKeyPath) {
   const RobotConfig robot = default_robot_config();

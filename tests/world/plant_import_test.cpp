@@ -372,6 +372,36 @@ TEST(PlantTexture, DecodingRejectsWhatIsNoImage) {
   EXPECT_THROW(decode_image("", "x.tga"), InputError);
 }
 
+// Issue 31, item 15: a TGA cut short decoded with black fill; it is refused, as a cut PNG is.
+TEST(PlantTexture, TruncatedTgaIsRefusedAndAWholeOneDecodes) {
+  // 4 x 3 px, 24 bits, uncompressed (type 2) and run-length encoded (type 10), all red.
+  auto header = [](char type) {
+    std::string h(18, '\0');
+    h[2] = type;
+    h[12] = 4;
+    h[14] = 3;
+    h[16] = 24;
+    return h;
+  };
+  std::string raw = header(2);
+  for (int i = 0; i < 12; ++i) raw += std::string("\x00\x00\xff", 3);  // BGR
+  const Image<Rgb8> whole = decode_image(raw, "red.tga");
+  ASSERT_EQ(whole.width, 4);
+  EXPECT_EQ(whole.data.back().r, 255);
+  for (std::size_t cut : {std::size_t(20), raw.size() - 1}) {
+    try {
+      decode_image(raw.substr(0, cut), "red.tga");
+      ADD_FAILURE() << "a TGA cut to " << cut << " bytes decoded";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("red.tga: truncated TGA"), std::string::npos) << e.what();
+    }
+  }
+  std::string rle = header(10);
+  for (int i = 0; i < 3; ++i) rle += std::string("\x83\x00\x00\xff", 4);  // a run of 4 red pixels per row
+  EXPECT_EQ(decode_image(rle, "rle.tga").data.front().r, 255);
+  EXPECT_THROW(decode_image(rle.substr(0, rle.size() - 4), "rle.tga"), InputError);
+}
+
 TEST(PlantImport, TexturedColladaKeepsItsTgaTexturesAndTextureCoordinatesThroughTheFolder) {
   const ImportedPlant p = import_plant(write_textured("textured"), capsicum());
   ASSERT_EQ(p.report.materials.size(), 3u);

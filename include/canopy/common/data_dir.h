@@ -23,7 +23,9 @@ std::string data_dir();
 /// Absolute path of a shipped file given relative to the data folder ("worlds/default.yaml"):
 /// an absolute path or one that exists relative to the current directory is taken as is;
 /// otherwise the file in data_dir(). Returns `relative_path` unchanged when neither exists
-/// (the caller's open then fails naming it).
+/// (the caller's open then fails naming it). Throws InputError naming CANOPY_DATA_DIR when no
+/// data folder was found (the variable names no data folder, is empty, or is unset and none
+/// is beside the program).
 std::string find_data_file(const std::string& relative_path);
 
 }  // namespace canopy

@@ -24,6 +24,14 @@ class Interrupted : public std::runtime_error {
   explicit Interrupted(const std::string& what) : std::runtime_error(what) {}
 };
 
+/// The system refused a read or write (disk full, a read-only file system, no permission, a
+/// path that cannot be made): not a bug and not the run's fault. The CLI prints the message on
+/// one line and exits with code 2, like bad input; whatever the command staged is removed.
+class IoError : public std::runtime_error {
+ public:
+  explicit IoError(const std::string& what) : std::runtime_error(what) {}
+};
+
 /// A broken internal invariant (a bug, not bad input).
 class InternalError : public std::logic_error {
  public:

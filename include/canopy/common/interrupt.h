@@ -9,7 +9,9 @@
 
 namespace canopy {
 
-/// Installs the SIGINT and SIGTERM handlers; call once, first thing in main().
+/// Installs the SIGINT and SIGTERM handlers and ignores SIGPIPE (output to a closed pipe is
+/// never fatal) and SIGXFSZ (a write past `ulimit -f` fails like a full disk); call once,
+/// first thing in main().
 void install_interrupt_handlers();
 /// True once SIGINT or SIGTERM arrived while an InterruptScope was open.
 bool interrupt_requested();

@@ -13,8 +13,20 @@
 
 namespace canopy {
 
+// Numbers as text never depend on the locale: a program that embeds canopy (Python after
+// locale.setlocale(LC_ALL, "de_DE.UTF-8")) must not get "0,015" in a CSV or a settings file,
+// nor fail to read "0.015". Every number canopy formats or parses with printf/strtod goes
+// through these, which use the "C" locale on the calling thread (uselocale).
+
+/// snprintf in the "C" locale (decimal point '.').
+int c_snprintf(char* buffer, std::size_t size, const char* format, ...) __attribute__((format(printf, 3, 4)));
+/// strtod in the "C" locale.
+double c_strtod(const char* text, char** end);
+/// std::stod in the "C" locale: throws std::invalid_argument / std::out_of_range as std::stod does.
+double c_stod(const std::string& text, std::size_t* used = nullptr);
+
 /// A number as text for CSV and report files, by a printf format for one double
-/// ("%.9g" keeps a float's value; "%.17g" a double's).
+/// ("%.9g" keeps a float's value; "%.17g" a double's); locale-independent.
 std::string format_number(double x, const char* printf_format = "%.9g");
 
 /// Parses "a,b,c" into exactly `count` finite numbers (count < 0: any number); throws

@@ -129,6 +129,7 @@ struct ExperimentRunSummary {
   int in_shard = 0;              ///< Trials of this shard.
   int skipped = 0;               ///< Complete already (resume).
   int ok = 0, failed = 0;        ///< Run now.
+  int busy = 0;                  ///< Skipped: another process runs them now (their trials/<id>.lock is held).
   bool interrupted = false;      ///< Stopped by stop_requested; the unfinished trials are left .partial.
   double wall_time_s = 0.0;
 };

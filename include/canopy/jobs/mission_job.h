@@ -65,6 +65,11 @@ struct MissionJobResult {
   std::shared_ptr<mapping::SemanticOcTree> map;  ///< The final map, when keep_map.
 };
 
+/// Checks the places a mission writes before any work (InputError): --out, --export and
+/// --video are never inside one another nor inside another command's output folder (a later
+/// commit would delete them), and --out is not a symbolic link. run_mission_job calls it too.
+void check_mission_outputs(const MissionJobParams& params);
+
 /// Runs the closed-loop mission on `world` (checked against the settings' labels first,
 /// check_world_colours) with `callbacks` (progress, stop requests; the job adds the video's
 /// and the export's), records the video, writes the export and the run folder, and publishes

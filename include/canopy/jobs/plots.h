@@ -5,9 +5,12 @@
 
 namespace canopy::jobs {
 
-/// Runs `python3 <script> <folder>` (the script found like data files). A failure is a warning
-/// (the plots need python3-matplotlib), naming the script and, when given, `shown` (the folder
-/// as the user named it). Returns whether the plots were drawn.
+/// Runs `python3 <script> <folder>` (the script found like data files; bounded, and stopped by
+/// Ctrl-C or SIGTERM: Interrupted). Without python3-matplotlib (the script exits with code 3)
+/// the plots are skipped with a warning and false is returned; any other failure (disk full,
+/// an unwritable file, a crash) throws IoError naming the script and, when given, `shown` (the
+/// folder as the user named it), so the caller never publishes a folder with missing or
+/// truncated plots. Returns true when the plots were drawn.
 bool draw_plots(const std::string& script, const std::string& folder, const std::string& shown = "");
 
 }  // namespace canopy::jobs

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "canopy/common/classes.h"
+#include "canopy/common/output_dir.h"
 #include "canopy/common/frame.h"
 #include "canopy/common/image.h"
 #include "canopy/mapping/semantic_octree.h"
@@ -46,7 +47,8 @@ class VideoWriter {
   /// Throws InputError (prefixed with `what`, naming the path) unless `path` can be
   /// written as a video: not a folder, in an existing folder where a file can be created, and
   /// either absent or a video canopy wrote (anything else is never overwritten).
-  /// Call it before a long run so a bad path fails at once.
+  /// Call it before a long run so a bad path fails at once. A video another run is writing
+  /// now (its `<path>.lock` is held) is refused as busy.
   static void validate_output_path(const std::string& path, const std::string& what = "--video");
   /// True when `path` is an MP4 this class wrote (its metadata carries canopy's comment).
   static bool is_canopy_video(const std::string& path);
@@ -69,6 +71,7 @@ class VideoWriter {
   const std::string& path() const { return path_; }
 
  private:
+  static void validate_output_path_locked(const std::string& path, const std::string& what);
   void fail(const std::string& why);
   void send_frames();  // the sender thread
   void stop_sender();  // lets the sender send what is queued, then joins it
@@ -76,6 +79,7 @@ class VideoWriter {
 
   std::string path_, tmp_path_;
   int width_, height_;
+  LockFile lock_;  // on <path>.lock while the video is written
   std::unique_ptr<PipedProcess> encoder_;
   std::string error_;  // the caller's thread's
 

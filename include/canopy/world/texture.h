@@ -21,7 +21,8 @@ using FaceUv = std::array<Vec2, 3>;
 constexpr int kMaxTextureSidePx = 8192;
 
 /// Decodes an image file's bytes (TGA, PNG, JPEG, BMP, ...) to 8-bit RGB; alpha is dropped.
-/// Throws InputError naming `what` when the bytes are no image stb_image reads or too large.
+/// Throws InputError naming `what` when the bytes are no image stb_image reads, too large, or
+/// a TGA whose pixel data end before its header's size (stb_image would fill the rest black).
 Image<Rgb8> decode_image(const std::string& bytes, const std::string& what);
 
 /// Weight of every texel (row-major, row 0 at the image's top) in the area the faces cover

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "canopy/common/error.h"
+#include "canopy/common/value_text.h"
 
 namespace canopy::mission {
 
@@ -36,7 +37,7 @@ std::string candidates_csv(const std::vector<CandidateRecord>& records) {
   s += "\n";
   char b[64];
   auto num = [&](double x) {
-    std::snprintf(b, sizeof b, "%.17g", x);
+    c_snprintf(b, sizeof b, "%.17g", x);
     return std::string(b);
   };
   for (const CandidateRecord& r : records) {
@@ -90,8 +91,8 @@ std::vector<GainTruthRow> gain_truth(const std::vector<std::string>& files) {
           flush();
           key = k;
         }
-        for (std::size_t j = 0; j < score_cols.size(); ++j) round[j].push_back(std::stod(f[score_cols[j]]));
-        truth.push_back(std::stod(f[truth_col]));
+        for (std::size_t j = 0; j < score_cols.size(); ++j) round[j].push_back(c_stod(f[score_cols[j]]));
+        truth.push_back(c_stod(f[truth_col]));
       } catch (const std::logic_error&) {
         throw InputError(file + ":" + std::to_string(n) + ": not a number");
       }
@@ -106,7 +107,7 @@ std::string gain_truth_csv(const std::vector<GainTruthRow>& rows) {
   char b[256];
   for (const GainTruthRow& r : rows) {
     const evaluation::RankAgreement& a = r.agreement;
-    std::snprintf(b, sizeof b, "%s,%zu,%.4f,%.4f,%.4f,%.3f,%.4f\n", r.score.c_str(), a.rounds, a.mean_spearman(),
+    c_snprintf(b, sizeof b, "%s,%zu,%.4f,%.4f,%.4f,%.3f,%.4f\n", r.score.c_str(), a.rounds, a.mean_spearman(),
                   a.top1_rate(), a.top5_rate(), a.mean_rank(), a.mean_truth_share());
     s += b;
   }
