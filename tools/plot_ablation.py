@@ -80,6 +80,9 @@ def main():
 if __name__ == "__main__":
     try:
         sys.exit(main())
+    except BrokenPipeError:  # its last line, to canopy's output piped into `head`: the plots are drawn
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        sys.exit(0)
     except OSError as e:  # one line (disk full, unwritable): canopy fails the command
         print(f"plot_ablation: {e.strerror or e}: {e.filename or ''}", file=sys.stderr)
         sys.exit(1)

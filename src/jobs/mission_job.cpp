@@ -111,7 +111,7 @@ MissionJobResult run_mission_job(const world::World& world, const MissionJobPara
   }
   r.summary = out ? mission::write_run_folder(out->working_dir(), r.result, settings, mission.map(), context)
                   : mission::run_summary(r.result, settings, context);
-  if (out && p.plots) draw_plots("tools/plot_mission.py", out->working_dir());
+  if (out && p.plots) draw_plots("tools/plot_mission.py", out->working_dir(), p.out);
   if (ex.dataset && r.result.complete) {
     ex.dataset->render_test_views(mission.simulator(), world, mission::default_test_ring());
     ex.dataset->finish({{"command", "mission"}, {"world", p.world_file}, {"method", method.name}, {"seed", p.seed}});

@@ -20,7 +20,7 @@ ReportJobResult write_report(const ReportJobParams& params) {
   write_file_atomic(out.path("field_curves.csv"), rep.field_curves_csv);
   write_json_atomic(out.path("trials.json"), rep.trials_json);
   if (!rep.gain_truth_csv.empty()) write_file_atomic(out.path("gain_truth.csv"), rep.gain_truth_csv);
-  if (params.plots) draw_plots("tools/plot_experiment.py", out.working_dir());
+  if (params.plots) draw_plots("tools/plot_experiment.py", out.working_dir(), r.out);
   out.commit();
   for (const auto& t : r.merged.trials) r.ok += t.status == "ok";
   return r;

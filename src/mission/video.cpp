@@ -87,15 +87,17 @@ void VideoWriter::validate_output_path_locked(const std::string& path, const std
   if (!fs::is_directory(parent, ec))
     throw InputError(what + ": cannot write '" + path + "': folder '" + parent.string() + "' does not exist");
   // Only a video canopy wrote may be replaced: a world file or anything else named by mistake
-  // is never overwritten.
-  for (const std::string& p : {path, temp_video_path(path)}) {
+  // is never overwritten. The temporary file is canopy's own name: one left by a killed run
+  // (no other run holds the video's lock now) is overwritten, whatever it holds.
+  for (const std::string& p : {path, temp_video_path(path)})
     if (fs::is_symlink(fs::symlink_status(p, ec)))
       throw InputError(what + ": '" + p + "' is a symbolic link; canopy does not write through it (remove it or "
                        "choose another name)");
-    if (fs::exists(p, ec) && !is_canopy_video(p))
-      throw InputError(what + ": '" + p + "' exists and is not a video canopy wrote; canopy does not overwrite it "
-                       "(remove it or choose another name)");
-  }
+  if (fs::exists(path, ec) && !is_canopy_video(path))
+    throw InputError(what + ": '" + path + "' exists and is not a video canopy wrote; canopy does not overwrite it "
+                     "(remove it or choose another name)");
+  if (fs::exists(temp_video_path(path), ec) && !fs::is_regular_file(temp_video_path(path), ec))
+    throw InputError(what + ": '" + temp_video_path(path) + "' is not a file; remove it");
   // Creating the encoder's temporary file is the only reliable test (root ignores modes;
   // read-only mounts do not show in them).
   const std::string probe = temp_video_path(path);

@@ -245,7 +245,6 @@ TEST(OutputDir, ACommitKilledBetweenItsRenamesIsFinishedByTheNextRun) {
 TEST(OutputDir, AFolderThatCannotBeSetUpLeavesNothing) {
   const std::string parent = fresh("setup_parent");
   fs::create_directories(parent);
-  const std::string out = parent + "/out";
   // A name whose ".partial" is longer than a file name may be (255 bytes), while the name and
   // its ".lock" are not: the lock is taken, then the staging folder cannot be made.
   const std::string out = parent + "/" + std::string(248, 'o');
