@@ -2,7 +2,9 @@
 
 #include <png.h>
 
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <memory>
 #include <stdexcept>
 #include <vector>
@@ -26,7 +28,7 @@ void write_png_rows(const std::string& path, int width, int height, int bit_dept
                     RowFn&& row_fn) {
   const std::string tmp = unique_temp_path(path);
   std::unique_ptr<FILE, FileCloser> f(std::fopen(tmp.c_str(), "wb"));
-  if (!f) throw std::runtime_error("cannot write " + path);
+  if (!f) throw IoError("cannot write " + path + ": " + std::strerror(errno));
   // Every C++ object lives outside the setjmp/longjmp region: libpng reports errors by
   // longjmp, which must not skip destructors.
   std::vector<png_byte> row;
@@ -37,10 +39,11 @@ void write_png_rows(const std::string& path, int width, int height, int bit_dept
     throw std::runtime_error("libpng: out of memory writing " + path);
   }
   if (setjmp(png_jmpbuf(png))) {
+    const int err = errno;
     png_destroy_write_struct(&png, &info);
     f.reset();
     std::remove(tmp.c_str());
-    throw std::runtime_error("libpng: failed writing " + path);
+    throw IoError("cannot write " + path + (err ? ": " + std::string(std::strerror(err)) : std::string(" (libpng)")));
   }
   png_init_io(png, f.get());
   png_set_IHDR(png, info, static_cast<png_uint_32>(width), static_cast<png_uint_32>(height), bit_depth,
@@ -53,8 +56,14 @@ void write_png_rows(const std::string& path, int width, int height, int bit_dept
   }
   png_write_end(png, nullptr);
   png_destroy_write_struct(&png, &info);
-  if (std::fflush(f.get()) != 0) throw std::runtime_error("cannot write " + path);
-  f.reset();
+  // A full disk shows at the flush or the close: the file is not published.
+  const bool flushed = std::fflush(f.get()) == 0;
+  int err = flushed ? 0 : errno;
+  if (std::fclose(f.release()) != 0 && err == 0) err = errno;
+  if (!flushed || err != 0) {
+    std::remove(tmp.c_str());
+    throw IoError("cannot write " + path + ": " + std::strerror(err ? err : EIO));
+  }
   move_temp_into_place(tmp, path);
 }
 
