@@ -10,7 +10,7 @@ canopy="$(realpath "$1")"
 tmp=$(mktemp -d)
 background=()
 cleanup() {
-  for p in "${background[@]}"; do kill -9 "$p" 2>/dev/null; done
+  for p in "${background[@]}"; do pkill -9 -P "$p" 2>/dev/null; kill -9 "$p" 2>/dev/null; done
   rm -rf "$tmp"
 }
 trap cleanup EXIT
@@ -48,10 +48,12 @@ summary_sum=$(sha256sum < "$tmp/base/summary.json")
 
 # --- 3. An export or a video inside --out is refused before the run, not deleted. ----------
 cp -r "$tmp/base" "$tmp/o6"
+cp -r "$tmp/base" "$tmp/o8"
 expect_2 "--export: '$tmp/o6/ds' is inside" "$canopy" "${quick[@]}" --out "$tmp/o6" --export "$tmp/o6/ds"
 expect_2 "--video: '$tmp/o8/run.mp4' is inside" "$canopy" "${quick[@]}" --out "$tmp/o8" --video "$tmp/o8/run.mp4"
 expect_2 "--export" "$canopy" "${quick[@]}" --out "$tmp/o7" --export "$tmp/o7"
-[[ -s "$tmp/o6/summary.json" && ! -e "$tmp/o6/ds" && ! -e "$tmp/o8" && ! -e "$tmp/o7" ]] || fail "item 3 touched its folders"
+[[ -s "$tmp/o6/summary.json" && ! -e "$tmp/o6/ds" && ! -e "$tmp/o7" ]] || fail "item 3 touched its folders"
+[[ "$(sha256sum < "$tmp/o8/summary.json")" == "$summary_sum" && ! -e "$tmp/o8/run.mp4" ]] || fail "item 3 replaced o8"
 printf '0.0 0.3 0.7 0.5 -0.5 0.5 -0.5\n' > "$tmp/one_view.txt"
 expect_2 "--export: '$tmp/o9/ds' is inside" "$canopy" map --views "$tmp/one_view.txt" --out "$tmp/o9" --export "$tmp/o9/ds"
 # Nor inside another command's folder, which its next run replaces.
@@ -91,8 +93,8 @@ code=$?
 [[ $code -eq 137 && ! -e "$tmp/o11" && -d "$tmp/o11.partial" && -n "$(ls -d "$tmp"/o11.old.tmp* 2>/dev/null)" ]] ||
   fail "the fault hook did not leave the commit window (exit $code)"
 "$canopy" "${quick[@]}" --out "$tmp/o11" >/dev/null 2>&1 || fail "the run after a killed commit"
-[[ -s "$tmp/o11/summary.json" && "$(sha256sum < "$tmp/o11/summary.json")" == "$summary_sum" ]] ||
-  fail "the run after a killed commit did not publish a complete folder"
+complete() { python3 -c 'import json,sys; sys.exit(0 if json.load(open(sys.argv[1]))["complete"] else 1)' "$1/summary.json"; }
+complete "$tmp/o11" || fail "the run after a killed commit did not publish a complete folder"
 no_leftovers "$tmp/o11" "the run after a killed commit"
 
 # --- 12. I/O errors: one line, exit 2, nothing staged left behind. --------------------------
@@ -165,14 +167,15 @@ trial=$(ls "$tmp/e/trials" | grep -v '\.' | head -1)
 rm -rf "$tmp/e/trials/$trial"
 mkdir -p "$tmp/e/trials/$trial.partial"
 echo "in flight" > "$tmp/e/trials/$trial.partial/log.txt"
-flock "$tmp/e/trials/$trial.lock" sleep 600 &
+flock -o "$tmp/e/trials/$trial.lock" sleep 600 &  # -o: the lock is flock's own, not sleep's
 holder=$!
 background+=("$holder")
 wait_for test -e "$tmp/e/trials/$trial.lock"
 sleep 0.3
 expect_2 "being run by another canopy experiment" "$canopy" experiment --config "$tmp/one.yaml" --out "$tmp/e" --resume
 [[ "$(cat "$tmp/e/trials/$trial.partial/log.txt" 2>/dev/null)" == "in flight" ]] || fail "--resume deleted an in-flight trial"
-kill "$holder"
+pkill -P "$holder" sleep
+kill "$holder" 2>/dev/null
 wait "$holder" 2>/dev/null
 "$canopy" experiment --config "$tmp/one.yaml" --out "$tmp/e" --resume >/dev/null 2>&1 || fail "--resume after the lock was freed"
 [[ -s "$tmp/e/trials/$trial/trial.json" && ! -e "$tmp/e/trials/$trial.partial" ]] || fail "--resume did not run the trial"
