@@ -74,7 +74,13 @@ void VideoWriter::validate_output_path(const std::string& path, const std::strin
   if (fs::is_directory(parent, ec) && !fs::is_directory(path, ec)) {
     // another run writing the same video (its lock is held) is named as such
     LockFile probe;
-    if (!probe.try_lock(path + ".lock", what)) throw InputError(busy_message(what, path));
+    bool busy = false;
+    try {
+      busy = !probe.try_lock(path + ".lock", what);
+    } catch (const IoError&) {
+      // no lock file can be made there: the check below names the path and the reason
+    }
+    if (busy) throw InputError(busy_message(what, path));
   }
   validate_output_path_locked(path, what);
 }

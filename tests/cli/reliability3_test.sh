@@ -132,11 +132,11 @@ wait_for test -s "$tmp/ffmpeg.pid" || fail "the fake ffmpeg did not start"
 expect_2 "--video: '$tmp/v.mp4' is busy" "$canopy" "${quick[@]}" --video "$tmp/v.mp4" --out "$tmp/o6b"
 sleep 2  # (any time: the frames fill the encoder's input within a second, and block there)
 kill -TERM "$mission"
-wait_for gone "$mission" || fail "SIGTERM did not stop a mission whose encoder never reads (60 s)"
+wait_for gone "$mission" || { fail "SIGTERM did not stop a mission whose encoder never reads (60 s)"; kill -9 "$mission"; }
 wait "$mission"
 code=$?
 [[ $code -eq 143 ]] || fail "SIGTERM with a stuck encoder: exit $code (want 143): $(tail -2 "$tmp/o5.log")"
-wait_for gone "$(cat "$tmp/ffmpeg.pid")" || fail "the stuck encoder outlived the mission"
+wait_for gone "$(cat "$tmp/ffmpeg.pid")" || { fail "the stuck encoder outlived the mission"; kill -9 "$(cat "$tmp/ffmpeg.pid")"; }
 [[ ! -e "$tmp/v.mp4" && ! -e "$tmp/v.mp4.partial.mp4" && ! -e "$tmp/v.mp4.lock" ]] || fail "a stuck encoder left video files"
 rm -f "$tmp/ffmpeg.pid"
 msg=$(CANOPY_VIDEO_STALL_S=1 PATH="$tmp/bin:$PATH" timeout 120 "$canopy" mission --world "$small" --no-plots \
@@ -145,7 +145,7 @@ msg=$(CANOPY_VIDEO_STALL_S=1 PATH="$tmp/bin:$PATH" timeout 120 "$canopy" mission
 [[ $code -eq 1 && "$msg" == *"the video $tmp/v2.mp4 is missing"*"read nothing for 1 s"* ]] ||
   fail "a stuck encoder without a signal: exit $code (want 1, the video missing): $(tail -2 <<<"$msg")"
 [[ -s "$tmp/o5b/summary.json" ]] || fail "a stuck encoder cost the run its results"
-wait_for gone "$(cat "$tmp/ffmpeg.pid")" || fail "the stalled encoder outlived the mission"
+wait_for gone "$(cat "$tmp/ffmpeg.pid")" || { fail "the stalled encoder outlived the mission"; kill -9 "$(cat "$tmp/ffmpeg.pid")"; }
 
 # --- An experiment of one trial for items 7, 4 and 14. ------------------------------------
 cat > "$tmp/one.yaml" <<YAML
@@ -179,8 +179,10 @@ kill "$holder" 2>/dev/null
 wait "$holder" 2>/dev/null
 "$canopy" experiment --config "$tmp/one.yaml" --out "$tmp/e" --resume >/dev/null 2>&1 || fail "--resume after the lock was freed"
 [[ -s "$tmp/e/trials/$trial/trial.json" && ! -e "$tmp/e/trials/$trial.partial" ]] || fail "--resume did not run the trial"
-# kill -9 of the experiment: its trial's mission dies with it.
-"$canopy" experiment --config "$tmp/one.yaml" --out "$tmp/e7" > /dev/null 2>&1 &
+# kill -9 of the experiment: its trial's mission dies with it (a longer trial, so that it is
+# still running when the experiment is killed): SIGTERM, so it saves what it has, incomplete.
+sed 's/views_per_stop: 1/views_per_stop: 8/; s/method: predefined}/method: ours}/' "$tmp/one.yaml" > "$tmp/long.yaml"
+"$canopy" experiment --config "$tmp/long.yaml" --out "$tmp/e7" > /dev/null 2>&1 &
 exp=$!
 background+=("$exp")
 child=""
@@ -188,7 +190,9 @@ find_child() { child=$(pgrep -P "$exp" | head -1); [[ -n "$child" ]]; }
 wait_for find_child || fail "the experiment started no trial"
 kill -9 "$exp"
 wait "$exp" 2>/dev/null
-[[ -z "$child" ]] || wait_for gone "$child" || fail "the trial's mission outlived the killed experiment"
+[[ -z "$child" ]] || wait_for gone "$child" || { fail "the trial's mission outlived the killed experiment"; kill -9 "$child"; }
+left="$tmp/e7/trials/$trial.partial/mission/summary.json"
+[[ ! -f "$left" ]] || ! complete "$(dirname "$left")" || fail "the trial's mission ran to its end after the experiment was killed"
 
 # --- 4. A plot that fails (disk full) fails the report, exit 2; the earlier report stays. --
 "$canopy" report "$tmp/e" --out "$tmp/r" --no-plots >/dev/null 2>&1 || fail "report"
@@ -229,7 +233,7 @@ exp=$rep
 wait_for find_child || fail "report started no plot script"
 kill -9 "$rep"
 wait "$rep" 2>/dev/null
-[[ -z "$child" ]] || wait_for gone "$child" || fail "the plot script outlived the killed report"
+[[ -z "$child" ]] || wait_for gone "$child" || { fail "the plot script outlived the killed report"; kill -9 "$child"; }
 
 if [[ $failures -ne 0 ]]; then echo "$failures failure(s)"; exit 1; fi
 echo "all reliability (third pass) checks passed"
