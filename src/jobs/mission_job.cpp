@@ -52,7 +52,7 @@ MissionJobResult run_mission_job(const world::World& world, const MissionJobPara
                                  mission::MissionCallbacks cb, const std::function<void(mission::MissionResult&)>& amend) {
   check_mission_outputs(p);
   const mission::Settings& settings = p.settings;
-  check_world_colours(world, settings.mapping.extractor);
+  check_world_colours(world, settings.mapping.extractor, p.strict_colours);
   const nbv::MethodChoice& method = settings.method;
   spdlog::info("mission: method {}{}, {} plants, {} fruits, P_gt {}, seed {}", method.name,
                method.name == "ours" ? " (" + method.gain + ", rays " + method.rays + ")" : "", world.plants.size(),
