@@ -84,6 +84,7 @@ NextViews next_views(const mapping::SemanticOcTree& map, nbv::VoxelIndex& index,
   };
   NextViews out;
   out.batch = planner.next(req);
+  if (request.max_views > 0 && out.batch.views.size() > request.max_views) out.batch.views.resize(request.max_views);
   if (out.batch.views.empty()) return out;
   if (out.batch.order == nbv::BatchOrder::kTour)
     out.ordered = tour_order(arm.model, arm.tour, request.base, request.q, out.batch.views, &out.unreachable);
