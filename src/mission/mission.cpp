@@ -2,8 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <future>
 #include <optional>
 
@@ -344,29 +342,6 @@ struct Mission::Impl {
     rec.position_error_m = report.position_error_m;
     rec.angle_error_rad = report.angle_error_rad;
     if (!report.success) return finish(failure::kNotReached, report.message);
-    if (std::getenv("CANOPY_DIAG_START")) {  // DIAG (temporary)
-      const ArmConfig qr = sim.arm_positions();
-      const motion::CollisionReport at = map_checker.report(base, qr);
-      auto clearance = [&](const ArmConfig& q) {
-        double lo = 0, hi = 0.05;
-        for (int it = 0; it < 20; ++it) {
-          const double m = 0.5 * (lo + hi);
-          motion::CollisionParams cp = settings.motion.collision;
-          cp.self_padding_m = m;
-          motion::CollisionChecker c(model, cp, nullptr);
-          (c.in_collision(base, q) ? hi : lo) = m;
-        }
-        return lo;
-      };
-      double dq = 0;
-      for (int i = 0; i < kArmDof; ++i) dq = std::max(dq, std::abs(qr[i] - plan.goal[i]));
-      std::string pairs;
-      for (const auto& p : report.contact_pairs) pairs += p + "; ";
-      std::fprintf(stderr, "DIAG attempt %d: goal self-clearance %.4f m, reached %.4f m, max |dq| %.5f rad, reached in collision %d (%s), mujoco self steps %d pairs %s\n",
-                   current_attempt, clearance(plan.goal), clearance(qr), dq, int(at.in_collision),
-                   at.pairs.empty() ? "" : at.pairs.front().c_str(), report.self_contact_steps, pairs.c_str());
-    }
-
     if (!look) look = take_look(rec.times);
     const LabelledFrame& frame = look->frame;
     rec.T_reached = frame.T_world_camera;
@@ -551,7 +526,7 @@ struct Mission::Impl {
     req.region = stop_region(loop, stops_x[static_cast<std::size_t>(k)], settings.mission.stops.base_y_m);
     const nbv::PlannerTraits traits = view_planner->traits();
     if (traits.scripted) req.scripted = scan_views(k, true);
-    const motion::StopArm arm{model, workspace, &map_checker, settings.motion.tour};
+    const motion::StopArm arm{model, workspace, &planner.goal_checker(), settings.motion.tour};
     for (;;) {
       check_stop();
       if (ok >= wanted_total) {

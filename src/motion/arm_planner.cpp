@@ -272,6 +272,12 @@ std::vector<ArmConfig> solution_configs(og::SimpleSetup& ss) {
 
 }  // namespace
 
+CollisionParams goal_collision_params(const CollisionParams& collision, const PlannerParams& planner) {
+  CollisionParams c = collision;
+  c.self_padding_m += planner.goal_self_clearance_m;
+  return c;
+}
+
 const char* to_string(PlanStatus s) {
   switch (s) {
     case PlanStatus::kSuccess: return "success";
@@ -304,11 +310,9 @@ ArmPlanner::ArmPlanner(const CollisionChecker& checker, const PlannerParams& par
     : checker_(&checker), params_(params), trajectory_params_(trajectory) {
   params_.validate();
   trajectory_params_.validate();
-  if (params_.goal_self_clearance_m > 0.0) {
-    CollisionParams padded = checker.params();
-    padded.self_padding_m += params_.goal_self_clearance_m;
-    goal_checker_ = std::make_shared<const CollisionChecker>(checker.model(), padded, checker.environment());
-  }
+  if (params_.goal_self_clearance_m > 0.0)
+    goal_checker_ = std::make_shared<const CollisionChecker>(
+        checker.model(), goal_collision_params(checker.params(), params_), checker.environment());
   // OMPL reports every solve at INFO level; warnings and errors still show.
   ompl::msg::setLogLevel(ompl::msg::LOG_WARN);
 }

@@ -51,7 +51,7 @@ struct PlannerParams {
   /// nearby states are sampled (each joint within a growing fraction of its range, up to
   /// jiggle_fraction) and the first valid one that a short straight move reaches without a
   /// new contact is taken; else the home configuration by the same test (MoveIt's
-  /// FixStartStateCollision, FACTS 19). The repair move is the plan's first segment.
+  /// FixStartStateCollision, docs/mission.md). The repair move is the plan's first segment.
   bool repair_start = true;
   double jiggle_fraction = 0.02;  ///< Largest jiggle, as a fraction of each joint's range.
   int repair_attempts = 100;      ///< States sampled at most before the retreat home.
@@ -59,12 +59,17 @@ struct PlannerParams {
   /// goal test only): the servos settle a goal within about 1 mm and MuJoCo's soft contacts
   /// let touching shapes press into each other, so a goal touching the robot ends in
   /// self-collision and the next plan's start with it (docs/motion.md).
-  double goal_self_clearance_m = 0.01;
+  double goal_self_clearance_m = 0.001;
 
   template <class A>
   void visit(A& a);
   void validate() const { validate_params(*this, "planner"); }
 };
+
+/// The collision settings goals are checked with: `collision` with the self padding raised by
+/// planner.goal_self_clearance_m (ArmPlanner's goal test; the view planners' reachability
+/// filter uses the same, so that a view it keeps is not refused at planning).
+CollisionParams goal_collision_params(const CollisionParams& collision, const PlannerParams& planner);
 
 /// Names accepted by PlannerParams::planner.
 std::vector<std::string> planner_names();
@@ -150,6 +155,9 @@ class ArmPlanner {
 
   const PlannerParams& params() const { return params_; }
   const CollisionChecker& checker() const { return *checker_; }
+  /// The checker goals (and repaired starts) must be free in: checker() with the goals' self
+  /// clearance (goal_collision_params).
+  const CollisionChecker& goal_checker() const { return goal_checker_ ? *goal_checker_ : *checker_; }
 
  private:
   /// True when the straight move a -> b leaves a collision: states in collision come only
