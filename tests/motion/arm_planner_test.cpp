@@ -228,7 +228,9 @@ void expect_repaired_plan(const CollisionChecker& checker, const BasePose& base,
   const ArmTrajectory& t = r.trajectory;
   for (double time = 0.0; time <= t.duration(); time += 0.002) {
     const bool hit = checker.in_collision(base, t.sample(time).q);
-    if (out) ASSERT_FALSE(hit) << "back in collision at t = " << time;
+    if (out) {
+      ASSERT_FALSE(hit) << "back in collision at t = " << time;
+    }
     out = out || !hit;
   }
   EXPECT_TRUE(out);
