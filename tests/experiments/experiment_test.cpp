@@ -410,6 +410,10 @@ TEST(ExperimentReport, AggregatesKnownValues) {
   EXPECT_NE(r.findings_md.find("| 1 | ours | 2 ± 0 (n=2) | 1.0 ± 0.0 (n=2) | 1.5 ± 0.0 (n=2) | no_ik 0.50 ± 0.00 |"),
             std::string::npos)
       << r.findings_md;
+  // SC at equal view counts: trials of 2 views have no figure after the 30th.
+  EXPECT_NE(r.findings_md.find("| P_gt | method | successful views | SC after 30 | after 60 | after 90 | final |"),
+            std::string::npos);
+  EXPECT_NE(r.findings_md.find("| 1 | ours | 2.0 ± 0.0 (n=2) | n/a | n/a | n/a | 0.41"), std::string::npos) << r.findings_md;
 }
 
 }  // namespace
