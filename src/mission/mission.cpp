@@ -557,6 +557,7 @@ struct Mission::Impl {
         // The planner's own phases are in batch.times; the rest (tour, bookkeeping) here.
         result.times.add(kNbvPlanning, std::max(0.0, watch.seconds() - next.batch.times.total()));
       }
+      check_stop();  // a stop requested while the planner ran (a Python planner's KeyboardInterrupt) wins
       const nbv::ViewBatch& batch = next.batch;
       if (audit) {
         ScopedPhase t(result.times, kEvaluation);
