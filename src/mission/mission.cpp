@@ -342,6 +342,7 @@ struct Mission::Impl {
     rec.position_error_m = report.position_error_m;
     rec.angle_error_rad = report.angle_error_rad;
     if (!report.success) return finish(failure::kNotReached, report.message);
+
     if (!look) look = take_look(rec.times);
     const LabelledFrame& frame = look->frame;
     rec.T_reached = frame.T_world_camera;
