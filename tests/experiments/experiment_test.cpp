@@ -93,7 +93,7 @@ TEST(Experiment, MethodsSetTheirOwnSettingsByKey) {
   EXPECT_EQ(s0.mission.loop.views_per_stop, 2);  // the experiment's override stays
   const Settings s1 = e.trial_settings(t[1]);
   EXPECT_EQ(s1.nbv.gain.proximity, nbv::Proximity::kPerSegmentEnd);
-  EXPECT_EQ(s1.mission.loop.max_rounds, 10);
+  EXPECT_EQ(s1.mission.loop.max_rounds, 1000);  // the default: attempts are the cap that decides
   EXPECT_EQ(TrialSpec::from_json(t[0].to_json(), "x").to_json(), t[0].to_json());
   // The settings differ, so the identities do, at the setting.
   const std::string d = first_difference(e.trial_identity(t[0]), load(kBase).trial_identity(load(kBase).trials()[0]));
