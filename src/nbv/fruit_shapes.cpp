@@ -3,14 +3,31 @@
 #include "canopy/nbv/fruit_shapes.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "canopy/common/point_kdtree.h"
 
 namespace canopy::nbv {
 
+const mapping::FruitShape& ShapeFitCache::fit(const std::vector<Vec3>& points, const mapping::ShapeFitParams& params) {
+  // FNV-1a over the count and the coordinates in 0.1 mm steps (voxel centres: exact steps).
+  std::uint64_t h = 1469598103934665603ULL;
+  auto mix = [&](std::uint64_t v) {
+    h ^= v;
+    h *= 1099511628211ULL;
+  };
+  mix(points.size());
+  for (const Vec3& p : points)
+    for (int a = 0; a < 3; ++a) mix(static_cast<std::uint64_t>(std::llround(p[a] * 1e4)));
+  const auto it = fits_.find(h);
+  if (it != fits_.end()) return it->second;
+  if (fits_.size() > 100000) fits_.clear();
+  return fits_.emplace(h, mapping::fit_fruit_shape(points, params)).first->second;
+}
+
 std::vector<FittedFruit> fit_fruits(const mapping::SemanticOcTree& map, const ClusterParams& params,
                                     const mapping::ShapeFitParams& fit, const Eigen::AlignedBox3d* region,
-                                    double margin_m, std::vector<Vec3>* confirmed) {
+                                    double margin_m, std::vector<Vec3>* confirmed, ShapeFitCache* cache) {
   Eigen::AlignedBox3d wide;
   if (region) wide = Eigen::AlignedBox3d(region->min() - Vec3::Constant(margin_m), region->max() + Vec3::Constant(margin_m));
   std::vector<Vec3> pts = cluster_points(map, params, region ? &wide : nullptr);
@@ -30,7 +47,7 @@ std::vector<FittedFruit> fit_fruits(const mapping::SemanticOcTree& map, const Cl
     }
     c.voxels = f.points.size();
     c.centroid /= double(c.voxels);
-    f.shape = mapping::fit_fruit_shape(f.points, fit);
+    f.shape = cache ? cache->fit(f.points, fit) : mapping::fit_fruit_shape(f.points, fit);
     // A fit that ran away from its points (far larger than a fruit, or centred off them) is no
     // better than the prior at the centroid.
     if (f.shape.ok && ((f.shape.centre - c.centroid).norm() > 2.0 * fit.prior_vertical_m ||

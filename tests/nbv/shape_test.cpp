@@ -1,8 +1,8 @@
 // The shape-completion planner (nbv/planners/shape/) and the fitted fruits it plans on
 // (nbv/fruit_shapes.h), on a hand-built scene: one fruit mapped from the front only, so its back
 // half is predicted, not seen; a leaf hides that back half from the +y side. The view that sees
-// the hidden half wins; the mirrored view behind the leaf scores less; the front, seen already,
-// scores least.
+// the hidden half wins; the view behind the leaf scores under half its mirror (and under half
+// what it scores without the leaf); the front, seen already, scores least.
 
 #include <gtest/gtest.h>
 
@@ -102,19 +102,19 @@ TEST(Shape, TheViewOfTheHiddenHalfWins) {
   ASSERT_FALSE(batch.views.empty()) << batch.reason;
   EXPECT_EQ(batch.order, BatchOrder::kUtility);
   EXPECT_EQ(batch.views.front().source, "shape");
-  // The winner looks at the back from the side the leaf leaves open (-y).
+  // The winner looks at the back (+x), not from the leaf's side (+y).
   const Vec3 best = batch.views.front().T_world_camera.translation() - kShapeFruit;
-  EXPECT_GT(best.x(), 0.0) << best.transpose();
-  EXPECT_LT(best.y(), 0.0) << best.transpose();
+  EXPECT_GT(best.x(), 0.2) << best.transpose();
+  EXPECT_LT(best.y(), 0.02) << best.transpose();
   // Back views at azimuth +-36 deg: the one behind the leaf scores less than its mirror.
   const double open = gain_at(all, -36.0), hidden = gain_at(all, 36.0), front = gain_at(all, 180.0);
   EXPECT_GT(open, 0.0);
   EXPECT_LT(hidden, 0.5 * open);
   EXPECT_LT(front, 0.25 * open);
-  // Without the leaf the two are alike.
+  // The leaf is what costs the +y view: without it, that view scores over twice as much.
   ViewBatch bare;
   const std::vector<Scored> all_bare = plan(front_map(false), &bare);
-  EXPECT_NEAR(gain_at(all_bare, 36.0), gain_at(all_bare, -36.0), 0.25 * gain_at(all_bare, -36.0));
+  EXPECT_GT(gain_at(all_bare, 36.0), 2.0 * hidden);
 }
 
 // Nothing left: a fruit mapped from all around has no unseen predicted surface.

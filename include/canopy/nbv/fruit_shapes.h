@@ -6,6 +6,8 @@
 
 #include <Eigen/Geometry>
 
+#include <cstdint>
+#include <unordered_map>
 #include <vector>
 
 #include "canopy/mapping/semantic_octree.h"
@@ -21,12 +23,25 @@ struct FittedFruit {
   std::vector<Vec3> points;    ///< The cluster's voxel centres.
 };
 
+/// Fits kept between planning rounds: a cluster whose voxels did not change is not fitted
+/// again (most clusters of a stop do not change from one view to the next).
+class ShapeFitCache {
+ public:
+  /// The fit of `points` (its key: count and coordinates), fitted when new.
+  const mapping::FruitShape& fit(const std::vector<Vec3>& points, const mapping::ShapeFitParams& params);
+  std::size_t size() const { return fits_.size(); }
+
+ private:
+  std::unordered_map<std::uint64_t, mapping::FruitShape> fits_;
+};
+
 /// The map's fruits: clusters of the confirmed fruit voxels within `margin_m` of `region` (all
 /// when null), fitted; those whose fitted centre lies in `region` are kept, largest first.
 /// `confirmed`, when given, receives every confirmed fruit voxel centre considered.
 std::vector<FittedFruit> fit_fruits(const mapping::SemanticOcTree& map, const ClusterParams& cluster,
                                     const mapping::ShapeFitParams& fit, const Eigen::AlignedBox3d* region = nullptr,
-                                    double margin_m = 0.1, std::vector<Vec3>* confirmed = nullptr);
+                                    double margin_m = 0.1, std::vector<Vec3>* confirmed = nullptr,
+                                    ShapeFitCache* cache = nullptr);
 
 /// A predicted surface point not yet covered.
 struct PredictedPoint {

@@ -38,7 +38,7 @@ class ShapePlanner : public ViewPlanner {
       ScopedPhase phase(batch.times, "clustering");
       req.index->refresh(*req.map);
       std::vector<Vec3> confirmed;
-      fruits = fit_fruits(*req.map, settings_.params.cluster, params_.fit, &req.region, 0.1, &confirmed);
+      fruits = fit_fruits(*req.map, settings_.params.cluster, params_.fit, &req.region, 0.1, &confirmed, &cache_);
       points_ = unseen_surface(fruits, confirmed, params_.spacing_m, params_.covered_m);
     }
     batch.clusters = fruits.size();
@@ -135,6 +135,7 @@ class ShapePlanner : public ViewPlanner {
   ShapeParams params_;
   FailedViews failed_;
   std::unique_ptr<GainFunction> uvc_;
+  ShapeFitCache cache_;
   std::vector<PredictedPoint> points_;
   std::vector<RayVoxel> buffer_;
 };

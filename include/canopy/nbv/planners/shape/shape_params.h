@@ -15,7 +15,7 @@ struct ShapeParams {
   std::vector<double> radii_m = {0.4};
   double spacing_m = 0.01;
   double covered_m = 0.015;
-  double unknown_transmit = 0.8;
+  double unknown_transmit = 0.97;
   double uvc_weight = 0.0;
   int max_views = 5;
 
