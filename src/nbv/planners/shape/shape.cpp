@@ -40,6 +40,17 @@ class ShapePlanner : public ViewPlanner {
       std::vector<Vec3> confirmed;
       fruits = fit_fruits(*req.map, settings_.params.cluster, params_.fit, &req.region, 0.1, &confirmed, &cache_);
       points_ = unseen_surface(fruits, confirmed, params_.spacing_m, params_.covered_m);
+      // Still to be observed: a predicted point in a voxel the map knows as free or as another
+      // class's surface is refuted (the fit is off there, or a leaf covers it); one in an unknown
+      // or an unconfirmed fruit voxel stays.
+      points_.erase(std::remove_if(points_.begin(), points_.end(),
+                                   [&](const PredictedPoint& p) {
+                                     octomap::OcTreeKey k;
+                                     if (!req.map->key_of(p.position, &k)) return true;
+                                     const VoxelInfo& info = req.index->info(req.index->lookup(k));
+                                     return info.known && !info.is_target;
+                                   }),
+                    points_.end());
     }
     batch.clusters = fruits.size();
     if (fruits.empty() || points_.empty()) {
