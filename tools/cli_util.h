@@ -18,6 +18,9 @@ std::string default_world_path();
 /// (InputError on problems).
 mission::Settings load_settings(const std::string& path);
 /// Help text of --config.
+constexpr const char* kStrictColoursHelp =
+    "Refuse the world when colour segmentation would label a non-fruit material (floor, leaf) fruit "
+    "(default: a warning)";
 constexpr const char* kConfigHelp = "Settings bundle (YAML: mapping, nbv, motion, mission sections)";
 
 }  // namespace canopy::cli

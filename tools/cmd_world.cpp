@@ -17,6 +17,7 @@ void add_world_command(CLI::App& app) {
     std::string out;
     std::string config = mission::default_settings_path();
     std::string seg;
+    bool strict = false;
   };
   auto opt = std::make_shared<Options>();
   CLI::App* sub = app.add_subcommand("world", "Generate a world: MuJoCo scene (scene.xml) and fruit ground truth");
@@ -27,12 +28,13 @@ void add_world_command(CLI::App& app) {
                   "Labels the world will be mapped with: color (refuses imported plants whose target fruit colour "
                   "segmentation would not see) or truth (default: the config's)")
       ->check(CLI::IsMember({"color", "truth"}));
+  sub->add_flag("--strict", opt->strict, kStrictColoursHelp);
   sub->callback([opt] {
     const world::WorldSpec spec = jobs::load_world_spec(opt->world);
     const world::World world = jobs::build_world(spec);
     mission::Settings settings = load_settings(opt->config);
     if (!opt->seg.empty()) settings.set("mapping.extractor.source", opt->seg, "--seg");
-    jobs::check_world_colours(world, settings.mapping.extractor);
+    jobs::check_world_colours(world, settings.mapping.extractor, opt->strict);
     const RobotConfig robot_config = default_robot_config();
     const robot::RobotDescription robot = robot::RobotDescription::load_urdf(robot_config.urdf_path);
     const sim::SceneDescription scene = sim::make_scene_mjcf(world, robot, robot_config);

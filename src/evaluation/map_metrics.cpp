@@ -248,7 +248,8 @@ nlohmann::json MapMetrics::to_json() const {
   j["fruits_sc50"] = fruits_sc50;
   j["fruits_sc80"] = fruits_sc80;
   j["detection"] = detection.to_json();
-  j["fruit_voxel_precision"] = {{"true_voxels", voxel_precision.true_voxels},
+  j["fruit_voxel_precision"] = {{"rule", to_string(rule)},
+                                {"true_voxels", voxel_precision.true_voxels},
                                 {"false_voxels", voxel_precision.false_voxels},
                                 {"precision", voxel_precision.precision},
                                 {"false_volume_m3", voxel_precision.false_volume_m3}};

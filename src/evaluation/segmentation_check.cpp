@@ -18,6 +18,9 @@ struct Surface {
   const Image<Rgb8>* texture = nullptr;
   std::vector<world::FaceUv> uv;
   float rgba[4] = {0.f, 0.f, 0.f, 1.f};
+  /// Several flat colours with their weights (procedural parts of one kind: one colour per
+  /// part, weighted by its area); when set, used instead of rgba.
+  std::vector<std::pair<Rgb8, double>> flat;
 };
 
 std::uint8_t to_byte(float x) { return static_cast<std::uint8_t>(std::lround(std::clamp(x, 0.f, 1.f) * 255.f)); }
@@ -25,7 +28,7 @@ std::uint8_t to_byte(float x) { return static_cast<std::uint8_t>(std::lround(std
 MaterialSegmentation check(const Surface& s, const std::string& plant, const perception::ColorSegmentationParams& params,
                            const SemanticClasses& classes) {
   MaterialSegmentation m;
-  m.plant = plant;
+  m.owner = plant;
   m.material = s.material;
   m.class_name = s.class_name;
   m.target = s.target;
@@ -41,6 +44,7 @@ MaterialSegmentation check(const Surface& s, const std::string& plant, const per
         weight_of[(std::uint32_t(c.r) << 16) | (std::uint32_t(c.g) << 8) | c.b] += w[i];
       }
   }
+  for (const auto& [c, w] : s.flat) weight_of[(std::uint32_t(c.r) << 16) | (std::uint32_t(c.g) << 8) | c.b] += w;
   if (weight_of.empty()) {
     const Rgb8 c{to_byte(s.rgba[0]), to_byte(s.rgba[1]), to_byte(s.rgba[2])};
     weight_of[(std::uint32_t(c.r) << 16) | (std::uint32_t(c.g) << 8) | c.b] = 1.0;
@@ -61,7 +65,7 @@ MaterialSegmentation check(const Surface& s, const std::string& plant, const per
   const double target_share = m.share[static_cast<size_t>(target)];
   char pct[32];
   std::snprintf(pct, sizeof pct, "%.0f%%", 100.0 * target_share);
-  const std::string colours_of = m.textured ? "its texture" : "its flat colour";
+  const std::string colours_of = m.textured ? "its texture" : s.flat.size() > 1 ? "its flat colours" : "its flat colour";
   if (s.class_name == classes.target && s.target && target_share < kMinTargetColourShare)
     m.problem = "target fruit material, but colour segmentation labels only " + std::string(pct) + " of " + colours_of +
                 " '" + classes.target + "' (" + m.shares(classes) + "): its fruit will not be found";
@@ -120,17 +124,58 @@ std::vector<MaterialSegmentation> check_color_segmentation(const std::vector<wor
   return check_surfaces(surfaces, plant, params, classes);
 }
 
+std::vector<MaterialSegmentation> check_color_segmentation(const std::vector<FlatMaterial>& materials,
+                                                           const perception::ColorSegmentationParams& params,
+                                                           const SemanticClasses& classes) {
+  std::vector<MaterialSegmentation> out;
+  for (const FlatMaterial& f : materials) {
+    Surface s;
+    s.material = f.material;
+    s.class_name = f.class_name;
+    std::copy(f.rgba, f.rgba + 4, s.rgba);
+    out.push_back(check(s, f.owner, params, classes));
+  }
+  return out;
+}
+
+std::vector<FlatMaterial> ground_materials(const world::WorldSpec& spec) {
+  const std::string ground = spec.part_classes.ground;
+  const world::GroundLook& g = spec.ground;
+  std::vector<FlatMaterial> out;
+  out.push_back(FlatMaterial{"ground", "film", ground,
+                             {float(g.film_r), float(g.film_g), float(g.film_b), 1.f}});
+  if (g.path_width_m > 0.0)
+    out.push_back(FlatMaterial{"ground", "path", ground, {float(g.path_r), float(g.path_g), float(g.path_b), 1.f}});
+  return out;
+}
+
 std::vector<MaterialSegmentation> check_color_segmentation(const world::World& world,
                                                            const perception::ColorSegmentationParams& params) {
-  std::vector<MaterialSegmentation> out;
+  const SemanticClasses& classes = world.spec.classes;
+  std::vector<MaterialSegmentation> out = check_color_segmentation(ground_materials(world.spec), params, classes);
+  // Procedural plants: one material per part kind (fruits: per colour), its colours weighted by
+  // the parts' areas.
+  std::map<std::string, Surface> procedural;
+  for (const auto& plant : world.plants)
+    for (const auto& p : plant.parts) {
+      if (!p.material.empty() || p.texture) continue;  // an imported plant's part
+      const bool fruit = p.instance_id != kNoInstance;
+      const std::string name = fruit ? p.kind + " (" + p.fruit_color + ")" : p.kind;
+      Surface& s = procedural[name];
+      s.material = name;
+      s.class_name = classes.names[static_cast<size_t>(p.class_id)];
+      s.target = !fruit || p.fruit_target;
+      s.flat.push_back({Rgb8{to_byte(p.rgba[0]), to_byte(p.rgba[1]), to_byte(p.rgba[2])}, std::max(p.mesh.area(), 1e-12)});
+    }
+  for (const auto& [name, s] : procedural) out.push_back(check(s, "procedural plants", params, classes));
   std::set<std::string> done;
   for (const auto& plant : world.plants) {
     if (plant.import_dir.empty() || !done.insert(plant.import_dir).second) continue;
     std::vector<Surface> surfaces;
     for (const auto& p : plant.parts)
-      add(&surfaces, p.material, world.spec.classes.names[static_cast<size_t>(p.class_id)],
+      add(&surfaces, p.material, classes.names[static_cast<size_t>(p.class_id)],
           p.instance_id == kNoInstance || p.fruit_target, p.texture, p.uv, p.rgba);
-    for (auto& m : check_surfaces(surfaces, plant.import_dir, params, world.spec.classes)) out.push_back(std::move(m));
+    for (auto& m : check_surfaces(surfaces, plant.import_dir, params, classes)) out.push_back(std::move(m));
   }
   return out;
 }

@@ -43,7 +43,7 @@ struct Export {
 MissionJobResult run_mission_job(const world::World& world, const MissionJobParams& p,
                                  mission::MissionCallbacks cb, const std::function<void(mission::MissionResult&)>& amend) {
   const mission::Settings& settings = p.settings;
-  check_world_colours(world, settings.mapping.extractor);
+  check_world_colours(world, settings.mapping.extractor, p.strict_colours);
   const nbv::MethodChoice& method = settings.method;
   spdlog::info("mission: method {}{}, {} plants, {} fruits, P_gt {}, seed {}", method.name,
                method.name == "ours" ? " (" + method.gain + ", rays " + method.rays + ")" : "", world.plants.size(),

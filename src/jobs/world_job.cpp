@@ -2,6 +2,10 @@
 
 #include <spdlog/spdlog.h>
 
+#include <array>
+#include <map>
+#include <vector>
+
 #include "canopy/common/data_dir.h"
 #include "canopy/common/error.h"
 #include "canopy/evaluation/segmentation_check.h"
@@ -25,27 +29,62 @@ world::World build_world(const world::WorldSpec& spec) {
   return w;
 }
 
-void check_world_colours(const world::World& world, const perception::ExtractorParams& extractor) {
+std::vector<evaluation::FlatMaterial> robot_materials(const RobotConfig& robot, const world::WorldSpec& spec) {
+  const robot::RobotDescription description = robot::RobotDescription::load_urdf(robot.urdf_path);
+  // One material per distinct colour of the robot's visual shapes, named by the links wearing it.
+  std::map<std::array<float, 3>, std::vector<std::string>> links_of;
+  for (const auto& link : description.links())
+    for (const auto& v : link.visuals) {
+      auto& links = links_of[{v.rgba[0], v.rgba[1], v.rgba[2]}];
+      if (links.empty() || links.back() != link.name) links.push_back(link.name);
+    }
+  std::vector<evaluation::FlatMaterial> out;
+  for (const auto& [rgb, links] : links_of) {
+    std::string name = fmt::format("colour {:.2f} {:.2f} {:.2f} of {}", rgb[0], rgb[1], rgb[2], links.front());
+    if (links.size() > 1) name += fmt::format(" and {} more links", links.size() - 1);
+    out.push_back(evaluation::FlatMaterial{"robot", name, spec.part_classes.robot, {rgb[0], rgb[1], rgb[2], 1.f}});
+  }
+  return out;
+}
+
+void check_world_colours(const world::World& world, const perception::ExtractorParams& extractor, bool strict,
+                         const RobotConfig& robot) {
   const bool colour = extractor.source == perception::LabelSource::kColor;
-  for (const auto& m : evaluation::check_color_segmentation(world, extractor.color)) {
-    const std::string what = m.plant + ": material '" + m.material + "'";
+  const SemanticClasses& classes = world.spec.classes;
+  std::vector<evaluation::MaterialSegmentation> checked = evaluation::check_color_segmentation(world, extractor.color);
+  for (auto& m : evaluation::check_color_segmentation(robot_materials(robot, world.spec), extractor.color, classes))
+    checked.push_back(std::move(m));
+  int fine = 0;
+  for (const auto& m : checked) {
+    const std::string what = m.owner + ": material '" + m.material + "'";
+    const bool imported = m.owner != "ground" && m.owner != "robot" && m.owner != "procedural plants";
     if (m.problem.empty()) {
-      spdlog::info("{} ({}{}): colour segmentation labels its {} {}", what, m.class_name, m.target ? "" : ", unripe",
-                   m.textured ? "texture" : "colour", m.shares(world.spec.classes));
+      ++fine;
+      if (imported)
+        spdlog::info("{} ({}{}): colour segmentation labels its {} {}", what, m.class_name, m.target ? "" : ", unripe",
+                     m.textured ? "texture" : "colour", m.shares(classes));
       continue;
     }
-    const bool blind_target = m.class_name == world.spec.classes.target && m.target;
+    const bool blind_target = m.class_name == classes.target && m.target;
     if (colour && blind_target)
       throw InputError(what + ": " + m.problem + " (labels: color; give the plant fruit-coloured materials, or map with "
                        "--seg truth)");
+    if (m.owner == "robot") {  // never mapped: the wrist camera drops the robot's own pixels (self-filter)
+      spdlog::debug("{}: {} (harmless: the wrist camera's self-filter drops the robot's own pixels)", what, m.problem);
+      ++fine;
+      continue;
+    }
+    if (strict && colour) throw InputError(what + ": " + m.problem + " (labels: color; --strict)");
     spdlog::warn("{}: {}", what, m.problem);
   }
+  spdlog::info("colour check of world '{}': {} of {} materials (ground, plants, robot) are labelled as their class",
+               world.spec.name, fine, checked.size());
 }
 
 world::World load_world(const WorldJobParams& params) {
   const world::WorldSpec spec = load_world_spec(params.world_file, params.robot, params.seed);
   world::World world = build_world(spec);
-  check_world_colours(world, params.extractor);
+  check_world_colours(world, params.extractor, params.strict_colours, params.robot);
   return world;
 }
 

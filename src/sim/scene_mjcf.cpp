@@ -32,6 +32,9 @@ std::string num(double v) {
     text.resize(2 * text.size());
   }
 }
+std::string rgb_text(double r, double g, double b) { return num(r) + " " + num(g) + " " + num(b); }
+// Half the thickness of the concrete path's slab [m]: thin, but clear of the ground plane in depth.
+constexpr double kPathHalfThicknessM = 0.002;
 std::string vec3(const Vec3& v) { return num(v.x()) + " " + num(v.y()) + " " + num(v.z()); }
 std::string quat(const Mat3& R) {
   const Quat q(R);
@@ -208,6 +211,7 @@ std::string frame_site_name(const std::string& link) { return std::string(kRobot
 SceneDescription make_scene_mjcf(const world::World& world, const robot::RobotDescription& robot,
                                  const RobotConfig& cfg, const SceneOptions& options) {
   const world::WorldSpec& spec = world.spec;
+  const world::GroundLook& g = spec.ground;
   SceneDescription scene;
   scene.has_robot = true;
   const double extent = 2.0;  // fixes MuJoCo's relative znear/zfar; see Renderer::depth_from_buffer
@@ -227,8 +231,8 @@ SceneDescription make_scene_mjcf(const world::World& world, const robot::RobotDe
      << "  </visual>\n"
      << "  <asset>\n"
      << "    <texture name=\"sky\" type=\"skybox\" builtin=\"gradient\" rgb1=\"0.75 0.85 0.95\" rgb2=\"0.95 0.95 0.95\" width=\"64\" height=\"64\"/>\n"
-     << "    <texture name=\"ground\" type=\"2d\" builtin=\"checker\" rgb1=\"0.42 0.36 0.30\" rgb2=\"0.46 0.40 0.33\" width=\"64\" height=\"64\"/>\n"
-     << "    <material name=\"ground\" texture=\"ground\" texrepeat=\"20 20\" specular=\"0\"/>\n"
+     << "    <material name=\"ground\" rgba=\"" << rgb_text(g.film_r, g.film_g, g.film_b) << " 1\" specular=\"0\"/>\n"
+     << "    <material name=\"ground_path\" rgba=\"" << rgb_text(g.path_r, g.path_g, g.path_b) << " 1\" specular=\"0\"/>\n"
      << "    <material name=\"plant\" specular=\"0.08\" shininess=\"0.1\"/>\n";
   // Plant textures: one texture and one material per texture file (shared by the parts and
   // the plants that use it).
@@ -254,6 +258,15 @@ SceneDescription make_scene_mjcf(const world::World& world, const robot::RobotDe
      << "    <geom name=\"ground\" type=\"plane\" size=\"30 30 0.1\" material=\"ground\" group=\"" << kGroupGround
      << "\" contype=\"1\" conaffinity=\"1\"/>\n";
   scene.labels["ground"] = GeomLabel{spec.class_of("ground"), kNoInstance, false};
+  if (g.path_width_m > 0.0) {
+    // The concrete path across the rows' start: a thin visual slab (the base rolls on the plane).
+    const double x_hi = spec.rows.x_start_m - 0.5 * spec.rows.plant_spacing_m;
+    const double half_y = spec.rows.row_offset_m + 1.0;
+    os << "    <geom name=\"ground_path\" type=\"box\" size=\"" << num(0.5 * g.path_width_m) << " " << num(half_y) << " "
+       << num(kPathHalfThicknessM) << "\" pos=\"" << num(x_hi - 0.5 * g.path_width_m) << " 0 " << num(kPathHalfThicknessM)
+       << "\" material=\"ground_path\" group=\"" << kGroupGround << "\" contype=\"0\" conaffinity=\"0\"/>\n";
+    scene.labels["ground_path"] = GeomLabel{spec.class_of("ground"), kNoInstance, false};
+  }
   for (const auto& plant : world.plants)
     for (const auto& part : plant.parts) {
       if (!options.include_plants) break;

@@ -8,7 +8,10 @@
 #include <filesystem>
 #include <fstream>
 
+#include <set>
+
 #include "canopy/common/error.h"
+#include "canopy/evaluation/segmentation_check.h"
 #include "canopy/jobs/world_job.h"
 #include "canopy/world/plant_import.h"
 #include "plant_files.h"
@@ -95,6 +98,48 @@ TEST(WorldJob, AnAisleNarrowerThanTheBaseIsRefused) {
     EXPECT_NE(std::string(e.what()).find("narrow.yaml: key 'rows.row_offset_m'"), std::string::npos) << e.what();
   }
   EXPECT_NO_THROW(load_world_spec("worlds/small.yaml"));
+}
+
+// Every material of the default world (ground, procedural plants) is labelled as its class;
+// a floor of fruit colour is false fruit: a warning, an error under --strict (strict_colours).
+TEST(WorldJob, EveryMaterialIsCheckedAndAFruitColouredFloorIsCaught) {
+  WorldJobParams p = params("worlds/default.yaml", perception::LabelSource::kColor);
+  p.strict_colours = true;
+  const world::World w = load_world(p);  // no throw: nothing of the default world is mislabelled
+  const auto checked = evaluation::check_color_segmentation(w, p.extractor.color);
+  std::set<std::string> names;
+  for (const auto& m : checked) {
+    EXPECT_TRUE(m.problem.empty()) << m.owner << " " << m.material << ": " << m.problem;
+    names.insert(m.owner + "/" + m.material);
+  }
+  for (const char* n : {"ground/film", "ground/path", "procedural plants/leaf", "procedural plants/stem",
+                        "procedural plants/fruit (red)", "procedural plants/fruit (yellow)"})
+    EXPECT_EQ(names.count(n), 1u) << n;
+
+  const std::string dir = testing::TempDir() + "/world_job_floor";
+  fs::create_directories(dir);
+  std::ofstream(dir + "/red_floor.yaml") << "name: red_floor\nseed: 3\nrows: {rows: 1, plants_per_row: 1}\n"
+                                            "ground: {film_rgb: [0.42, 0.36, 0.30]}\n";
+  WorldJobParams red = params(dir + "/red_floor.yaml", perception::LabelSource::kColor);
+  const world::World rw = load_world(red);  // a warning only
+  bool flagged = false;
+  for (const auto& m : evaluation::check_color_segmentation(rw, red.extractor.color))
+    if (m.owner == "ground" && m.material == "film") {
+      flagged = true;
+      EXPECT_NE(m.problem.find("false fruit"), std::string::npos) << m.problem;
+    }
+  EXPECT_TRUE(flagged);
+  red.strict_colours = true;
+  try {
+    load_world(red);
+    FAIL() << "a fruit-coloured floor passed under strict_colours";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("ground: material 'film'"), std::string::npos) << e.what();
+  }
+  // Under true labels the floor's colour does not matter.
+  red.extractor.source = perception::LabelSource::kTruth;
+  red.strict_colours = false;
+  EXPECT_NO_THROW(load_world(red));
 }
 
 }  // namespace

@@ -1,6 +1,8 @@
 #pragma once
-// Would colour segmentation see a plant's fruit? For every material of an imported plant,
-// the share of its surface (texture: by UV area over its texels; flat: all of it) that the
+// Would colour segmentation see a plant's fruit, and nothing else as fruit? For every material
+// of the scene (the ground's, the procedural plants' part kinds, imported plants' materials,
+// the robot's colours), the share of its surface (texture: by UV area over its texels; flat
+// colours: by area) that the
 // HSV bands label with each class, and what is wrong with that: a target-fruit material that
 // is mostly not labelled the target class (colour segmentation cannot find those fruit), or
 // a material of another class of which much is labelled the target class (false fruit).
@@ -23,7 +25,7 @@ constexpr double kMaxOtherTargetColourShare = 0.25;
 
 /// What colour segmentation makes of one material.
 struct MaterialSegmentation {
-  std::string plant;          ///< Plant folder (or model file) it belongs to.
+  std::string owner;          ///< What it belongs to: a plant folder (or model file), "procedural plants", "ground", "robot".
   std::string material;
   std::string class_name;     ///< Its class in the plant.
   bool target = true;         ///< False for unripe fruit (not scored; never a problem).
@@ -41,7 +43,24 @@ std::vector<MaterialSegmentation> check_color_segmentation(const std::vector<wor
                                                            const perception::ColorSegmentationParams& params,
                                                            const SemanticClasses& classes);
 
-/// The same for every imported plant of a world (each plant folder once).
+/// A flat-coloured material that is no plant's: the ground's, the robot's, anything added.
+struct FlatMaterial {
+  std::string owner;       ///< "ground", "robot", ...
+  std::string material;
+  std::string class_name;  ///< The class its pixels truly carry.
+  float rgba[4] = {0.f, 0.f, 0.f, 1.f};
+};
+
+/// Checks flat-coloured materials.
+std::vector<MaterialSegmentation> check_color_segmentation(const std::vector<FlatMaterial>& materials,
+                                                           const perception::ColorSegmentationParams& params,
+                                                           const SemanticClasses& classes);
+
+/// The ground's materials of a world (spec.ground): the film and, when there is one, the path.
+std::vector<FlatMaterial> ground_materials(const world::WorldSpec& spec);
+
+/// Every material of a world: the ground's, one per part kind of the procedural plants
+/// (fruits: one per colour), and every imported plant's (each plant folder once).
 std::vector<MaterialSegmentation> check_color_segmentation(const world::World& world,
                                                            const perception::ColorSegmentationParams& params);
 

@@ -52,6 +52,7 @@ struct MissionJobParams {
   std::string export_dir;             ///< nerfstudio dataset folder; "" exports none.
   bool plots = false;                 ///< Draw sc_entropy.png and runtime.png into the run folder.
   bool keep_map = false;              ///< Return a copy of the final map.
+  bool strict_colours = false;        ///< A non-fruit material coloured like fruit is an error (check_world_colours).
 };
 
 /// What a mission job did.

@@ -1,8 +1,9 @@
 #pragma once
 // Job: load and check a world. What every command that builds a world and Python's
 // canopy.World do, in one place: the world file read (looked up in the data folder), the
-// robot's base checked against the aisle, the world generated, and the colours of its imported
-// plants checked against the colour segmentation of the labels it will be mapped with.
+// robot's base checked against the aisle, the world generated, and the colours of every
+// material (ground, plants, robot) checked against the colour segmentation of the labels it
+// will be mapped with.
 
 #include <yaml-cpp/yaml.h>
 
@@ -23,6 +24,7 @@ struct WorldJobParams {
   std::optional<std::uint64_t> seed;         ///< Replaces the file's seed when given.
   perception::ExtractorParams extractor;     ///< The labels the world will be mapped with (the colour check).
   RobotConfig robot = default_robot_config();  ///< Whose base must fit the aisle.
+  bool strict_colours = false;               ///< A non-fruit material coloured like fruit is an error, not a warning.
 };
 
 /// Reads a world file (found like data files, data_dir.h), replaces its seed when `seed` is
@@ -35,12 +37,15 @@ world::WorldSpec load_world_spec(const std::string& path, const RobotConfig& rob
 /// all fit (world::unplaced_fruit_notes).
 world::World build_world(const world::WorldSpec& spec);
 
-/// Checks the colours of every imported plant of `world` against the colour segmentation of
-/// `extractor` (evaluation/segmentation_check.h) and logs what it gives per material. Under
-/// colour segmentation a target-fruit material it would not label fruit is an InputError
-/// naming the plant and the material; other problems (a leaf material labelled fruit, or any
-/// problem under truth labels) are warnings.
-void check_world_colours(const world::World& world, const perception::ExtractorParams& extractor);
+/// Checks the colours of every material of `world` and of the robot's visual shapes against the
+/// colour segmentation of `extractor` (evaluation/segmentation_check.h), logs the imported
+/// plants' materials and a summary line. Under colour segmentation a target-fruit material it
+/// would not label fruit is an InputError naming the owner and the material. A non-fruit
+/// material it would label fruit (a fruit-coloured floor, a leaf material) is a warning, an
+/// InputError when `strict` under colour labels; on the robot it is harmless (the wrist camera's self-filter drops
+/// the robot's own pixels) and only logged at debug level.
+void check_world_colours(const world::World& world, const perception::ExtractorParams& extractor,
+                         bool strict = false, const RobotConfig& robot = default_robot_config());
 
 /// The whole job: load_world_spec, build_world and check_world_colours.
 world::World load_world(const WorldJobParams& params);

@@ -158,6 +158,27 @@ struct PartClasses {
   }
 };
 
+/// What the floor looks like to the camera: white ground film between and under the rows, as
+/// greenhouses lay it, and a concrete path across the rows' start, where the robot enters the
+/// aisle. Colours are linear RGB in [0, 1]; both have to be colours that colour segmentation
+/// does not label fruit (every command checks them with the plants' materials).
+struct GroundLook {
+  double film_r = 0.88, film_g = 0.89, film_b = 0.87;  ///< White ground film (slightly grey in shade).
+  double path_r = 0.58, path_g = 0.57, path_b = 0.55;  ///< Concrete.
+  double path_width_m = 1.2;  ///< Width of the concrete path across the rows' start (0: no path).
+
+  /// The keys of a world file's `ground`.
+  template <class Archive>
+  void visit(Archive& a) {
+    a.tuple("film_rgb", {&film_r, &film_g, &film_b}, "[r, g, b]", limits::in(0.0, 1.0),
+            "Colour of the ground film covering the floor (linear RGB, 0-1)");
+    a.tuple("path_rgb", {&path_r, &path_g, &path_b}, "[r, g, b]", limits::in(0.0, 1.0),
+            "Colour of the concrete path across the rows' start (linear RGB, 0-1)");
+    a("path_width_m", path_width_m, limits::in(0.0, 20.0),
+      "Width of the concrete path across the rows' start, where the robot enters the aisle [m]; 0: no path");
+  }
+};
+
 /// An imported plant (a folder written by `canopy import-plant`) placed in the world, from
 /// the world file's `plants` list: in a row slot (replacing that procedural plant, so stops
 /// and scans along the rows cover it) or at a free position.
@@ -180,6 +201,7 @@ struct WorldSpec {
   std::uint64_t seed = 1;
   SemanticClasses classes;
   PartClasses part_classes;
+  GroundLook ground;
   RowLayout rows;
   PlantParams plant;
   CameraIntrinsics camera;
@@ -197,6 +219,7 @@ struct WorldSpec {
     a("classes", classes.names, "Semantic classes, background first");
     a("target_class", classes.target, "The class the metrics count (fruit)");
     a.section("part_classes", part_classes, "Which class each kind of geometry carries");
+    a.section("ground", ground, "What the floor looks like: ground film and a concrete path");
     a.section("rows", rows, "Plants in rows along the aisle");
     a.section("plant", plant, "Ranges each procedural plant draws its shape from");
     a.section("camera", camera, "The wrist camera (rendered: fx = fy, principal point at the centre)");
