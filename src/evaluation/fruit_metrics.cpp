@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <limits>
 #include <tuple>
 #include <unordered_map>
@@ -52,7 +53,8 @@ void fit_ellipsoid(const std::vector<Vec3>& points, Vec3* semi_axes, double* vol
   *volume_m3 = 4.0 / 3.0 * M_PI * semi_axes->prod();
 }
 
-std::vector<FruitCluster> fruit_clusters(const std::vector<Vec3>& centres, double res, int min_voxels) {
+std::vector<FruitCluster> fruit_clusters(const std::vector<Vec3>& centres, double res, int min_voxels,
+                                         const mapping::ShapeFitParams& shape_fit) {
   // Cells keyed as mapping::grid_key (21 bits per axis), so sorting keys sorts cells.
   std::unordered_map<std::int64_t, std::size_t> index;
   index.reserve(centres.size() * 2);
@@ -96,7 +98,7 @@ std::vector<FruitCluster> fruit_clusters(const std::vector<Vec3>& centres, doubl
               [&](std::size_t a, std::size_t b) { return cell_key[a] < cell_key[b]; });
     pts.clear();
     for (std::size_t i : members) pts.push_back(centres[i]);
-    out.push_back(make_fruit_cluster(pts, res));
+    out.push_back(make_fruit_cluster(pts, res, shape_fit));
   }
   return out;
 }
@@ -105,13 +107,14 @@ std::int64_t fruit_cell(const Vec3& centre, double res) {
   return static_cast<std::int64_t>(mapping::grid_key(centre, res));
 }
 
-FruitCluster make_fruit_cluster(const std::vector<Vec3>& pts, double res) {
+FruitCluster make_fruit_cluster(const std::vector<Vec3>& pts, double res, const mapping::ShapeFitParams& shape_fit) {
   FruitCluster cl;
   for (const Vec3& p : pts) cl.centroid += p;
   cl.centroid /= double(pts.size());
   cl.voxels = pts.size();
   cl.voxel_volume_m3 = double(pts.size()) * res * res * res;
   fit_ellipsoid(pts, &cl.semi_axes, &cl.ellipsoid_volume_m3);
+  cl.shape = mapping::fit_fruit_shape(pts, shape_fit);
   return cl;
 }
 
@@ -145,7 +148,7 @@ FruitDetection detect_fruits(std::vector<FruitCluster> clusters, const world::Gr
   }
   std::sort(pairs.begin(), pairs.end());
   std::vector<bool> cluster_used(d.clusters.size(), false), fruit_used(fruits.size(), false);
-  std::vector<double> centre, vox, ell;
+  std::vector<double> centre, vox, ell, shape_centre, shape_volume;
   for (const auto& [dist, c, f] : pairs) {
     if (cluster_used[c] || fruit_used[f]) continue;
     cluster_used[c] = fruit_used[f] = true;
@@ -157,6 +160,13 @@ FruitDetection detect_fruits(std::vector<FruitCluster> clusters, const world::Gr
     const double v = m.true_volume_m3;
     m.voxel_volume_error = v > 0.0 ? std::abs(d.clusters[c].voxel_volume_m3 - v) / v : kNaN;
     m.ellipsoid_volume_error = v > 0.0 ? std::abs(d.clusters[c].ellipsoid_volume_m3 - v) / v : kNaN;
+    m.true_centre = fruits[f]->center;
+    const mapping::FruitShape& s = d.clusters[c].shape;
+    m.shape_centre_error_m = s.ok ? (s.centre - m.true_centre).norm() : kNaN;
+    m.shape_volume_error = s.ok && v > 0.0 ? std::abs(s.volume_m3() - v) / v : kNaN;
+    d.shape_fits += s.ok;
+    shape_centre.push_back(m.shape_centre_error_m);
+    shape_volume.push_back(m.shape_volume_error);
     d.matches.push_back(m);
     centre.push_back(m.centre_error_m);
     vox.push_back(m.voxel_volume_error);
@@ -169,6 +179,8 @@ FruitDetection detect_fruits(std::vector<FruitCluster> clusters, const world::Gr
   d.centre_error_m = mean_finite(centre);
   d.voxel_volume_error = mean_finite(vox);
   d.ellipsoid_volume_error = mean_finite(ell);
+  d.shape_centre_error_m = mean_finite(shape_centre);
+  d.shape_volume_error = mean_finite(shape_volume);
   return d;
 }
 
@@ -215,7 +227,10 @@ nlohmann::json FruitDetection::to_json() const {
                  {"voxel_volume_m3", clusters[static_cast<std::size_t>(x.cluster)].voxel_volume_m3},
                  {"ellipsoid_volume_m3", clusters[static_cast<std::size_t>(x.cluster)].ellipsoid_volume_m3},
                  {"voxel_volume_error", number_or_null(x.voxel_volume_error)},
-                 {"ellipsoid_volume_error", number_or_null(x.ellipsoid_volume_error)}});
+                 {"ellipsoid_volume_error", number_or_null(x.ellipsoid_volume_error)},
+                 {"shape_centre_error_m", number_or_null(x.shape_centre_error_m)},
+                 {"shape_volume_m3", clusters[static_cast<std::size_t>(x.cluster)].shape.volume_m3()},
+                 {"shape_volume_error", number_or_null(x.shape_volume_error)}});
   return {{"fruits", fruits},
           {"clusters", clusters.size()},
           {"matched", matches.size()},
@@ -225,7 +240,38 @@ nlohmann::json FruitDetection::to_json() const {
           {"centre_error_m", number_or_null(centre_error_m)},
           {"voxel_volume_error", number_or_null(voxel_volume_error)},
           {"ellipsoid_volume_error", number_or_null(ellipsoid_volume_error)},
+          {"shape_fits", shape_fits},
+          {"shape_centre_error_m", number_or_null(shape_centre_error_m)},
+          {"shape_volume_error", number_or_null(shape_volume_error)},
           {"matches", m}};
+}
+
+std::string fruit_shapes_csv(const FruitDetection& d) {
+  std::string s =
+      "instance_id,voxels,true_x,true_y,true_z,true_volume_m3,"
+      "centroid_x,centroid_y,centroid_z,centroid_error_m,voxel_volume_m3,voxel_volume_error,"
+      "ellipsoid_volume_m3,ellipsoid_volume_error,"
+      "shape_ok,shape_x,shape_y,shape_z,shape_centre_error_m,shape_a_m,shape_c_m,shape_volume_m3,"
+      "shape_volume_error,shape_rms_m\n";
+  auto num = [](double x) {
+    if (!std::isfinite(x)) return std::string();
+    char b[32];
+    std::snprintf(b, sizeof b, "%.6g", x);
+    return std::string(b);
+  };
+  for (const FruitMatch& m : d.matches) {
+    const FruitCluster& c = d.clusters[static_cast<std::size_t>(m.cluster)];
+    const mapping::FruitShape& f = c.shape;
+    s += std::to_string(m.instance_id) + "," + std::to_string(c.voxels) + "," + num(m.true_centre.x()) + "," +
+         num(m.true_centre.y()) + "," + num(m.true_centre.z()) + "," + num(m.true_volume_m3) + "," +
+         num(c.centroid.x()) + "," + num(c.centroid.y()) + "," + num(c.centroid.z()) + "," + num(m.centre_error_m) +
+         "," + num(c.voxel_volume_m3) + "," + num(m.voxel_volume_error) + "," + num(c.ellipsoid_volume_m3) + "," +
+         num(m.ellipsoid_volume_error) + "," + (f.ok ? "1" : "0") + "," + num(f.centre.x()) + "," +
+         num(f.centre.y()) + "," + num(f.centre.z()) + "," + num(m.shape_centre_error_m) + "," +
+         num(f.semi_axes.x()) + "," + num(f.semi_axes.z()) + "," + num(f.volume_m3()) + "," +
+         num(m.shape_volume_error) + "," + num(f.rms_m) + "\n";
+  }
+  return s;
 }
 
 }  // namespace canopy::evaluation

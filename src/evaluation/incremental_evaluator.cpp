@@ -303,7 +303,7 @@ void IncrementalEvaluator::update_components(const SemanticOcTree& map) {
     centres.reserve(members.size());
     for (const auto& m : members) centres.push_back(m.second);
     comp.first_cell = members.front().first;
-    comp.cluster = make_fruit_cluster(centres, resolution_);
+    comp.cluster = make_fruit_cluster(centres, resolution_, params_.shape_fit);
     component_order_[comp.first_cell] = id;
     components_.emplace(id, std::move(comp));
   }

@@ -184,7 +184,7 @@ MapMetrics evaluate_map(const SemanticOcTree& map, const world::GroundTruth& tru
   summarize_fruits(&m, params.rule);
   const std::vector<Vec3>& fruit_voxels = params.rule == EvaluationRule::kPaper ? paper_centers : prototype_centers;
   const double res = map.getResolution();
-  m.detection = detect_fruits(fruit_clusters(fruit_voxels, res, params.detection_min_voxels), truth,
+  m.detection = detect_fruits(fruit_clusters(fruit_voxels, res, params.detection_min_voxels, params.shape_fit), truth,
                               params.match_size_fraction);
   m.voxel_precision = fruit_voxel_precision(fruit_voxels, TrueFruitSurface(truth, res));
   return m;

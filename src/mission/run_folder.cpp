@@ -141,7 +141,7 @@ nlohmann::json run_summary(const MissionResult& result, const Settings& settings
                         {"triangles", ctx.world->triangle_count()},
                         {"spec", ctx.world->spec.to_json()}};
   summary["settings_file"] = "settings.yaml";
-  summary["files"] = {"views.csv", "timing.csv", "settings.yaml", "map.csm", "map.ply", "map.bt"};
+  summary["files"] = {"views.csv", "timing.csv", "fruit_shapes.csv", "settings.yaml", "map.csm", "map.ply", "map.bt"};
   if (!result.candidates.empty()) summary["files"].push_back("candidates.csv");
   if (!ctx.video.is_null()) summary["video"] = ctx.video;
   return summary;
@@ -152,6 +152,7 @@ nlohmann::json write_run_folder(const std::string& dir, const MissionResult& res
   const std::string d = dir.empty() || dir.back() == '/' ? dir : dir + "/";
   write_file_atomic(d + "views.csv", views_csv(result, settings.method.name));
   write_file_atomic(d + "timing.csv", timing_csv(result));
+  write_file_atomic(d + "fruit_shapes.csv", evaluation::fruit_shapes_csv(result.final_metrics.detection));
   if (!result.candidates.empty()) write_file_atomic(d + "candidates.csv", candidates_csv(result.candidates));
   write_file_atomic(d + "settings.yaml", settings.to_yaml_text());
   mapping::save_map(map, d + "map.csm");

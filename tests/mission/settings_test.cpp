@@ -96,7 +96,7 @@ TEST(Settings, SetNamesAnySettingByItsKeyPath) {
   EXPECT_EQ(error("mission.loop.views_per_stop", "-2"),
             "--set mission.loop.views_per_stop=-2: key 'mission.loop.views_per_stop': value '-2' must be in [0, 10000]");
   EXPECT_EQ(error("method.name", "magic"),
-            "--set method.name=magic: key 'method.name': value 'magic' must be one of: ours, frontier, predefined, global, reveal, oracle, oracle_any");
+            "--set method.name=magic: key 'method.name': value 'magic' must be one of: ours, frontier, predefined, global, reveal, shape, oracle, oracle_any");
   EXPECT_NE(error("nbv", "3").find("must be a mapping"), std::string::npos);
   EXPECT_NE(error("nbv.gain.proximity", "[unclosed").find("is not valid YAML"), std::string::npos);
   EXPECT_EQ(parse_override("a.b=c d", "--set"), (SettingOverride{"a.b", "c d"}));

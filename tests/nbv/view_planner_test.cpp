@@ -61,7 +61,7 @@ TEST(ViewPlanner, RegisteredPlannersAreMadeByName) {
 TEST(ViewPlanner, BuiltInPlannersComeFromTheirRoomsInTheTablesOrder) {
   using namespace canopy::nbv;
   const std::vector<ViewPlannerEntry> table = builtin_view_planners();
-  const std::vector<std::string> expected = {"ours", "frontier", "predefined", "global", "reveal"};
+  const std::vector<std::string> expected = {"ours", "frontier", "predefined", "global", "reveal", "shape"};
   ASSERT_EQ(table.size(), expected.size());
   const std::vector<std::string> names = view_planner_names();
   for (std::size_t i = 0; i < table.size(); ++i) {

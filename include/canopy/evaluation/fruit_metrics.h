@@ -13,6 +13,11 @@
 //    fitted by moments to the voxel centres (semi-axes sqrt(3 lambda_i) of the covariance's
 //    eigenvalues: exact for points spread evenly on a sphere, as a map holds a fruit's
 //    surface), V_true the volume enclosed by the fruit's mesh;
+//  - shape completion (docs/shape.md): each cluster also fitted with a spheroid by
+//    mapping::fit_fruit_shape (the fruit-size prior of mapping.metrics.shape_fit), its centre
+//    error and relative volume error beside the voxel-only figures (the centroid of the seen
+//    surface lies in front of the fruit's centre; the voxel and moment volumes miss the unseen
+//    side);
 //  - voxel precision: a fruit voxel is true when a target fruit's surface sample lies within
 //    half the voxel diagonal plus the samples' spacing of its centre, false elsewhere (what
 //    segmentation noise costs: false fruit volume).
@@ -20,11 +25,13 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "canopy/common/types.h"
+#include "canopy/mapping/shape_fit.h"
 #include "canopy/world/ground_truth.h"
 
 namespace canopy {
@@ -40,6 +47,7 @@ struct FruitCluster {
   double voxel_volume_m3 = 0.0;     ///< voxels x resolution^3.
   double ellipsoid_volume_m3 = 0.0; ///< 4/3 pi a b c of the moment-fitted ellipsoid.
   Vec3 semi_axes = Vec3::Zero();    ///< a >= b >= c [m].
+  mapping::FruitShape shape;        ///< The fitted spheroid (shape.ok false: too few voxels).
 };
 
 /// One cluster matched to one ground-truth fruit.
@@ -50,6 +58,9 @@ struct FruitMatch {
   double true_volume_m3 = 0.0;
   double voxel_volume_error = 0.0;      ///< |V_voxels - V_true| / V_true (NaN without V_true).
   double ellipsoid_volume_error = 0.0;  ///< |V_ellipsoid - V_true| / V_true (NaN without V_true).
+  Vec3 true_centre = Vec3::Zero();
+  double shape_centre_error_m = 0.0;    ///< |fitted centre - centre| (NaN without a fit).
+  double shape_volume_error = 0.0;      ///< |V_fit - V_true| / V_true (NaN without a fit or V_true).
 };
 
 /// Fruit detection and shape over a whole map.
@@ -60,6 +71,9 @@ struct FruitDetection {
   double precision = 0.0, recall = 0.0, f1 = 0.0;
   /// Means over the matches (NaN without a match; volume errors over matches with V_true).
   double centre_error_m = 0.0, voxel_volume_error = 0.0, ellipsoid_volume_error = 0.0;
+  /// Means over the matches with a shape fit (NaN without one).
+  double shape_centre_error_m = 0.0, shape_volume_error = 0.0;
+  std::size_t shape_fits = 0;       ///< Matches with a shape fit.
 
   nlohmann::json to_json() const;
 };
@@ -76,14 +90,22 @@ struct FruitVoxelPrecision {
 /// `min_voxels` dropped. Independent of the order of `centres`: members are summed in grid-cell
 /// order and the clusters come in the order of their first cell, so an incremental evaluation
 /// that keeps its voxels in another order gets the same numbers bit for bit.
-std::vector<FruitCluster> fruit_clusters(const std::vector<Vec3>& centres, double resolution_m, int min_voxels);
+std::vector<FruitCluster> fruit_clusters(const std::vector<Vec3>& centres, double resolution_m, int min_voxels,
+                                         const mapping::ShapeFitParams& shape_fit = {});
 
 /// Grid cell of a voxel centre packed into one integer, ordered by x, then y, then z: the order
 /// in which fruit_clusters sums a cluster's voxels and orders the clusters.
 std::int64_t fruit_cell(const Vec3& centre, double resolution_m);
 
 /// The cluster of one component's voxel centres, given in fruit_cell order (not empty).
-FruitCluster make_fruit_cluster(const std::vector<Vec3>& centres_in_cell_order, double resolution_m);
+FruitCluster make_fruit_cluster(const std::vector<Vec3>& centres_in_cell_order, double resolution_m,
+                                const mapping::ShapeFitParams& shape_fit = {});
+
+/// The per-fruit table of matched fruits (fruit_shapes.csv of a run folder): instance_id,
+/// voxels, true_x/y/z, true_volume_m3, then the voxel-only figures (centroid, its error, voxel
+/// and moment-ellipsoid volumes and their errors) and the shape fit's (centre, its error,
+/// semi-axes, volume, its error, RMS distance of the voxels to the fitted surface).
+std::string fruit_shapes_csv(const FruitDetection& detection);
 
 /// The moment-fitted ellipsoid of points: semi-axes sqrt(3 lambda_i) (descending) and volume.
 void fit_ellipsoid(const std::vector<Vec3>& points, Vec3* semi_axes, double* volume_m3);

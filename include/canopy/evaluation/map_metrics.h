@@ -46,6 +46,7 @@ struct MetricsParams {
   double prototype_entropy_radius_m = 0.05;
   double match_size_fraction = 0.5;
   int detection_min_voxels = 1;
+  mapping::ShapeFitParams shape_fit;
 
   template <class A>
   void visit(A& a) {
@@ -62,6 +63,7 @@ struct MetricsParams {
       "Fruit detection: a cluster matches a fruit when its centroid lies within this fraction of the fruit's size");
     a("detection_min_voxels", detection_min_voxels, limits::in(1, 1000000),
       "Fruit detection: clusters of fewer fruit voxels are not detections");
+    a.section("shape_fit", shape_fit, "Fruit detection: each cluster's shape fit (docs/shape.md)");
   }
   bool operator==(const MetricsParams& o) const { return same_params(*this, o); }
 };

@@ -16,6 +16,7 @@
 #include "canopy/nbv/planners/global/global_params.h"
 #include "canopy/nbv/planners/ours/ours_params.h"
 #include "canopy/nbv/planners/reveal/reveal_params.h"
+#include "canopy/nbv/planners/shape/shape_params.h"
 
 namespace canopy::nbv {
 
@@ -124,6 +125,7 @@ struct NbvParams {
   FrontierParams frontier;
   GlobalParams global;
   RevealParams reveal;
+  ShapeParams shape;
 
   template <class A>
   void visit(A& a) {
@@ -136,6 +138,7 @@ struct NbvParams {
     a.section("frontier", frontier, "The frontier baseline");
     a.section("global", global, "The global view planner (set cover of the stop's candidates)");
     a.section("reveal", reveal, "canopy's own planner (method reveal)");
+    a.section("shape", shape, "The shape-completion planner (method shape)");
   }
   bool operator==(const NbvParams& o) const { return same_params(*this, o); }
 };

@@ -11,7 +11,7 @@
 namespace canopy::nbv {
 
 /// The built-in planners' registry entries, in the registry's order: ours, frontier,
-/// predefined, global, reveal.
+/// predefined, global, reveal, shape.
 std::vector<ViewPlannerEntry> builtin_view_planners();
 
 }  // namespace canopy::nbv

@@ -1,0 +1,167 @@
+// The shape-completion planner (planners/shape/shape.h).
+
+#include "canopy/nbv/planners/shape/shape.h"
+
+#include <algorithm>
+#include <utility>
+
+#include "canopy/common/error.h"
+#include "canopy/nbv/failed_views.h"
+#include "canopy/nbv/fruit_shapes.h"
+
+namespace canopy::nbv::shape {
+
+namespace {
+
+class ShapePlanner : public ViewPlanner {
+ public:
+  explicit ShapePlanner(const ViewPlannerSettings& s)
+      : ViewPlanner(s.params.views), settings_(s), params_(s.params.shape), failed_(s.params.views),
+        uvc_(params_.uvc_weight > 0.0 ? make_gain("uvc", s.params.gain) : nullptr) {}
+
+  std::string name() const override { return "shape"; }
+
+  void taken(const Pose& T) override {
+    ViewPlanner::taken(T);
+    failed_.taken(T);
+  }
+
+  void begin_stop() override { failed_.begin_stop(); }
+
+  ViewBatch next(const ViewRequest& req) override {
+    CANOPY_CHECK(req.map && req.index, "view request without a map");
+    failed_.next_batch();
+    ViewBatch batch;
+    batch.order = BatchOrder::kUtility;
+    std::vector<FittedFruit> fruits;
+    {
+      ScopedPhase phase(batch.times, "clustering");
+      req.index->refresh(*req.map);
+      std::vector<Vec3> confirmed;
+      fruits = fit_fruits(*req.map, settings_.params.cluster, params_.fit, &req.region, 0.1, &confirmed, &cache_);
+      points_ = unseen_surface(fruits, confirmed, params_.spacing_m, params_.covered_m);
+      // Still to be observed: a predicted point in a voxel the map knows as free or as another
+      // class's surface is refuted (the fit is off there, or a leaf covers it); one in an unknown
+      // or an unconfirmed fruit voxel stays.
+      points_.erase(std::remove_if(points_.begin(), points_.end(),
+                                   [&](const PredictedPoint& p) {
+                                     octomap::OcTreeKey k;
+                                     if (!req.map->key_of(p.position, &k)) return true;
+                                     const VoxelInfo& info = req.index->info(req.index->lookup(k));
+                                     return info.known && !info.is_target;
+                                   }),
+                    points_.end());
+    }
+    batch.clusters = fruits.size();
+    if (fruits.empty() || points_.empty()) {
+      batch.finished = true;
+      batch.reason = fruits.empty() ? "no fruit clusters in reach" : "no predicted fruit surface left to see";
+      return batch;
+    }
+    std::unique_ptr<ViewEvaluator> eval;
+    if (uvc_) eval = std::make_unique<ViewEvaluator>(*req.index, settings_.intrinsics, settings_.params.rays);
+    const RaySetEntry& rays = ray_set("ours");
+    std::vector<ScoredView> scored;
+    for (std::size_t f = 0; f < fruits.size(); ++f)
+      for (const double r : params_.radii_m) {
+        CandidateParams cp = settings_.params.candidates;
+        cp.sphere.radius_m = r;
+        std::vector<Candidate> cands;
+        {
+          ScopedPhase phase(batch.times, "candidates");
+          cands = sample_candidates(fruits[f].shape.centre, int(f), cp);
+        }
+        for (Candidate& cand : cands) {
+          {
+            ScopedPhase phase(batch.times, "filtering");
+            if (taken_.contains(cand.T_world_camera) || failed_.contains(cand.T_world_camera) ||
+                (req.reach && !req.reach(&cand)) || taken_.contains(cand.T_world_camera) ||
+                failed_.contains(cand.T_world_camera)) {
+              ++batch.filtered;
+              continue;
+            }
+          }
+          ScopedPhase phase(batch.times, "scoring");
+          ScoredView sv{cand, {}};
+          sv.score.gain = predicted_seen(*req.index, cand.T_world_camera);
+          if (eval)
+            sv.score.gain += params_.uvc_weight *
+                             eval->evaluate(cand.T_world_camera, cand.target, *uvc_, rays, scored.size()).gain;
+          if (req.on_scored) req.on_scored(sv);
+          scored.push_back(sv);
+        }
+      }
+    batch.candidates = scored.size();
+    std::stable_sort(scored.begin(), scored.end(),
+                     [](const ScoredView& a, const ScoredView& b) { return a.score.gain > b.score.gain; });
+    for (const ScoredView& sv : scored) {
+      if (int(batch.views.size()) >= params_.max_views || !(sv.score.gain > 0.0)) break;
+      batch.views.push_back(planned_view(sv.candidate, sv.score.gain, "shape"));
+      failed_.offered(sv.candidate.T_world_camera);
+    }
+    batch.finished = batch.views.empty();
+    if (batch.finished)
+      batch.reason = scored.empty() ? "every candidate was filtered out" : "no candidate sees predicted fruit surface";
+    return batch;
+  }
+
+ private:
+  // The unseen predicted points the view would see: in the image and depth range, facing the
+  // camera, each weighted by its sight line's transmission (0 past an occupied voxel,
+  // unknown_transmit per unknown one; the point's own voxel is not on it).
+  double predicted_seen(const VoxelIndex& index, const Pose& T) {
+    const CameraIntrinsics& K = settings_.intrinsics;
+    const Pose T_inv = T.inverse();
+    const Vec3 eye = T.translation();
+    const double res = index.map()->getResolution();
+    const std::size_t cap = index.max_voxels(K.max_range_m + 0.1);
+    if (buffer_.size() < cap) buffer_.resize(cap);
+    double sum = 0.0;
+    for (const PredictedPoint& pp : points_) {
+      const Vec3& p = pp.position;
+      const Vec3 to_eye = eye - p;
+      if (to_eye.dot(pp.normal) <= 0.0) continue;  // the fruit's own far side
+      const Vec3 c = T_inv * p;
+      if (c.z() < K.min_range_m || c.z() > K.max_range_m) continue;
+      double u = 0, v = 0;
+      if (!K.project(c, &u, &v) || u < 0.0 || v < 0.0 || u >= K.width_px || v >= K.height_px) continue;
+      const double dist = to_eye.norm();
+      if (dist <= res) continue;
+      const Vec3 end = p + to_eye * (res / dist);
+      bool outside = false;
+      const std::size_t m = index.cast(eye, end, p, buffer_.data(), buffer_.size(), &outside);
+      if (outside) continue;
+      double t = 1.0;
+      for (std::size_t i = 0; i < m && t > 1e-3; ++i) {
+        const VoxelInfo& info = *buffer_[i].info;
+        if (!info.known) t *= params_.unknown_transmit;
+        else if (info.p_occ > 0.5f) t = 0.0;
+      }
+      if (t > 1e-3) sum += t;
+    }
+    return sum;
+  }
+
+  ViewPlannerSettings settings_;
+  ShapeParams params_;
+  FailedViews failed_;
+  std::unique_ptr<GainFunction> uvc_;
+  ShapeFitCache cache_;
+  std::vector<PredictedPoint> points_;
+  std::vector<RayVoxel> buffer_;
+};
+
+}  // namespace
+
+std::unique_ptr<ViewPlanner> make_planner(const ViewPlannerSettings& settings) {
+  return std::unique_ptr<ViewPlanner>(new ShapePlanner(settings));
+}
+
+ViewPlannerEntry entry() {
+  return {"shape",
+          "shape completion: every fruit cluster fitted with a spheroid, one view at a time scored by the "
+          "predicted fruit surface it would newly see (docs/shape.md)",
+          make_planner};
+}
+
+}  // namespace canopy::nbv::shape

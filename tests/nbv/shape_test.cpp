@@ -1,0 +1,141 @@
+// The shape-completion planner (nbv/planners/shape/) and the fitted fruits it plans on
+// (nbv/fruit_shapes.h), on a hand-built scene: one fruit mapped from the front only, so its back
+// half is predicted, not seen; a leaf hides that back half from the +y side. The view that sees
+// the hidden half wins; the view behind the leaf scores under half its mirror (and under half
+// what it scores without the leaf); the front, seen already, scores least.
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "../mapping/synthetic.h"
+#include "canopy/mapping/scan_inserter.h"
+#include "canopy/nbv/fruit_shapes.h"
+#include "canopy/nbv/planners/shape/shape.h"
+#include "canopy/nbv/voxel_index.h"
+#include "canopy/perception/semantic_extractor.h"
+
+using namespace canopy;
+using namespace canopy::nbv;
+
+namespace {
+
+const Vec3 kShapeFruit(0.5, 0.0, 1.0);
+constexpr double kShapeRadius = 0.04;
+// The leaf beside and behind the fruit on the +y side (azimuth ~40 deg seen from the fruit).
+const Vec3 kShapeLeaf = kShapeFruit + 0.11 * Vec3(std::cos(0.7), std::sin(0.7), 0.0);
+
+// The scene mapped from two cameras in front of it (-x side), one of them a little to +y so
+// the leaf's face towards the fruit is mapped too.
+mapping::SemanticOcTree front_map(bool with_leaf) {
+  mapping::SemanticMapParams p;
+  p.threads = 1;
+  mapping::SemanticOcTree map(p, SemanticClasses{});
+  mapping::ScanInserter ins(map);
+  CameraIntrinsics K;
+  std::vector<synth::Sphere> spheres = {{kShapeFruit, kShapeRadius, 2, 0}};
+  if (with_leaf) spheres.push_back({kShapeLeaf, 0.06, 1});
+  for (const Vec3& eye : {Vec3(0.1, 0.0, 1.0), Vec3(0.15, 0.2, 1.05)}) {
+    const LabelledFrame f = synth::render_spheres(K, synth::look_at(eye, kShapeFruit), spheres);
+    // Several scans: fruit voxels pass the clustering's log-odds threshold.
+    for (int i = 0; i < 3; ++i) ins.insert(perception::depth_to_cloud(K, f.T_world_camera, f.depth_m, f.class_id, 3));
+  }
+  return map;
+}
+
+struct Scored {
+  Pose T;
+  double gain;
+};
+
+// Every candidate the planner scored, and its batch.
+std::vector<Scored> plan(const mapping::SemanticOcTree& map, ViewBatch* batch) {
+  VoxelIndex index(map);
+  ViewPlannerSettings s;
+  s.method.name = "shape";
+  const auto planner = make_view_planner(s);
+  EXPECT_EQ(planner->name(), "shape");
+  ViewRequest req;
+  req.map = &map;
+  req.index = &index;
+  req.region = Eigen::AlignedBox3d(Vec3(0.2, -0.4, 0.6), Vec3(0.8, 0.4, 1.4));
+  std::vector<Scored> all;
+  req.on_scored = [&](const ScoredView& v) { all.push_back({v.candidate.T_world_camera, v.score.gain}); };
+  *batch = planner->next(req);
+  return all;
+}
+
+// The gain of the scored candidate whose camera lies closest to kShapeFruit + 0.4 (cos a, sin a, 0).
+double gain_at(const std::vector<Scored>& all, double azimuth_deg) {
+  const Vec3 want = kShapeFruit + 0.4 * Vec3(std::cos(azimuth_deg * M_PI / 180), std::sin(azimuth_deg * M_PI / 180), 0.0);
+  const auto it = std::min_element(all.begin(), all.end(), [&](const Scored& a, const Scored& b) {
+    return (a.T.translation() - want).norm() < (b.T.translation() - want).norm();
+  });
+  EXPECT_LT((it->T.translation() - want).norm(), 0.03);
+  return it->gain;
+}
+
+}  // namespace
+
+// The fit completes the fruit from its front: centre within 1 cm (the voxels' centroid is
+// over 1.5 cm in front of it), and about half the predicted surface is still to be seen.
+TEST(FruitShapes, FrontScanPredictsTheBackHalf) {
+  const mapping::SemanticOcTree map = front_map(false);
+  std::vector<Vec3> confirmed;
+  const auto fruits = fit_fruits(map, ClusterParams{}, mapping::ShapeFitParams{}, nullptr, 0.1, &confirmed);
+  ASSERT_EQ(fruits.size(), 1u);
+  ASSERT_TRUE(fruits[0].shape.ok);
+  EXPECT_LT((fruits[0].shape.centre - kShapeFruit).norm(), 0.01) << fruits[0].shape.centre.transpose();
+  EXPECT_GT((fruits[0].cluster.centroid - kShapeFruit).norm(), 0.015);
+  const auto unseen = unseen_surface(fruits, confirmed, 0.01, 0.015);
+  const auto all = mapping::shape_surface_spaced(fruits[0].shape, 0.01);
+  EXPECT_GT(unseen.size(), all.size() / 4);
+  EXPECT_LT(unseen.size(), all.size() * 3 / 4);
+  // The unseen points lie on the back (+x) side.
+  for (const PredictedPoint& p : unseen) EXPECT_GT(p.position.x(), fruits[0].shape.centre.x() - 0.02);
+}
+
+TEST(Shape, TheViewOfTheHiddenHalfWins) {
+  ViewBatch batch;
+  const std::vector<Scored> all = plan(front_map(true), &batch);
+  ASSERT_FALSE(batch.views.empty()) << batch.reason;
+  EXPECT_EQ(batch.order, BatchOrder::kUtility);
+  EXPECT_EQ(batch.views.front().source, "shape");
+  // The winner looks at the back (+x), not from the leaf's side (+y).
+  const Vec3 best = batch.views.front().T_world_camera.translation() - kShapeFruit;
+  EXPECT_GT(best.x(), 0.2) << best.transpose();
+  EXPECT_LT(best.y(), 0.02) << best.transpose();
+  // Back views at azimuth +-36 deg: the one behind the leaf scores less than its mirror.
+  const double open = gain_at(all, -36.0), hidden = gain_at(all, 36.0), front = gain_at(all, 180.0);
+  EXPECT_GT(open, 0.0);
+  EXPECT_LT(hidden, 0.5 * open);
+  EXPECT_LT(front, 0.25 * open);
+  // The leaf is what costs the +y view: without it, that view scores over twice as much.
+  ViewBatch bare;
+  const std::vector<Scored> all_bare = plan(front_map(false), &bare);
+  EXPECT_GT(gain_at(all_bare, 36.0), 2.0 * hidden);
+}
+
+// Nothing left: a fruit mapped from all around has no unseen predicted surface.
+TEST(Shape, DoneWhenTheWholeFruitIsSeen) {
+  mapping::SemanticMapParams p;
+  p.threads = 1;
+  mapping::SemanticOcTree map(p, SemanticClasses{});
+  mapping::ScanInserter ins(map);
+  CameraIntrinsics K;
+  const std::vector<synth::Sphere> spheres = {{kShapeFruit, kShapeRadius, 2, 0}};
+  for (int v = 0; v < 8; ++v)
+    for (const double z : {-0.25, 0.0, 0.25}) {
+      const double a = 2 * M_PI * v / 8;
+      const Vec3 eye = kShapeFruit + 0.4 * Vec3(std::cos(a), std::sin(a), z).normalized();
+      const LabelledFrame f = synth::render_spheres(K, synth::look_at(eye, kShapeFruit), spheres);
+      for (int i = 0; i < 2; ++i) ins.insert(perception::depth_to_cloud(K, f.T_world_camera, f.depth_m, f.class_id, 3));
+    }
+  std::vector<Vec3> confirmed;
+  const auto fruits = fit_fruits(map, ClusterParams{}, mapping::ShapeFitParams{}, nullptr, 0.1, &confirmed);
+  ASSERT_EQ(fruits.size(), 1u);
+  EXPECT_LT((fruits[0].shape.centre - kShapeFruit).norm(), 0.005);
+  const auto unseen = unseen_surface(fruits, confirmed, 0.01, 0.015);
+  EXPECT_LT(unseen.size(), mapping::shape_surface_spaced(fruits[0].shape, 0.01).size() / 10);
+}
