@@ -15,7 +15,7 @@ void add_visibility_command(CLI::App& app) {
     std::string out;
     std::vector<std::uint64_t> seeds;
     double distance = 0.5;
-    std::vector<double> section = {0.5, 0.5};
+    std::vector<double> section = {0.4, 0.4};
     double max_occlusion = 0.5;
     int points = 300;
     bool no_plot = false;

@@ -21,6 +21,13 @@ std::string join_positions(const evaluation::VisibilityResult& r, const std::vec
   return s;
 }
 
+// Share of the measured fruits whose centre is in position p's image.
+double in_image_share(const evaluation::VisibilityResult& r, size_t p) {
+  double n = 0.0;
+  for (const auto& f : r.fruits) n += f.views[p].in_image;
+  return r.fruits.empty() ? 0.0 : n / r.fruits.size();
+}
+
 }  // namespace
 
 evaluation::VisibilityResult pool_visibility(const std::vector<evaluation::VisibilityResult>& results) {
@@ -76,12 +83,13 @@ VisibilitySummary run_visibility(const VisibilityJobParams& params) {
   const auto& positions = proto.positions;
   // visibility.csv: per seed and position.
   std::ostringstream csv;
-  csv << "seed,position,azimuth_deg,zenith_deg,fruits,detectability,mean_occlusion\n";
+  csv << "seed,position,azimuth_deg,zenith_deg,fruits,detectability,mean_occlusion,in_image\n";
   for (size_t i = 0; i < summary.results.size(); ++i)
     for (size_t p = 0; p < positions.size(); ++p)
-      csv << fmt::format("{},{},{},{},{},{:.4f},{:.4f}\n", summary.labels[i], positions[p].name, positions[p].azimuth_deg,
-                         positions[p].zenith_deg, summary.results[i].fruits.size(),
-                         summary.results[i].detectability[p], summary.results[i].mean_occlusion[p]);
+      csv << fmt::format("{},{},{},{},{},{:.4f},{:.4f},{:.4f}\n", summary.labels[i], positions[p].name,
+                         positions[p].azimuth_deg, positions[p].zenith_deg, summary.results[i].fruits.size(),
+                         summary.results[i].detectability[p], summary.results[i].mean_occlusion[p],
+                         in_image_share(summary.results[i], p));
   write_file_atomic(out.path("visibility.csv"), csv.str());
   std::ostringstream comb;
   comb << "seed,k,detectability,positions\n";
@@ -107,7 +115,7 @@ VisibilitySummary run_visibility(const VisibilityJobParams& params) {
                     "hidden.\n\n",
                     proto.distance_m, proto.section_width_m, proto.section_height_m, 100.0 * proto.max_occlusion);
   md << "| position | azimuth [deg] | zenith [deg] |";
-  for (const auto& l : summary.labels) md << " seed " << l << " |";
+  for (const auto& l : summary.labels) md << (l == "all" ? " all seeds |" : " seed " + l + " |");
   md << "\n|---|---|---|";
   for (size_t i = 0; i < summary.labels.size(); ++i) md << "---|";
   md << "\n";
@@ -117,7 +125,7 @@ VisibilitySummary run_visibility(const VisibilityJobParams& params) {
     md << "\n";
   }
   md << "\nBest combination of k positions (exhaustive search):\n\n| k |";
-  for (const auto& l : summary.labels) md << " seed " << l << " |";
+  for (const auto& l : summary.labels) md << (l == "all" ? " all seeds |" : " seed " + l + " |");
   md << "\n|---|";
   for (size_t i = 0; i < summary.labels.size(); ++i) md << "---|";
   md << "\n";

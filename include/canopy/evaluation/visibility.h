@@ -37,8 +37,8 @@ std::vector<CameraPosition> hemming_positions();
 struct VisibilityParams {
   std::vector<CameraPosition> positions = hemming_positions();
   double distance_m = 0.5;         ///< Camera to the section's centre, along the view direction.
-  double section_width_m = 0.5;    ///< Plant sections tile each row: width along the row ...
-  double section_height_m = 0.5;   ///< ... and height.
+  double section_width_m = 0.4;    ///< Plant sections tile each row: width along the row ...
+  double section_height_m = 0.4;   ///< ... and height (both fit the default camera's image at 0.5 m).
   double max_occlusion = 0.5;      ///< Detectable: at most this share of the facing surface hidden.
   int points_per_fruit = 300;      ///< Ground-truth surface points used per fruit (evenly subsampled).
   CameraIntrinsics camera;         ///< "In the image": the fruit's centre projects inside it.
