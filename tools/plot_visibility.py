@@ -1,10 +1,11 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Plot of `canopy visibility`: fruit detectability per camera position and of the best
 combination of k positions, per world seed (and pooled), beside Hemming et al.'s (2014)
 commercial-crop figures. Usage: plot_visibility.py FOLDER (reads visibility.csv and
 combinations.csv, writes visibility.png)."""
 
 import csv
+import json
 import os
 import sys
 from collections import defaultdict
@@ -36,7 +37,7 @@ def main():
     best = defaultdict(list)
     for r in combos:
         best[r["seed"]].append((int(r["k"]), 100.0 * float(r["detectability"])))
-    fig, (a, b) = plt.subplots(1, 2, figsize=(12, 4.5), gridspec_kw={"width_ratios": [2.2, 1]})
+    fig, (a, b) = plt.subplots(1, 2, figsize=(12, 5), gridspec_kw={"width_ratios": [2.2, 1]})
     seeds = list(per_seed)
     width = 0.8 / len(seeds)
     for i, s in enumerate(seeds):
@@ -49,11 +50,11 @@ def main():
     a.set_ylabel("fruit detectability [%]")
     a.set_ylim(0, 100)
     a.set_title("per camera position")
-    a.legend(fontsize=7, loc="lower right")
+    a.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.3), ncol=5)
     for s in seeds:
         ks = [k for k, _ in best[s]]
         b.plot(ks, [d for _, d in best[s]], marker="o", color="black" if s == "all" else None,
-               lw=2 if s == "all" else 1, label=("seed " + s) if s != "all" else "all seeds")
+               lw=2 if s == "all" else 1, label=("seed " + s) if s != "all" else "all seeds (one combination)")
     b.plot([1, 5], [69, 90], "r*", ms=12, label="Hemming et al. (k = 1, 5)")
     b.set_xlabel("positions combined (k, best combination)")
     b.set_ylabel("fruit detectability [%]")
@@ -61,8 +62,9 @@ def main():
     b.set_xticks([1, 2, 3, 4, 5])
     b.set_title("best combination of k positions")
     b.legend(fontsize=7, loc="lower right")
-    fig.suptitle("Fruit detectability (at most 50 % of the camera-facing surface hidden): " + os.path.basename(
-        os.path.normpath(folder)).replace(".partial", ""))
+    with open(os.path.join(folder, "visibility.json")) as f:
+        world = json.load(f).get("world", "")
+    fig.suptitle("Fruit detectability (at most 50 %% of the camera-facing surface hidden), world '%s'" % world)
     fig.tight_layout()
     fig.savefig(os.path.join(folder, "visibility.png"), dpi=110)
     return 0

@@ -134,12 +134,14 @@ VisibilitySummary run_visibility(const VisibilityJobParams& params) {
     for (const auto& r : summary.results) md << fmt::format(" {:.0f} % |", 100.0 * r.best[k].detectability);
     md << "\n";
   }
-  md << "\nPositions of the best combinations (" << summary.labels.back() << "): ";
+  md << "\nPositions of the best combinations ("
+     << (summary.labels.back() == "all" ? "one combination for all seeds" : "seed " + summary.labels.back()) << "): ";
   for (const auto& b : summary.results.back().best)
     md << fmt::format("{}{}: {}", b.k == 1 ? "" : "; ", b.k, join_positions(summary.results.back(), b.positions, " + "));
   md << "\n\nFruits measured:";
   for (size_t i = 0; i < summary.results.size(); ++i)
-    md << fmt::format(" {} (seed {}){}", summary.results[i].fruits.size(), summary.labels[i],
+    md << fmt::format(" {} ({}){}", summary.results[i].fruits.size(),
+                      summary.labels[i] == "all" ? "all seeds" : "seed " + summary.labels[i],
                       i + 1 < summary.results.size() ? "," : ".\n");
   write_file_atomic(out.path("visibility.md"), md.str());
   nlohmann::json j;
