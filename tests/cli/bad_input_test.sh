@@ -47,7 +47,8 @@ expect_error "key 'rows.row_offset_m': value '0.3' leaves an aisle" world --worl
 expect_error "key 'plant.height_m'" world --world "$tmp/huge.yaml"
 expect_error "--pgt: value 'nan' is not a finite number" map --pgt nan
 expect_error "--pgt" map --pgt inf
-expect_error "--distance must be > 0" visibility --distance nan
+expect_error "--distance: value 'nan' is not a finite number" visibility --distance nan
+expect_error "--distance must be > 0" visibility --distance 0
 expect_error "--max-occlusion must be in [0, 1]" visibility --max-occlusion 2
 expect_error "--video-fps: value 'nan' is not a finite number" run --video-fps nan
 expect_error "--coverage-target: value 'nan' is not a finite number" ablate --coverage-target nan
