@@ -179,6 +179,29 @@ struct GroundLook {
   }
 };
 
+/// The sun over the greenhouse: one directional light. By default the same for every world
+/// (as before this section existed: the scene does not change). With `per_seed` its direction
+/// and brightness are drawn from the world's seed, as a greenhouse's light changes with the
+/// hour and the weather, so colour segmentation meets varying light across world seeds.
+struct Lighting {
+  bool per_seed = false;
+  double elevation_min_deg = 30.0, elevation_max_deg = 75.0;  ///< Sun above the horizon.
+  double diffuse_min = 0.35, diffuse_max = 0.75;              ///< Sun brightness (MuJoCo diffuse, grey).
+
+  /// The keys of a world file's `lighting`.
+  template <class Archive>
+  void visit(Archive& a) {
+    a("per_seed", per_seed, "Draw the sun's direction and brightness from the world's seed (false: one fixed sun)");
+    spec_detail::range(a, "sun_elevation_deg", elevation_min_deg, elevation_max_deg, limits::in(5.0, 90.0),
+                       "With per_seed: the sun's elevation above the horizon [deg], drawn uniformly");
+    spec_detail::range(a, "sun_diffuse", diffuse_min, diffuse_max, limits::in(0.0, 1.0),
+                       "With per_seed: the sun's brightness (diffuse grey level, 0-1), drawn uniformly");
+  }
+  /// The sun of a world with seed `seed`: direction (towards the ground) and diffuse level.
+  /// Without per_seed the fixed sun (-0.3, 0.2, -1), 0.55.
+  void sun(std::uint64_t seed, Vec3* dir, double* diffuse) const;
+};
+
 /// An imported plant (a folder written by `canopy import-plant`) placed in the world, from
 /// the world file's `plants` list: in a row slot (replacing that procedural plant, so stops
 /// and scans along the rows cover it) or at a free position.
@@ -202,6 +225,7 @@ struct WorldSpec {
   SemanticClasses classes;
   PartClasses part_classes;
   GroundLook ground;
+  Lighting lighting;
   RowLayout rows;
   PlantParams plant;
   CameraIntrinsics camera;
@@ -220,6 +244,7 @@ struct WorldSpec {
     a("target_class", classes.target, "The class the metrics count (fruit)");
     a.section("part_classes", part_classes, "Which class each kind of geometry carries");
     a.section("ground", ground, "What the floor looks like: ground film and a concrete path");
+    a.section("lighting", lighting, "The sun: fixed, or drawn per world seed");
     a.section("rows", rows, "Plants in rows along the aisle");
     a.section("plant", plant, "Ranges each procedural plant draws its shape from");
     a.section("camera", camera, "The wrist camera (rendered: fx = fy, principal point at the centre)");
