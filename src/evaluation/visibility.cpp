@@ -56,10 +56,54 @@ std::vector<CameraPosition> hemming_positions() {
 RayScene::RayScene(const world::World& world) {
   for (const auto& plant : world.plants)
     for (const auto& part : plant.parts) add_part(part.mesh, part.instance_id);
+  build();
 }
 
 RayScene::RayScene(const std::vector<world::TriMesh>& meshes) {
   for (const auto& m : meshes) add_part(m, static_cast<int>(parts_.size()));
+  build();
+}
+
+void RayScene::build() {
+  std::vector<Vec3> centroids(tris_.size());
+  for (size_t i = 0; i < tris_.size(); ++i) centroids[i] = (tris_[i][0] + tris_[i][1] + tris_[i][2]) / 3.0;
+  order_.resize(tris_.size());
+  for (size_t i = 0; i < order_.size(); ++i) order_[i] = i;
+  nodes_.clear();
+  if (!tris_.empty()) build_node(0, order_.size(), centroids);
+}
+
+// Median split along the longest axis of the centroids' box, down to leaves of 8 triangles.
+int RayScene::build_node(size_t begin, size_t end, const std::vector<Vec3>& centroids) {
+  const int index = static_cast<int>(nodes_.size());
+  nodes_.emplace_back();
+  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  Vec3 clo = lo, chi = hi;
+  for (size_t i = begin; i < end; ++i) {
+    for (const Vec3& v : tris_[order_[i]]) {
+      lo = lo.cwiseMin(v);
+      hi = hi.cwiseMax(v);
+    }
+    clo = clo.cwiseMin(centroids[order_[i]]);
+    chi = chi.cwiseMax(centroids[order_[i]]);
+  }
+  nodes_[index].lo = lo;
+  nodes_[index].hi = hi;
+  if (end - begin <= 8) {
+    nodes_[index].first = begin;
+    nodes_[index].count = end - begin;
+    return index;
+  }
+  int axis = 0;
+  (chi - clo).maxCoeff(&axis);
+  const size_t mid = begin + (end - begin) / 2;
+  std::nth_element(order_.begin() + begin, order_.begin() + mid, order_.begin() + end,
+                   [&](size_t a, size_t b) { return centroids[a][axis] < centroids[b][axis]; });
+  const int left = build_node(begin, mid, centroids);
+  const int right = build_node(mid, end, centroids);
+  nodes_[index].left = left;
+  nodes_[index].right = right;
+  return index;
 }
 
 void RayScene::add_part(const world::TriMesh& mesh, int instance_id) {
@@ -67,7 +111,10 @@ void RayScene::add_part(const world::TriMesh& mesh, int instance_id) {
   p.first = tris_.size();
   p.instance_id = instance_id;
   mesh.bounds(&p.lo, &p.hi);
-  for (const auto& f : mesh.faces) tris_.push_back({mesh.vertices[f[0]], mesh.vertices[f[1]], mesh.vertices[f[2]]});
+  for (const auto& f : mesh.faces) {
+    tris_.push_back({mesh.vertices[f[0]], mesh.vertices[f[1]], mesh.vertices[f[2]]});
+    part_of_tri_.push_back(static_cast<int>(parts_.size()));
+  }
   p.count = tris_.size() - p.first;
   parts_.push_back(p);
 }
@@ -84,16 +131,35 @@ int RayScene::first_hit(const Vec3& origin, const Vec3& dir, double max_t, doubl
                  dir.z() != 0.0 ? 1.0 / dir.z() : big);
   int best = -1;
   double best_t = max_t;
-  const size_t begin = only_part >= 0 ? static_cast<size_t>(only_part) : 0;
-  const size_t end = only_part >= 0 ? begin + 1 : parts_.size();
-  for (size_t i = begin; i < end; ++i) {
-    const Part& p = parts_[i];
-    if (!ray_box(origin, inv, p.lo, p.hi, best_t)) continue;
-    for (size_t k = p.first; k < p.first + p.count; ++k) {
-      const double t = ray_triangle(origin, dir, tris_[k]);
-      if (t > 1e-9 && t < best_t) {
-        best_t = t;
-        best = static_cast<int>(i);
+  if (only_part >= 0) {
+    const Part& p = parts_.at(static_cast<size_t>(only_part));
+    if (ray_box(origin, inv, p.lo, p.hi, best_t))
+      for (size_t k = p.first; k < p.first + p.count; ++k) {
+        const double t = ray_triangle(origin, dir, tris_[k]);
+        if (t > 1e-9 && t < best_t) {
+          best_t = t;
+          best = only_part;
+        }
+      }
+  } else if (!nodes_.empty()) {
+    int stack[128];
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+      const Node& n = nodes_[static_cast<size_t>(stack[--top])];
+      if (!ray_box(origin, inv, n.lo, n.hi, best_t)) continue;
+      if (n.left < 0) {
+        for (size_t i = n.first; i < n.first + n.count; ++i) {
+          const size_t k = order_[i];
+          const double t = ray_triangle(origin, dir, tris_[k]);
+          if (t > 1e-9 && t < best_t) {
+            best_t = t;
+            best = part_of_tri_[k];
+          }
+        }
+      } else if (top + 2 <= 128) {
+        stack[top++] = n.left;
+        stack[top++] = n.right;
       }
     }
   }

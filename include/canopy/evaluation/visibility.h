@@ -46,7 +46,8 @@ struct VisibilityParams {
 };
 
 /// Triangles of a world with, per triangle, the part it belongs to; answers the first hit of
-/// a ray. Parts are culled by their bounding boxes.
+/// a ray through a bounding-volume hierarchy over all triangles (imported plants bring parts
+/// of 100,000 triangles), or, for one part, that part's triangles.
 class RayScene {
  public:
   explicit RayScene(const world::World& world);
@@ -66,9 +67,19 @@ class RayScene {
     size_t first = 0, count = 0;  ///< Triangles [first, first + count) of tris_.
     int instance_id = -1;
   };
+  struct Node {
+    Vec3 lo, hi;
+    int left = -1, right = -1;    ///< Children (-1: a leaf).
+    size_t first = 0, count = 0;  ///< Leaf: entries [first, first + count) of order_.
+  };
   void add_part(const world::TriMesh& mesh, int instance_id);
+  void build();
+  int build_node(size_t begin, size_t end, const std::vector<Vec3>& centroids);
   std::vector<Part> parts_;
   std::vector<std::array<Vec3, 3>> tris_;
+  std::vector<int> part_of_tri_;
+  std::vector<size_t> order_;     ///< Triangle indices in the hierarchy's leaf order.
+  std::vector<Node> nodes_;
 };
 
 /// One fruit seen from one camera.
