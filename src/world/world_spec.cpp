@@ -137,7 +137,7 @@ void WorldSpec::validate() const {
   validate_params(*this, where);
   classes.validate(where);
   camera.validate(where);
-  for (const std::string part : {"ground", "robot", "stem", "petiole", "leaf", "peduncle", "fruit", "unripe_fruit"}) {
+  for (const std::string part : {"ground", "robot", "stem", "petiole", "leaf", "peduncle", "fruit", "unripe_fruit", "trellis"}) {
     if (class_of(part) < 0)
       throw InputError(where + ": key 'part_classes." + part + "': its class is not in the class list");
   }
@@ -241,6 +241,7 @@ int WorldSpec::class_of(const std::string& part) const {
   else if (part == "peduncle") name = &part_classes.peduncle;
   else if (part == "fruit") name = &part_classes.fruit;
   else if (part == "unripe_fruit") name = &part_classes.unripe_fruit;
+  else if (part == "trellis") name = &part_classes.trellis;
   return name ? classes.index_of(*name) : -1;
 }
 

@@ -97,6 +97,10 @@ struct PlantParams {
   /// Ripe colours: their fruits are targets (in the metrics); others are rendered and
   /// labelled (part class unripe_fruit) but not counted, as in the paper's ground truth.
   std::vector<std::string> ripe_colors = {"red", "yellow", "orange"};
+  /// V-system support: one string per stem, from the fork up along the stem to a wire above
+  /// the plant. Off by default (the plants are the same either way: the strings draw no
+  /// random numbers).
+  bool trellis_strings = false;
 
   /// The keys of a world file's `plant` (ranges as [min, max]).
   template <class Archive>
@@ -130,6 +134,8 @@ struct PlantParams {
     a("ripe_colors", ripe_colors, "Colours whose fruits are targets (the metrics count them)");
     a.check(spec_detail::known_fruit_colors(ripe_colors), "ripe_colors",
             "holds an unknown colour (use red, yellow, orange, green)");
+    a("trellis_strings", trellis_strings,
+      "One trellis string per stem, from the fork along the stem to a wire 0.3 m above the plant (V-system)");
   }
 };
 
@@ -143,6 +149,7 @@ struct PartClasses {
   std::string peduncle = "leaf";
   std::string fruit = "fruit";
   std::string unripe_fruit = "fruit";  ///< Fruits whose colour is not ripe.
+  std::string trellis = "background";  ///< Trellis strings (plant.trellis_strings).
 
   /// The keys of a world file's `part_classes`.
   template <class Archive>
@@ -155,6 +162,7 @@ struct PartClasses {
     a("peduncle", peduncle, "Class of peduncles");
     a("fruit", fruit, "Class of ripe fruits");
     a("unripe_fruit", unripe_fruit, "Class of fruits whose colour is not ripe");
+    a("trellis", trellis, "Class of trellis strings (plant.trellis_strings)");
   }
 };
 
