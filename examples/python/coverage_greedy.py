@@ -2,9 +2,9 @@
 """A coverage-greedy view planner written in Python, in canopy's closed loop.
 
 At each request it takes the fruit clusters of the map inside the stop's region, samples the
-candidate views around each, keeps those the arm can reach and that were not taken yet,
-scores them by how many unknown voxels their rays would see (the "uvc" gain) and returns the
-best view of each cluster, best first, up to the stop's budget. Driving, IK and motion
+candidate views around each, keeps those the arm can reach and that were neither taken nor
+failed before, scores them by how many unknown voxels their rays would see (the "uvc" gain)
+and returns the best view of each cluster, best first, up to the stop's budget. Driving, IK and motion
 planning, rendering, mapping and the metrics are canopy's.
 
     PYTHONPATH=build/python python3 examples/python/coverage_greedy.py --world worlds/small.yaml
@@ -29,7 +29,8 @@ def coverage_greedy(request):
             if request.is_taken(pose):
                 continue
             reached = request.reach(pose)  # None, or the pose moved into the workspace and its IK
-            if reached is not None and not request.is_taken(reached["pose"]):
+            # not taken yet, and not a view that failed before (request.outcomes says why)
+            if reached is not None and not request.is_taken(reached["pose"]) and not request.is_failed(reached["pose"]):
                 reachable.append(reached)
         if not reachable:
             continue

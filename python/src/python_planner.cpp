@@ -40,11 +40,15 @@ class PythonPlanner final : public nbv::ViewPlanner {
     begin_stop_ = py::getattr(fn_, "begin_stop", py::none());
     if (!begin_stop_.is_none() && !PyCallable_Check(begin_stop_.ptr()))
       throw InputError("planner: its begin_stop attribute " + describe(begin_stop_) + " is not callable");
+    outcome_ = py::getattr(fn_, "outcome", py::none());
+    if (!outcome_.is_none() && !PyCallable_Check(outcome_.ptr()))
+      throw InputError("planner: its outcome attribute " + describe(outcome_) + " is not callable");
   }
   ~PythonPlanner() override {
     py::gil_scoped_acquire gil;
     fn_ = py::object();
     begin_stop_ = py::object();
+    outcome_ = py::object();
   }
 
   std::string name() const override { return "python"; }
@@ -78,6 +82,14 @@ class PythonPlanner final : public nbv::ViewPlanner {
     taken_poses_.push_back(T_world_camera);
   }
 
+  void outcome(const nbv::ViewOutcome& o) override {
+    ViewPlanner::outcome(o);
+    outcomes_.push_back(o);
+    if (outcome_.is_none()) return;
+    py::gil_scoped_acquire gil;
+    call_noting_interrupt([&] { outcome_(outcome_dict(o)); });
+  }
+
   void begin_stop() override {
     ++stop_;
     if (begin_stop_.is_none()) return;
@@ -86,6 +98,32 @@ class PythonPlanner final : public nbv::ViewPlanner {
   }
 
   const std::vector<Pose>& taken_poses() const { return taken_poses_; }
+  const std::vector<nbv::ViewOutcome>& outcomes() const { return outcomes_; }
+  std::vector<Pose> failed_views_poses() const {
+    std::vector<Pose> out;
+    for (const nbv::ViewOutcome& o : outcomes_)
+      if (!o.success && o.failure != "start_in_collision" && o.failure != "unstable") out.push_back(o.view.T_world_camera);
+    return out;
+  }
+
+  // One outcome as Python sees it (PlannerRequest.outcomes, the planner's outcome(...)).
+  static py::dict outcome_dict(const nbv::ViewOutcome& o) {
+    py::dict d;
+    d["pose"] = pose_array(o.view.T_world_camera);
+    d["target"] = vec3_array(o.view.target);
+    d["source"] = o.view.source;
+    d["gain"] = o.view.gain;
+    d["cluster"] = o.view.cluster;
+    d["success"] = o.success;
+    d["failure"] = o.failure;
+    d["detail"] = o.detail;
+    d["reached"] = o.success ? py::object(pose_array(o.T_reached)) : py::object(py::none());
+    d["stop"] = o.stop;
+    d["attempt"] = o.attempt;
+    d["phase"] = o.phase;
+    d["start_repaired"] = o.start_repaired;
+    return d;
+  }
   const nbv::ViewPlannerSettings& settings() const { return settings_; }
 
  private:
@@ -178,11 +216,12 @@ class PythonPlanner final : public nbv::ViewPlanner {
     return batch;
   }
 
-  py::object fn_, begin_stop_;
+  py::object fn_, begin_stop_, outcome_;
   nbv::ViewPlannerSettings settings_;
   mission::MappingSettings mapping_;
   nbv::PlannerTraits traits_;
   std::vector<Pose> taken_poses_;
+  std::vector<nbv::ViewOutcome> outcomes_;
   int stop_ = -1;  // begin_stop() precedes each stop's first request
 };
 
@@ -257,6 +296,24 @@ z forward).)")
         r.get();
         return poses_array(r.planner->taken_poses());
       }, "(N, 4, 4): the views taken so far in the mission (reached and observed), oldest first.")
+      .def_property_readonly("outcomes", [](const PyRequest& r) {
+        r.get();
+        py::list out;
+        for (const nbv::ViewOutcome& o : r.planner->outcomes()) out.append(PythonPlanner::outcome_dict(o));
+        return out;
+      }, R"(Every view attempted so far in the mission, oldest first, successes and failures: dicts with
+'pose' (the goal), 'target', 'source', 'gain', 'cluster', 'success', 'failure' ('' on success,
+else no_ik, start_in_collision, goal_in_collision, plan_timeout, invalid_input, not_reached,
+unstable), 'detail' (one line), 'reached' (the camera pose, None on failure), 'stop', 'attempt',
+'phase' and 'start_repaired'.)")
+      .def_property_readonly("failed", [](const PyRequest& r) {
+        r.get();
+        return poses_array(r.planner->failed_views_poses());
+      }, "(N, 4, 4): the goals of the views that failed for a cause of their own (not a start in collision), oldest first.")
+      .def("is_failed", [](const PyRequest& r, const py::object& pose) {
+        r.get();
+        return r.planner->failed_views().contains(pose_from(pose, "pose"));
+      }, py::arg("pose"), "True when pose lies within nbv.views.taken_position_m / taken_angle_deg of a view in failed.")
       .def_property_readonly("scripted", [](const PyRequest& r) { return poses_array(r.get().scripted); },
                              "(N, 4, 4): the stop's scripted views (for a planner with scripted = True).")
       .def_property_readonly("intrinsics", [](const PyRequest& r) {

@@ -94,8 +94,35 @@ def test_the_planner_gets_what_builtin_planners_get(world):
     assert np.allclose(call["taken"], reached) and call["budget"] == 2 and call["stop"] == 0
     assert call["voxels"] > 0 and call["scripted"] == (0, 4, 4)
     assert np.allclose(call["camera"], reached[-1], atol=1e-9)
-    assert result.stops[0]["end_reason"] == "recorded only"
+    assert result.stops[0]["end"] == "planner_done" and "recorded only" in result.stops[0]["end_reason"]
     assert np.array_equal(call["region"], canopy.Robot().stop_region(result.stops[0]["goal"]))
+
+
+def test_the_planner_learns_every_outcome(world):
+    told, seen = [], []
+    far = np.eye(4)
+    far[:3, 3] = [50.0, 0.0, 1.0]  # no IK
+
+    class Learner:
+        def outcome(self, o):
+            told.append(o)
+
+        def __call__(self, request):
+            seen.append((request.outcomes, request.failed, request.is_failed(far)))
+            return {"views": [far], "order": "utility"} if len(seen) == 1 else []
+
+    result = canopy.run_mission(world, small_settings(), planner=Learner(), seed=1)
+    assert len(told) == len(result.views["attempt"]) == 13
+    assert [o["success"] for o in told] == list(result.views["success"])
+    assert all(o["success"] == (o["failure"] == "") for o in told)
+    assert all(o["phase"] == "initial" and o["reached"].shape == (4, 4) for o in told[:12] if o["success"])
+    last = told[-1]
+    assert last["failure"] == "no_ik" and last["detail"] and last["reached"] is None and last["phase"] == "nbv"
+    assert np.allclose(last["pose"], far) and last["stop"] == 0 and last["attempt"] == 12
+    outcomes, failed, is_failed = seen[1]
+    assert [o["attempt"] for o in outcomes] == list(range(13)) and outcomes[-1]["failure"] == "no_ik"
+    assert failed.shape[1:] == (4, 4) and np.allclose(failed[-1], far) and is_failed
+    assert seen[0][0][-1]["attempt"] == 11 and not seen[0][2]
 
 
 def test_the_example_runs(tmp_path):

@@ -391,6 +391,29 @@ std::vector<double> p_gts_of(const std::vector<Group>& groups) {
   return pgts;
 }
 
+// Section 1's figures at equal view counts: a method that ends with fewer successful views is
+// compared where every method has taken as many (trials with fewer views have no figure there).
+std::string equal_views_table(const std::vector<Group>& groups, const std::vector<double>& pgts) {
+  const std::vector<int> counts = {30, 60, 90};
+  std::string f = "\nThe same at equal view counts: fruit SC after the 30th, 60th and 90th successful view (trials "
+                  "that ended before it have no figure there: n says how many had one).\n\n";
+  f += "| P_gt | method | successful views | SC after 30 | after 60 | after 90 | final |\n|---|---|---|---|---|---|---|\n";
+  for (double p : pgts)
+    for (const Group& g : groups) {
+      if (pgt_text(g.p_gt) != pgt_text(p)) continue;
+      f += "| " + pgt_text(p) + " | " + g.method.label + " | " +
+           pm(over(g, [](const TrialResult& t) { return double(t.views_ok); }), "%.1f");
+      for (int n : counts) {
+        std::vector<double> v;
+        for (const TrialResult* t : g.trials)
+          if (static_cast<int>(t->coverage.size()) >= n) v.push_back(t->coverage[static_cast<std::size_t>(n - 1)]);
+        f += " | " + pm(stat(v));
+      }
+      f += " | " + pm(over(g, final_sc)) + " |\n";
+    }
+  return f;
+}
+
 // Section 1: active mapping vs predefined scanning, fruit SC at the end.
 std::string coverage_section(const std::vector<Group>& groups, const std::vector<double>& pgts) {
   std::string f = "## 1. Active mapping vs predefined scanning: fruit SC at the end\n\n";
@@ -422,7 +445,7 @@ std::string coverage_section(const std::vector<Group>& groups, const std::vector
            " (" + num(100.0 * d, "%+.1f") + " points)" + resolution(a, b) + ".\n";
     }
   }
-  return f;
+  return f + equal_views_table(groups, pgts);
 }
 
 // Section 2: SC lost to segmentation noise, each method at each noisy P_gt against the cleanest.

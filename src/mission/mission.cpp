@@ -110,8 +110,8 @@ struct Mission::Impl {
   }
 
   void update_caption() {
-    caption_text = caption_line(settings.method.name, current_stop, static_cast<int>(stops_x.size()),
-                                result.successful_views(), last_metrics.coverage);
+    caption_text = caption_line(settings.method.name, current_stop, static_cast<int>(stops_x.size()), ok_views_,
+                                last_metrics.coverage);
   }
 
   BasePose stop_pose(int k) const {
@@ -181,7 +181,7 @@ struct Mission::Impl {
     rec.failure = cause;
     rec.message = message;
     rec.success = cause.empty();
-    rec.successful_views = result.successful_views() + rec.success;
+    rec.successful_views = ok_views_ + rec.success;
     rec.sim_time_s = sim.time();
     rec.base_travel_m = result.base_travel_m;
     set_map_metrics(last_metrics, &rec);
@@ -230,6 +230,24 @@ struct Mission::Impl {
                     before);
   }
 
+  // A plan that repaired its start in collision and then failed: the repair move is made on
+  // its own, so that the next attempt starts free (motion::ArmPlanner::repair_start).
+  void leave_collision(const motion::PlanResult& plan, const nbv::PlannedView& view, PhaseTimes& times) {
+    if (!plan.repaired || plan.repair.size() < 2) return;
+    motion::PlanResult leave;
+    leave.trajectory = planner.repair_trajectory(plan);
+    nbv::PlannedView to = view;
+    to.T_world_camera = model.camera_pose(sim.base_pose(), plan.repair.back());
+    const ArmMove moved = move(leave, to, sim.snapshot(), times);
+    if (!moved.diverged.empty()) ++result.unstable_faults;
+  }
+
+  // Ends the mission when a stop was requested (Ctrl-C, SIGTERM, a Python KeyboardInterrupt):
+  // polled between attempts and planning rounds, as the stepper polls between steps.
+  void check_stop() const {
+    if (callbacks.stop_requested && callbacks.stop_requested()) throw StopRequested();
+  }
+
   // The wrist camera's frame from the pose reached, and its segmented cloud.
   struct Look {
     LabelledFrame frame;
@@ -269,7 +287,11 @@ struct Mission::Impl {
         plan = plan_move(base, q0, goals);
       }
     }
-    if (!plan.ok()) return finish(failure::of_plan(plan.status), plan.message);
+    rec.start_repair = plan.repaired ? plan.repair_note : "";
+    if (!plan.ok()) {
+      leave_collision(plan, view, rec.times);
+      return finish(failure::of_plan(plan.status), plan.message);
+    }
 
     // Control; an overlapped move is kept when the plan with the last scan is the same. Its
     // frame is drawn and segmented before that check, while the last scan is still going in;
@@ -295,7 +317,11 @@ struct Mission::Impl {
         extractor.set_noise_state(label_noise);
         look.reset();
         plan = std::move(checked);
-        if (!plan.ok()) return finish(failure::of_plan(plan.status), plan.message);
+        rec.start_repair = plan.repaired ? plan.repair_note : "";
+        if (!plan.ok()) {
+          leave_collision(plan, view, rec.times);
+          return finish(failure::of_plan(plan.status), plan.message);
+        }
         moved = move(plan, view, before, rec.times);
       }
     }
@@ -340,11 +366,25 @@ struct Mission::Impl {
     return rec;
   }
 
-  // Records an attempt in the mission and stop.
-  void record(const ViewRecord& v) {
+  // Records an attempt in the mission and stop, and tells the planner its outcome.
+  void record(const ViewRecord& v, const nbv::PlannedView& view) {
     result.views.push_back(v);
-    stop_record().count(v);
+    ok_views_ += v.success;
+    StopRecord& s = stop_record();
+    s.count(v);
+    s.start_repairs += !v.start_repair.empty();
     if (!scans.busy()) report(v);  // else once its metrics are known (settle)
+    nbv::ViewOutcome o;
+    o.view = view;
+    o.success = v.success;
+    o.failure = v.failure;
+    o.detail = v.start_repair.empty() ? v.message : v.message + " (start repaired: " + v.start_repair + ")";
+    o.T_reached = v.T_reached;
+    o.stop = v.stop;
+    o.attempt = v.attempt;
+    o.phase = to_string(v.phase);
+    o.start_repaired = !v.start_repair.empty();
+    view_planner->outcome(o);
   }
 
   // The progress line of a recorded attempt.
@@ -367,9 +407,10 @@ struct Mission::Impl {
     for (const nbv::PlannedView& v : views) {
       if (wanted >= 0 && ok >= wanted) break;
       if (attempts_left && *attempts_left <= 0) break;
+      check_stop();
       if (attempts_left) --*attempts_left;
       const ViewRecord r = attempt(v, phase);
-      record(r);
+      record(r, v);
       ok += r.success;
       if (!r.success && failed) failed->push_back(v);
     }
@@ -400,10 +441,11 @@ struct Mission::Impl {
       return !motion::view_goal_configs(model, v, sim.base_pose(), sim.arm_positions()).empty();
     };
     req.attempt = [&](const nbv::PlannedView& v) {
+      check_stop();
       if (attempts_left) --*attempts_left;
       ++stop_record().replacement_attempts;
       const ViewRecord r = attempt(v, phase);
-      record(r);
+      record(r, v);
       return r.success;
     };
     int ok = 0;
@@ -431,10 +473,15 @@ struct Mission::Impl {
     return ok;
   }
 
-  void record_unreachable(const std::vector<nbv::PlannedView>& views, ViewPhase phase) {
+  // Records chosen views without IK as failed attempts (spending `attempts_left`, when given,
+  // and stopping when it is spent).
+  void record_unreachable(const std::vector<nbv::PlannedView>& views, ViewPhase phase, int* attempts_left = nullptr) {
     for (const nbv::PlannedView& v : views) {
+      if (attempts_left && *attempts_left <= 0) break;
+      check_stop();
+      if (attempts_left) --*attempts_left;
       ViewRecord r = open_record(v, phase);
-      record(close_record(r, failure::kNoIk, "no IK solution within the joint limits"));
+      record(close_record(r, failure::kNoIk, "no IK solution within the joint limits"), v);
     }
   }
 
@@ -460,25 +507,39 @@ struct Mission::Impl {
     if (replaces_failed_scripted()) replace_failed(failed, phase, nullptr);
   }
 
-  // The NBV loop of the current stop.
-  void nbv_loop(int k) {
+  // Ends the stop's loop: why, as a code and a line.
+  static void end_stop(StopRecord& s, const char* code, const std::string& why) {
+    s.end = code;
+    s.end_reason = why;
+  }
+
+  // The NBV loop of the current stop: until the stop's budget of successful views is met (the
+  // initial scan's views and views_per_stop more), the planner has nothing left to see, or the
+  // stop's attempts (mission.loop.max_attempts) are spent. Planning rounds that attempt nothing
+  // are bounded by max_idle_rounds in a row.
+  void nbv_loop(int k, int scan_views_count) {
     const LoopParams& loop = settings.mission.loop;
     StopRecord& s = stop_record();
-    int ok = 0, attempts_left = loop.max_attempts;
+    s.budget = scan_views_count + loop.views_per_stop;
+    int ok = 0, attempts_left = loop.max_attempts, idle = 0;
+    const int wanted_total = std::max(0, s.budget - s.initial_ok);
     motion::NextViewsRequest req;
     req.region = stop_region(loop, stops_x[static_cast<std::size_t>(k)], settings.mission.stops.base_y_m);
     const nbv::PlannerTraits traits = view_planner->traits();
     if (traits.scripted) req.scripted = scan_views(k, true);
-    const motion::StopArm arm{model, workspace, &map_checker, settings.motion.tour};
-    std::string end = "view budget of the stop reached";
+    const motion::StopArm arm{model, workspace, &planner.goal_checker(), settings.motion.tour};
     for (;;) {
-      if (ok >= loop.views_per_stop) break;
-      if (s.rounds >= loop.max_rounds) {
-        end = "round cap reached";
+      check_stop();
+      if (ok >= wanted_total) {
+        end_stop(s, "budget_met", "view budget of the stop reached");
         break;
       }
       if (attempts_left <= 0) {
-        end = "attempt cap reached";
+        end_stop(s, "attempt_cap", "attempt cap reached (mission.loop.max_attempts = " + std::to_string(loop.max_attempts) + ")");
+        break;
+      }
+      if (s.rounds >= loop.max_rounds) {
+        end_stop(s, "round_cap", "round cap reached (mission.loop.max_rounds = " + std::to_string(loop.max_rounds) + ")");
         break;
       }
       motion::NextViews next;
@@ -488,31 +549,40 @@ struct Mission::Impl {
         req.base = sim.base_pose();
         req.q = sim.arm_positions();
         req.T_world_camera = sim.camera_pose();
-        req.budget = loop.views_per_stop - ok;
+        req.budget = wanted_total - ok;
         req.seed = mix_seed(seed, 5000 + std::uint64_t(k) * 1000 + std::uint64_t(s.rounds));
+        req.max_views = static_cast<std::size_t>(attempts_left);
         if (audit) req.on_scored = audit->observer();
         next = motion::next_views(map, index, *view_planner, arm, req);
         result.times.merge(next.batch.times);
         // The planner's own phases are in batch.times; the rest (tour, bookkeeping) here.
         result.times.add(kNbvPlanning, std::max(0.0, watch.seconds() - next.batch.times.total()));
       }
+      check_stop();  // a stop requested while the planner ran (a Python planner's KeyboardInterrupt) wins
       const nbv::ViewBatch& batch = next.batch;
       if (audit) {
         ScopedPhase t(result.times, kEvaluation);
-        audit->end_round(map, index, batch, k, s.rounds, result.successful_views(), req.seed);
+        audit->end_round(map, index, batch, k, s.rounds, ok_views_, req.seed);
       }
       const std::vector<nbv::PlannedView>& ordered = next.ordered;
       const std::vector<nbv::PlannedView>& unreachable = next.unreachable;
       ++s.rounds;
       if (batch.views.empty()) {
-        end = batch.reason.empty() ? "nothing left to plan" : batch.reason;
-        if (batch.finished) break;
-        continue;  // e.g. every frontier view rejected: sample anew next round
+        const std::string why = batch.reason.empty() ? "nothing left to plan" : batch.reason;
+        if (batch.finished) {
+          end_stop(s, "planner_done", "the planner has nothing left to see: " + why);
+          break;
+        }
+        if (++idle >= loop.max_idle_rounds) {  // e.g. every frontier view rejected, round after round
+          end_stop(s, "idle_rounds", "no view to attempt in " + std::to_string(idle) + " rounds in a row: " + why);
+          break;
+        }
+        continue;  // sample anew next round
       }
+      idle = 0;
       const ViewPhase phase = traits.scripted ? ViewPhase::kPredefined : ViewPhase::kNbv;
-      record_unreachable(unreachable, phase);
-      attempts_left -= static_cast<int>(unreachable.size());
-      const int wanted = loop.views_per_stop - ok;
+      record_unreachable(unreachable, phase, &attempts_left);
+      const int wanted = wanted_total - ok;
       if (batch.order == nbv::BatchOrder::kTour) {
         std::vector<nbv::PlannedView> failed = unreachable;
         ok += execute(ordered, phase, traits.execute_whole_batch ? -1 : wanted, &attempts_left, &failed);
@@ -521,11 +591,22 @@ struct Mission::Impl {
         ok += execute(ordered, phase, 1, &attempts_left);  // frontier: the first view that succeeds
       }
       if (batch.last_of_stop) {
-        end = batch.reason;
+        if (ok >= wanted_total) end_stop(s, "budget_met", "view budget of the stop reached");
+        else end_stop(s, "planner_done", "the planner has nothing left to see: " + batch.reason);
         break;
       }
     }
-    s.end_reason = end;
+  }
+
+  // The mission's end reason: a run most of whose attempts failed says so.
+  void note_failed_attempts() {
+    const int attempts = static_cast<int>(result.views.size());
+    const int failed = attempts - ok_views_;
+    if (attempts == 0 || 2 * failed <= attempts) return;
+    std::string causes;
+    for (const auto& [cause, n] : result.failures) causes += (causes.empty() ? "" : ", ") + cause + " " + std::to_string(n);
+    result.end_reason += "; most attempts failed (" + std::to_string(failed) + " of " + std::to_string(attempts) +
+                         (causes.empty() ? "" : ": " + causes) + ")";
   }
 
   MissionResult run() {
@@ -536,12 +617,14 @@ struct Mission::Impl {
         const double t0 = sim.time();
         if (!drive_to_stop(k)) {
           StopRecord& s = stop_record();
-          s.end_reason = s.base_truth_contacts > 0 ? "the base touched the plants while driving (failed stop)"
-                                                   : "the base did not reach the stop";
+          end_stop(s, "base_failed",
+                   s.base_truth_contacts > 0 ? "the base touched the plants while driving (failed stop)"
+                                             : "the base did not reach the stop");
           progress("stop " + std::to_string(k + 1) + ": " + s.end_reason + "; skipping the stop");
           continue;
         }
-        scripted(scan_views(k, false), ViewPhase::kInitial);
+        const std::vector<Pose> scan = scan_views(k, false);
+        scripted(scan, ViewPhase::kInitial);
         const StopRecord& s = stop_record();
         if (s.initial_ok > 0 && s.initial_target_points == 0)
           progress("stop " + std::to_string(k + 1) + "/" + std::to_string(stops_x.size()) + ": WARNING: the initial scan's " +
@@ -550,14 +633,15 @@ struct Mission::Impl {
                    (s.initial_true_target_pixels > 0
                         ? std::to_string(s.initial_true_target_pixels) + " such pixels in them"
                         : std::string("none either: no fruit in view")));
-        nbv_loop(k);
+        nbv_loop(k, static_cast<int>(scan.size()));
         stop_record().sim_time_s = sim.time() - t0;
       }
     } catch (const StopRequested&) {
       result.complete = false;
       result.end_reason = "interrupted";
-      if (!result.stops.empty() && result.stops.back().end_reason.empty()) result.stops.back().end_reason = "interrupted";
+      if (!result.stops.empty() && result.stops.back().end.empty()) end_stop(result.stops.back(), "interrupted", "interrupted");
     }
+    note_failed_attempts();
     settle();
     result.final_metrics = evaluation::evaluate_map(map, world.truth, settings.mapping.metrics);
     result.zero_coverage_reason =
@@ -569,6 +653,7 @@ struct Mission::Impl {
   }
 
   Stopwatch elapsed_;
+  int ok_views_ = 0;  // successful views so far (MissionResult::successful_views() without the count)
   std::size_t background_view_ = 0;  // the record of the scan in the pipeline
   // The last scan's mapping; last, so it ends before the members it uses are destroyed.
   ScanPipeline scans{map, inserter, index, evaluator, *map_env};
@@ -580,7 +665,7 @@ Mission::~Mission() = default;
 MissionResult Mission::run() { return impl_->run(); }
 bool Mission::drive_to_stop(int k) { return impl_->drive_to_stop(k); }
 ViewRecord Mission::attempt(const nbv::PlannedView& view, ViewPhase phase) {
-  impl_->record(impl_->attempt(view, phase));
+  impl_->record(impl_->attempt(view, phase), view);
   impl_->settle();
   return impl_->result.views.back();
 }

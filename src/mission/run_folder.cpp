@@ -67,6 +67,10 @@ nlohmann::json summary_json(const MissionResult& r) {
                      {"rounds", s.rounds},
                      {"failures", s.failures},
                      {"end_reason", s.end_reason},
+                     {"end", s.end},
+                     {"budget", s.budget},
+                     {"successful", s.initial_ok + s.nbv_ok},
+                     {"start_repairs", s.start_repairs},
                      {"sim_time_s", s.sim_time_s}});
   }
   j["stops"] = stops;
@@ -75,6 +79,9 @@ nlohmann::json summary_json(const MissionResult& r) {
     replaced += s.scripted_replaced;
     replacement_attempts += s.replacement_attempts;
   }
+  int repairs = 0;
+  for (const StopRecord& s : r.stops) repairs += s.start_repairs;
+  j["start_repairs"] = repairs;
   j["scripted_replaced"] = replaced;
   j["replacement_attempts"] = replacement_attempts;
   bool all_reached = !r.stops.empty();

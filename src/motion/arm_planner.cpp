@@ -29,6 +29,8 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <set>
+#include <algorithm>
 
 #include "canopy/common/error.h"
 #include "canopy/common/random.h"
@@ -150,9 +152,10 @@ ArmConfig start_within_limits(const ArmConfig& start_in, const ArmLimits& limits
 }
 
 // Why a plan from `start` to `goals` cannot start: a base pose not finite, a start or goal not
-// finite or outside the joint limits, no goal, or the base or start in collision.
+// finite or outside the joint limits, no goal, or the base or (check_start) the start in collision.
 std::optional<PlanFailure> request_failure(const CollisionChecker& checker, const BasePose& base,
-                                           const ArmConfig& start, const std::vector<ArmConfig>& goals) {
+                                           const ArmConfig& start, const std::vector<ArmConfig>& goals,
+                                           bool check_start) {
   const RobotModel& model = checker.model();
   if (!std::isfinite(base.x_m) || !std::isfinite(base.y_m) || !std::isfinite(base.yaw_rad))
     return PlanFailure{PlanStatus::kInvalidInput, "base pose is not finite"};
@@ -167,6 +170,7 @@ std::optional<PlanFailure> request_failure(const CollisionChecker& checker, cons
 
   if (checker.base_in_collision(base))
     return PlanFailure{PlanStatus::kStartInCollision, "the base itself is in collision with the map"};
+  if (!check_start) return std::nullopt;
   const CollisionReport start_report = checker.report(base, start);
   if (start_report.in_collision)
     return PlanFailure{PlanStatus::kStartInCollision, "start state in collision: " + start_report.pairs.front()};
@@ -268,6 +272,12 @@ std::vector<ArmConfig> solution_configs(og::SimpleSetup& ss) {
 
 }  // namespace
 
+CollisionParams goal_collision_params(const CollisionParams& collision, const PlannerParams& planner) {
+  CollisionParams c = collision;
+  c.self_padding_m += planner.goal_self_clearance_m;
+  return c;
+}
+
 const char* to_string(PlanStatus s) {
   switch (s) {
     case PlanStatus::kSuccess: return "success";
@@ -300,6 +310,9 @@ ArmPlanner::ArmPlanner(const CollisionChecker& checker, const PlannerParams& par
     : checker_(&checker), params_(params), trajectory_params_(trajectory) {
   params_.validate();
   trajectory_params_.validate();
+  if (params_.goal_self_clearance_m > 0.0)
+    goal_checker_ = std::make_shared<const CollisionChecker>(
+        checker.model(), goal_collision_params(checker.params(), params_), checker.environment());
   // OMPL reports every solve at INFO level; warnings and errors still show.
   ompl::msg::setLogLevel(ompl::msg::LOG_WARN);
 }
@@ -313,6 +326,68 @@ bool ArmPlanner::motion_valid(const BasePose& base, const ArmConfig& a, const Ar
     if (checker_->in_collision(base, q, BodySet::kArmOnly)) return false;
   }
   return true;
+}
+
+bool ArmPlanner::leaves_collision(const BasePose& base, const ArmConfig& a, const ArmConfig& b) const {
+  const CollisionReport at_start = checker_->report(base, a);
+  const std::set<std::string> touching(at_start.pairs.begin(), at_start.pairs.end());
+  const int n = std::max(1, static_cast<int>(std::ceil(joint_distance(a, b) / params_.motion_check_resolution_rad)));
+  bool out = !at_start.in_collision;
+  for (int k = 1; k <= n; ++k) {
+    const double s = static_cast<double>(k) / n;
+    ArmConfig q;
+    for (int i = 0; i < kArmDof; ++i) q[i] = a[i] + s * (b[i] - a[i]);
+    const CollisionReport r = checker_->report(base, q);
+    if (!r.in_collision) {
+      out = true;
+      continue;
+    }
+    if (out) return false;  // back into a collision after leaving it
+    for (const std::string& pair : r.pairs)
+      if (!touching.count(pair)) return false;  // a new contact on the way out
+  }
+  return out;
+}
+
+StartRepair ArmPlanner::repair_start(const BasePose& base, const ArmConfig& start, std::uint64_t seed) const {
+  StartRepair rep;
+  const CollisionReport at_start = checker_->report(base, start);
+  if (!at_start.in_collision) return rep;
+  rep.needed = true;
+  rep.collision = at_start.pairs.front();
+  if (checker_->base_in_collision(base)) return rep;  // moving the arm cannot help
+  // A repaired state keeps the goals' clearance, so that the servos settling it do not touch again.
+  const CollisionChecker& free_test = goal_checker_ ? *goal_checker_ : *checker_;
+  const RobotModel& model = checker_->model();
+  const ArmLimits& lim = model.limits();
+  Rng rng(mix_seed(seed, 4));
+  const int attempts = params_.repair_attempts;
+  for (int k = 0; k < attempts; ++k) {
+    // The jiggle grows from a small fraction of each joint's range to jiggle_fraction, so the
+    // nearest repairs are found first.
+    const double f = params_.jiggle_fraction * (k + 1) / attempts;
+    ArmConfig q;
+    for (int i = 0; i < kArmDof; ++i)
+      q[i] = std::clamp(start[i] + f * (lim.upper[i] - lim.lower[i]) * rng.uniform(-1.0, 1.0), lim.lower[i], lim.upper[i]);
+    ++rep.samples;
+    if (free_test.in_collision(base, q) || !leaves_collision(base, start, q)) continue;
+    rep.ok = true;
+    rep.q = q;
+    rep.how = "jiggle";
+    return rep;
+  }
+  const ArmConfig& home = model.config().home;
+  if (model.within_limits(home) && !free_test.in_collision(base, home) && leaves_collision(base, start, home)) {
+    rep.ok = true;
+    rep.q = home;
+    rep.how = "home";
+  }
+  return rep;
+}
+
+ArmTrajectory ArmPlanner::repair_trajectory(const PlanResult& plan) const {
+  if (plan.repair.size() < 2) return ArmTrajectory();
+  return ArmTrajectory::time_parameterize(plan.repair, checker_->model().limits(), trajectory_params_);
 }
 
 PlanResult ArmPlanner::plan_to_camera_pose(const BasePose& base, const ArmConfig& start, const Pose& T_world_camera,
@@ -355,16 +430,33 @@ PlanResult ArmPlanner::plan_to_configs(const BasePose& base, const ArmConfig& st
     return r;
   };
   const RobotModel& model = checker_->model();
-  const ArmConfig start = start_within_limits(start_in, model.limits(), params_.start_limit_tolerance_rad);
-  if (const std::optional<PlanFailure> failure = request_failure(*checker_, base, start, goals_in))
+  const ArmConfig measured = start_within_limits(start_in, model.limits(), params_.start_limit_tolerance_rad);
+  if (const std::optional<PlanFailure> failure =
+          request_failure(*checker_, base, measured, goals_in, /*check_start=*/!params_.repair_start))
     return fail(failure->status, failure->message);
+  // A start in collision is left first (repair_start): the plan starts at the repaired state.
+  ArmConfig start = measured;
+  if (params_.repair_start) {
+    const StartRepair rep = repair_start(base, measured, seed);
+    if (rep.needed && !rep.ok)
+      return fail(PlanStatus::kStartInCollision,
+                  "start state in collision: " + rep.collision + "; no repair (" + std::to_string(rep.samples) +
+                      " nearby states sampled, home not reachable by a straight move)");
+    if (rep.needed) {
+      r.repaired = true;
+      r.repair = {measured, rep.q};
+      r.repair_note = rep.collision + ", left by " + rep.how;
+      start = rep.q;
+    }
+  }
   std::string goal_collision;
-  const std::vector<ArmConfig> free_goals =
-      free_goals_nearest_first(*checker_, base, start, goals_in, params_.max_goal_configs, &goal_collision);
+  const std::vector<ArmConfig> free_goals = free_goals_nearest_first(
+      goal_checker_ ? *goal_checker_ : *checker_, base, start, goals_in, params_.max_goal_configs, &goal_collision);
   if (free_goals.empty())
     return fail(PlanStatus::kGoalInCollision, "every goal configuration is in collision (first: " + goal_collision + ")");
 
   auto succeed = [&](std::vector<ArmConfig> path, bool direct) {
+    if (r.repaired) path.insert(path.begin(), measured);  // the repair move first
     r.status = PlanStatus::kSuccess;
     r.path = std::move(path);
     r.goal = r.path.back();

@@ -1,5 +1,7 @@
 #include "canopy/motion/view_reach.h"
 
+#include "canopy/motion/arm_planner.h"
+
 
 namespace canopy::motion {
 
@@ -84,6 +86,7 @@ NextViews next_views(const mapping::SemanticOcTree& map, nbv::VoxelIndex& index,
   };
   NextViews out;
   out.batch = planner.next(req);
+  if (request.max_views > 0 && out.batch.views.size() > request.max_views) out.batch.views.resize(request.max_views);
   if (out.batch.views.empty()) return out;
   if (out.batch.order == nbv::BatchOrder::kTour)
     out.ordered = tour_order(arm.model, arm.tour, request.base, request.q, out.batch.views, &out.unreachable);
@@ -100,7 +103,8 @@ NextViews plan_next_views(const mapping::SemanticOcTree& map, nbv::ViewPlanner& 
   // Where the robot is cannot be an obstacle (as in the mission before each plan).
   const std::size_t cleared =
       env->clear_robot_volume(model, request.base, request.q, config.collision.environment_padding_m);
-  const CollisionChecker checker(model, config.collision, env);
+  // Views are kept when their IK is free with the goals' self clearance (ArmPlanner's goal test).
+  const CollisionChecker checker(model, goal_collision_params(config.collision, config.planner), env);
   const WorkspaceFilter workspace(model, config.workspace);
   nbv::VoxelIndex index;
   NextViews out = next_views(map, index, planner, StopArm{model, workspace, &checker, config.tour}, request);

@@ -21,6 +21,12 @@ bool TakenViews::contains(const Pose& T) const {
   return false;
 }
 
+void ViewPlanner::outcome(const ViewOutcome& o) {
+  // A start in collision or a diverged simulation says nothing about the view itself.
+  if (o.success || o.failure == "start_in_collision" || o.failure == "unstable") return;
+  if (!failed_views_.contains(o.view.T_world_camera)) failed_views_.add(o.view.T_world_camera);
+}
+
 bool same_view(const Pose& a, const Pose& b) {
   return (a.translation() - b.translation()).norm() < 1e-3 &&
          Eigen::AngleAxisd(a.rotation().transpose() * b.rotation()).angle() < 0.1 * M_PI / 180.0;

@@ -93,7 +93,7 @@ TEST(Experiment, MethodsSetTheirOwnSettingsByKey) {
   EXPECT_EQ(s0.mission.loop.views_per_stop, 2);  // the experiment's override stays
   const Settings s1 = e.trial_settings(t[1]);
   EXPECT_EQ(s1.nbv.gain.proximity, nbv::Proximity::kPerSegmentEnd);
-  EXPECT_EQ(s1.mission.loop.max_rounds, 10);
+  EXPECT_EQ(s1.mission.loop.max_rounds, 1000);  // the default: attempts are the cap that decides
   EXPECT_EQ(TrialSpec::from_json(t[0].to_json(), "x").to_json(), t[0].to_json());
   // The settings differ, so the identities do, at the setting.
   const std::string d = first_difference(e.trial_identity(t[0]), load(kBase).trial_identity(load(kBase).trials()[0]));
@@ -410,6 +410,10 @@ TEST(ExperimentReport, AggregatesKnownValues) {
   EXPECT_NE(r.findings_md.find("| 1 | ours | 2 ± 0 (n=2) | 1.0 ± 0.0 (n=2) | 1.5 ± 0.0 (n=2) | no_ik 0.50 ± 0.00 |"),
             std::string::npos)
       << r.findings_md;
+  // SC at equal view counts: trials of 2 views have no figure after the 30th.
+  EXPECT_NE(r.findings_md.find("| P_gt | method | successful views | SC after 30 | after 60 | after 90 | final |"),
+            std::string::npos);
+  EXPECT_NE(r.findings_md.find("| 1 | ours | 2.0 ± 0.0 (n=2) | n/a | n/a | n/a | 0.41"), std::string::npos) << r.findings_md;
 }
 
 }  // namespace

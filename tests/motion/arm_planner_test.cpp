@@ -6,6 +6,7 @@
 #include <random>
 
 #include "canopy/common/error.h"
+#include "canopy/common/random.h"
 #include "canopy/robot/robot_config.h"
 #include "canopy/common/yaml_reader.h"
 
@@ -125,7 +126,9 @@ TEST_F(ArmPlannerTest, FailuresComeBackAsStatuses) {
   // Start in collision: a voxel where the camera is.
   const Vec3 cam = model().camera_pose(base_, start).translation();
   const CollisionChecker blocked(model(), CollisionParams{}, CollisionEnvironment::from_voxels({cam}, 0.02));
-  const ArmPlanner blocked_planner(blocked, PlannerParams{});
+  PlannerParams no_repair;
+  no_repair.repair_start = false;
+  const ArmPlanner blocked_planner(blocked, no_repair);
   const PlanResult sic = blocked_planner.plan_to_configs(base_, start, {{0.2, -1.6, 1.4, -1.2, -1.4, 0.3}});
   EXPECT_EQ(sic.status, PlanStatus::kStartInCollision);
   EXPECT_NE(sic.message.find("map"), std::string::npos) << sic.message;
@@ -180,6 +183,154 @@ TEST_F(ArmPlannerTest, SeedDecidesThePath) {
   bool differs = a.path.size() != other.path.size();
   for (size_t k = 0; !differs && k < a.path.size(); ++k) differs = a.path[k] != other.path[k];
   EXPECT_TRUE(differs);
+}
+
+// ---- Start states in collision are repaired (FACTS 19, MoveIt's FixStartStateCollision) ----
+
+// A state just inside a self-collision: the boundary between `free_q` and a self-colliding
+// state found by a seeded search, approached by bisection (a wrist resting against the chassis
+// after a servo settled it a hair past a goal is such a state).
+ArmConfig just_inside_self_collision(const CollisionChecker& self_only, const BasePose& base, const ArmConfig& free_q,
+                                     std::uint64_t seed) {
+  Rng rng(seed);
+  for (int tries = 0; tries < 100000; ++tries) {
+    ArmConfig q;
+    for (int i = 0; i < kArmDof; ++i) q[i] = free_q[i] + rng.uniform(-1.5, 1.5);
+    if (!model().within_limits(q)) continue;
+    const CollisionReport r = self_only.report(base, q);
+    if (!r.in_collision) continue;
+    bool self = true;
+    for (const std::string& p : r.pairs) self = self && p.find("| map") == std::string::npos && p.find("| ground") == std::string::npos;
+    if (!self) continue;
+    ArmConfig a = free_q, b = q;  // a free, b in collision
+    for (int k = 0; k < 40; ++k) {
+      ArmConfig m;
+      for (int i = 0; i < kArmDof; ++i) m[i] = 0.5 * (a[i] + b[i]);
+      (self_only.in_collision(base, m) ? b : a) = m;
+    }
+    return b;
+  }
+  ADD_FAILURE() << "no self-collision found";
+  return free_q;
+}
+
+// A repaired plan: it starts at the start in collision, its first segment leaves the collision
+// for good (every state after the first free one is free), and the rest is a valid plan.
+void expect_repaired_plan(const CollisionChecker& checker, const BasePose& base, const PlanResult& r,
+                          const ArmConfig& start) {
+  ASSERT_TRUE(r.ok()) << to_string(r.status) << ": " << r.message;
+  ASSERT_TRUE(r.repaired);
+  ASSERT_EQ(r.repair.size(), 2u);
+  EXPECT_LT(joint_distance(r.path.front(), start), 1e-12);
+  EXPECT_LT(joint_distance(r.path[1], r.repair.back()), 1e-12);
+  EXPECT_FALSE(checker.in_collision(base, r.repair.back()));
+  bool out = false;
+  const ArmTrajectory& t = r.trajectory;
+  for (double time = 0.0; time <= t.duration(); time += 0.002) {
+    const bool hit = checker.in_collision(base, t.sample(time).q);
+    if (out) {
+      ASSERT_FALSE(hit) << "back in collision at t = " << time;
+    }
+    out = out || !hit;
+  }
+  EXPECT_TRUE(out);
+  EXPECT_LT(joint_distance(t.sample(t.duration()).q, r.goal), 1e-9);
+}
+
+TEST(StartRepair, AStartInSelfCollisionIsLeftByAShortMove) {
+  const BasePose base{0, 0, 0};
+  const CollisionChecker self_only(model(), CollisionParams{});
+  const ArmConfig home = model().config().home;
+  const ArmConfig goal = {0.2, -1.6, 1.4, -1.2, -1.4, 0.3};
+  ASSERT_FALSE(self_only.in_collision(base, goal));
+  int repaired = 0;
+  for (std::uint64_t seed = 1; seed <= 5; ++seed) {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    const ArmConfig start = just_inside_self_collision(self_only, base, home, seed);
+    ASSERT_TRUE(self_only.in_collision(base, start));
+    PlannerParams off;
+    off.repair_start = false;
+    EXPECT_EQ(ArmPlanner(self_only, off).plan_to_configs(base, start, {goal}).status, PlanStatus::kStartInCollision);
+    const ArmPlanner planner(self_only, PlannerParams{});
+    const PlanResult r = planner.plan_to_configs(base, start, {goal}, 3);
+    expect_repaired_plan(self_only, base, r, start);
+    repaired += r.ok();
+    EXPECT_NE(r.repair_note.find("left by jiggle"), std::string::npos) << r.repair_note;
+    // A short move: within the jiggle of each joint's range.
+    const ArmLimits& lim = model().limits();
+    for (int i = 0; i < kArmDof; ++i)
+      EXPECT_LE(std::abs(r.repair[1][i] - start[i]), PlannerParams{}.jiggle_fraction * (lim.upper[i] - lim.lower[i]) + 1e-12);
+    // Deterministic for a seed.
+    const PlanResult again = planner.plan_to_configs(base, start, {goal}, 3);
+    ASSERT_TRUE(again.ok());
+    EXPECT_EQ(again.repair[1], r.repair[1]);
+  }
+  EXPECT_EQ(repaired, 5);
+}
+
+TEST(StartRepair, AStartInMapCollisionIsLeftByAShortMove) {
+  const BasePose base{0, 0, 0};
+  const ArmConfig home = model().config().home;
+  // A voxel where the wrist camera is (a leaf brushed by the camera).
+  const Pose cam = model().camera_pose(base, home);
+  const std::shared_ptr<const CollisionEnvironment> env =
+      CollisionEnvironment::from_voxels({cam.translation()}, 0.02);
+  const CollisionChecker checker(model(), CollisionParams{}, env);
+  const CollisionReport at = checker.report(base, home);
+  ASSERT_TRUE(at.in_collision);
+  ASSERT_NE(at.pairs.front().find("map"), std::string::npos) << at.pairs.front();
+  const ArmConfig goal = {0.2, -1.6, 1.4, -1.2, -1.4, 0.3};
+  ASSERT_FALSE(checker.in_collision(base, goal));
+  const PlanResult r = ArmPlanner(checker, PlannerParams{}).plan_to_configs(base, home, {goal}, 5);
+  expect_repaired_plan(checker, base, r, home);
+  EXPECT_NE(r.repair_note.find("map"), std::string::npos) << r.repair_note;
+}
+
+TEST(StartRepair, WithoutANearbyFreeStateTheArmRetreatsHome) {
+  const BasePose base{0, 0, 0};
+  const CollisionChecker self_only(model(), CollisionParams{});
+  const ArmConfig home = model().config().home;
+  PlannerParams p;
+  p.jiggle_fraction = 1e-7;  // no jiggle leaves it
+  p.repair_attempts = 5;
+  const ArmPlanner planner(self_only, p);
+  int home_repairs = 0;
+  for (std::uint64_t seed = 1; seed <= 5; ++seed) {
+    const ArmConfig start = just_inside_self_collision(self_only, base, home, seed);
+    const StartRepair rep = planner.repair_start(base, start, 1);
+    ASSERT_TRUE(rep.needed);
+    EXPECT_EQ(rep.samples, 5);
+    if (!rep.ok) continue;
+    EXPECT_EQ(rep.how, "home");
+    EXPECT_EQ(rep.q, home);
+    ++home_repairs;
+  }
+  // The start lies on the line from home to a collision: going back home leaves it.
+  EXPECT_GE(home_repairs, 4);
+  // A free start needs no repair.
+  EXPECT_FALSE(planner.repair_start(base, home, 1).needed);
+  // The base in collision: moving the arm cannot help.
+  const CollisionChecker base_blocked(model(), CollisionParams{}, CollisionEnvironment::from_voxels({Vec3(0, 0, 0.2)}, 0.02));
+  const PlanResult blocked = ArmPlanner(base_blocked, PlannerParams{}).plan_to_configs(base, home, {home});
+  EXPECT_EQ(blocked.status, PlanStatus::kStartInCollision);
+}
+
+// Goals keep goal_self_clearance_m from the robot itself: a goal a hair outside a
+// self-collision is refused, the servos would settle it touching.
+TEST(StartRepair, GoalsTouchingTheRobotItselfAreRefused) {
+  const BasePose base{0, 0, 0};
+  const CollisionChecker self_only(model(), CollisionParams{});
+  const ArmConfig home = model().config().home;
+  const ArmConfig inside = just_inside_self_collision(self_only, base, home, 2);
+  // Just outside: a little toward home.
+  ArmConfig outside = inside;
+  for (int i = 0; i < kArmDof; ++i) outside[i] = inside[i] + 1e-4 * (home[i] - inside[i]) / joint_distance(home, inside);
+  ASSERT_FALSE(self_only.in_collision(base, outside));
+  PlannerParams no_clearance;
+  no_clearance.goal_self_clearance_m = 0.0;
+  EXPECT_TRUE(ArmPlanner(self_only, no_clearance).plan_to_configs(base, home, {outside}).ok());
+  const PlanResult r = ArmPlanner(self_only, PlannerParams{}).plan_to_configs(base, home, {outside});
+  EXPECT_EQ(r.status, PlanStatus::kGoalInCollision) << r.message;
 }
 
 TEST(ArmPlannerParams, YamlAndRegistry) {

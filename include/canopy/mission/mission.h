@@ -94,6 +94,7 @@ struct ViewRecord {
   long true_target_pixels = 0;   ///< Target-class pixels in its frame's true labels (kept out of views.csv).
   double arm_path_rad = 0.0;     ///< Joint-space length of the trajectory executed (sum of |dq| over its waypoints).
   double base_travel_m = 0.0;    ///< Base travel of the mission so far (straight lines between stops).
+  std::string start_repair;      ///< The arm's start was in collision: what, and how it was left ("" = it was free).
   /// The field's figures of the map after this view (evaluation::MapMetrics, headline rule).
   double fruits_sc50 = 0.0, fruits_sc80 = 0.0;
   int fruit_clusters = 0, fruits_matched = 0;
@@ -119,7 +120,13 @@ struct StopRecord {
   int replacement_attempts = 0;  ///< Replacement views attempted (counted in initial_ / nbv_attempted too).
   int rounds = 0;
   std::map<std::string, int> failures;
-  std::string end_reason;        ///< Why the stop's loop ended.
+  std::string end_reason;        ///< Why the stop's loop ended (one line).
+  /// Why, as a code: budget_met, planner_done (it has nothing left to see), attempt_cap,
+  /// round_cap, idle_rounds (no view to attempt in max_idle_rounds rounds), interrupted,
+  /// base_failed.
+  std::string end;
+  int budget = 0;                ///< Successful views wanted at this stop (initial scan's + views_per_stop).
+  int start_repairs = 0;         ///< Attempts whose arm start was in collision and was repaired.
   double sim_time_s = 0.0;       ///< Simulated time spent at (and driving to) this stop.
   /// Counts an attempt made at this stop (attempted, successful, target points, failures).
   void count(const ViewRecord& view);
@@ -130,6 +137,8 @@ struct MissionResult {
   std::vector<ViewRecord> views;
   std::vector<StopRecord> stops;
   bool complete = true;          ///< False when interrupted (the views so far are valid).
+  /// Why the run ended: "all stops done", "interrupted"; followed by "; most attempts failed
+  /// (...)" when fewer than half of the attempts succeeded.
   std::string end_reason = "all stops done";
   double sim_time_s = 0.0;
   double wall_time_s = 0.0;

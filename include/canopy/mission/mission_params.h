@@ -74,7 +74,8 @@ struct ScanParams {
 /// The NBV loop of one stop.
 struct LoopParams {
   int views_per_stop = 12;
-  int max_rounds = 10;
+  int max_rounds = 1000;
+  int max_idle_rounds = 10;
   int max_attempts = 60;
   double region_half_length_m = 0.45;
   double region_half_width_m = 1.2;
@@ -84,8 +85,11 @@ struct LoopParams {
 
   template <class A>
   void visit(A& a) {
-    a("views_per_stop", views_per_stop, limits::in(0, 10000), "Successful NBV (or frontier) views wanted per stop");
-    a("max_rounds", max_rounds, limits::in(0, 10000), "Planning rounds per stop at most");
+    a("views_per_stop", views_per_stop, limits::in(0, 10000),
+      "Successful views wanted per stop beyond the initial scan's (a failed initial view is made up for)");
+    a("max_rounds", max_rounds, limits::in(0, 10000), "Planning rounds per stop at most (attempts are the cap that decides)");
+    a("max_idle_rounds", max_idle_rounds, limits::in(1, 10000),
+      "A stop ends after this many planning rounds in a row without a view to attempt");
     a("max_attempts", max_attempts, limits::in(0, 100000), "Attempted views per stop at most (after the initial scan)");
     a("region_half_length_m", region_half_length_m, limits::positive(),
       "Targets within this of the arm base along x count [m]");

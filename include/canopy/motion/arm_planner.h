@@ -6,6 +6,7 @@
 // OMPL stays inside arm_planner.cpp.
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -46,11 +47,29 @@ struct PlannerParams {
   /// A start up to this far outside the joint limits (servo overshoot at a limit) is
   /// clamped into them; further out it is invalid input.
   double start_limit_tolerance_rad = 0.01;
+  /// A start in collision (with itself or the map; not the base) is repaired, not refused:
+  /// nearby states are sampled (each joint within a growing fraction of its range, up to
+  /// jiggle_fraction) and the first valid one that a short straight move reaches without a
+  /// new contact is taken; else the home configuration by the same test (MoveIt's
+  /// FixStartStateCollision, docs/mission.md). The repair move is the plan's first segment.
+  bool repair_start = true;
+  double jiggle_fraction = 0.02;  ///< Largest jiggle, as a fraction of each joint's range.
+  int repair_attempts = 100;      ///< States sampled at most before the retreat home.
+  /// Goals must keep this clearance from the robot's own shapes (self-collision padding of the
+  /// goal test only): the servos settle a goal within about 1 mm and MuJoCo's soft contacts
+  /// let touching shapes press into each other, so a goal touching the robot ends in
+  /// self-collision and the next plan's start with it (docs/motion.md).
+  double goal_self_clearance_m = 0.001;
 
   template <class A>
   void visit(A& a);
   void validate() const { validate_params(*this, "planner"); }
 };
+
+/// The collision settings goals are checked with: `collision` with the self padding raised by
+/// planner.goal_self_clearance_m (ArmPlanner's goal test; the view planners' reachability
+/// filter uses the same, so that a view it keeps is not refused at planning).
+CollisionParams goal_collision_params(const CollisionParams& collision, const PlannerParams& planner);
 
 /// Names accepted by PlannerParams::planner.
 std::vector<std::string> planner_names();
@@ -68,6 +87,11 @@ void PlannerParams::visit(A& a) {
   a("max_goal_configs", max_goal_configs, limits::in(1, 8), "IK solutions handed to the planner as goals");
   a("start_limit_tolerance_rad", start_limit_tolerance_rad, limits::non_negative(),
     "A start this far outside the joint limits is clamped into them [rad]");
+  a("repair_start", repair_start, "Repair a start in collision (jiggle, else home) instead of refusing it");
+  a("jiggle_fraction", jiggle_fraction, limits::in(0.0, 0.5), "Largest start repair jiggle, fraction of each joint's range");
+  a("repair_attempts", repair_attempts, limits::in(1, 100000), "States sampled at most by a start repair");
+  a("goal_self_clearance_m", goal_self_clearance_m, limits::in(0.0, 0.1),
+    "Goals keep this clearance from the robot's own shapes [m]");
 }
 
 /// Sets OMPL's global seed; effective only before the first planner runs in the process
@@ -85,7 +109,22 @@ struct PlanResult {
   ArmConfig goal{};             ///< The goal configuration reached (on success).
   double planning_time_s = 0.0;
   bool direct = false;          ///< The straight line was valid; OMPL was not needed.
+  /// The start was in collision and was repaired: `repair` leads from it to a free state (the
+  /// path's first segment on success; on failure a move of its own, see repair_trajectory).
+  bool repaired = false;
+  std::vector<ArmConfig> repair;  ///< {start, free state} when repaired.
+  std::string repair_note;        ///< What was in collision and how it was left ("jiggle", "home").
   bool ok() const { return status == PlanStatus::kSuccess; }
+};
+
+/// How a start in collision is left (ArmPlanner::repair_start).
+struct StartRepair {
+  bool needed = false;        ///< The start was in collision.
+  bool ok = false;            ///< A free state was found and the straight move to it is safe.
+  ArmConfig q{};              ///< That state.
+  std::string how;            ///< "jiggle" or "home".
+  std::string collision;      ///< The start's first colliding pair.
+  int samples = 0;            ///< States sampled.
 };
 
 /// Plans arm motions for a robot model in the environment of a collision checker, with the
@@ -106,12 +145,27 @@ class ArmPlanner {
                                  std::uint64_t seed = 1) const;
   /// True when the straight joint-space line a -> b is collision-free at the resolution.
   bool motion_valid(const BasePose& base, const ArmConfig& a, const ArmConfig& b) const;
+  /// When `start` is in collision (self or map; the base must be free): a nearby free state
+  /// reached by a straight joint move that leaves the collision and touches nothing new, else
+  /// the home configuration by the same test. Deterministic for a seed.
+  StartRepair repair_start(const BasePose& base, const ArmConfig& start, std::uint64_t seed = 1) const;
+  /// The timed straight move of a repair (plan.repair), to leave the collision when the plan
+  /// from the repaired state failed.
+  ArmTrajectory repair_trajectory(const PlanResult& plan) const;
 
   const PlannerParams& params() const { return params_; }
   const CollisionChecker& checker() const { return *checker_; }
+  /// The checker goals (and repaired starts) must be free in: checker() with the goals' self
+  /// clearance (goal_collision_params).
+  const CollisionChecker& goal_checker() const { return goal_checker_ ? *goal_checker_ : *checker_; }
 
  private:
+  /// True when the straight move a -> b leaves a collision: states in collision come only
+  /// first and collide in no pair the start does not; the end is free.
+  bool leaves_collision(const BasePose& base, const ArmConfig& a, const ArmConfig& b) const;
+
   const CollisionChecker* checker_;
+  std::shared_ptr<const CollisionChecker> goal_checker_;  ///< Self padding goal_self_clearance_m added (null when 0).
   PlannerParams params_;
   TrajectoryParams trajectory_params_;
 };

@@ -52,6 +52,9 @@ struct NextViewsRequest {
   std::uint64_t seed = 1;
   std::vector<Pose> scripted;    ///< The stop's scripted views (for planners that take them).
   nbv::CandidateObserver on_scored;  ///< Passed to the planner (ViewRequest::on_scored).
+  /// The batch is cut to its first max_views views (best first) before the tour: the attempts
+  /// the stop has left (0: no cap).
+  std::size_t max_views = 0;
 };
 
 /// The arm's side of a stop: what reachability and the tour are computed with.

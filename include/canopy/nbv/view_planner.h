@@ -134,6 +134,22 @@ class DoneClusters {
   std::vector<Vec3> done_;
 };
 
+/// What became of one attempted view (ViewPlanner::outcome): every attempt the mission makes
+/// at a stop is reported, successes and failures, the initial scan's included.
+struct ViewOutcome {
+  PlannedView view;               ///< The view as attempted (pose, target, source, gain, ...).
+  bool success = false;
+  /// Why it failed ("" on success): no_ik, start_in_collision, goal_in_collision, plan_timeout,
+  /// invalid_input, not_reached, unstable (the mission's failure causes, docs/mission.md).
+  std::string failure;
+  std::string detail;             ///< One line: the failure's detail, or what was done.
+  Pose T_reached = Pose::Identity();  ///< The camera pose the frame was taken from (success).
+  int stop = 0;                   ///< Base stop (0-based).
+  int attempt = 0;                ///< Attempt number over the mission (0-based).
+  std::string phase;              ///< "initial", "nbv" or "predefined".
+  bool start_repaired = false;    ///< The arm's start was in collision and was repaired first.
+};
+
 /// A method that picks views. Stateful (taken views, done clusters), one per mission.
 class ViewPlanner {
  public:
@@ -146,16 +162,25 @@ class ViewPlanner {
   virtual ViewBatch next(const ViewRequest& request) = 0;
   /// Told after each view the robot took (reached and observed), so it is not taken again.
   virtual void taken(const Pose& T_world_camera) { taken_.add(T_world_camera); }
+  /// Told after every attempted view, successful or not, with why it failed (after taken()
+  /// for a success). Default: nothing (planners that want to avoid failing views override it).
+  /// Default: a view that failed for a cause of its own (not a start in collision or an
+  /// unstable simulation) joins failed_views(). Overrides call it too.
+  virtual void outcome(const ViewOutcome& outcome);
   /// A new base stop begins.
   virtual void begin_stop() {}
   /// Replaces a scripted view that failed by attempting others through `request.attempt`
   /// (PlannerTraits::replaces_failed); true when one succeeded. Default: no replacement.
   virtual bool replace_failed(const FailedScriptedView& /*request*/) { return false; }
   const TakenViews& taken_views() const { return taken_; }
+  /// Views attempted and failed for a cause of their own (no IK, goal in collision, no path,
+  /// not reached), over the mission: a planner may keep them out of its next batches.
+  const TakenViews& failed_views() const { return failed_views_; }
 
  protected:
-  explicit ViewPlanner(const ViewRules& rules) : taken_(rules) {}
+  explicit ViewPlanner(const ViewRules& rules) : taken_(rules), failed_views_(rules) {}
   TakenViews taken_;
+  TakenViews failed_views_;
 };
 
 /// Which method picks the views: a view planner by name, with the gain and ray set its
