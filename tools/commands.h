@@ -22,6 +22,8 @@ void add_mission_command(CLI::App& app);
 void add_map_command(CLI::App& app);
 /// `canopy nbv`: next views from a saved map for the robot at a base pose (views.json).
 void add_nbv_command(CLI::App& app);
+/// `canopy visibility`: fruit detectability from fixed camera positions (Hemming et al. 2014).
+void add_visibility_command(CLI::App& app);
 /// `canopy reach`: reachable, collision-free and planned fractions of views from a base pose.
 void add_reach_command(CLI::App& app);
 

@@ -110,6 +110,7 @@ int main(int argc, char** argv) {
   canopy::cli::add_experiment_command(app);
   canopy::cli::add_report_command(app);
   canopy::cli::add_reach_command(app);
+  canopy::cli::add_visibility_command(app);
   canopy::cli::add_nbv_command(app);
   canopy::cli::add_settings_command(app);
   CLI::App* bench = app.add_subcommand("bench", "Benchmarks that print timings (not tests)");

@@ -33,6 +33,17 @@ std::string num(double v) {
   }
 }
 std::string rgb_text(double r, double g, double b) { return num(r) + " " + num(g) + " " + num(b); }
+// The sun (world file `lighting`): the fixed sun, as always written, or the world seed's.
+std::string sun_light(const world::WorldSpec& spec) {
+  if (!spec.lighting.per_seed)
+    return "    <light name=\"sun\" directional=\"true\" pos=\"0 0 5\" dir=\"-0.3 0.2 -1\" diffuse=\"0.55 0.55 0.55\" "
+           "specular=\"0.05 0.05 0.05\" castshadow=\"true\"/>\n";
+  Vec3 dir;
+  double diffuse = 0.0;
+  spec.lighting.sun(spec.seed, &dir, &diffuse);
+  return "    <light name=\"sun\" directional=\"true\" pos=\"0 0 5\" dir=\"" + rgb_text(dir.x(), dir.y(), dir.z()) +
+         "\" diffuse=\"" + rgb_text(diffuse, diffuse, diffuse) + "\" specular=\"0.05 0.05 0.05\" castshadow=\"true\"/>\n";
+}
 // Half the thickness of the concrete path's slab [m]: thin, but clear of the ground plane in depth.
 constexpr double kPathHalfThicknessM = 0.002;
 std::string vec3(const Vec3& v) { return num(v.x()) + " " + num(v.y()) + " " + num(v.z()); }
@@ -254,7 +265,7 @@ SceneDescription make_scene_mjcf(const world::World& world, const robot::RobotDe
         }
       }
   os << "  </asset>\n  <worldbody>\n"
-     << "    <light name=\"sun\" directional=\"true\" pos=\"0 0 5\" dir=\"-0.3 0.2 -1\" diffuse=\"0.55 0.55 0.55\" specular=\"0.05 0.05 0.05\" castshadow=\"true\"/>\n"
+     << sun_light(spec)
      << "    <geom name=\"ground\" type=\"plane\" size=\"30 30 0.1\" material=\"ground\" group=\"" << kGroupGround
      << "\" contype=\"1\" conaffinity=\"1\"/>\n";
   scene.labels["ground"] = GeomLabel{spec.class_of("ground"), kNoInstance, false};

@@ -287,6 +287,18 @@ void add_fruits(PlantBuild& b, const std::vector<Stem>& stems, const Vec3& base,
   }
 }
 
+// V-system support: each stem's string, from the fork straight up along the stem's lean to a
+// wire 0.3 m above the stem's tip (the stem winds around it in a greenhouse). No random draws.
+constexpr Color kTrellisColor{0.85f, 0.84f, 0.78f};
+void add_trellis_strings(PlantBuild& b, const std::vector<Stem>& stems) {
+  for (size_t k = 0; k < stems.size(); ++k) {
+    const Vec3 fork = stems[k].points.front(), tip = stems[k].points.back();
+    const Vec3 dir = (tip - fork).normalized();
+    const Vec3 top = tip + (0.3 / std::max(dir.z(), 0.2)) * dir;
+    b.add_part("trellis", static_cast<int>(k), make_tube({fork, top}, {0.001, 0.001}, 4), kTrellisColor);
+  }
+}
+
 Plant make_plant(const WorldSpec& spec, int index, const Vec3& base, int* next_instance) {
   const PlantParams& pp = spec.plant;
   PlantBuild b{spec, Rng(mix_seed(spec.seed, static_cast<std::uint64_t>(index) + 1000)), Plant{},
@@ -300,6 +312,7 @@ Plant make_plant(const WorldSpec& spec, int index, const Vec3& base, int* next_i
   const std::vector<Stem> stems = add_stems(b, base, r_stem, split_z, v_azimuth);
   add_leaves(b, stems, base);
   add_fruits(b, stems, base, next_instance);
+  if (pp.trellis_strings) add_trellis_strings(b, stems);
   return std::move(b.plant);
 }
 

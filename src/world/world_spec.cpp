@@ -7,6 +7,7 @@
 #include <set>
 
 #include "canopy/common/error.h"
+#include "canopy/common/random.h"
 #include "canopy/robot/robot_config.h"
 #include "canopy/common/yaml_reader.h"
 #include "canopy/world/plant_import.h"
@@ -136,7 +137,7 @@ void WorldSpec::validate() const {
   validate_params(*this, where);
   classes.validate(where);
   camera.validate(where);
-  for (const std::string part : {"ground", "robot", "stem", "petiole", "leaf", "peduncle", "fruit", "unripe_fruit"}) {
+  for (const std::string part : {"ground", "robot", "stem", "petiole", "leaf", "peduncle", "fruit", "unripe_fruit", "trellis"}) {
     if (class_of(part) < 0)
       throw InputError(where + ": key 'part_classes." + part + "': its class is not in the class list");
   }
@@ -164,6 +165,19 @@ const PlantPlacement* WorldSpec::placement_in_slot(int row, int index) const {
   for (const auto& p : placements)
     if (p.in_slot && p.row == row && p.index == index) return &p;
   return nullptr;
+}
+
+void Lighting::sun(std::uint64_t seed, Vec3* dir, double* diffuse) const {
+  if (!per_seed) {
+    *dir = Vec3(-0.3, 0.2, -1.0);
+    *diffuse = 0.55;
+    return;
+  }
+  Rng rng(mix_seed(seed, 0x5117));  // its own stream: the plants draw nothing less or more
+  const double azimuth = rng.uniform(0.0, 2.0 * M_PI);
+  const double elevation = rng.uniform(elevation_min_deg, elevation_max_deg) * M_PI / 180.0;
+  *diffuse = rng.uniform(diffuse_min, diffuse_max);
+  *dir = -Vec3(std::cos(elevation) * std::cos(azimuth), std::cos(elevation) * std::sin(azimuth), std::sin(elevation));
 }
 
 double WorldSpec::plant_reach_m() const {
@@ -227,6 +241,7 @@ int WorldSpec::class_of(const std::string& part) const {
   else if (part == "peduncle") name = &part_classes.peduncle;
   else if (part == "fruit") name = &part_classes.fruit;
   else if (part == "unripe_fruit") name = &part_classes.unripe_fruit;
+  else if (part == "trellis") name = &part_classes.trellis;
   return name ? classes.index_of(*name) : -1;
 }
 

@@ -47,13 +47,16 @@ expect_error "key 'rows.row_offset_m': value '0.3' leaves an aisle" world --worl
 expect_error "key 'plant.height_m'" world --world "$tmp/huge.yaml"
 expect_error "--pgt: value 'nan' is not a finite number" map --pgt nan
 expect_error "--pgt" map --pgt inf
+expect_error "--distance: value 'nan' is not a finite number" visibility --distance nan
+expect_error "--distance must be > 0" visibility --distance 0
+expect_error "--max-occlusion must be in [0, 1]" visibility --max-occlusion 2
 expect_error "--video-fps: value 'nan' is not a finite number" run --video-fps nan
 expect_error "--coverage-target: value 'nan' is not a finite number" ablate --coverage-target nan
 expect_error "excludes" render --base 0,0,0 --camera-pose 0,0,1,1,0,0,0
 expect_error "--joints: value '7,0,0,0,0,0' is outside the joint limits" render --joints 7,0,0,0,0,0
 
 # Messages tell the truth.
-expect_error "unknown command 'frobnicate' for 'canopy'; the commands are: world, render, import-plant, run, mission, map, ablate, experiment, report, reach, nbv, settings, bench" frobnicate
+expect_error "unknown command 'frobnicate' for 'canopy'; the commands are: world, render, import-plant, run, mission, map, ablate, experiment, report, reach, visibility, nbv, settings, bench" frobnicate
 expect_error "unknown command 'frobnicate' for 'canopy bench'; the commands are: render, map, gain, motion" bench frobnicate
 expect_error "--summarize-only: no finished jobs" ablate --quick --summarize-only
 

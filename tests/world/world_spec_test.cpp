@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 
@@ -150,6 +151,35 @@ TEST(WorldSpec, DocsTableIsCurrent) {
   ASSERT_NE(b, std::string::npos);
   EXPECT_EQ(doc.substr(a + begin.size(), b - a - begin.size()), params_markdown(describe_params(WorldSpec{})))
       << "regenerate docs/plants.md's table with 'canopy settings --world --markdown'";
+}
+
+// The sun: fixed unless the world file asks for one per seed; then drawn from the seed alone,
+// inside the file's ranges, and different across seeds.
+TEST(WorldSpec, SunIsFixedByDefaultAndDrawnPerSeedWhenAsked) {
+  Lighting fixed;
+  Vec3 dir;
+  double diffuse = 0.0;
+  fixed.sun(7, &dir, &diffuse);
+  EXPECT_TRUE(dir.isApprox(Vec3(-0.3, 0.2, -1.0)));
+  EXPECT_DOUBLE_EQ(diffuse, 0.55);
+  Lighting drawn;
+  drawn.per_seed = true;
+  Vec3 a, b, a2;
+  double da = 0.0, db = 0.0, da2 = 0.0;
+  drawn.sun(1, &a, &da);
+  drawn.sun(2, &b, &db);
+  drawn.sun(1, &a2, &da2);
+  EXPECT_EQ(a, a2);
+  EXPECT_EQ(da, da2);
+  EXPECT_FALSE(a.isApprox(b));
+  for (const Vec3& d : {a, b}) {
+    EXPECT_NEAR(d.norm(), 1.0, 1e-12);
+    const double elevation = std::asin(-d.z()) * 180.0 / M_PI;
+    EXPECT_GE(elevation, drawn.elevation_min_deg - 1e-9);
+    EXPECT_LE(elevation, drawn.elevation_max_deg + 1e-9);
+  }
+  EXPECT_GE(da, drawn.diffuse_min);
+  EXPECT_LE(da, drawn.diffuse_max);
 }
 
 }  // namespace

@@ -75,6 +75,32 @@ TEST(WorldGeneration, SameSeedSameWorldOtherSeedOtherWorld) {
   EXPECT_TRUE(differs);
 }
 
+// Trellis strings are extra parts: two per plant (one per stem), of their own class, and every
+// other part of the world is the same as without them (they draw no random numbers).
+TEST(WorldGeneration, TrellisStringsAddTwoPartsPerPlantAndChangeNothingElse) {
+  WorldSpec with = small_spec(5);
+  with.plant.trellis_strings = true;
+  const World a = generate_world(small_spec(5)), b = generate_world(with);
+  ASSERT_EQ(a.plants.size(), b.plants.size());
+  for (size_t i = 0; i < a.plants.size(); ++i) {
+    const auto& pa = a.plants[i].parts;
+    const auto& pb = b.plants[i].parts;
+    ASSERT_EQ(pb.size(), pa.size() + 2);
+    for (size_t k = 0; k < pa.size(); ++k) {
+      EXPECT_EQ(pa[k].name, pb[k].name);
+      EXPECT_EQ(pa[k].mesh.vertices, pb[k].mesh.vertices);
+    }
+    for (size_t k = pa.size(); k < pb.size(); ++k) {
+      EXPECT_EQ(pb[k].kind, "trellis");
+      EXPECT_EQ(pb[k].class_id, with.classes.index_of("background"));
+      Vec3 lo, hi;
+      pb[k].mesh.bounds(&lo, &hi);
+      EXPECT_GT(hi.z(), a.plants[i].height_m);  // up to the wire above the plant
+    }
+  }
+  EXPECT_EQ(a.truth.total_points(), b.truth.total_points());
+}
+
 TEST(WorldGeneration, DefaultWorldHasEightDistinctPlantsWithLabelledParts) {
   const WorldSpec spec = WorldSpec::load(find_data_file("worlds/default.yaml"));
   const World w = generate_world(spec);

@@ -97,6 +97,10 @@ struct PlantParams {
   /// Ripe colours: their fruits are targets (in the metrics); others are rendered and
   /// labelled (part class unripe_fruit) but not counted, as in the paper's ground truth.
   std::vector<std::string> ripe_colors = {"red", "yellow", "orange"};
+  /// V-system support: one string per stem, from the fork up along the stem to a wire above
+  /// the plant. Off by default (the plants are the same either way: the strings draw no
+  /// random numbers).
+  bool trellis_strings = false;
 
   /// The keys of a world file's `plant` (ranges as [min, max]).
   template <class Archive>
@@ -130,6 +134,8 @@ struct PlantParams {
     a("ripe_colors", ripe_colors, "Colours whose fruits are targets (the metrics count them)");
     a.check(spec_detail::known_fruit_colors(ripe_colors), "ripe_colors",
             "holds an unknown colour (use red, yellow, orange, green)");
+    a("trellis_strings", trellis_strings,
+      "One trellis string per stem, from the fork along the stem to a wire 0.3 m above the plant (V-system)");
   }
 };
 
@@ -143,6 +149,7 @@ struct PartClasses {
   std::string peduncle = "leaf";
   std::string fruit = "fruit";
   std::string unripe_fruit = "fruit";  ///< Fruits whose colour is not ripe.
+  std::string trellis = "background";  ///< Trellis strings (plant.trellis_strings).
 
   /// The keys of a world file's `part_classes`.
   template <class Archive>
@@ -155,6 +162,7 @@ struct PartClasses {
     a("peduncle", peduncle, "Class of peduncles");
     a("fruit", fruit, "Class of ripe fruits");
     a("unripe_fruit", unripe_fruit, "Class of fruits whose colour is not ripe");
+    a("trellis", trellis, "Class of trellis strings (plant.trellis_strings)");
   }
 };
 
@@ -177,6 +185,29 @@ struct GroundLook {
     a("path_width_m", path_width_m, limits::in(0.0, 20.0),
       "Width of the concrete path across the rows' start, where the robot enters the aisle [m]; 0: no path");
   }
+};
+
+/// The sun over the greenhouse: one directional light. By default the same for every world
+/// (as before this section existed: the scene does not change). With `per_seed` its direction
+/// and brightness are drawn from the world's seed, as a greenhouse's light changes with the
+/// hour and the weather, so colour segmentation meets varying light across world seeds.
+struct Lighting {
+  bool per_seed = false;
+  double elevation_min_deg = 30.0, elevation_max_deg = 75.0;  ///< Sun above the horizon.
+  double diffuse_min = 0.35, diffuse_max = 0.75;              ///< Sun brightness (MuJoCo diffuse, grey).
+
+  /// The keys of a world file's `lighting`.
+  template <class Archive>
+  void visit(Archive& a) {
+    a("per_seed", per_seed, "Draw the sun's direction and brightness from the world's seed (false: one fixed sun)");
+    spec_detail::range(a, "sun_elevation_deg", elevation_min_deg, elevation_max_deg, limits::in(5.0, 90.0),
+                       "With per_seed: the sun's elevation above the horizon [deg], drawn uniformly");
+    spec_detail::range(a, "sun_diffuse", diffuse_min, diffuse_max, limits::in(0.0, 1.0),
+                       "With per_seed: the sun's brightness (diffuse grey level, 0-1), drawn uniformly");
+  }
+  /// The sun of a world with seed `seed`: direction (towards the ground) and diffuse level.
+  /// Without per_seed the fixed sun (-0.3, 0.2, -1), 0.55.
+  void sun(std::uint64_t seed, Vec3* dir, double* diffuse) const;
 };
 
 /// An imported plant (a folder written by `canopy import-plant`) placed in the world, from
@@ -202,6 +233,7 @@ struct WorldSpec {
   SemanticClasses classes;
   PartClasses part_classes;
   GroundLook ground;
+  Lighting lighting;
   RowLayout rows;
   PlantParams plant;
   CameraIntrinsics camera;
@@ -220,6 +252,7 @@ struct WorldSpec {
     a("target_class", classes.target, "The class the metrics count (fruit)");
     a.section("part_classes", part_classes, "Which class each kind of geometry carries");
     a.section("ground", ground, "What the floor looks like: ground film and a concrete path");
+    a.section("lighting", lighting, "The sun: fixed, or drawn per world seed");
     a.section("rows", rows, "Plants in rows along the aisle");
     a.section("plant", plant, "Ranges each procedural plant draws its shape from");
     a.section("camera", camera, "The wrist camera (rendered: fx = fy, principal point at the centre)");
