@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # The default mission (default world and settings, seed 1) of each method gives the same
 # views.csv and map.csm, byte for byte, as when these hashes were recorded (golden_views.sha256:
-# views.csv's hash, map.csm's hash, the method; retaken when the floor became white ground
-# film, which changed the maps and the detection columns, not ours' poses): a change that should not change behaviour must not change
+# views.csv's hash, map.csm's hash, the method; retaken after the white floor (maps and
+# detection columns) and the loop's repair and attempt cap (ours' and frontier's views)): a change that should not change behaviour must not change
 # what the robot does. A change that means to change behaviour updates the hashes and says so.
 set -euo pipefail
 canopy="$1"
