@@ -51,6 +51,21 @@ PlannedView planned_view(const Candidate& c, double gain, const std::string& sou
   return v;
 }
 
+void take_best_views(std::vector<ScoredView> scored, int max_views, const std::string& source,
+                     const std::string& nothing_reason, const std::function<void(const Pose&)>& offered,
+                     ViewBatch* batch) {
+  batch->candidates = scored.size();
+  std::stable_sort(scored.begin(), scored.end(),
+                   [](const ScoredView& a, const ScoredView& b) { return a.score.gain > b.score.gain; });
+  for (const ScoredView& sv : scored) {
+    if (int(batch->views.size()) >= max_views || !(sv.score.gain > 0.0)) break;
+    batch->views.push_back(planned_view(sv.candidate, sv.score.gain, source));
+    if (offered) offered(sv.candidate.T_world_camera);
+  }
+  batch->finished = batch->views.empty();
+  if (batch->finished) batch->reason = scored.empty() ? "every candidate was filtered out" : nothing_reason;
+}
+
 namespace {
 
 // Built-ins first, then registered planners; entries are never removed, so pointers into the

@@ -222,6 +222,14 @@ struct ViewPlannerEntry {
 /// A PlannedView of a scored candidate (what the filter moved, the IK it found).
 PlannedView planned_view(const Candidate& candidate, double gain, const std::string& source);
 
+/// Ends a scoring planner's round: `scored` sorted by gain (stable, best first), the first
+/// `max_views` with a gain > 0 become batch->views tagged `source` (each passed to `offered`),
+/// batch->candidates counts them all, and an empty batch is finished with the reason "every
+/// candidate was filtered out" (nothing scored) or `nothing_reason`.
+void take_best_views(std::vector<ScoredView> scored, int max_views, const std::string& source,
+                     const std::string& nothing_reason, const std::function<void(const Pose&)>& offered,
+                     ViewBatch* batch);
+
 /// The registry: the built-in planners (builtin_view_planners), then the registered planners in the order they
 /// were registered.
 std::vector<ViewPlannerEntry> view_planner_registry();

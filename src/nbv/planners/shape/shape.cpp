@@ -91,17 +91,8 @@ class ShapePlanner : public ViewPlanner {
           scored.push_back(sv);
         }
       }
-    batch.candidates = scored.size();
-    std::stable_sort(scored.begin(), scored.end(),
-                     [](const ScoredView& a, const ScoredView& b) { return a.score.gain > b.score.gain; });
-    for (const ScoredView& sv : scored) {
-      if (int(batch.views.size()) >= params_.max_views || !(sv.score.gain > 0.0)) break;
-      batch.views.push_back(planned_view(sv.candidate, sv.score.gain, "shape"));
-      failed_.offered(sv.candidate.T_world_camera);
-    }
-    batch.finished = batch.views.empty();
-    if (batch.finished)
-      batch.reason = scored.empty() ? "every candidate was filtered out" : "no candidate sees predicted fruit surface";
+    take_best_views(std::move(scored), params_.max_views, "shape", "no candidate sees predicted fruit surface",
+                    [this](const Pose& T) { failed_.offered(T); }, &batch);
     return batch;
   }
 
