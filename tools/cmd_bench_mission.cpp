@@ -3,10 +3,13 @@
 #include <spdlog/spdlog.h>
 #include <sys/resource.h>
 
+#include <algorithm>
 #include <cstdio>
+#include <filesystem>
 #include <sstream>
 
 #include "canopy/common/timer.h"
+#include "canopy/jobs/bench_compare.h"
 #include "canopy/mission/mission.h"
 #include "cli_util.h"
 #include "commands.h"
@@ -53,6 +56,9 @@ void add_bench_mission(CLI::App& bench) {
     std::string rows = "4:5,16:20";
     std::string method = "ours";
     unsigned seed = 1;
+    std::string against, save;
+    int repeats = 3;
+    std::vector<std::string> sets;
   };
   auto opt = std::make_shared<Options>();
   CLI::App* sub = bench.add_subcommand(
@@ -63,7 +69,58 @@ void add_bench_mission(CLI::App& bench) {
       ->capture_default_str();
   sub->add_option("--method", opt->method, "View planner")->capture_default_str();
   sub->add_option("--seed", opt->seed, "Mission seed")->capture_default_str();
+  sub->add_option("--against", opt->against,
+                  "Another canopy (e.g. a build of main) or a measurement saved by --save: runs `canopy mission` "
+                  "with both, interleaved, and prints the ratio of the median wall times (no --rows)");
+  sub->add_option("--repeats", opt->repeats, "Missions per build with --against / --save")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 100));
+  sub->add_option("--save", opt->save, "Save this build's missions (--against's saved form) to this JSON file");
+  sub->add_option("--set", opt->sets, "KEY=VALUE given to both builds' missions (with --against / --save)");
   sub->callback([opt] {
+    if (!opt->against.empty() || !opt->save.empty()) {
+      jobs::BenchCompareParams p;
+      p.self = std::filesystem::read_symlink("/proc/self/exe").string();
+      p.against = opt->against;
+      p.world_file = opt->world;
+      p.method = opt->method;
+      p.seed = opt->seed;
+      p.repeats = opt->repeats;
+      p.sets = opt->sets;
+      p.save = opt->save;
+      const jobs::BenchCompareResult r = jobs::bench_compare(p);
+      auto list = [](const std::vector<double>& v) {
+        std::string s;
+        char buf[32];
+        for (const double x : v) {
+          std::snprintf(buf, sizeof buf, "%s%.2f", s.empty() ? "" : " ", x);
+          s += buf;
+        }
+        return s;
+      };
+      auto loads = [&](const jobs::BenchSide& side) {
+        double lo = 1e9, hi = 0;
+        for (const double l : side.load) lo = std::min(lo, l), hi = std::max(hi, l);
+        return side.load.empty() ? std::string("-") : list({lo}) + "-" + list({hi});
+      };
+      std::printf("bench mission: method %s, seed %u, world %s, %d run(s) per build, interleaved\n", opt->method.c_str(),
+                  opt->seed, opt->world.c_str(), opt->repeats);
+      std::printf("%-5s %9s %8s %7s %11s  %s\n", "build", "median s", "views", "sim s", "load (1min)", "wall s of each run");
+      const auto line = [&](const char* name, const jobs::BenchSide& s) {
+        std::printf("%-5s %9.2f %8d %7.1f %11s  %s   %s\n", name, s.median_s(), s.views, s.sim_s, loads(s).c_str(),
+                    list(s.wall_s).c_str(), s.binary.c_str());
+      };
+      if (!opt->against.empty()) line(r.saved_old ? "saved" : "old", r.old_side);
+      line("new", r.new_side);
+      if (!opt->against.empty()) {
+        std::printf("ratio new/old: %.3f (%.2fx as fast)%s\n", r.ratio(), r.ratio() > 0 ? 1.0 / r.ratio() : 0.0,
+                    r.saved_old ? "; old side saved earlier, not interleaved" : "");
+        std::printf("views.csv %s, map.csm %s\n", r.same_views() ? "identical" : "DIFFERENT",
+                    r.same_map() ? "identical" : "DIFFERENT");
+      }
+      if (!opt->save.empty()) std::printf("saved: %s\n", opt->save.c_str());
+      return;
+    }
     const std::vector<RowSize> rows = parse_rows(opt->rows);
     const world::WorldSpec base = jobs::load_world_spec(opt->world);
     mission::Settings settings = load_settings(opt->config);

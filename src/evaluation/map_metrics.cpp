@@ -203,15 +203,23 @@ std::vector<UncoveredPoint> uncovered_target_points(const SemanticOcTree& map, c
   const PointKdTree tree(centers);
   const double r2 = params.coverage_distance_m * params.coverage_distance_m;
   std::vector<UncoveredPoint> out;
+  std::size_t index = 0;
   for (const world::FruitTruth& f : truth.fruits) {
     if (!f.target) continue;
     for (const Vec3& p : f.surface_points) {
       std::size_t idx = 0;
       double d2 = 0.0;
-      if (tree.nearest(p, &idx, &d2) && d2 <= r2) continue;
-      out.push_back({p, f.instance_id});
+      if (!(tree.nearest(p, &idx, &d2) && d2 <= r2)) out.push_back({p, f.instance_id, index});
+      ++index;
     }
   }
+  return out;
+}
+
+std::vector<Vec3> target_surface_points(const world::GroundTruth& truth) {
+  std::vector<Vec3> out;
+  for (const world::FruitTruth& f : truth.fruits)
+    if (f.target) out.insert(out.end(), f.surface_points.begin(), f.surface_points.end());
   return out;
 }
 

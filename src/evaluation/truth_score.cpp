@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <utility>
 
+#include "canopy/common/error.h"
+
 namespace canopy::evaluation {
 
 CameraIntrinsics truth_render_intrinsics(const CameraIntrinsics& K, int downsample) {
@@ -24,7 +26,25 @@ TruthViewScorer::TruthViewScorer(const CameraIntrinsics& render_intrinsics, doub
                                  TruthDepthRender render)
     : intrinsics_(render_intrinsics), tolerance_m_(depth_tolerance_m), render_(std::move(render)) {}
 
-void TruthViewScorer::set_points(std::vector<UncoveredPoint> points) { points_ = std::move(points); }
+void TruthViewScorer::set_points(std::vector<UncoveredPoint> points) {
+  points_ = std::move(points);
+  if (universe_.empty()) return;
+  std::fill(current_.begin(), current_.end(), std::uint8_t(0));
+  for (const UncoveredPoint& p : points_) {
+    CANOPY_CHECK(p.index < universe_.size() && universe_[p.index] == p.position,
+                 "truth scorer: a point is not the universe's point of its index");
+    current_[p.index] = 1;
+  }
+}
+
+void TruthViewScorer::cache_views(std::vector<Vec3> universe) {
+  CANOPY_CHECK(universe.size() < (std::size_t(1) << 32), "truth scorer: universe too large");
+  universe_ = std::move(universe);
+  current_.assign(universe_.size(), 0);
+  views_.clear();
+  std::vector<UncoveredPoint> points = std::move(points_);
+  set_points(std::move(points));
+}
 
 namespace {
 
@@ -47,27 +67,52 @@ std::size_t TruthViewScorer::in_frustum(const Pose& T) const {
   return n;
 }
 
+bool TruthViewScorer::sees(const Image<float>& depth, const Vec3& c, double u, double v) const {
+  const float d = depth.at(int(u), int(v));
+  if (!(d > 0.f)) return false;
+  // A pixel spans z / fx metres; a slanted surface changes depth by about that much across it.
+  const double tol = tolerance_m_ + 1.5 * c.z() / intrinsics_.fx_px;
+  return c.z() <= double(d) + tol;
+}
+
 std::size_t TruthViewScorer::visible(const Pose& T) {
   if (in_frustum(T) == 0) return 0;
+  std::array<double, 12> key{};
+  if (!universe_.empty()) {
+    for (int i = 0; i < 12; ++i) key[std::size_t(i)] = T.matrix()(i % 3, i / 3);
+    const auto it = views_.find(key);
+    if (it != views_.end()) {
+      ++reused_;
+      std::size_t n = 0;
+      for (const std::uint32_t i : it->second) n += current_[i];
+      return n;
+    }
+  }
   const Image<float> depth = render_(T);
   ++renders_;
   const Pose T_inv = T.inverse();
-  std::size_t n = 0;
   Vec3 c;
   double u = 0, v = 0;
-  for (const UncoveredPoint& p : points_) {
-    if (!in_view(intrinsics_, T_inv, p.position, &c, &u, &v)) continue;
-    const float d = depth.at(int(u), int(v));
-    if (!(d > 0.f)) continue;
-    // A pixel spans z / fx metres; a slanted surface changes depth by about that much across it.
-    const double tol = tolerance_m_ + 1.5 * c.z() / intrinsics_.fx_px;
-    if (c.z() <= double(d) + tol) ++n;
+  if (!universe_.empty()) {  // every universe point, kept for the next rounds
+    std::vector<std::uint32_t> seen;
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < universe_.size(); ++i)
+      if (in_view(intrinsics_, T_inv, universe_[i], &c, &u, &v) && sees(depth, c, u, v)) {
+        seen.push_back(std::uint32_t(i));
+        n += current_[i];
+      }
+    views_.emplace(key, std::move(seen));
+    return n;
   }
+  std::size_t n = 0;
+  for (const UncoveredPoint& p : points_)
+    if (in_view(intrinsics_, T_inv, p.position, &c, &u, &v) && sees(depth, c, u, v)) ++n;
   return n;
 }
 
 std::vector<TruthScore> best_truth_views(TruthViewScorer& scorer, std::vector<Pose>* views, std::size_t keep,
-                                         const std::function<bool(std::size_t, Pose*)>& accept) {
+                                         const std::function<bool(std::size_t, Pose*)>& accept,
+                                         std::vector<std::size_t>* bounds) {
   std::vector<TruthScore> all(views->size());
   for (std::size_t i = 0; i < views->size(); ++i) all[i] = {i, scorer.in_frustum((*views)[i]), 0};
   std::vector<TruthScore> order = all;
@@ -84,13 +129,19 @@ std::vector<TruthScore> best_truth_views(TruthViewScorer& scorer, std::vector<Po
       continue;
     Pose& pose = (*views)[t.view];
     if (accept) {
-      if (!accept(t.view, &pose)) continue;
-      t.bound = scorer.in_frustum(pose);
+      const bool accepted = accept(t.view, &pose);
+      all[t.view].bound = scorer.in_frustum(pose);  // it may have moved the pose
+      if (!accepted) continue;
+      t.bound = all[t.view].bound;
     }
     t.score = scorer.visible(pose);
     if (t.score == 0) continue;
     best.insert(std::upper_bound(best.begin(), best.end(), t, better), t);
     if (best.size() > keep) best.pop_back();
+  }
+  if (bounds) {
+    bounds->resize(all.size());
+    for (std::size_t i = 0; i < all.size(); ++i) (*bounds)[i] = all[i].bound;
   }
   return best;
 }

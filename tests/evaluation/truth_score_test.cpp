@@ -96,5 +96,59 @@ TEST(TruthScore, BranchAndBoundEqualsScoringEveryView) {
   EXPECT_EQ(refused[0].view, every[1].second);
 }
 
+// cache_views: each pose is rendered once; later rounds with other point subsets (some points
+// covered, some uncovered again) count exactly what a scorer without the cache counts, and
+// the frustum bounds best_truth_views hands back equal in_frustum of the final poses.
+TEST(TruthScore, KeptViewsCountWhatRenderingAgainCounts) {
+  const CameraIntrinsics K = truth_render_intrinsics(CameraIntrinsics{}, 8);
+  TruthViewScorer cached(K, 0.005, wall_render(K)), fresh(K, 0.005, wall_render(K));
+  Rng rng(11);
+  std::vector<Vec3> universe;
+  for (int i = 0; i < 600; ++i)
+    universe.push_back(Vec3(rng.uniform(-0.6, 0.6), rng.uniform(-0.4, 0.4), rng.uniform(0.3, 0.9)));
+  cached.cache_views(universe);
+  std::vector<Pose> views;
+  for (int i = 0; i < 12; ++i) views.push_back(camera_at(rng.uniform(-1.0, 1.0), rng.uniform(-0.7, 0.7)));
+  for (int round = 0; round < 6; ++round) {
+    std::vector<UncoveredPoint> pts;
+    for (std::size_t i = 0; i < universe.size(); ++i)
+      if (rng.uniform(0.0, 1.0) < 0.7 - 0.1 * round) pts.push_back({universe[i], 1, i});
+    cached.set_points(pts);
+    fresh.set_points(pts);
+    for (const Pose& T : views) {
+      EXPECT_EQ(cached.visible(T), fresh.visible(T)) << round;
+      EXPECT_EQ(cached.in_frustum(T), fresh.in_frustum(T)) << round;
+    }
+    std::vector<Pose> a = views, b = views;
+    std::vector<std::size_t> bounds;
+    const std::vector<TruthScore> best_a = best_truth_views(cached, &a, 3, nullptr, &bounds);
+    const std::vector<TruthScore> best_b = best_truth_views(fresh, &b, 3);
+    ASSERT_EQ(best_a.size(), best_b.size());
+    for (std::size_t k = 0; k < best_a.size(); ++k) {
+      EXPECT_EQ(best_a[k].view, best_b[k].view);
+      EXPECT_EQ(best_a[k].score, best_b[k].score);
+    }
+    ASSERT_EQ(bounds.size(), views.size());
+    for (std::size_t i = 0; i < views.size(); ++i) EXPECT_EQ(bounds[i], fresh.in_frustum(views[i]));
+  }
+  // Every pose seeing a point was rendered once (the first round), then only counted.
+  EXPECT_LE(cached.renders(), views.size());
+  EXPECT_GT(cached.reused(), 0u);
+  EXPECT_GT(fresh.renders(), 2 * views.size());
+  // A changed scene: forget the views, the next call renders again.
+  const std::size_t before = cached.renders();
+  cached.forget_views();
+  cached.visible(views[0]);
+  EXPECT_EQ(cached.renders(), before + (cached.in_frustum(views[0]) > 0 ? 1u : 0u));
+}
+
+TEST(TruthScore, KeptViewsRefuseAPointNotOfTheUniverse) {
+  const CameraIntrinsics K = truth_render_intrinsics(CameraIntrinsics{}, 8);
+  TruthViewScorer scorer(K, 0.005, wall_render(K));
+  scorer.cache_views({Vec3(0.0, 0.0, 0.4)});
+  EXPECT_THROW(scorer.set_points({{Vec3(0.0, 0.0, 0.5), 1, 0}}), std::exception);
+  EXPECT_THROW(scorer.set_points({{Vec3(0.0, 0.0, 0.4), 1, 3}}), std::exception);
+}
+
 }  // namespace
 }  // namespace canopy::evaluation

@@ -4,9 +4,12 @@
 # views.csv's hash, map.csm's hash, the method; retaken after the white floor (maps and
 # detection columns) and the loop's repair and attempt cap (ours' and frontier's views)): a change that should not change behaviour must not change
 # what the robot does. A change that means to change behaviour updates the hashes and says so.
+# A second argument names another hash file of the same form (golden_oracle.sha256: the oracle,
+# recorded on main before its truth renders were kept per stop).
 set -euo pipefail
 canopy="$1"
 here="$(cd "$(dirname "$0")" && pwd)"
+hashes="${2:-$here/golden_views.sha256}"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 fail=0
@@ -24,5 +27,5 @@ while read -r hash map_hash method; do
       fail=1
     fi
   done
-done < "$here/golden_views.sha256"
+done < "$hashes"
 exit $fail

@@ -131,7 +131,13 @@ void summarize_fruits(MapMetrics* m, EvaluationRule rule);
 struct UncoveredPoint {
   Vec3 position = Vec3::Zero();
   int instance_id = 0;
+  /// Its index in target_surface_points() of the same truth.
+  std::size_t index = 0;
 };
+
+/// Every target fruit's surface points, in fruit then point order (what
+/// uncovered_target_points() picks from; UncoveredPoint::index points into it).
+std::vector<Vec3> target_surface_points(const world::GroundTruth& truth);
 
 /// The target-fruit surface points evaluate_map() counts as not covered under params.rule
 /// (points - covered of the same rule), in fruit then point order: what a view can still add.

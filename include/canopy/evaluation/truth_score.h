@@ -10,8 +10,11 @@
 // agrees with the full one. The renderer comes in as a function, so this module stays free of
 // the simulator (mission/oracle/oracle_planners.h makes one from sim::Renderer).
 
+#include <array>
 #include <cstddef>
+#include <cstdint>
 #include <functional>
+#include <map>
 #include <vector>
 
 #include "canopy/common/camera.h"
@@ -41,6 +44,15 @@ class TruthViewScorer {
   /// The points set last.
   const std::vector<UncoveredPoint>& points() const { return points_; }
 
+  /// Renders each pose once while the scene stays still: `universe` holds every point
+  /// set_points() will be given (UncoveredPoint::index into it, e.g. target_surface_points).
+  /// visible() then keeps, per pose (bit for bit), which universe points the pose sees and
+  /// later only counts those among the points set; the counts equal rendering again.
+  /// Call forget_views() when the scene may have changed.
+  void cache_views(std::vector<Vec3> universe);
+  /// Drops the views kept by cache_views (the universe stays).
+  void forget_views() { views_.clear(); }
+
   /// Points inside the view's frustum and valid depth range (no occlusion): an upper bound of
   /// visible(), without rendering.
   std::size_t in_frustum(const Pose& T_world_camera) const;
@@ -51,13 +63,23 @@ class TruthViewScorer {
   const CameraIntrinsics& render_intrinsics() const { return intrinsics_; }
   /// Renders made so far.
   std::size_t renders() const { return renders_; }
+  /// visible() calls answered from the views kept (cache_views).
+  std::size_t reused() const { return reused_; }
 
  private:
+  // Whether point p (camera frame c) passes the depth test against `depth`.
+  bool sees(const Image<float>& depth, const Vec3& c, double u, double v) const;
+
   CameraIntrinsics intrinsics_;
   double tolerance_m_;
   TruthDepthRender render_;
   std::vector<UncoveredPoint> points_;
-  std::size_t renders_ = 0;
+  std::size_t renders_ = 0, reused_ = 0;
+  // cache_views: the universe, which of its points are set now, and per pose (its 3x4 matrix)
+  // the universe points it sees, ascending.
+  std::vector<Vec3> universe_;
+  std::vector<std::uint8_t> current_;
+  std::map<std::array<double, 12>, std::vector<std::uint32_t>> views_;
 };
 
 /// A view scored by the truth.
@@ -71,8 +93,10 @@ struct TruthScore {
 /// (ties: the earlier view), by branch and bound: views are rendered in the order of their
 /// frustum bound until the bound cannot beat the keep-th best score, so the answer equals
 /// rendering every view. `accept(i, &pose)`, when given, is asked just before view i is
-/// rendered; it may move the pose (a reach test) or refuse the view.
+/// rendered; it may move the pose (a reach test) or refuse the view. `bounds`, when given,
+/// receives every view's frustum bound at its final pose (in_frustum(views[i]) afterwards).
 std::vector<TruthScore> best_truth_views(TruthViewScorer& scorer, std::vector<Pose>* views, std::size_t keep,
-                                         const std::function<bool(std::size_t, Pose*)>& accept = nullptr);
+                                         const std::function<bool(std::size_t, Pose*)>& accept = nullptr,
+                                         std::vector<std::size_t>* bounds = nullptr);
 
 }  // namespace canopy::evaluation

@@ -50,12 +50,19 @@ class OraclePlanner : public nbv::ViewPlanner {
     ViewPlanner::taken(T);
     failed_.taken(T);
   }
-  void begin_stop() override { failed_.begin_stop(); }
+  void begin_stop() override {
+    failed_.begin_stop();
+    // The truth scene stands still within a stop: each pose is rendered once per stop.
+    if (scorer_) scorer_->forget_views();
+  }
 
   nbv::ViewBatch next(const nbv::ViewRequest& req) override {
     CANOPY_CHECK(req.map && req.index, "view request without a map");
     const OracleParams& op = context_->oracle;
-    if (!scorer_) scorer_ = make_truth_scorer(*context_->sim, settings_.intrinsics, op);
+    if (!scorer_) {
+      scorer_ = make_truth_scorer(*context_->sim, settings_.intrinsics, op);
+      scorer_->cache_views(evaluation::target_surface_points(context_->world->truth));
+    }
     failed_.next_batch();
     nbv::ViewBatch batch;
     batch.order = nbv::BatchOrder::kUtility;
@@ -83,8 +90,9 @@ class OraclePlanner : public nbv::ViewPlanner {
           *pose = views[i].candidate.T_world_camera;
           return true;
         };
-      best = evaluation::best_truth_views(*scorer_, &poses, std::size_t(op.max_views), accept);
-      for (std::size_t i = 0; i < views.size(); ++i) views[i].bound = scorer_->in_frustum(poses[i]);
+      std::vector<std::size_t> bounds;
+      best = evaluation::best_truth_views(*scorer_, &poses, std::size_t(op.max_views), accept, &bounds);
+      for (std::size_t i = 0; i < views.size(); ++i) views[i].bound = bounds[i];
     }
     for (const evaluation::TruthScore& t : best)
       batch.views.push_back(nbv::planned_view(views[t.view].candidate, double(t.score), any_ ? "oracle_any" : "oracle"));
