@@ -3,6 +3,7 @@
 #include "canopy/evaluation/truth_score.h"
 
 #include <algorithm>
+#include <cmath>
 #include <utility>
 
 #include "canopy/common/error.h"
@@ -28,6 +29,9 @@ TruthViewScorer::TruthViewScorer(const CameraIntrinsics& render_intrinsics, doub
 
 void TruthViewScorer::set_points(std::vector<UncoveredPoint> points) {
   points_ = std::move(points);
+  std::vector<Vec3> positions(points_.size());
+  for (std::size_t i = 0; i < points_.size(); ++i) positions[i] = points_[i].position;
+  point_balls_ = make_balls(positions);
   if (universe_.empty()) return;
   std::fill(current_.begin(), current_.end(), std::uint8_t(0));
   for (const UncoveredPoint& p : points_) {
@@ -40,6 +44,7 @@ void TruthViewScorer::set_points(std::vector<UncoveredPoint> points) {
 void TruthViewScorer::cache_views(std::vector<Vec3> universe) {
   CANOPY_CHECK(universe.size() < (std::size_t(1) << 32), "truth scorer: universe too large");
   universe_ = std::move(universe);
+  universe_balls_ = make_balls(universe_);
   current_.assign(universe_.size(), 0);
   views_.clear();
   std::vector<UncoveredPoint> points = std::move(points_);
@@ -58,12 +63,65 @@ bool in_view(const CameraIntrinsics& K, const Pose& T_inv, const Vec3& p, Vec3* 
 
 }  // namespace
 
+// Balls of at most 64 consecutive points: the points' mean and the largest distance to it.
+std::vector<TruthViewScorer::Ball> TruthViewScorer::make_balls(const std::vector<Vec3>& points) {
+  constexpr std::size_t kBall = 64;
+  std::vector<Ball> out;
+  for (std::size_t b = 0; b < points.size(); b += kBall) {
+    Ball ball;
+    ball.begin = b;
+    ball.end = std::min(points.size(), b + kBall);
+    Vec3 sum = Vec3::Zero();
+    for (std::size_t i = ball.begin; i < ball.end; ++i) sum += points[i];
+    ball.center = sum / double(ball.end - ball.begin);
+    for (std::size_t i = ball.begin; i < ball.end; ++i)
+      ball.radius = std::max(ball.radius, (points[i] - ball.center).norm());
+    out.push_back(ball);
+  }
+  return out;
+}
+
+// in_view() of every point of the ball, when one answer holds for all: the ball (grown by a
+// margin far above the rounding of in_view's arithmetic) lies wholly outside one of the
+// frustum's six half-spaces, or wholly inside all of them.
+TruthViewScorer::Side TruthViewScorer::side(const Pose& T_inv, const Ball& b) const {
+  const CameraIntrinsics& K = intrinsics_;
+  if (!(K.min_range_m > 0.0)) return Side::kStraddles;  // in_view's z > 0 test stands on min_range
+  constexpr double kMargin = 1e-6;  // [m]
+  const double r = b.radius + kMargin;
+  const Vec3 c = T_inv * b.center;
+  // Signed distances to the planes u = 0, u = W, v = 0, v = H (positive inside) and the range.
+  const double W = K.width_px, H = K.height_px;
+  const double d[6] = {
+      (K.fx_px * c.x() + K.cx_px * c.z()) / std::hypot(K.fx_px, K.cx_px),
+      (-K.fx_px * c.x() + (W - K.cx_px) * c.z()) / std::hypot(K.fx_px, W - K.cx_px),
+      (K.fy_px * c.y() + K.cy_px * c.z()) / std::hypot(K.fy_px, K.cy_px),
+      (-K.fy_px * c.y() + (H - K.cy_px) * c.z()) / std::hypot(K.fy_px, H - K.cy_px),
+      c.z() - K.min_range_m,
+      K.max_range_m - c.z(),
+  };
+  bool inside = true;
+  for (const double x : d) {
+    if (x < -r) return Side::kOutside;
+    if (!(x > r)) inside = false;
+  }
+  return inside ? Side::kInside : Side::kStraddles;
+}
+
 std::size_t TruthViewScorer::in_frustum(const Pose& T) const {
   const Pose T_inv = T.inverse();
   std::size_t n = 0;
   Vec3 c;
   double u = 0, v = 0;
-  for (const UncoveredPoint& p : points_) n += in_view(intrinsics_, T_inv, p.position, &c, &u, &v);
+  for (const Ball& b : point_balls_) {
+    const Side s = side(T_inv, b);
+    if (s == Side::kOutside) continue;
+    if (s == Side::kInside) {
+      n += b.end - b.begin;
+      continue;
+    }
+    for (std::size_t i = b.begin; i < b.end; ++i) n += in_view(intrinsics_, T_inv, points_[i].position, &c, &u, &v);
+  }
   return n;
 }
 
@@ -96,17 +154,23 @@ std::size_t TruthViewScorer::visible(const Pose& T) {
   if (!universe_.empty()) {  // every universe point, kept for the next rounds
     std::vector<std::uint32_t> seen;
     std::size_t n = 0;
-    for (std::size_t i = 0; i < universe_.size(); ++i)
-      if (in_view(intrinsics_, T_inv, universe_[i], &c, &u, &v) && sees(depth, c, u, v)) {
-        seen.push_back(std::uint32_t(i));
-        n += current_[i];
-      }
+    for (const Ball& b : universe_balls_) {
+      if (side(T_inv, b) == Side::kOutside) continue;
+      for (std::size_t i = b.begin; i < b.end; ++i)
+        if (in_view(intrinsics_, T_inv, universe_[i], &c, &u, &v) && sees(depth, c, u, v)) {
+          seen.push_back(std::uint32_t(i));
+          n += current_[i];
+        }
+    }
     views_.emplace(key, std::move(seen));
     return n;
   }
   std::size_t n = 0;
-  for (const UncoveredPoint& p : points_)
-    if (in_view(intrinsics_, T_inv, p.position, &c, &u, &v) && sees(depth, c, u, v)) ++n;
+  for (const Ball& b : point_balls_) {
+    if (side(T_inv, b) == Side::kOutside) continue;
+    for (std::size_t i = b.begin; i < b.end; ++i)
+      if (in_view(intrinsics_, T_inv, points_[i].position, &c, &u, &v) && sees(depth, c, u, v)) ++n;
+  }
   return n;
 }
 

@@ -223,8 +223,15 @@ TEST(MapMetrics, UncoveredPointsAreThoseTheRuleDoesNotCount) {
     const RuleScores& r = rule == EvaluationRule::kPaper ? m.paper : m.prototype;
     EXPECT_GT(r.covered, 0u);
     EXPECT_EQ(open.size(), m.points - r.covered);
-    // None lies on the side the twice-inserted camera saw head-on.
-    for (const UncoveredPoint& u : open) {
+    // None lies on the side the twice-inserted camera saw head-on; each names its place among
+    // all target points (target_surface_points), ascending.
+    const std::vector<Vec3> all = target_surface_points(truth);
+    EXPECT_EQ(all.size(), m.points);
+    for (std::size_t k = 0; k < open.size(); ++k) {
+      const UncoveredPoint& u = open[k];
+      ASSERT_LT(u.index, all.size());
+      EXPECT_EQ(all[u.index], u.position);
+      if (k > 0) EXPECT_GT(u.index, open[k - 1].index);
       EXPECT_EQ(u.instance_id, truth.fruits[0].instance_id);
       EXPECT_FALSE((u.position - kCenter).normalized().dot(Vec3(0, 1, 0)) > 0.95);
     }

@@ -142,6 +142,46 @@ TEST(TruthScore, KeptViewsCountWhatRenderingAgainCounts) {
   EXPECT_EQ(cached.renders(), before + (cached.in_frustum(views[0]) > 0 ? 1u : 0u));
 }
 
+// in_frustum tests balls of points and goes point by point only where a ball straddles the
+// frustum's boundary: it counts what testing every point counts, also for turned cameras and
+// points packed along the boundary.
+TEST(TruthScore, FrustumCountEqualsTestingEveryPoint) {
+  const CameraIntrinsics K = truth_render_intrinsics(CameraIntrinsics{}, 4);
+  Rng rng(5);
+  std::vector<UncoveredPoint> pts;
+  for (int i = 0; i < 3000; ++i) {
+    const Vec3 centre(rng.uniform(-1.0, 1.0), rng.uniform(-1.0, 1.0), rng.uniform(-0.5, 2.5));
+    const int n = 1 + int(rng.uniform(0.0, 40.0));  // fruit-like clumps of consecutive points
+    for (int k = 0; k < n && pts.size() < 6000; ++k)
+      pts.push_back({centre + 0.03 * Vec3(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1)), 1});
+  }
+  // Points on the image's left edge and the near limit of a camera at the origin.
+  for (int k = 0; k < 64; ++k) {
+    const double z = 0.5 + 0.01 * k;
+    pts.push_back({Vec3((0.0 - K.cx_px) * z / K.fx_px, 0.0, z), 2});
+    pts.push_back({Vec3(0.0, 0.0, K.min_range_m), 2});
+  }
+  TruthViewScorer scorer(K, 0.005, wall_render(K));
+  scorer.set_points(pts);
+  for (int i = 0; i < 40; ++i) {
+    Pose T = Pose::Identity();
+    if (i > 0) {
+      T.linear() = (Eigen::AngleAxisd(rng.uniform(-0.6, 0.6), Vec3::UnitX()) *
+                    Eigen::AngleAxisd(rng.uniform(-0.6, 0.6), Vec3::UnitY()))
+                       .toRotationMatrix();
+      T.translation() = Vec3(rng.uniform(-0.5, 0.5), rng.uniform(-0.5, 0.5), rng.uniform(-0.5, 0.2));
+    }
+    const Pose T_inv = T.inverse();
+    std::size_t every = 0;
+    for (const UncoveredPoint& p : pts) {
+      const Vec3 c = T_inv * p.position;
+      double u = 0, v = 0;
+      every += c.z() >= K.min_range_m && c.z() <= K.max_range_m && K.project(c, &u, &v) && K.in_image(u, v);
+    }
+    EXPECT_EQ(scorer.in_frustum(T), every) << i;
+  }
+}
+
 TEST(TruthScore, KeptViewsRefuseAPointNotOfTheUniverse) {
   const CameraIntrinsics K = truth_render_intrinsics(CameraIntrinsics{}, 8);
   TruthViewScorer scorer(K, 0.005, wall_render(K));

@@ -70,10 +70,22 @@ class TruthViewScorer {
   // Whether point p (camera frame c) passes the depth test against `depth`.
   bool sees(const Image<float>& depth, const Vec3& c, double u, double v) const;
 
+  // Consecutive points in a ball: a pose's frustum test runs once per ball and point by point
+  // only for balls that straddle its boundary (a margin keeps the answer the per-point one).
+  struct Ball {
+    Vec3 center;
+    double radius = 0.0;
+    std::size_t begin = 0, end = 0;
+  };
+  enum class Side { kOutside, kInside, kStraddles };
+  static std::vector<Ball> make_balls(const std::vector<Vec3>& points);
+  Side side(const Pose& T_inv, const Ball& b) const;
+
   CameraIntrinsics intrinsics_;
   double tolerance_m_;
   TruthDepthRender render_;
   std::vector<UncoveredPoint> points_;
+  std::vector<Ball> point_balls_, universe_balls_;
   std::size_t renders_ = 0, reused_ = 0;
   // cache_views: the universe, which of its points are set now, and per pose (its 3x4 matrix)
   // the universe points it sees, ascending.

@@ -43,6 +43,7 @@ std::vector<std::string> audit_score_names() {
 CandidateAudit::CandidateAudit(const world::World& world, sim::Simulator& sim, const Settings& settings)
     : world_(world), settings_(settings),
       scorer_(make_truth_scorer(sim, world.spec.camera, settings.mission.oracle)) {
+  scorer_->cache_views(evaluation::target_surface_points(world.truth));
   for (const AuditScore& s : audit_scores()) {
     nbv::GainParams gp = settings.nbv.gain;
     if (s.sets_proximity) gp.proximity = s.proximity;
@@ -58,6 +59,10 @@ nbv::CandidateObserver CandidateAudit::observer() {
 void CandidateAudit::end_round(const mapping::SemanticOcTree& map, const nbv::VoxelIndex& index,
                                const nbv::ViewBatch& batch, int stop, int round, int views_before, std::uint64_t seed) {
   if (pending_.empty()) return;
+  if (stop != scorer_stop_) {  // the truth scene stands still within a stop: a pose is rendered once
+    scorer_->forget_views();
+    scorer_stop_ = stop;
+  }
   scorer_->set_points(evaluation::uncovered_target_points(map, world_.truth, settings_.mapping.metrics));
   nbv::ViewEvaluator eval(index, world_.spec.camera, settings_.nbv.rays);
   const nbv::RaySetEntry& rays = nbv::ray_set(settings_.method.rays, "method.rays");

@@ -53,6 +53,7 @@ class CandidateAudit {
   const world::World& world_;
   Settings settings_;
   std::unique_ptr<evaluation::TruthViewScorer> scorer_;
+  int scorer_stop_ = -1;  // the stop whose truth renders the scorer keeps
   std::vector<std::unique_ptr<nbv::GainFunction>> gains_;
   std::vector<nbv::ScoredView> pending_;
   std::vector<CandidateRecord> records_;
