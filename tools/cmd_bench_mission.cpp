@@ -103,8 +103,8 @@ void add_bench_mission(CLI::App& bench) {
         for (const double l : side.load) lo = std::min(lo, l), hi = std::max(hi, l);
         return side.load.empty() ? std::string("-") : list({lo}) + "-" + list({hi});
       };
-      std::printf("bench mission: method %s, seed %u, world %s, %d run(s) per build, interleaved\n", opt->method.c_str(),
-                  opt->seed, opt->world.c_str(), opt->repeats);
+      std::printf("bench mission: method %s, seed %u, world %s, %d run(s) per build%s\n", opt->method.c_str(), opt->seed,
+                  opt->world.c_str(), opt->repeats, r.saved_old || opt->against.empty() ? "" : ", interleaved");
       std::printf("%-5s %9s %8s %7s %11s  %s\n", "build", "median s", "views", "sim s", "load (1min)", "wall s of each run");
       const auto line = [&](const char* name, const jobs::BenchSide& s) {
         std::printf("%-5s %9.2f %8d %7.1f %11s  %s   %s\n", name, s.median_s(), s.views, s.sim_s, loads(s).c_str(),
