@@ -231,7 +231,9 @@ TEST(MapMetrics, UncoveredPointsAreThoseTheRuleDoesNotCount) {
       const UncoveredPoint& u = open[k];
       ASSERT_LT(u.index, all.size());
       EXPECT_EQ(all[u.index], u.position);
-      if (k > 0) EXPECT_GT(u.index, open[k - 1].index);
+      if (k > 0) {
+        EXPECT_GT(u.index, open[k - 1].index);
+      }
       EXPECT_EQ(u.instance_id, truth.fruits[0].instance_id);
       EXPECT_FALSE((u.position - kCenter).normalized().dot(Vec3(0, 1, 0)) > 0.95);
     }
