@@ -4,8 +4,6 @@
 
 #include <pybind11/stl.h>
 
-#include <mujoco/mujoco.h>
-
 #include <cmath>
 #include <optional>
 
@@ -17,7 +15,6 @@
 #include "canopy/mission/run_folder.h"
 #include "canopy/mission/view_columns.h"
 #include "canopy/robot/robot_description.h"
-#include "canopy/sim/scene_mjcf.h"
 #include "objects.h"
 #include "python_planner.h"
 
@@ -84,7 +81,6 @@ py::dict views_dict(const mission::MissionResult& r, const std::string& method) 
 // to Python's on_view and on_state.
 struct LinkTree {
   std::vector<std::string> names, parents;
-  std::vector<int> sites;
 };
 
 LinkTree link_tree(const sim::Simulator& sim) {
@@ -95,15 +91,18 @@ LinkTree link_tree(const sim::Simulator& sim) {
     const std::string& name = d.links()[i].name;
     const int parent = d.parent_link(static_cast<int>(i));
     const std::string above = parent < 0 ? "world" : frame_of[static_cast<std::size_t>(parent)];
-    const int site = mj_name2id(sim.model(), mjOBJ_SITE, sim::frame_site_name(name).c_str());
-    if (site < 0 || name == "world") {
-      frame_of[i] = above;
-      continue;
+    bool has_frame = name != "world";
+    if (has_frame) {
+      try {
+        (void)sim.frame_pose(name);
+      } catch (const InputError&) {  // a link the scene keeps no frame of
+        has_frame = false;
+      }
     }
-    frame_of[i] = name;
+    frame_of[i] = has_frame ? name : above;
+    if (!has_frame) continue;
     t.names.push_back(name);
     t.parents.push_back(above);
-    t.sites.push_back(site);
   }
   return t;
 }

@@ -229,3 +229,13 @@ def test_missing_topic_and_bad_files_are_one_error(tmp_path):
     (tmp_path / "junk.bag").write_text("not a bag")
     assert "not a readable ROS 1 bag" in cli_error(tmp_path, tmp_path / "junk.bag")
     assert "no such file" in cli_error(tmp_path, tmp_path / "absent.bag")
+
+
+def test_colour_round_trip_and_the_hooks_change_nothing(world, tmp_path):
+    """Colour segmentation of the bag's RGB gives the map too; writing the bag (on_view, on_state)
+    leaves the mission's views as they are without it."""
+    settings = settings_for("color")
+    result = canopy.record_bag(world, tmp_path / "c.bag", settings, seed=5, out=tmp_path / "run")
+    assert canopy.run_mission(world, settings, seed=5).views_csv == result.views_csv
+    canopy.map_bag(tmp_path / "c.bag", tmp_path / "mapped", settings)
+    assert (tmp_path / "mapped" / "map.csm").read_bytes() == (tmp_path / "run" / "map.csm").read_bytes()
