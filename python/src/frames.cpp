@@ -300,6 +300,15 @@ Returns {"frames": [Frame], "skipped": [{"frame", "reason"}], "classes": [names]
               progress(s.mapped ? "frame " + s.name + ": " + std::to_string(s.extract.points) + " points"
                                 : "frame " + s.name + ": skipped (" + s.skip_reason + ")");
             };
+          // Ctrl-C: Python's handler only sets a flag while the job runs without the GIL; it is
+          // polled before each frame (the frames so far are published, marked incomplete, and
+          // KeyboardInterrupt raised).
+          job.stop_requested = [] {
+            py::gil_scoped_acquire gil;
+            if (PyErr_CheckSignals() == 0) return false;
+            PyErr_Clear();
+            return true;
+          };
           jobs::RecordedMapResult r;
           {
             py::gil_scoped_release release;
@@ -318,7 +327,8 @@ segmentation of their rgb, or their labels with mapping.extractor.source: truth)
 folder (map.csm, map.ply, map.bt, frames.json, run.yaml, settings.yaml; written and published
 as every canopy output folder); classes: the label classes (default: canopy's); run: what
 run.yaml records (a dict); skipped, notes: frames dropped before mapping ({'frame', 'reason'})
-and the reader's notes, for frames.json; progress: called with a line per frame.
+and the reader's notes, for frames.json; progress: called with a line per frame. Ctrl-C
+publishes the frames mapped so far (frames.json "complete": false) and raises KeyboardInterrupt.
 Returns {'mapped', 'skipped', 'occupied_voxels'}.)");
 }
 
