@@ -86,8 +86,8 @@ def main(argv=None):
     except ImportError as err:
         sys.stderr.write(f"canopy: error: {' '.join(str(err).split())}\n")
         return 2
-    except KeyboardInterrupt:
-        sys.stderr.write("canopy: interrupted\n")
+    except KeyboardInterrupt as err:  # the map so far is published when a frame was mapped (the message says)
+        sys.stderr.write(f"canopy: {' '.join(str(err).split()) or 'interrupted'}\n")
         return 130
     return 0
 

@@ -294,16 +294,24 @@ Returns {"frames": [Frame], "skipped": [{"frame", "reason"}], "classes": [names]
           seq.run = yaml_from(run, "run");
           if (!progress.is_none() && !PyCallable_Check(progress.ptr()))
             throw InputError("progress: " + describe(progress) + " is not callable");
-          if (!progress.is_none())
-            job.on_frame = [&progress](const mapping::FrameMapStep& s) {
-              py::gil_scoped_acquire gil;
-              progress(s.mapped ? "frame " + s.name + ": " + std::to_string(s.extract.points) + " points"
-                                : "frame " + s.name + ": skipped (" + s.skip_reason + ")");
-            };
           // Ctrl-C: Python's handler only sets a flag while the job runs without the GIL; it is
-          // polled before each frame (the frames so far are published, marked incomplete, and
+          // polled before each frame, and noted when the progress callback raised
+          // KeyboardInterrupt (the frames so far are published, marked incomplete, and
           // KeyboardInterrupt raised).
-          job.stop_requested = [] {
+          bool interrupted = false;
+          if (!progress.is_none())
+            job.on_frame = [&progress, &interrupted](const mapping::FrameMapStep& s) {
+              py::gil_scoped_acquire gil;
+              try {
+                progress(s.mapped ? "frame " + s.name + ": " + std::to_string(s.extract.points) + " points"
+                                  : "frame " + s.name + ": skipped (" + s.skip_reason + ")");
+              } catch (py::error_already_set& e) {
+                if (!e.matches(PyExc_KeyboardInterrupt)) throw;
+                interrupted = true;
+              }
+            };
+          job.stop_requested = [&interrupted] {
+            if (interrupted) return true;
             py::gil_scoped_acquire gil;
             if (PyErr_CheckSignals() == 0) return false;
             PyErr_Clear();

@@ -239,3 +239,19 @@ def test_colour_round_trip_and_the_hooks_change_nothing(world, tmp_path):
     assert canopy.run_mission(world, settings, seed=5).views_csv == result.views_csv
     canopy.map_bag(tmp_path / "c.bag", tmp_path / "mapped", settings)
     assert (tmp_path / "mapped" / "map.csm").read_bytes() == (tmp_path / "run" / "map.csm").read_bytes()
+
+
+def test_ctrl_c_publishes_the_frames_mapped_so_far(tmp_path):
+    """A KeyboardInterrupt in map_frames' progress (as Ctrl-C raises it) stops before the next
+    frame: the folder holds the first frame's map, marked incomplete."""
+    write_bag(tmp_path / "r.bag")
+    frames = canopy.read_bag(tmp_path / "r.bag", **TOPICS)["frames"]
+
+    def progress(line):
+        raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt, match="interrupted after 1 frames"):
+        canopy.map_frames(frames, tmp_path / "out", settings_for("color"), progress=progress)
+    import json
+    record = json.loads((tmp_path / "out" / "frames.json").read_text())
+    assert record["complete"] is False and record["frames_mapped"] == 1
