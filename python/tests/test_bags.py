@@ -5,6 +5,7 @@ transform, a wrong encoding, out-of-order stamps and a missing topic are one cle
 code 2 from `python3 -m canopy`)."""
 
 import io
+import json
 import os
 import subprocess
 import sys
@@ -15,13 +16,13 @@ import pytest
 import canopy
 from canopy import bag as cbag
 
-rosbag = pytest.importorskip("rosbag", reason="python3-rosbag (tools/deps.sh)")
-import genpy  # noqa: E402
-from geometry_msgs.msg import TransformStamped  # noqa: E402
-from sensor_msgs.msg import CameraInfo, CompressedImage, Image  # noqa: E402
-from tf2_msgs.msg import TFMessage  # noqa: E402
+import genpy  # Debian's ROS 1 packages (tools/deps.sh): the tests use the real library
+import rosbag
+from geometry_msgs.msg import TransformStamped
+from sensor_msgs.msg import CameraInfo, CompressedImage, Image
+from tf2_msgs.msg import TFMessage
 
-from conftest import SOURCE  # noqa: E402
+from conftest import SOURCE
 
 
 def settings_for(source):
@@ -252,6 +253,6 @@ def test_ctrl_c_publishes_the_frames_mapped_so_far(tmp_path):
 
     with pytest.raises(KeyboardInterrupt, match="interrupted after 1 frames"):
         canopy.map_frames(frames, tmp_path / "out", settings_for("color"), progress=progress)
-    import json
+
     record = json.loads((tmp_path / "out" / "frames.json").read_text())
     assert record["complete"] is False and record["frames_mapped"] == 1
