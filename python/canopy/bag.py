@@ -406,9 +406,9 @@ def read_bag(path, rgb=TOPICS["rgb"], depth=TOPICS["depth"], camera_info=TOPICS[
     and 0 invalid, or a compressedDepth CompressedImage) makes a frame with
     - the RGB image (rgb: Image rgb8 / bgr8 / rgba8 / bgra8, or a jpeg / png CompressedImage;
       None for none), the label image (labels: Image mono8 / 8UC1 class indices, or rgb8 / bgr8
-      class colours, canopy.class_colors; None for none) and the camera_info whose header stamps
-      are nearest the depth's, within max_dt seconds (RGB and labels must be registered to the
-      depth image: the same size and camera);
+      class colours, canopy.class_colors; None for none) whose header stamps are nearest the
+      depth's, within max_dt seconds, and the camera_info nearest it at any time (RGB and labels
+      must be registered to the depth image: the same size and camera);
     - the pose T_world_camera of `frame` (default: the depth image's header frame_id, which
       must be the optical frame: x right, y down, z forward) in `world_frame`, from /tf and
       /tf_static at the depth's stamp: a sample at that stamp, else interpolated between the
