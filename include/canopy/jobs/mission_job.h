@@ -79,8 +79,8 @@ void check_mission_outputs(const MissionJobParams& params);
 /// Runs the closed-loop mission on `world` (checked against the settings' labels first,
 /// check_world_colours) with `callbacks` (progress, stop requests, a tick: the job adds the
 /// video's and the export's hooks, and with a video the caller's video_tick runs after the
-/// video's, at its frame rate; params.on_view is the caller's view hook), records the video, writes the export and the run folder, and publishes
-/// both. `amend` may change the result before it is written (Python notes a Ctrl-C the last
+/// video's, at its frame rate; params.on_view is the caller's view hook), records the video,
+/// writes the export and the run folder, and publishes both. `amend` may change the result before it is written (Python notes a Ctrl-C the last
 /// poll missed). A stop request before the mission starts is an Interrupted error and writes
 /// nothing; a video whose encoder failed is reported in video_error, and the rest is written.
 MissionJobResult run_mission_job(const world::World& world, const MissionJobParams& params,
