@@ -262,3 +262,27 @@ def test_ctrl_c_publishes_the_frames_mapped_so_far(tmp_path):
 
     record = json.loads((tmp_path / "out" / "frames.json").read_text())
     assert record["complete"] is False and record["frames_mapped"] == 1
+
+
+def test_compressed_depth_and_colour_labels(tmp_path):
+    """compressedDepth PNG (16UC1 millimetres after the transport's 12-byte header) and label
+    images in the classes' colours."""
+    from PIL import Image as PILImage
+
+    colors = canopy.class_colors(["background", "leaf", "fruit"])
+    ids = np.zeros((H, W), np.uint8)
+    ids[1:3, 2:5] = 2
+    ids[4:, :] = 1
+    with rosbag.Bag(str(tmp_path / "c.bag"), "w") as b:
+        b.write("/tf_static", tf_msg("world", "cam", 0.0, (0.0, 0.0, 1.0)), stamp(0.5))
+        b.write("/cam/info", info(1.0), stamp(1.0))
+        buf = io.BytesIO()
+        PILImage.fromarray(np.full((H, W), 750, np.uint16)).save(buf, format="PNG")
+        c = CompressedImage(format="16UC1; compressedDepth png", data=bytes(12) + buf.getvalue())
+        c.header.stamp, c.header.frame_id = stamp(1.0), "cam"
+        b.write("/cam/depth", c, stamp(1.0))
+        b.write("/cam/labels", image(1.0, colors[ids], "rgb8"), stamp(1.0))
+    r = canopy.read_bag(tmp_path / "c.bag", rgb=None, depth="/cam/depth", camera_info="/cam/info",
+                        labels="/cam/labels")
+    (f,) = r["frames"]
+    assert np.allclose(f.depth, 0.75) and np.array_equal(f.labels, ids)
