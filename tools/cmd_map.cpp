@@ -12,11 +12,9 @@
 #include "canopy/common/interrupt.h"
 #include "canopy/common/io.h"
 #include "canopy/datasets/frame_sequence.h"
-#include "canopy/datasets/sequence_mapping.h"
 #include "canopy/jobs/map_job.h"
-#include "canopy/mapping/map_io.h"
+#include "canopy/jobs/recorded_map_job.h"
 #include "canopy/mapping/frame_mapping.h"
-#include "canopy/mapping/scan_inserter.h"
 #include "cli_util.h"
 #include "commands.h"
 
@@ -36,69 +34,45 @@ struct MapOptions {
   double max_dt_s = datasets::FrameReaderOptions{}.max_time_diff_s;
 };
 
-// canopy map --frames: no world, no ground truth; the map and what each frame gave.
-void map_recorded(const MapOptions& opt, mission::Settings bundle) {
-  mission::MappingSettings& cfg = bundle.mapping;
+// canopy map --frames: no world, no ground truth; the map and what each frame gave
+// (jobs::map_recorded, canopy/jobs/recorded_map_job.h).
+void map_recorded(const MapOptions& opt, const mission::Settings& bundle) {
   datasets::FrameReaderOptions reader;
   reader.intrinsics_file = opt.intrinsics;
   reader.label_colors_file = opt.label_colors;
   reader.max_time_diff_s = opt.max_dt_s;
-  reader.label_images = cfg.extractor.source == perception::LabelSource::kTruth;
+  reader.label_images = bundle.mapping.extractor.source == perception::LabelSource::kTruth;
   const datasets::FrameSequence frames = datasets::FrameSequence::open(opt.frames, reader);
-  StagedDir out(opt.out, "map");
-  mapping::SemanticOcTree map(cfg.map, frames.classes());
-  mapping::ScanInserter inserter(map);
-  perception::SemanticExtractor extractor(cfg.extractor, frames.classes());
-  write_file_atomic(out.path("settings.yaml"), bundle.to_yaml_text());
-  YAML::Node run;
-  run["command"] = "map";
-  run["frames"] = opt.frames;
-  run["layout"] = datasets::to_string(frames.layout());
-  run["labels"] = reader.label_images ? "label images" : "color";
-  run["classes"] = frames.classes().names;
-  run["max_time_diff_s"] = opt.max_dt_s;
-  write_file_atomic(out.path("run.yaml"), yaml_text(run));
+  jobs::RecordedSequence seq;
+  seq.source = opt.frames;
+  seq.classes = frames.classes();
+  seq.size = frames.size();
+  seq.name = [&frames](std::size_t i) { return frames.name(i); };
+  seq.read = [&frames](std::size_t i, LabelledFrame* f, std::string* why) { return frames.read(i, f, why); };
+  seq.skipped = frames.skipped();
+  seq.notes = frames.notes();
+  seq.run["command"] = "map";
+  seq.run["frames"] = opt.frames;
+  seq.run["layout"] = datasets::to_string(frames.layout());
+  seq.run["labels"] = reader.label_images ? "label images" : "color";
+  seq.run["classes"] = frames.classes().names;
+  seq.run["max_time_diff_s"] = opt.max_dt_s;
   spdlog::info("mapping {} frames ({} layout, {} skipped while pairing), labels {}", frames.size(),
                datasets::to_string(frames.layout()), frames.skipped().size(), reader.label_images ? "from images" : "color");
   for (const std::string& note : frames.notes()) spdlog::warn("{}: {}", opt.frames, note);
-  const datasets::SequenceMapResult r = datasets::map_sequence(
-      frames, extractor, inserter,
-      [&](const mapping::FrameMapStep& s) {
-        if (s.mapped)
-          std::fprintf(stderr, "frame %s: %zu points, insert %.1f ms\n", s.name.c_str(), s.extract.points,
-                       s.insert.ms_total);
-        else
-          std::fprintf(stderr, "frame %s: skipped (%s)\n", s.name.c_str(), s.skip_reason.c_str());
-      },
-      [] { return interrupt_requested(); });
-  if (!r.complete && r.mapped == 0) throw Interrupted("interrupted before the first frame; nothing was written");
-  if (r.mapped == 0) throw InputError(opt.frames + ": no frame could be mapped (" + std::to_string(r.skipped.size()) + " skipped)");
-  mapping::save_map(map, out.path("map.csm"));
-  const std::size_t occupied = mapping::export_ply(map, out.path("map.ply"));
-  mapping::export_bt(map, out.path("map.bt"));
-  nlohmann::json steps = nlohmann::json::array();
-  for (const mapping::FrameMapStep& s : r.steps) {
-    nlohmann::json j = {{"frame", s.name}, {"mapped", s.mapped}};
-    if (s.mapped) j["insert"] = jobs::insert_stats_json(s.insert, s.extract);
-    else j["skip_reason"] = s.skip_reason;
-    steps.push_back(j);
-  }
-  nlohmann::json skipped = nlohmann::json::array();
-  for (const datasets::SkippedFrame& s : r.skipped) skipped.push_back({{"frame", s.name}, {"reason", s.reason}});
-  write_json_atomic(out.path("frames.json"), {{"complete", r.complete},
-                                              {"notes", frames.notes()},
-                                              {"frames_mapped", r.mapped},
-                                              {"frames_skipped", r.skipped.size()},
-                                              {"skipped_by_reason", datasets::count_reasons(r.skipped)},
-                                              {"skipped", skipped},
-                                              {"occupied_voxels", occupied},
-                                              {"steps", steps}});
-  out.commit();
-  if (!r.complete)
-    throw Interrupted("interrupted after " + std::to_string(r.mapped) + " frames; the map so far is saved in " + opt.out +
-                      " (frames.json \"complete\": false)");
-  std::printf("mapped %zu frames (%zu skipped): %zu occupied voxels; wrote %s\n", r.mapped, r.skipped.size(),
-              occupied, opt.out.c_str());
+  jobs::RecordedMapParams job;
+  job.settings = bundle;
+  job.out = opt.out;
+  job.on_frame = [](const mapping::FrameMapStep& s) {
+    if (s.mapped)
+      std::fprintf(stderr, "frame %s: %zu points, insert %.1f ms\n", s.name.c_str(), s.extract.points, s.insert.ms_total);
+    else
+      std::fprintf(stderr, "frame %s: skipped (%s)\n", s.name.c_str(), s.skip_reason.c_str());
+  };
+  job.stop_requested = [] { return interrupt_requested(); };
+  const jobs::RecordedMapResult r = jobs::map_recorded(seq, job);
+  std::printf("mapped %zu frames (%zu skipped): %zu occupied voxels; wrote %s\n", r.mapped, r.skipped,
+              r.occupied_voxels, opt.out.c_str());
 }
 
 }  // namespace

@@ -14,6 +14,8 @@ PACKAGES=(
   ffmpeg
   python3-matplotlib python3-yaml
   pybind11-dev python3-dev python3-numpy python3-pytest
+  python3-rosbag python3-sensor-msgs python3-geometry-msgs python3-tf2-msgs python3-visualization-msgs
+  python3-pil
   slurm-wlm munge parallel
 )
 

@@ -17,6 +17,11 @@ Quick start (docs/python.md)::
 - Missions: run_mission with a Settings bundle and any planner_names() method, or with a
   planner written in Python (planner=f, where f(request: PlannerRequest) returns views).
 
+- ROS 1 bags (canopy.bag, Debian's python3-rosbag): read_bag (a recording as Frames, poses from
+  /tf), map_bag (into the run folder `canopy map --frames` writes), record_bag (a mission
+  written as a bag while it runs), export_bag (a run folder's bag); `python3 -m canopy map-bag`
+  and `export-bag`.
+
 Bad input raises ValueError naming the value. Long calls release the GIL. Arrays handed back
 are copies, or read-only views that keep their owner alive.
 """
@@ -28,3 +33,5 @@ for _type in list(vars(_canopy).values()):
     if isinstance(_type, type):
         _type.__module__ = __name__  # canopy.World, not canopy._canopy.World, in help() and reprs
 del _type
+
+from .bag import BagError, export_bag, map_bag, read_bag, record_bag  # noqa: E402,F401  (ROS imported on use)

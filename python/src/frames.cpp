@@ -8,7 +8,9 @@
 
 #include "canopy/common/data_dir.h"
 #include "canopy/common/error.h"
+#include "canopy/common/io.h"
 #include "canopy/datasets/frame_sequence.h"
+#include "canopy/jobs/recorded_map_job.h"
 #include "objects.h"
 
 namespace canopy::python {
@@ -59,6 +61,25 @@ Image<T> image_from(const py::object& obj, const CameraIntrinsics& K, const std:
   return image;
 }
 
+// A Python record (dicts, lists, str, bool, int, float, None) as YAML, for run.yaml.
+YAML::Node yaml_from(const py::handle& obj, const std::string& what) {
+  YAML::Node n;
+  if (obj.is_none()) return n;
+  if (py::isinstance<py::bool_>(obj)) return YAML::Node(obj.cast<bool>());
+  if (py::isinstance<py::int_>(obj)) return YAML::Node(obj.cast<long long>());
+  if (py::isinstance<py::float_>(obj)) return YAML::Node(obj.cast<double>());
+  if (py::isinstance<py::str>(obj)) return YAML::Node(obj.cast<std::string>());
+  if (py::isinstance<py::dict>(obj)) {
+    for (const auto& kv : obj.cast<py::dict>()) n[py::str(kv.first).cast<std::string>()] = yaml_from(kv.second, what);
+    return n;
+  }
+  if (py::isinstance<py::list>(obj) || py::isinstance<py::tuple>(obj)) {
+    for (const auto& v : obj) n.push_back(yaml_from(v, what));
+    return n;
+  }
+  throw InputError(what + ": " + describe(obj) + " is not a dict, list, str, bool or number");
+}
+
 }  // namespace
 
 py::object frame_object(PyFrame frame) { return py::cast(std::make_shared<PyFrame>(std::move(frame))); }
@@ -107,8 +128,9 @@ The image attributes are read-only numpy views of the frame's memory; an array k
 frame alive, so it stays valid after the frame object is deleted.)")
       .def(py::init([](const py::object& depth, const py::object& pose, const py::object& intrinsics,
                        const py::object& labels, const py::object& rgb, const py::object& instances,
-                       const py::object& depth_scale) {
+                       const py::object& depth_scale, const std::string& name) {
              PyFrame f;
+             f.name = name;
              f.frame.intrinsics = intrinsics_from(intrinsics, CameraIntrinsics{});
              f.frame.T_world_camera = pose_from(pose, "pose");
              // Integer depth (a sensor's uint16 millimetres) taken as metres would put every
@@ -137,7 +159,7 @@ frame alive, so it stays valid after the frame object is deleted.)")
            }),
            py::arg("depth"), py::arg("pose"), py::arg("intrinsics") = py::none(), py::arg("labels") = py::none(),
            py::arg("rgb") = py::none(), py::arg("instances") = py::none(), py::kw_only(),
-           py::arg("depth_scale") = py::none(),
+           py::arg("depth_scale") = py::none(), py::arg("name") = "",
            R"(A frame from arrays (copied).
 
 depth: (H, W) planar z-depth [m], 0 where invalid; an integer depth image (a sensor's uint16)
@@ -145,6 +167,7 @@ needs depth_scale, metres per unit (0.001 for millimetres), and is refused witho
 pose: 4x4 T_world_camera (optical frame);
 intrinsics: canopy.Intrinsics (default: the D405 of configs); labels: (H, W) class indices
 (uint8); rgb: (H, W, 3) uint8; instances: (H, W) fruit instance ids (int32, -1 = none).
+name: the frame's name in its sequence (frames.json of canopy.map_frames).
 Which of labels / rgb a map needs depends on its settings' mapping.extractor.source
 (truth: labels, color: rgb).)")
       .def_readonly("name", &PyFrame::name, "The frame's name in its sequence ('' when rendered or built).")
@@ -206,6 +229,115 @@ folder: canopy frame folders (what `canopy render` writes) or a TUM RGB-D folder
 the label images too; intrinsics: TUM camera YAML (default folder/camera.yaml); label_colors:
 class-colour table YAML; max_dt: TUM pairing tolerance [s].
 Returns {"frames": [Frame], "skipped": [{"frame", "reason"}], "classes": [names]}.)");
+
+  m.def("class_colors",
+        [](const py::object& classes) {
+          SemanticClasses c;
+          if (!classes.is_none()) {
+            try {
+              c.names = classes.cast<std::vector<std::string>>();
+            } catch (const py::cast_error&) {
+              throw InputError("classes: " + describe(classes) + " is not a list of class names");
+            }
+          }
+          if (c.index_of(c.target) < 0 && !c.names.empty()) c.target = c.names.back();  // colours need no target
+          c.validate("classes");
+          py::array_t<std::uint8_t> a({static_cast<py::ssize_t>(c.size()), py::ssize_t{3}});
+          for (int i = 0; i < c.size(); ++i) {
+            const Rgb8 rgb = c.color(i);
+            a.mutable_at(i, 0) = rgb.r;
+            a.mutable_at(i, 1) = rgb.g;
+            a.mutable_at(i, 2) = rgb.b;
+          }
+          return a;
+        },
+        py::arg("classes") = py::none(),
+        "The drawing colour of each class ((K, 3) uint8: label images, map.ply); classes: names (default: canopy's).");
+
+  m.def("map_frames",
+        [](const py::object& frames_arg, const py::object& out, const py::object& settings, const py::object& classes_arg,
+           const py::object& run, const py::object& skipped_arg, const py::object& notes_arg, const py::object& progress) {
+          jobs::RecordedMapParams job;
+          job.settings = settings_from(settings);
+          job.out = path_from(out, "out");
+          job.out_option = "out";
+          StagedDir::check_writable(job.out, "map", "out");
+          std::vector<std::shared_ptr<PyFrame>> frames;
+          std::vector<std::string> names;
+          for (const py::handle& f : frames_arg) {
+            if (!py::isinstance<PyFrame>(f)) throw InputError("frames: " + describe(f) + " is not a canopy.Frame");
+            frames.push_back(f.cast<std::shared_ptr<PyFrame>>());
+            names.push_back(frames.back()->name.empty() ? "frame " + std::to_string(frames.size() - 1) : frames.back()->name);
+          }
+          jobs::RecordedSequence seq;
+          seq.source = "frames";
+          if (!classes_arg.is_none()) {
+            try {
+              seq.classes.names = classes_arg.cast<std::vector<std::string>>();
+            } catch (const py::cast_error&) {
+              throw InputError("classes: " + describe(classes_arg) + " is not a list of class names");
+            }
+          }
+          seq.classes.validate("classes");
+          seq.size = frames.size();
+          seq.name = [&names](std::size_t i) { return names[i]; };
+          seq.read = [&frames](std::size_t i, LabelledFrame* f, std::string*) {
+            *f = frames[i]->frame;
+            return true;
+          };
+          if (!skipped_arg.is_none())
+            for (const py::handle& s : skipped_arg) {
+              const py::dict d = py::reinterpret_borrow<py::object>(s).cast<py::dict>();
+              seq.skipped.push_back({py::str(d["frame"]).cast<std::string>(), py::str(d["reason"]).cast<std::string>()});
+            }
+          if (!notes_arg.is_none()) seq.notes = notes_arg.cast<std::vector<std::string>>();
+          seq.run = yaml_from(run, "run");
+          if (!progress.is_none() && !PyCallable_Check(progress.ptr()))
+            throw InputError("progress: " + describe(progress) + " is not callable");
+          // Ctrl-C: Python's handler only sets a flag while the job runs without the GIL; it is
+          // polled before each frame, and noted when the progress callback raised
+          // KeyboardInterrupt (the frames so far are published, marked incomplete, and
+          // KeyboardInterrupt raised).
+          bool interrupted = false;
+          if (!progress.is_none())
+            job.on_frame = [&progress, &interrupted](const mapping::FrameMapStep& s) {
+              py::gil_scoped_acquire gil;
+              try {
+                progress(s.mapped ? "frame " + s.name + ": " + std::to_string(s.extract.points) + " points"
+                                  : "frame " + s.name + ": skipped (" + s.skip_reason + ")");
+              } catch (py::error_already_set& e) {
+                if (!e.matches(PyExc_KeyboardInterrupt)) throw;
+                interrupted = true;
+              }
+            };
+          job.stop_requested = [&interrupted] {
+            if (interrupted) return true;
+            py::gil_scoped_acquire gil;
+            if (PyErr_CheckSignals() == 0) return false;
+            PyErr_Clear();
+            return true;
+          };
+          jobs::RecordedMapResult r;
+          {
+            py::gil_scoped_release release;
+            r = jobs::map_recorded(seq, job);
+          }
+          return py::dict(py::arg("mapped") = r.mapped, py::arg("skipped") = r.skipped,
+                          py::arg("occupied_voxels") = r.occupied_voxels);
+        },
+        py::arg("frames"), py::arg("out"), py::arg("settings") = py::none(), py::kw_only(),
+        py::arg("classes") = py::none(), py::arg("run") = py::none(), py::arg("skipped") = py::none(),
+        py::arg("notes") = py::none(), py::arg("progress") = py::none(),
+        R"(Maps recorded frames into the run folder `canopy map --frames` writes.
+
+frames: canopy.Frame objects, mapped in order with the settings' frame step (colour
+segmentation of their rgb, or their labels with mapping.extractor.source: truth); out: the
+folder (map.csm, map.ply, map.bt, frames.json, run.yaml, settings.yaml; written and published
+as every canopy output folder); classes: the label classes (default: canopy's); run: what
+run.yaml records (a dict); skipped, notes: frames dropped before mapping ({'frame', 'reason'})
+and the reader's notes, for frames.json; progress: called with a line per frame. Ctrl-C
+publishes the frames mapped so far (frames.json "complete": false) and raises KeyboardInterrupt.
+Returns {'mapped', 'skipped', 'occupied_voxels'}.)");
 }
 
 }  // namespace canopy::python

@@ -5,6 +5,7 @@
 #include <pybind11/stl.h>
 
 #include <cmath>
+#include <optional>
 
 #include "canopy/common/error.h"
 #include "canopy/common/io.h"
@@ -13,6 +14,7 @@
 #include "canopy/mission/mission.h"
 #include "canopy/mission/run_folder.h"
 #include "canopy/mission/view_columns.h"
+#include "canopy/robot/robot_description.h"
 #include "objects.h"
 #include "python_planner.h"
 
@@ -74,6 +76,51 @@ py::dict views_dict(const mission::MissionResult& r, const std::string& method) 
   return d;
 }
 
+// The robot's link tree as the simulator holds it (every URDF link with a frame site, each with
+// its nearest ancestor that has one; "world" is the root), for the robot state a mission hands
+// to Python's on_view and on_state.
+struct LinkTree {
+  std::vector<std::string> names, parents;
+};
+
+LinkTree link_tree(const sim::Simulator& sim) {
+  const robot::RobotDescription d = robot::RobotDescription::load_urdf(sim.robot_config().urdf_path);
+  LinkTree t;
+  std::vector<std::string> frame_of(d.links().size(), "world");  // a link's nearest ancestor with a site
+  for (std::size_t i = 0; i < d.links().size(); ++i) {
+    const std::string& name = d.links()[i].name;
+    const int parent = d.parent_link(static_cast<int>(i));
+    const std::string above = parent < 0 ? "world" : frame_of[static_cast<std::size_t>(parent)];
+    bool has_frame = name != "world";
+    if (has_frame) {
+      try {
+        (void)sim.frame_pose(name);
+      } catch (const InputError&) {  // a link the scene keeps no frame of
+        has_frame = false;
+      }
+    }
+    frame_of[i] = has_frame ? name : above;
+    if (!has_frame) continue;
+    t.names.push_back(name);
+    t.parents.push_back(above);
+  }
+  return t;
+}
+
+// The robot's state now (GIL held): simulated time, base pose, arm joints and every link's world
+// pose with its parent in the tree.
+py::dict robot_state(const sim::Simulator& sim, const LinkTree& tree) {
+  std::vector<Pose> poses;
+  for (const std::string& name : tree.names) poses.push_back(sim.frame_pose(name));
+  const BasePose b = sim.base_pose();
+  const ArmConfig q = sim.arm_positions();
+  return py::dict(py::arg("time") = sim.time(), py::arg("base") = array_of(std::vector<double>{b.x_m, b.y_m, b.yaw_rad}),
+                  py::arg("joints") = array_of(std::vector<double>(q.begin(), q.end())),
+                  py::arg("links") = tree.names, py::arg("parents") = tree.parents,
+                  py::arg("link_poses") = poses_array(poses), py::arg("camera") = pose_array(sim.camera_pose()),
+                  py::arg("camera_frame") = sim.robot_config().camera_frame);
+}
+
 }  // namespace
 
 void bind_missions(py::module_& m) {
@@ -113,7 +160,8 @@ NaN), plus goal_pose and reached_pose (N, 4, 4; reached NaN for failed views).)"
   m.def("run_mission",
         [](const PyWorld& world, const py::object& settings, const py::object& method, const py::object& planner,
            const py::object& seed_arg, const py::object& out, const py::object& video, std::pair<int, int> video_size,
-           double video_fps, const py::object& progress) {
+           double video_fps, const py::object& progress, const py::object& on_view, const py::object& on_state,
+           double state_period) {
           // Validate every input before any work.
           mission::Settings s = settings_from(settings);
           choose_method(s, method, planner);
@@ -121,6 +169,13 @@ NaN), plus goal_pose and reached_pose (N, 4, 4; reached NaN for failed views).)"
           std::string video_error;
           if (!progress.is_none() && !PyCallable_Check(progress.ptr()))
             throw InputError("progress: " + describe(progress) + " is not callable");
+          if (!on_view.is_none() && !PyCallable_Check(on_view.ptr()))
+            throw InputError("on_view: " + describe(on_view) + " is not callable");
+          if (!on_state.is_none() && !PyCallable_Check(on_state.ptr()))
+            throw InputError("on_state: " + describe(on_state) + " is not callable");
+          if (!(std::isfinite(state_period) && state_period >= 1e-3 && state_period <= 60.0))
+            throw InputError("state_period: " + std::to_string(state_period) +
+                             " is not a period of simulated time in [0.001, 60] s");
           jobs::MissionJobParams job;
           job.world_file = world.file();
           job.seed = seed;
@@ -141,6 +196,47 @@ NaN), plus goal_pose and reached_pose (N, 4, 4; reached NaN for failed views).)"
               py::gil_scoped_acquire gil;
               call_noting_interrupt([&] { progress(message); });
             };
+          // The robot's state for on_view and on_state (a bag of the run, canopy/bag.py); the link
+          // tree is read once, from the simulator's robot.
+          std::optional<LinkTree> tree;
+          const auto links_of = [&tree](const sim::Simulator& sim) -> const LinkTree& {
+            if (!tree) tree = link_tree(sim);
+            return *tree;
+          };
+          if (!on_view.is_none())
+            job.on_view = [&on_view, &links_of, map_settings = s.mapping](const mission::ViewRecord& v, const LabelledFrame& f,
+                                                                     const sim::Simulator& sim,
+                                                                     const mapping::SemanticOcTree& map) {
+              const LinkTree& t = links_of(sim);
+              py::gil_scoped_acquire gil;
+              auto alive = std::make_shared<bool>(true);  // the map is lent for the call
+              struct EndLoan {
+                std::shared_ptr<bool> alive;
+                ~EndLoan() { *alive = false; }
+              } end_loan{alive};
+              py::dict d = robot_state(sim, t);
+              d["attempt"] = v.attempt;
+              d["stop"] = v.stop;
+              d["phase"] = mission::to_string(v.phase);
+              d["source"] = v.source;
+              d["successful_views"] = v.successful_views;
+              d["goal"] = pose_array(v.T_goal);
+              PyFrame frame;
+              frame.name = "view " + std::to_string(v.attempt);
+              frame.frame = f;
+              d["frame"] = frame_object(std::move(frame));
+              d["map"] = PyMap::borrow(map, alive, map_settings);
+              call_noting_interrupt([&] { on_view(d); });
+            };
+          if (!on_state.is_none()) {
+            cb.video_period_s = state_period;
+            cb.video_tick = [&on_state, &links_of](sim::Simulator& sim, const std::string&) {
+              const LinkTree& t = links_of(sim);
+              py::gil_scoped_acquire gil;
+              py::dict d = robot_state(sim, t);
+              call_noting_interrupt([&] { on_state(d); });
+            };
+          }
           // Ctrl-C: Python's signal handler only sets a flag while the mission runs without the
           // GIL; it is polled a few times a second between simulation steps, and noted when
           // Python code the mission called (planner, progress) raised KeyboardInterrupt.
@@ -190,7 +286,8 @@ NaN), plus goal_pose and reached_pose (N, 4, 4; reached NaN for failed views).)"
         py::arg("world"), py::arg("settings") = py::none(), py::kw_only(), py::arg("method") = py::none(),
         py::arg("planner") = py::none(), py::arg("seed") = 1, py::arg("out") = py::none(), py::arg("video") = py::none(),
         py::arg("video_size") = std::pair<int, int>(640, 480), py::arg("video_fps") = 25.0,
-        py::arg("progress") = py::none(),
+        py::arg("progress") = py::none(), py::arg("on_view") = py::none(), py::arg("on_state") = py::none(),
+        py::arg("state_period") = 0.1,
         R"(Runs the closed-loop mission on a canopy.World and returns a canopy.MissionResult.
 
 settings: canopy.Settings or a bundle file (default: configs/canopy.yaml); method: a planner
@@ -199,7 +296,17 @@ callable taking a canopy.PlannerRequest and returning views; docs/python.md); se
 segmentation noise, the planner's draws and OMPL (same seed, same views.csv); out: also write
 the run folder `canopy mission --out` writes (views.csv, timing.csv, summary.json,
 settings.yaml, map.csm, map.ply, map.bt); video: also record an MP4 (video_size, video_fps);
-progress: called with each progress line. The mission runs without the GIL (a Python
+progress: called with each progress line; on_view: called after every successful view with a
+dict: 'frame' (the canopy.Frame the mission mapped: rgb, depth, true labels, instances, pose),
+'map' (the mission's map with the view inserted, lent for the call: read-only, unusable
+afterwards), 'attempt', 'stop', 'phase', 'source', 'successful_views', 'goal' and the robot
+state below;
+on_state: called every state_period seconds of simulated time (every video frame when a video
+is recorded) with the robot state: 'time' (simulated s), 'base' (x, y, yaw), 'joints', 'links'
+and 'parents' (the URDF's links with a frame, each with its parent; the root is 'world'),
+'link_poses' (N, 4, 4 world poses), 'camera' (the wrist camera's optical pose) and
+'camera_frame' (its link's name). Neither
+changes the mission's results (canopy.record_bag writes a ROS bag with them). The mission runs without the GIL (a Python
 planner takes it while it plans); Ctrl-C stops it (KeyboardInterrupt, after the partial
 run folder is written).)");
 }

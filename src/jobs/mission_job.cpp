@@ -70,17 +70,21 @@ MissionJobResult run_mission_job(const world::World& world, const MissionJobPara
   const bool filmed = !p.video.path.empty();
   std::unique_ptr<mission::MissionVideo> video;
   const mission::Mission* running = nullptr;
+  // The caller's own tick (Python's on_state) runs after the video's, at the video's period.
   if (filmed) {
     cb.video_period_s = 1.0 / p.video.fps;
-    cb.video_tick = [&video](sim::Simulator& sim, const std::string& caption) {
+    cb.video_tick = [&video, caller = std::move(cb.video_tick)](sim::Simulator& sim, const std::string& caption) {
       if (video) video->tick(sim, caption);
+      if (caller) caller(sim, caption);
     };
   }
-  if (filmed || ex.dataset)  // (a callback that reads the map waits for each scan's insertion)
-    cb.on_view = [&video, &ex, &running](const mission::ViewRecord&, const LabelledFrame& f, const sim::Simulator& sim) {
+  if (filmed || ex.dataset || p.on_view)  // (a callback that reads the map waits for each scan's insertion)
+    cb.on_view = [&video, &ex, &running, &p](const mission::ViewRecord& v, const LabelledFrame& f,
+                                            const sim::Simulator& sim) {
       if (video) video->set_wrist(f);
       if (video && running) video->set_map(running->map(), sim.base_pose());
       if (ex.dataset) ex.dataset->add_train(f);
+      if (p.on_view && running) p.on_view(v, f, sim, running->map());
     };
   const std::function<bool()> stop_requested = cb.stop_requested;
   mission::Mission mission(world, settings, p.seed, cb);

@@ -53,6 +53,11 @@ struct MissionJobParams {
   bool plots = false;                 ///< Draw sc_entropy.png and runtime.png into the run folder.
   bool keep_map = false;              ///< Return a copy of the final map.
   bool strict_colours = false;        ///< A non-fruit material coloured like fruit is an error (check_world_colours).
+  /// Called after every successful view (after the video's and the export's hooks) with its
+  /// frame, the simulator in that state and the mission's map with the view inserted (Python's
+  /// on_view: a ROS bag of the run). It changes no result.
+  std::function<void(const mission::ViewRecord&, const LabelledFrame&, const sim::Simulator&,
+                     const mapping::SemanticOcTree&)> on_view;
 };
 
 /// What a mission job did.
@@ -72,9 +77,10 @@ struct MissionJobResult {
 void check_mission_outputs(const MissionJobParams& params);
 
 /// Runs the closed-loop mission on `world` (checked against the settings' labels first,
-/// check_world_colours) with `callbacks` (progress, stop requests; the job adds the video's
-/// and the export's), records the video, writes the export and the run folder, and publishes
-/// both. `amend` may change the result before it is written (Python notes a Ctrl-C the last
+/// check_world_colours) with `callbacks` (progress, stop requests, a tick: the job adds the
+/// video's and the export's hooks, and with a video the caller's video_tick runs after the
+/// video's, at its frame rate; params.on_view is the caller's view hook), records the video,
+/// writes the export and the run folder, and publishes both. `amend` may change the result before it is written (Python notes a Ctrl-C the last
 /// poll missed). A stop request before the mission starts is an Interrupted error and writes
 /// nothing; a video whose encoder failed is reported in video_error, and the rest is written.
 MissionJobResult run_mission_job(const world::World& world, const MissionJobParams& params,
