@@ -15,6 +15,8 @@ PACKAGES=(
   python3-matplotlib python3-yaml
   pybind11-dev python3-dev python3-numpy python3-pytest
   slurm-wlm munge parallel
+  libjs-three
+  chromium
 )
 
 missing=()

@@ -8,6 +8,7 @@
 #include "canopy/common/error.h"
 #include "canopy/common/io.h"
 #include "canopy/jobs/plots.h"
+#include "canopy/jobs/run_report.h"
 #include "canopy/jobs/world_job.h"
 #include "canopy/mission/dataset_export.h"
 #include "canopy/mission/run_folder.h"
@@ -82,6 +83,16 @@ MissionJobResult run_mission_job(const world::World& world, const MissionJobPara
       if (video && running) video->set_map(running->map(), sim.base_pose());
       if (ex.dataset) ex.dataset->add_train(f);
     };
+  // What the report replays, recorded beside the mission (replay.h).
+  std::unique_ptr<mission::MapReplay> replay;
+  if (out && p.report) {
+    if (report_libraries_present()) {
+      replay = std::make_unique<mission::MapReplay>(world.spec.classes);
+      cb.replay = replay.get();
+    } else {
+      spdlog::warn("report.html skipped (needs Debian's libjs-three; run tools/deps.sh)");
+    }
+  }
   const std::function<bool()> stop_requested = cb.stop_requested;
   mission::Mission mission(world, settings, p.seed, cb);
   running = &mission;
@@ -111,6 +122,8 @@ MissionJobResult run_mission_job(const world::World& world, const MissionJobPara
   }
   r.summary = out ? mission::write_run_folder(out->working_dir(), r.result, settings, mission.map(), context)
                   : mission::run_summary(r.result, settings, context);
+  if (out && replay)
+    write_run_report(out->working_dir(), mission_report_data(r.result, settings, world, r.summary), *replay);
   if (out && p.plots) draw_plots("tools/plot_mission.py", out->working_dir(), p.out);
   if (ex.dataset && r.result.complete) {
     ex.dataset->render_test_views(mission.simulator(), world, mission::default_test_ring());

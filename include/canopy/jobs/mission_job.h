@@ -51,6 +51,7 @@ struct MissionJobParams {
   VideoOptions video;                 ///< video_options' result; path "" records none.
   std::string export_dir;             ///< nerfstudio dataset folder; "" exports none.
   bool plots = false;                 ///< Draw sc_entropy.png and runtime.png into the run folder.
+  bool report = true;                 ///< Write report.html into the run folder (run_report.h).
   bool keep_map = false;              ///< Return a copy of the final map.
   bool strict_colours = false;        ///< A non-fruit material coloured like fruit is an error (check_world_colours).
 };
