@@ -6,6 +6,7 @@
   'use strict';
   const data = JSON.parse(document.getElementById('canopy-data').textContent);
   const app = document.getElementById('app');
+  document.body.classList.add('exp-page');  // a long page, not a full-window view
   const esc = (s) => String(s).replace(/[&<>"]/g, (c) => ({ '&': '&amp;', '<': '&lt;', '>': '&gt;', '"': '&quot;' }[c]));
   const palette = ['#1f77b4', '#ff7f0e', '#2ca02c', '#d62728', '#9467bd', '#8c564b', '#e377c2', '#7f7f7f', '#bcbd22', '#17becf'];
   const trials = data.trials || [];

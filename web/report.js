@@ -356,7 +356,9 @@
       line.setAttribute('x1', cx.toFixed(1));
       line.setAttribute('x2', cx.toFixed(1));
       const lab = c.svg.querySelector('.cursor-label');
-      lab.setAttribute('x', (cx + 3).toFixed(1));
+      const right = cx > 396 - 60;  // near the right edge: the label goes left of the cursor
+      lab.setAttribute('x', (right ? cx - 3 : cx + 3).toFixed(1));
+      lab.setAttribute('text-anchor', right ? 'end' : 'start');
       lab.textContent = c.values.length ? fmt(c.values[current]) : '';
     }
     thumb('thumb-rgb', 'rgb');

@@ -42,8 +42,7 @@ std::vector<std::uint16_t> replay_packed(const nlohmann::json& j) {
   return state;
 }
 
-mission::MapReplay three_scans(mapping::SemanticOcTree& map) {
-  mission::MapReplay replay(SemanticClasses{});
+void three_scans(mapping::SemanticOcTree& map, mission::MapReplay& replay) {
   for (int scan = 0; scan < 3; ++scan) {
     std::vector<mapping::VoxelUpdate> b;
     for (int i = 0; i < 10; ++i)
@@ -52,12 +51,12 @@ mission::MapReplay three_scans(mapping::SemanticOcTree& map) {
     map.apply_sorted_updates(b);
     replay.record_scan(map, b);
   }
-  return replay;
 }
 
 TEST(RunReport, PackedReplayDecodesToTheMapsState) {
   mapping::SemanticOcTree map(mapping::SemanticMapParams{}, SemanticClasses{});
-  const mission::MapReplay replay = three_scans(map);
+  mission::MapReplay replay(SemanticClasses{});
+  three_scans(map, replay);
   const nlohmann::json j = pack_replay(replay, map.params(), ReportBounds{});
   EXPECT_EQ(j["step"], 1);
   EXPECT_EQ(j["counts"].size(), 3u);
@@ -70,7 +69,8 @@ TEST(RunReport, PackedReplayDecodesToTheMapsState) {
 
 TEST(RunReport, TooManyChangesKeepStatesEveryFewViewsWithANote) {
   mapping::SemanticOcTree map(mapping::SemanticMapParams{}, SemanticClasses{});
-  const mission::MapReplay replay = three_scans(map);
+  mission::MapReplay replay(SemanticClasses{});
+  three_scans(map, replay);
   ReportBounds bounds;
   bounds.max_changes = replay.change_count() / 2;
   const nlohmann::json j = pack_replay(replay, map.params(), bounds);

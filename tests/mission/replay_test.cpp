@@ -11,11 +11,12 @@
 namespace canopy::mission {
 namespace {
 
-constexpr int kLeaf = 1, kFruit = 2;
+constexpr int kReplayLeaf = 1, kReplayFruit = 2;  // (unity batches: names of their own)
+constexpr int kReplayPass = mapping::VoxelUpdate::kFree;
 
-std::vector<mapping::VoxelUpdate> batch(const std::vector<std::pair<octomap::OcTreeKey, std::uint8_t>>& voxels) {
+std::vector<mapping::VoxelUpdate> batch(const std::vector<std::pair<octomap::OcTreeKey, int>>& voxels) {
   std::vector<mapping::VoxelUpdate> b;
-  for (const auto& [k, label] : voxels) b.push_back({mapping::morton_code(k), label});
+  for (const auto& [k, label] : voxels) b.push_back({mapping::morton_code(k), static_cast<std::uint8_t>(label)});
   std::sort(b.begin(), b.end(), [](const auto& x, const auto& y) { return x.code < y.code; });
   return b;
 }
@@ -24,11 +25,11 @@ TEST(MapReplay, DrawnStateNamesOccupancyAndClass) {
   mapping::SemanticOcTree map(mapping::SemanticMapParams{}, SemanticClasses{});
   EXPECT_EQ(drawn_state(map, nullptr), 0);  // unknown: not drawn
   const octomap::OcTreeKey k(32768, 32768, 32768);
-  map.apply_sorted_updates(batch({{k, kFruit}}));
+  map.apply_sorted_updates(batch({{k, kReplayFruit}}));
   const std::uint16_t s = drawn_state(map, map.find(k));
   EXPECT_TRUE(s & 0x8000);
-  EXPECT_EQ(s & 63, kFruit);
-  map.apply_sorted_updates(batch({{k, mapping::VoxelUpdate::kFree}}));  // one pass: 1.0 - 0.1 still occupied
+  EXPECT_EQ(s & 63, kReplayFruit);
+  map.apply_sorted_updates(batch({{k, kReplayPass}}));  // one pass: 1.0 - 0.1 still occupied
   EXPECT_TRUE(drawn_state(map, map.find(k)) & 0x8000);
 }
 
@@ -37,7 +38,7 @@ TEST(MapReplay, RecordsOnlyChangesOfTheDrawnState) {
   MapReplay replay(SemanticClasses{});
   const octomap::OcTreeKey a(32768, 32768, 32768), b(32769, 32768, 32768), f(32770, 32768, 32768);
   // Scan 1: two hits and a pass-through of an unknown voxel (free, never drawn: no index).
-  auto s1 = batch({{a, kLeaf}, {b, kFruit}, {f, mapping::VoxelUpdate::kFree}});
+  auto s1 = batch({{a, kReplayLeaf}, {b, kReplayFruit}, {f, kReplayPass}});
   map.apply_sorted_updates(s1);
   replay.record_scan(map, s1);
   ASSERT_EQ(replay.voxels().size(), 2u);
@@ -45,7 +46,7 @@ TEST(MapReplay, RecordsOnlyChangesOfTheDrawnState) {
   EXPECT_EQ(replay.scans()[0].size(), 2u);
   // Scan 2: `a` passed through until it is free: one change to 0; `b` hit again without a
   // change of level may or may not change; the record is the map's state either way.
-  std::vector<mapping::VoxelUpdate> s2 = batch({{a, mapping::VoxelUpdate::kFree}});
+  std::vector<mapping::VoxelUpdate> s2 = batch({{a, kReplayPass}});
   for (int i = 0; i < 20; ++i) map.apply_sorted_updates(s2);
   replay.record_scan(map, s2);
   ASSERT_EQ(replay.scans()[1].size(), 1u);
@@ -67,13 +68,13 @@ TEST(MapReplay, ThumbnailsKeepTheAspectAndTheLabelColours) {
   MapReplay replay(classes, 32);
   LabelledFrame frame;
   frame.rgb = Image<Rgb8>(64, 48, Rgb8{10, 20, 30});
-  frame.class_id = Image<std::uint8_t>(64, 48, std::uint8_t(kFruit));
+  frame.class_id = Image<std::uint8_t>(64, 48, std::uint8_t(kReplayFruit));
   replay.record_frame(frame);
   ASSERT_EQ(replay.rgb().size(), 1u);
   EXPECT_EQ(replay.rgb()[0].width, 32);
   EXPECT_EQ(replay.rgb()[0].height, 24);
   EXPECT_EQ(replay.rgb()[0].at(5, 5).g, 20);
-  EXPECT_EQ(replay.labels()[0].at(31, 23).r, classes.color(kFruit).r);
+  EXPECT_EQ(replay.labels()[0].at(31, 23).r, classes.color(kReplayFruit).r);
 }
 
 }  // namespace
