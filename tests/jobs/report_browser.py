@@ -5,8 +5,10 @@ A small Chrome DevTools Protocol client over --remote-debugging-pipe (file descr
 4, NUL-separated JSON): no network, no extra Python package. Used by
 run_report_browser_test.sh and, with --screenshot, to make the README's picture.
 
-  report_browser.py run REPORT.html [--incomplete] [--screenshot OUT.png]
-  report_browser.py experiment REPORT.html
+  report_browser.py [--screenshot OUT.png] KIND REPORT.html [KIND REPORT.html ...]
+
+KIND is run (a complete mission or map), incomplete (an interrupted one: the page must say
+so) or experiment; the screenshot is of the first run page.
 
 Exit 0 when every check passes; otherwise one line per failure and exit 1.
 """
@@ -209,13 +211,26 @@ def check_experiment(b, path):
 
 
 def main(argv):
-    if len(argv) < 3 or argv[1] not in ("run", "experiment"):
+    args = argv[1:]
+    shot = None
+    if "--screenshot" in args:
+        i = args.index("--screenshot")
+        shot = args[i + 1]
+        del args[i:i + 2]
+    if not args or len(args) % 2 or any(k not in ("run", "incomplete", "experiment") for k in args[::2]):
         print(__doc__)
         return 2
-    shot = argv[argv.index("--screenshot") + 1] if "--screenshot" in argv else None
-    b = Browser()
+    b = Browser()  # one browser for every page
+    fails = []
     try:
-        fails = check_run(b, argv[2], "--incomplete" in argv, shot) if argv[1] == "run" else check_experiment(b, argv[2])
+        for kind, path in zip(args[::2], args[1::2]):
+            if kind == "experiment":
+                got = check_experiment(b, path)
+            else:
+                got = check_run(b, path, kind == "incomplete", shot)
+                shot = None
+            fails += [f"{path}: {f}" for f in got]
+            b.events.clear()
     finally:
         b.close()
     for f in fails:

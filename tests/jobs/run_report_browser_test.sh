@@ -4,7 +4,8 @@
 # blank (leaf and fruit colours in a screenshot of the canvas), the slider changes the cameras
 # drawn, the map and the curve cursor; an interrupted mission's report says it is incomplete;
 # equal seeds give the same report bytes (but for the wall-time line) and thumbnails; an
-# experiment report's links to its trials' reports resolve; --no-report writes none.
+# experiment report's links to its trials' reports resolve; canopy map's report opens too;
+# --no-report writes none. One browser opens every page.
 set -euo pipefail
 canopy=$1
 src=$(pwd)
@@ -25,7 +26,6 @@ for f in "$dir"/a/report*; do
   fi
 done
 [[ $(grep -c '^<script id="canopy-wall"' "$dir/a/report.html") -eq 1 ]] || { echo "no wall-time line"; exit 1; }
-$browser run "$dir/a/report.html"
 
 # Ctrl-C after the first views: the report says the run is incomplete.
 "$canopy" mission --world worlds/small.yaml --views-per-stop 12 --no-plots --out "$dir/int" 2> "$dir/int.log" &
@@ -40,7 +40,6 @@ wait "$pid"
 code=$?
 set -e
 [[ $code -eq 130 ]] || { echo "interrupted mission: exit $code, expected 130"; cat "$dir/int.log"; exit 1; }
-$browser run "$dir/int/report.html" --incomplete
 
 # --no-report: no report.
 run --seed 2 --out "$dir/none" --no-report
@@ -60,5 +59,10 @@ trial_timeout_s: 120
 YAML
 "$canopy" experiment --config "$dir/exp.yaml" --out "$dir/exp" --jobs 2 2>> "$dir/log.txt"
 "$canopy" report "$dir/exp" --no-plots 2>> "$dir/log.txt"
-$browser experiment "$dir/exp/report/report.html"
+
+# canopy map's report, of three views.
+"$canopy" map --world worlds/small.yaml --views tests/jobs/report_map_views.txt --out "$dir/map" > /dev/null 2>> "$dir/log.txt"
+
+$browser run "$dir/a/report.html" incomplete "$dir/int/report.html" run "$dir/map/report.html" \
+  experiment "$dir/exp/report/report.html"
 echo "report browser test: ok"
