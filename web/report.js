@@ -4,6 +4,7 @@
 // Test hook: window.canopyReport (ready, setView, state).
 (function () {
   'use strict';
+  const marks = { start: performance.now() };  // ms from navigation start (docs/report.md#bounds)
   const data = JSON.parse(document.getElementById('canopy-data').textContent);
   const wall = JSON.parse(document.getElementById('canopy-wall').textContent);
   const app = document.getElementById('app');
@@ -156,7 +157,7 @@
   const curves = [curve('curve-sc', okViews.map((v) => v.sc), 'SC'), curve('curve-h', okViews.map((v) => v.h), 'H')];
 
   // ---- 3D scene ---------------------------------------------------------------------------
-  let renderer = null, scene, camera, controls, points, fruitMeshes = [], frusta = [], pickPoints, targetLine;
+  let renderer = null, scene, camera, controls, points, fruitMeshes = [], frusta = null, pickPoints, targetLine;
   // Class colours of the label images; black (background) drawn dark grey to show on white.
   const classColours = (data.classes || []).map((c) => (c.color[0] + c.color[1] + c.color[2] === 0
     ? new THREE.Color(0.33, 0.33, 0.33) : new THREE.Color(c.color[0] / 255, c.color[1] / 255, c.color[2] / 255)));
@@ -167,21 +168,18 @@
 
   function setupScene() {
     try {
-      renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
+      renderer = new THREE.WebGLRenderer({ antialias: false, preserveDrawingBuffer: true });  // no MSAA: software GL stays fast
     } catch (e) {
       view3d.appendChild(el('p', { id: 'no-webgl' }, 'No WebGL in this browser: the 3D view is off (' + esc(e.message) + ').'));
       return;
     }
+    marks.webgl = performance.now();
     renderer.setPixelRatio(1);
     renderer.setClearColor(0xffffff);
     view3d.insertBefore(renderer.domElement, tip);
     scene = new THREE.Scene();
     camera = new THREE.PerspectiveCamera(45, 1, 0.01, 100);
     camera.up.set(0, 0, 1);
-    scene.add(new THREE.AmbientLight(0xffffff, 0.7));
-    const sun = new THREE.DirectionalLight(0xffffff, 0.5);
-    sun.position.set(1, -2, 3);
-    scene.add(sun);
     // The map's voxels: one point each, sized as a voxel.
     const g = new THREE.BufferGeometry();
     g.setAttribute('position', new THREE.BufferAttribute(new Float32Array(Math.max(1, nVox) * 3), 3));
@@ -203,25 +201,32 @@
       box.expandByPoint(new THREE.Vector3(f.min[0], f.min[1], f.min[2]));
       box.expandByPoint(new THREE.Vector3(f.max[0], f.max[1], f.max[2]));
     }
-    // Cameras: a small frustum per attempted view, and a pick point at its centre.
+    // Cameras: a small frustum per attempted view (16 line vertices each, in attempt order, so
+    // that the views up to k are a draw range of one object), and a pick point at its centre.
     const pick = new Float32Array(Math.max(1, views.length) * 3);
+    const fv = new Float32Array(Math.max(1, views.length) * 48), fc = new Float32Array(Math.max(1, views.length) * 48);
+    const corner = new THREE.Vector3(), q = new THREE.Quaternion();
     views.forEach((v, i) => {
-      const p = v.goal.p, q = v.goal.q;
+      const p = v.goal.p;
+      q.set(v.goal.q[1], v.goal.q[2], v.goal.q[3], v.goal.q[0]);
       const s = 0.04, h = 0.03;
       const corners = [[-s, -h, 0.06], [s, -h, 0.06], [s, h, 0.06], [-s, h, 0.06]];
-      const pts = [];
-      for (let c = 0; c < 4; ++c) pts.push(0, 0, 0, ...corners[c], ...corners[c], ...corners[(c + 1) % 4]);
-      const lg = new THREE.BufferGeometry();
-      lg.setAttribute('position', new THREE.BufferAttribute(new Float32Array(pts), 3));
-      const colour = v.ok ? phaseColour[v.phase] || 0x1f77b4 : failedColour;
-      const fr = new THREE.LineSegments(lg, new THREE.LineBasicMaterial({ color: colour }));
-      fr.position.set(p[0], p[1], p[2]);
-      fr.quaternion.set(q[1], q[2], q[3], q[0]);
-      scene.add(fr);
-      frusta.push(fr);
+      const local = [];
+      for (let c = 0; c < 4; ++c) local.push([0, 0, 0], corners[c], corners[c], corners[(c + 1) % 4]);
+      const colour = new THREE.Color(v.ok ? phaseColour[v.phase] || 0x1f77b4 : failedColour);
+      local.forEach((l, j) => {
+        corner.set(l[0], l[1], l[2]).applyQuaternion(q);
+        fv[48 * i + 3 * j] = p[0] + corner.x; fv[48 * i + 3 * j + 1] = p[1] + corner.y; fv[48 * i + 3 * j + 2] = p[2] + corner.z;
+        fc[48 * i + 3 * j] = colour.r; fc[48 * i + 3 * j + 1] = colour.g; fc[48 * i + 3 * j + 2] = colour.b;
+      });
       pick[3 * i] = p[0]; pick[3 * i + 1] = p[1]; pick[3 * i + 2] = p[2];
       box.expandByPoint(new THREE.Vector3(p[0], p[1], p[2]));
     });
+    const fg = new THREE.BufferGeometry();
+    fg.setAttribute('position', new THREE.BufferAttribute(fv, 3));
+    fg.setAttribute('color', new THREE.BufferAttribute(fc, 3));
+    frusta = new THREE.LineSegments(fg, new THREE.LineBasicMaterial({ vertexColors: THREE.VertexColors }));
+    scene.add(frusta);
     const pg = new THREE.BufferGeometry();
     pg.setAttribute('position', new THREE.BufferAttribute(pick, 3));
     pickPoints = new THREE.Points(pg, new THREE.PointsMaterial({ size: 0.015, color: 0x333333 }));
@@ -249,6 +254,7 @@
     controls.update();
     renderer.domElement.addEventListener('mousemove', hover);
     window.addEventListener('resize', resize);
+    marks.objects = performance.now();
     resize();
   }
   function resize() {
@@ -261,7 +267,18 @@
     camera.updateProjectionMatrix();
     draw();
   }
-  function draw() { if (renderer) renderer.render(scene, camera); }
+  // Draws at the next animation frame, once however many changes asked for it; the first frame
+  // makes the page ready (window.canopyReport.ready).
+  let pending = false, onFirstFrame = null;
+  function draw() {
+    if (!renderer || pending) return;
+    pending = true;
+    requestAnimationFrame(() => {
+      pending = false;
+      renderer.render(scene, camera);
+      if (onFirstFrame) { const f = onFirstFrame; onFirstFrame = null; f(); }
+    });
+  }
 
   function hover(ev) {
     const r = renderer.domElement.getBoundingClientRect();
@@ -339,7 +356,11 @@
     document.getElementById('slider').value = current;
     applyMap(current);
     const shown = nK ? attemptsUpTo[current] : views.length;
-    frusta.forEach((f, i) => { f.visible = document.getElementById('show-frusta').checked && i < shown; });
+    if (frusta) {
+      frusta.visible = document.getElementById('show-frusta').checked;
+      frusta.geometry.setDrawRange(0, 16 * shown);
+      pickPoints.geometry.setDrawRange(0, shown);
+    }
     fruitMeshes.forEach((m, i) => {
       m.material.color.setHex(fruitColour(fruitCoverage(m.userData, i)));
       m.visible = document.getElementById('show-fruits').checked;
@@ -406,17 +427,27 @@
     }, 150);
   });
 
+  marks.decoded = performance.now();
   setupScene();
+  marks.scene = performance.now();
   updateLegend();
   setView(current);
-  window.canopyReport = {
-    ready: true,
-    readyMs: performance.now(),  // from navigation start
+  const hook = {
+    ready: false,
     views: nK,
     setView,
+    marks,
     state: () => ({ view: current, shownAttempts: nK ? attemptsUpTo[current] : views.length, drawnVoxels,
                     cursor: +document.querySelector('#curve-sc .cursor').getAttribute('x1'), webgl: !!renderer,
                     complete: !!data.complete }),
   };
-  document.body.dataset.ready = '1';
+  window.canopyReport = hook;
+  const ready = () => {
+    marks.ready = performance.now();
+    hook.readyMs = marks.ready;
+    hook.ready = true;
+    document.body.dataset.ready = '1';
+  };
+  if (renderer) onFirstFrame = ready;
+  else ready();
 })();

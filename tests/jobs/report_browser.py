@@ -5,7 +5,7 @@ A small Chrome DevTools Protocol client over --remote-debugging-pipe (file descr
 4, NUL-separated JSON): no network, no extra Python package. Used by
 run_report_browser_test.sh and, with --screenshot, to make the README's picture.
 
-  report_browser.py [--screenshot OUT.png] KIND REPORT.html [KIND REPORT.html ...]
+  report_browser.py [--window WxH] [--screenshot OUT.png] KIND REPORT.html [KIND REPORT.html ...]
 
 KIND is run (a complete mission or map), incomplete (an interrupted one: the page must say
 so) or experiment; the screenshot is of the first run page.
@@ -186,8 +186,10 @@ def check_run(b, path, incomplete, shot):
         fails.append("a complete run's report says: " + banner)
     fails += b.errors()
     ready_ms = b.evaluate("canopyReport.readyMs")
+    marks = b.evaluate("canopyReport.marks")
     print(f"{path}: ready in {load_s:.2f} s ({ready_ms / 1000:.2f} s after navigation started, page's own clock), {views} views, {last['drawnVoxels']} voxels at the end, "
-          f"{first['drawnVoxels']} at view 1, {leaf} leaf and {fruit} fruit pixels")
+          f"{first['drawnVoxels']} at view 1, {leaf} leaf and {fruit} fruit pixels; page marks (ms) "
+          + ", ".join(f"{k} {v:.0f}" for k, v in marks.items()))
     return fails
 
 
@@ -212,7 +214,11 @@ def check_experiment(b, path):
 
 def main(argv):
     args = argv[1:]
-    shot = None
+    shot, size = None, (1280, 800)
+    if "--window" in args:  # WxH of the browser window
+        i = args.index("--window")
+        size = tuple(int(x) for x in args[i + 1].split("x"))
+        del args[i:i + 2]
     if "--screenshot" in args:
         i = args.index("--screenshot")
         shot = args[i + 1]
@@ -220,7 +226,7 @@ def main(argv):
     if not args or len(args) % 2 or any(k not in ("run", "incomplete", "experiment") for k in args[::2]):
         print(__doc__)
         return 2
-    b = Browser()  # one browser for every page
+    b = Browser(*size)  # one browser for every page
     fails = []
     try:
         for kind, path in zip(args[::2], args[1::2]):
