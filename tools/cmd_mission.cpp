@@ -1,6 +1,6 @@
 // canopy mission / canopy run: the closed-loop mission on the moving robot (mission::Mission),
 // and the files it leaves: views.csv, timing.csv, summary.json, settings.yaml, the final map
-// (map.csm, map.ply, map.bt), sc_entropy.png and runtime.png, and optionally a video.
+// (map.csm, map.ply, map.bt), sc_entropy.png and runtime.png, report.html, and optionally a video.
 // `canopy run` is the default mission (method ours) writing to results/.
 
 #include <spdlog/spdlog.h>
@@ -122,7 +122,8 @@ void run_mission(const MissionCliOptions& o, CLI::App* sub) {
   std::string split;
   for (const auto& [phase, s] : result.times.totals()) split += " " + phase + " " + std::to_string(s).substr(0, 5) + " s;";
   spdlog::info("wall time by phase:{}", split);
-  spdlog::info("wrote {}/ (views.csv, timing.csv, summary.json, settings.yaml, map.csm, map.ply, map.bt)", o.out);
+  spdlog::info("wrote {}/ (views.csv, timing.csv, summary.json, settings.yaml, map.csm, map.ply, map.bt{})", o.out,
+               r.report_written ? ", report.html" : "");
   if (!result.zero_coverage_reason.empty()) spdlog::warn("fruit SC is 0: {}", result.zero_coverage_reason);
   if (!result.complete) throw Interrupted();
   if (!r.video_error.empty())

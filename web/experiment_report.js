@@ -18,14 +18,42 @@
     groups[groupOf[key]].trials.push(t);
   }
 
+  // findings.md as HTML: headings, tables, bullets, paragraphs, `code` (all it uses).
+  function markdown(md) {
+    const inline = (t) => esc(t).replace(/`([^`]+)`/g, '<code>$1</code>').replace(/\*\*([^*]+)\*\*/g, '<b>$1</b>');
+    const out = [], lines = md.split('\n');
+    for (let i = 0; i < lines.length;) {
+      const l = lines[i];
+      if (/^#{1,6} /.test(l)) {
+        const n = Math.min(6, l.indexOf(' ') + 2);
+        out.push('<h' + n + '>' + inline(l.replace(/^#+ /, '')) + '</h' + n + '>');
+        ++i;
+      } else if (l.startsWith('|')) {
+        const rows = [];
+        for (; i < lines.length && lines[i].startsWith('|'); ++i)
+          if (!/^\|[-| :]+\|?$/.test(lines[i])) rows.push(lines[i].replace(/^\||\|$/g, '').split('|'));
+        out.push('<table>' + rows.map((r, k) => '<tr>' + r.map((c) => (k ? '<td>' : '<th>') + inline(c.trim()) + (k ? '</td>' : '</th>')).join('') + '</tr>').join('') + '</table>');
+      } else if (/^\s*[-*] /.test(l)) {
+        const items = [];
+        for (; i < lines.length && /^\s*[-*] /.test(lines[i]); ++i) items.push('<li>' + inline(lines[i].replace(/^\s*[-*] /, '')) + '</li>');
+        out.push('<ul>' + items.join('') + '</ul>');
+      } else if (l.trim()) {
+        const para = [];
+        for (; i < lines.length && lines[i].trim() && !/^(#|\||\s*[-*] )/.test(lines[i]); ++i) para.push(lines[i]);
+        out.push('<p>' + inline(para.join(' ')) + '</p>');
+      } else ++i;
+    }
+    return out.join('\n');
+  }
+
   let html = '<header><h1>canopy experiment report</h1><span class="sub">' + esc((data.names || []).join(', ')) + ' · ' +
     trials.length + ' trials</span></header><div class="exp">';
   if ((data.missing || []).length) html += '<div class="banner">Missing trials: ' + esc(data.missing.join(', ')) + '</div>';
   if ((data.incomplete || []).length) html += '<div class="note">Ignored folders: ' + data.incomplete.map((f) => esc(f.path) + ' (' + esc(f.reason) + ')').join('; ') + '</div>';
-  html += '<h2>Findings</h2><pre class="findings" id="findings">' + esc(data.findings_md || '') + '</pre>';
   html += '<h2>Curves (hover a line; thick: mean of the trials)</h2><div id="legend-exp"></div>' +
     '<svg id="exp-sc" class="curve" width="720" height="260"></svg><div id="exp-tip" class="note">&nbsp;</div>' +
     '<svg id="exp-h" class="curve" width="720" height="260"></svg>';
+  html += '<h2>Findings</h2><div class="findings" id="findings">' + markdown(data.findings_md || '') + '</div>';
   html += '<h2>Trials</h2><div class="table-wrap"><table id="trials"><tr><th>trial</th><th>method</th><th>P_gt</th><th>world</th><th>seed</th>' +
     '<th>status</th><th>views</th><th>final SC</th><th>report</th></tr>' +
     trials.map((t) => '<tr><td>' + esc(t.id) + '</td><td>' + esc(t.label) + '</td><td>' + t.p_gt + '</td><td>' + esc(t.world) + '</td><td>' + t.seed +

@@ -54,7 +54,7 @@ nlohmann::json experiment_page_data(const experiments::MergedTrials& merged, con
   nlohmann::json trials = nlohmann::json::array();
   for (const experiments::TrialResult& t : merged.trials) {
     nlohmann::json j = {{"id", t.spec.id}, {"label", t.spec.method.label}, {"p_gt", t.spec.p_gt}, {"seed", t.spec.seed},
-                        {"world", t.spec.world_seed ? "world seed " + std::to_string(*t.spec.world_seed) : "world file's"},
+                        {"world", t.spec.world_seed ? "world seed " + std::to_string(*t.spec.world_seed) : "world file's seed"},
                         {"status", t.status}, {"message", t.message}, {"views_ok", t.views_ok}, {"wall_s", t.wall_s}};
     nlohmann::json sc = nlohmann::json::array(), h = nlohmann::json::array();
     for (double c : t.coverage) sc.push_back(std::round(c * 1e4) / 1e4);

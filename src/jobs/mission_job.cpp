@@ -7,6 +7,7 @@
 
 #include "canopy/common/error.h"
 #include "canopy/common/io.h"
+#include "canopy/common/timer.h"
 #include "canopy/jobs/plots.h"
 #include "canopy/jobs/run_report.h"
 #include "canopy/jobs/world_job.h"
@@ -122,8 +123,13 @@ MissionJobResult run_mission_job(const world::World& world, const MissionJobPara
   }
   r.summary = out ? mission::write_run_folder(out->working_dir(), r.result, settings, mission.map(), context)
                   : mission::run_summary(r.result, settings, context);
-  if (out && replay)
+  if (out && replay) {
+    const Stopwatch watch;
     write_run_report(out->working_dir(), mission_report_data(r.result, settings, world, r.summary), *replay);
+    r.report_written = true;
+    spdlog::info("report.html: {} voxel changes over {} views, written in {:.2f} s", replay->change_count(),
+                 replay->scans().size(), watch.seconds());
+  }
   if (out && p.plots) draw_plots("tools/plot_mission.py", out->working_dir(), p.out);
   if (ex.dataset && r.result.complete) {
     ex.dataset->render_test_views(mission.simulator(), world, mission::default_test_ring());

@@ -201,18 +201,25 @@ RunReport map_report_data(const nlohmann::json& metrics, const std::vector<Pose>
 nlohmann::json pack_replay(const mission::MapReplay& replay, const mapping::SemanticMapParams& map,
                            const ReportBounds& bounds) {
   const auto& scans = replay.scans();
-  std::size_t total = 0;
-  for (const auto& s : scans) total += s.size();
+  const std::size_t n_voxels = replay.voxels().size();
+  // Too many voxels: every m-th, in the order they were first drawn (spread over the map).
+  const std::size_t vstep = n_voxels > bounds.max_voxels ? (n_voxels + bounds.max_voxels - 1) / bounds.max_voxels : 1;
+  std::size_t total = 0, of_drawn = 0;  // changes recorded, and those of the voxels drawn
+  for (const auto& s : scans) {
+    total += s.size();
+    for (const mission::VoxelChange& c : s) of_drawn += c.voxel % vstep == 0;
+  }
   // Too many changes: a state every `step` views, each the net change over its views.
   std::size_t step = 1;
-  if (total > bounds.max_changes) step = (total + bounds.max_changes - 1) / bounds.max_changes;
+  if (of_drawn > bounds.max_changes) step = (of_drawn + bounds.max_changes - 1) / bounds.max_changes;
   std::vector<std::vector<mission::VoxelChange>> groups;
-  std::vector<std::uint16_t> state(replay.voxels().size(), 0), before = state;
+  std::vector<std::uint16_t> state(n_voxels, 0), before = state;
   for (std::size_t i = 0; i < scans.size(); i += step) {
     const std::size_t end = std::min(scans.size(), i + step);
     std::vector<std::uint32_t> touched;
     for (std::size_t j = i; j < end; ++j)
       for (const mission::VoxelChange& c : scans[j]) {
+        if (c.voxel % vstep) continue;
         state[c.voxel] = c.state;
         touched.push_back(c.voxel);
       }
@@ -221,13 +228,15 @@ nlohmann::json pack_replay(const mission::MapReplay& replay, const mapping::Sema
     std::vector<mission::VoxelChange> g;
     for (std::uint32_t v : touched)
       if (state[v] != before[v]) {
-        g.push_back({v, state[v]});
+        g.push_back({static_cast<std::uint32_t>(v / vstep), state[v]});
         before[v] = state[v];
       }
     groups.push_back(std::move(g));
   }
   std::string keys, changes;
-  for (const octomap::OcTreeKey& k : replay.voxels()) {
+  std::size_t drawn = 0;
+  for (std::size_t v = 0; v < n_voxels; v += vstep, ++drawn) {
+    const octomap::OcTreeKey& k = replay.voxels()[v];
     put_u16(keys, k[0]);
     put_u16(keys, k[1]);
     put_u16(keys, k[2]);
@@ -249,13 +258,18 @@ nlohmann::json pack_replay(const mission::MapReplay& replay, const mapping::Sema
     for (double c : replay.fruit_coverage()[last]) row.push_back(r3(c));
     fruit_cov.push_back(row);
   }
-  nlohmann::json j = {{"resolution_m", map.resolution_m}, {"key_origin", 32768}, {"voxels", replay.voxels().size()},
-                      {"scans", scans.size()}, {"step", step}, {"changes_recorded", total}, {"changes_kept", kept},
-                      {"counts", counts}, {"keys_b64", base64(keys)}, {"changes_b64", base64(changes)},
-                      {"fruit_coverage", fruit_cov}};
+  nlohmann::json j = {{"resolution_m", map.resolution_m}, {"key_origin", 32768}, {"voxels", drawn},
+                      {"voxels_recorded", n_voxels}, {"voxel_step", vstep}, {"scans", scans.size()}, {"step", step},
+                      {"changes_recorded", total}, {"changes_kept", kept}, {"counts", counts},
+                      {"keys_b64", base64(keys)}, {"changes_b64", base64(changes)}, {"fruit_coverage", fruit_cov}};
+  std::string note;
+  if (vstep > 1)
+    note = "every " + std::to_string(vstep) + "th voxel drawn (" + std::to_string(n_voxels) + " recorded, at most " +
+           std::to_string(bounds.max_voxels) + " drawn)";
   if (step > 1)
-    j["note"] = "map states every " + std::to_string(step) + " views (" + std::to_string(total) +
-                " voxel changes recorded, at most " + std::to_string(bounds.max_changes) + " kept)";
+    note += std::string(note.empty() ? "" : "; ") + "map states every " + std::to_string(step) + " views (" +
+            std::to_string(of_drawn) + " voxel changes, at most " + std::to_string(bounds.max_changes) + " kept)";
+  if (!note.empty()) j["note"] = note;
   return j;
 }
 

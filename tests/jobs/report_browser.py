@@ -204,11 +204,21 @@ def check_experiment(b, path):
         target = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(path)), link))
         if not os.path.isfile(target):
             fails.append(f"link {link} does not resolve")
+    # Hovering a trial's curve names its method, P_gt, world and value.
+    tip = b.evaluate("""(() => {
+      const svg = document.getElementById('exp-sc'), line = svg.querySelector('path.trial-line');
+      if (!line) return '';
+      const p = line.getPointAtLength(line.getTotalLength()), r = svg.getBoundingClientRect();
+      svg.dispatchEvent(new MouseEvent('mousemove', { clientX: r.left + p.x, clientY: r.top + p.y }));
+      return document.getElementById('exp-tip').textContent;
+    })()""")
+    if trials and not all(w in tip for w in ("P_gt", "world", "SC ")):
+        fails.append(f"hovering a curve did not name its method, P_gt, world and value: '{tip}'")
     hrefs = b.evaluate("[...document.querySelectorAll('a.trial-link')].map(a => a.href)")
     if links and hrefs:
         b.open(hrefs[0][len("file://"):])  # the first trial's own report opens
     fails += b.errors()
-    print(f"{path}: ready in {load_s:.2f} s, {trials} trials, {len(links or [])} links")
+    print(f"{path}: ready in {load_s:.2f} s, {trials} trials, {len(links or [])} links; hover: {tip}")
     return fails
 
 

@@ -82,6 +82,22 @@ TEST(RunReport, TooManyChangesKeepStatesEveryFewViewsWithANote) {
     EXPECT_EQ(state[i], mission::drawn_state(map, map.find(replay.voxels()[i])));
 }
 
+TEST(RunReport, TooManyVoxelsDrawEveryFewWithANote) {
+  mapping::SemanticOcTree map(mapping::SemanticMapParams{}, SemanticClasses{});
+  mission::MapReplay replay(SemanticClasses{});
+  three_scans(map, replay);
+  ReportBounds bounds;
+  bounds.max_voxels = replay.voxels().size() / 3;
+  const nlohmann::json j = pack_replay(replay, map.params(), bounds);
+  const std::size_t m = j["voxel_step"].get<std::size_t>();
+  ASSERT_GE(m, 3u);
+  EXPECT_EQ(j["voxels"].get<std::size_t>(), (replay.voxels().size() + m - 1) / m);
+  EXPECT_NE(j["note"].get<std::string>().find("voxel drawn"), std::string::npos);
+  const std::vector<std::uint16_t> state = replay_packed(j);  // drawn voxel i is recorded voxel i * m
+  for (std::size_t i = 0; i < state.size(); ++i)
+    EXPECT_EQ(state[i], mission::drawn_state(map, map.find(replay.voxels()[i * m])));
+}
+
 TEST(RunReport, ChangedSettingsListsOnlyWhatDiffers) {
   mission::Settings s = mission::Settings::defaults(default_robot_config());
   EXPECT_TRUE(changed_settings(s).empty());

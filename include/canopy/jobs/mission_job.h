@@ -62,6 +62,7 @@ struct MissionJobResult {
   nlohmann::json summary;                        ///< summary.json (written or not).
   std::string video_error;                       ///< Why the video is missing; "" when it is written (or none asked).
   std::size_t video_frames = 0;
+  bool report_written = false;                   ///< report.html is in the run folder.
   bool dataset_written = false;                  ///< The export was published (complete missions only).
   std::size_t dataset_train = 0, dataset_test = 0;  ///< Its training and held-out views.
   std::shared_ptr<mapping::SemanticOcTree> map;  ///< The final map, when keep_map.

@@ -23,8 +23,9 @@ namespace canopy::jobs {
 
 /// Size limits of a report (docs/report.md#bounds).
 struct ReportBounds {
-  std::size_t max_changes = 1200000;  ///< Voxel changes kept; beyond, map states every m views.
-  std::size_t max_thumbs = 400;       ///< Thumbnails kept; beyond, every m-th view's.
+  std::size_t max_voxels = 250000;    ///< Voxels drawn; beyond, every m-th (in order of first sight).
+  std::size_t max_changes = 500000;   ///< Voxel changes kept; beyond, map states every m views.
+  std::size_t max_thumbs = 240;       ///< Thumbnails kept; beyond, every m-th view's.
   int thumbs_per_sheet = 100;         ///< Thumbnails per PNG sheet (10 per row).
 };
 
@@ -54,7 +55,8 @@ std::vector<std::string> write_run_report(const std::string& dir, RunReport repo
                                           const ReportBounds& bounds = {});
 
 /// The replay packed for the page (what write_run_report embeds): voxel keys and per-state
-/// changes in base64, states every `step` views when the changes exceed the bounds.
+/// changes in base64; beyond the bounds, every m-th voxel ("voxel_step") and map states every
+/// `step` views, with a note saying so.
 nlohmann::json pack_replay(const mission::MapReplay& replay, const mapping::SemanticMapParams& map,
                            const ReportBounds& bounds);
 
