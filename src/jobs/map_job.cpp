@@ -102,7 +102,7 @@ MapJobResult map_views(const MapJobParams& p) {
     insert_ms_sum += fs.insert.ms_total;
     const evaluation::MapMetrics m = evaluation::evaluate_map(map, world.truth, cfg.metrics);
     if (replay) {
-      replay->record_scan(map, inserter.last_updates());
+      replay->record_scan(map, inserter.last_updates(), &inserter.last_occupancy());
       replay->record_fruits(m);
       replay->record_frame(frame);
     }

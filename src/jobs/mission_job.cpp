@@ -127,8 +127,8 @@ MissionJobResult run_mission_job(const world::World& world, const MissionJobPara
     const Stopwatch watch;
     write_run_report(out->working_dir(), mission_report_data(r.result, settings, world, r.summary), *replay);
     r.report_written = true;
-    spdlog::info("report.html: {} voxel changes over {} views, written in {:.2f} s", replay->change_count(),
-                 replay->scans().size(), watch.seconds());
+    spdlog::info("report.html: {} voxel changes over {} views, recorded in {:.2f} s beside the mission, written in {:.2f} s",
+                 replay->change_count(), replay->scans().size(), replay->seconds(), watch.seconds());
   }
   if (out && p.plots) draw_plots("tools/plot_mission.py", out->working_dir(), p.out);
   if (ex.dataset && r.result.complete) {

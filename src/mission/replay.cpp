@@ -21,10 +21,17 @@ std::uint16_t drawn_state(const mapping::SemanticOcTree& map, const mapping::Sem
 MapReplay::MapReplay(SemanticClasses classes, int thumb_width_px)
     : classes_(std::move(classes)), thumb_width_px_(std::max(8, thumb_width_px)) {}
 
-void MapReplay::record_scan(const mapping::SemanticOcTree& map, const std::vector<mapping::VoxelUpdate>& updates) {
+void MapReplay::record_scan(const mapping::SemanticOcTree& map, const std::vector<mapping::VoxelUpdate>& updates,
+                            const std::vector<std::uint8_t>* occupancy) {
+  constexpr std::uint8_t kEither = mapping::SemanticOcTree::kOccupiedBefore | mapping::SemanticOcTree::kOccupiedAfter;
+  if (occupancy && occupancy->size() != updates.size()) occupancy = nullptr;
+  const Stopwatch watch;
   std::vector<VoxelChange> changes;
-  std::lock_guard<std::mutex> lock(mutex_);
-  for (const mapping::VoxelUpdate& u : updates) {
+  std::lock_guard<std::mutex> lock(scan_mutex_);
+  for (std::size_t i = 0; i < updates.size(); ++i) {
+    // Free before and after: not drawn either time (most of a scan's pass-throughs).
+    if (occupancy && !((*occupancy)[i] & kEither)) continue;
+    const mapping::VoxelUpdate& u = updates[i];
     const octomap::OcTreeKey key = mapping::morton_key(u.code);
     const std::uint16_t state = drawn_state(map, map.find(key));
     auto it = last_.find(u.code);
@@ -39,17 +46,19 @@ void MapReplay::record_scan(const mapping::SemanticOcTree& map, const std::vecto
   }
   std::sort(changes.begin(), changes.end(), [](const VoxelChange& a, const VoxelChange& b) { return a.voxel < b.voxel; });
   scans_.push_back(std::move(changes));
+  scan_seconds_ += watch.seconds();
 }
 
 void MapReplay::record_fruits(const evaluation::MapMetrics& metrics) {
   std::vector<double> c;
   c.reserve(metrics.fruits.size());
   for (const evaluation::FruitMetrics& f : metrics.fruits) c.push_back(f.coverage);
-  std::lock_guard<std::mutex> lock(mutex_);
+  std::lock_guard<std::mutex> lock(scan_mutex_);
   fruits_.push_back(std::move(c));
 }
 
 void MapReplay::record_frame(const LabelledFrame& frame) {
+  const Stopwatch watch;
   const int w = thumb_width_px_;
   const int src_w = std::max(1, frame.rgb.width), src_h = std::max(1, frame.rgb.height);
   const int h = std::max(1, static_cast<int>(std::lround(double(w) * src_h / src_w)));
@@ -62,13 +71,19 @@ void MapReplay::record_frame(const LabelledFrame& frame) {
       if (frame.class_id.width == frame.rgb.width && frame.class_id.height == frame.rgb.height && frame.rgb.width > 0)
         labels.at(x, y) = classes_.color(frame.class_id.at(sx, sy));
     }
-  std::lock_guard<std::mutex> lock(mutex_);
+  std::lock_guard<std::mutex> lock(frame_mutex_);
   rgb_.push_back(std::move(rgb));
   labels_.push_back(std::move(labels));
+  frame_seconds_ += watch.seconds();
+}
+
+double MapReplay::seconds() const {
+  std::scoped_lock lock(scan_mutex_, frame_mutex_);
+  return scan_seconds_ + frame_seconds_;
 }
 
 std::size_t MapReplay::change_count() const {
-  std::lock_guard<std::mutex> lock(mutex_);
+  std::lock_guard<std::mutex> lock(scan_mutex_);
   std::size_t n = 0;
   for (const auto& s : scans_) n += s.size();
   return n;

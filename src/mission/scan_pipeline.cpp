@@ -76,7 +76,7 @@ void ScanPipeline::run() {
     // No metrics and no replay: nothing to do.
     step(metrics ? phase::kEvaluation : replay_ ? phase::kMapping : nullptr, Stage::kDone, &error_, [&] {
       if (metrics) evaluator_.update(map_, inserter_.last_updates());
-      if (replay_) replay_->record_scan(map_, inserter_.last_updates());
+      if (replay_) replay_->record_scan(map_, inserter_.last_updates(), &inserter_.last_occupancy());
       if (replay_ && metrics) replay_->record_fruits(evaluator_.metrics());
     });
   }

@@ -57,6 +57,22 @@ TEST(MapReplay, RecordsOnlyChangesOfTheDrawnState) {
     for (const VoxelChange& c : scan) state[c.voxel] = c.state;
   for (std::size_t i = 0; i < state.size(); ++i)
     EXPECT_EQ(state[i], drawn_state(map, map.find(replay.voxels()[i])));
+  // With the insertion's occupancy bytes: the same changes, and a pass-through of a voxel free
+  // before and after is skipped unread.
+  {
+    mapping::SemanticOcTree m2(mapping::SemanticMapParams{}, SemanticClasses{});
+    MapReplay r2(SemanticClasses{});
+    std::vector<std::uint8_t> occ;
+    m2.apply_sorted_updates(s1, &occ);
+    r2.record_scan(m2, s1, &occ);
+    ASSERT_EQ(r2.scans()[0].size(), replay.scans()[0].size());
+    for (std::size_t i = 0; i < r2.scans()[0].size(); ++i) EXPECT_EQ(r2.scans()[0][i].state, replay.scans()[0][i].state);
+    const auto s3 = batch({{octomap::OcTreeKey(32800, 32768, 32768), kReplayPass}});
+    m2.apply_sorted_updates(s3, &occ);
+    r2.record_scan(m2, s3, &occ);
+    EXPECT_TRUE(r2.scans()[1].empty());
+    EXPECT_EQ(r2.voxels().size(), 2u);
+  }
   // A scan that changes nothing drawn records an empty change list.
   replay.record_scan(map, s2);
   EXPECT_TRUE(replay.scans()[2].empty());

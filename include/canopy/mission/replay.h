@@ -15,6 +15,7 @@
 
 #include "canopy/common/classes.h"
 #include "canopy/common/frame.h"
+#include "canopy/common/timer.h"
 #include "canopy/evaluation/map_metrics.h"
 #include "canopy/mapping/semantic_octree.h"
 
@@ -38,8 +39,10 @@ class MapReplay {
   explicit MapReplay(SemanticClasses classes, int thumb_width_px = 128);
 
   /// After a scan's insertion: the drawn state of every voxel it updated (`updates`,
-  /// ScanInserter::last_updates) compared with the last one recorded.
-  void record_scan(const mapping::SemanticOcTree& map, const std::vector<mapping::VoxelUpdate>& updates);
+  /// ScanInserter::last_updates) compared with the last one recorded. With `occupancy`
+  /// (ScanInserter::last_occupancy), voxels free before and after the scan are skipped unread.
+  void record_scan(const mapping::SemanticOcTree& map, const std::vector<mapping::VoxelUpdate>& updates,
+                   const std::vector<std::uint8_t>* occupancy = nullptr);
   /// The coverage of each target fruit after the last scan (under the metrics' rule).
   void record_fruits(const evaluation::MapMetrics& metrics);
   /// The frame of the next successful view (its thumbnails).
@@ -57,6 +60,8 @@ class MapReplay {
   const SemanticClasses& classes() const { return classes_; }
   /// Number of changes over all scans.
   std::size_t change_count() const;
+  /// Wall time spent recording so far [s] (scans on the pipeline's thread, frames on the mission's).
+  double seconds() const;
 
  private:
   SemanticClasses classes_;
@@ -66,7 +71,10 @@ class MapReplay {
   std::vector<std::vector<VoxelChange>> scans_;
   std::vector<std::vector<double>> fruits_;
   std::vector<Image<Rgb8>> rgb_, labels_;
-  mutable std::mutex mutex_;  // scans come from the pipeline's thread, frames from the mission's
+  double scan_seconds_ = 0.0, frame_seconds_ = 0.0;
+  // Scans come from the pipeline's thread, frames from the mission's: one lock each, so that
+  // neither waits for the other.
+  mutable std::mutex scan_mutex_, frame_mutex_;
 };
 
 }  // namespace canopy::mission
