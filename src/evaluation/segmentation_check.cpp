@@ -146,6 +146,8 @@ std::vector<FlatMaterial> ground_materials(const world::WorldSpec& spec) {
                              {float(g.film_r), float(g.film_g), float(g.film_b), 1.f}});
   if (g.path_width_m > 0.0)
     out.push_back(FlatMaterial{"ground", "path", ground, {float(g.path_r), float(g.path_g), float(g.path_b), 1.f}});
+  if (g.heating_pipes)
+    out.push_back(FlatMaterial{"ground", "heating pipes", ground, {float(g.pipe_r), float(g.pipe_g), float(g.pipe_b), 1.f}});
   return out;
 }
 

@@ -244,6 +244,7 @@ SceneDescription make_scene_mjcf(const world::World& world, const robot::RobotDe
      << "    <texture name=\"sky\" type=\"skybox\" builtin=\"gradient\" rgb1=\"0.75 0.85 0.95\" rgb2=\"0.95 0.95 0.95\" width=\"64\" height=\"64\"/>\n"
      << "    <material name=\"ground\" rgba=\"" << rgb_text(g.film_r, g.film_g, g.film_b) << " 1\" specular=\"0\"/>\n"
      << "    <material name=\"ground_path\" rgba=\"" << rgb_text(g.path_r, g.path_g, g.path_b) << " 1\" specular=\"0\"/>\n"
+     << "    <material name=\"heating_pipe\" rgba=\"" << rgb_text(g.pipe_r, g.pipe_g, g.pipe_b) << " 1\" specular=\"0.3\"/>\n"
      << "    <material name=\"plant\" specular=\"0.08\" shininess=\"0.1\"/>\n";
   // Plant textures: one texture and one material per texture file (shared by the parts and
   // the plants that use it).
@@ -277,6 +278,24 @@ SceneDescription make_scene_mjcf(const world::World& world, const robot::RobotDe
        << num(kPathHalfThicknessM) << "\" pos=\"" << num(x_hi - 0.5 * g.path_width_m) << " 0 " << num(kPathHalfThicknessM)
        << "\" material=\"ground_path\" group=\"" << kGroupGround << "\" contype=\"0\" conaffinity=\"0\"/>\n";
     scene.labels["ground_path"] = GeomLabel{spec.class_of("ground"), kNoInstance, false};
+  }
+  if (g.heating_pipes) {
+    // A pair of pipes along every row, from half a spacing before its first plant to half a
+    // spacing after its last; visual only (contype 0), like the plants.
+    const double x0 = spec.rows.x_start_m - 0.5 * spec.rows.plant_spacing_m;
+    const double x1 = spec.rows.x_start_m + spec.rows.plant_spacing_m * (spec.rows.plants_per_row - 0.5);
+    for (int row = 0; row < spec.rows.rows; ++row) {
+      const double y_row = row == 0 ? spec.rows.row_offset_m : -spec.rows.row_offset_m;
+      for (int side = 0; side < 2; ++side) {
+        const double y = y_row + (side == 0 ? -g.pipe_offset_m : g.pipe_offset_m);
+        const std::string name = "heating_pipe_" + std::to_string(row) + "_" + std::to_string(side);
+        os << "    <geom name=\"" << name << "\" type=\"capsule\" size=\"" << num(0.5 * g.pipe_diameter_m)
+           << "\" fromto=\"" << num(x0) << " " << num(y) << " " << num(g.pipe_height_m) << " " << num(x1) << " " << num(y)
+           << " " << num(g.pipe_height_m) << "\" material=\"heating_pipe\" group=\"" << kGroupGround
+           << "\" contype=\"0\" conaffinity=\"0\"/>\n";
+        scene.labels[name] = GeomLabel{spec.class_of("ground"), kNoInstance, false};
+      }
+    }
   }
   for (const auto& plant : world.plants)
     for (const auto& part : plant.parts) {

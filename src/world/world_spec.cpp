@@ -197,6 +197,16 @@ void WorldSpec::check_aisle(double base_half_width_m, double clearance_m) const 
        << needed + plant_reach_m();
     throw InputError(os.str());
   }
+  // The heating pipes nearer the aisle lie under the plants, never in the base's way.
+  if (ground.heating_pipes && rows.row_offset_m - ground.pipe_offset_m - 0.5 * ground.pipe_diameter_m < needed) {
+    std::ostringstream os;
+    os << (source_file.empty() ? std::string("world") : source_file) << ": key 'ground.pipe_offset_m': value '"
+       << ground.pipe_offset_m << "' puts the heating pipes " << rows.row_offset_m - ground.pipe_offset_m
+       << " m from the aisle's centre line, in the base's way (it needs " << needed
+       << " m: half width plus clearance); pipe_offset_m must be <= "
+       << rows.row_offset_m - needed - 0.5 * ground.pipe_diameter_m;
+    throw InputError(os.str());
+  }
   // Imported plants reach as far as their own radius from their base.
   for (size_t i = 0; i < placements.size(); ++i) {
     const PlantPlacement& p = placements[i];

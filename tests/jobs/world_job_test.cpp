@@ -142,5 +142,43 @@ TEST(WorldJob, EveryMaterialIsCheckedAndAFruitColouredFloorIsCaught) {
   EXPECT_NO_THROW(load_world(red));
 }
 
+
+// The dense preset's heating pipes are checked like the floor, and never lie in the aisle.
+TEST(WorldJob, HeatingPipesAreCheckedAndKeptOutOfTheAisle) {
+  WorldJobParams p = params("worlds/dense.yaml", perception::LabelSource::kColor);
+  p.strict_colours = true;
+  const world::World w = load_world(p);
+  ASSERT_TRUE(w.spec.ground.heating_pipes);
+  bool checked = false;
+  for (const auto& m : evaluation::check_color_segmentation(w, p.extractor.color))
+    if (m.owner == "ground" && m.material == "heating pipes") {
+      checked = true;
+      EXPECT_TRUE(m.problem.empty()) << m.problem;
+    }
+  EXPECT_TRUE(checked);
+
+  const std::string dir = testing::TempDir() + "/world_job_pipes";
+  fs::create_directories(dir);
+  std::ofstream(dir + "/red_pipes.yaml") << "name: red_pipes\nseed: 3\nrows: {rows: 1, plants_per_row: 1}\n"
+                                            "ground: {heating_pipes: true, pipe_rgb: [0.7, 0.1, 0.05]}\n";
+  WorldJobParams red = params(dir + "/red_pipes.yaml", perception::LabelSource::kColor);
+  red.strict_colours = true;
+  try {
+    load_world(red);
+    FAIL() << "red heating pipes passed under strict_colours";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("ground: material 'heating pipes'"), std::string::npos) << e.what();
+  }
+  std::ofstream(dir + "/aisle_pipes.yaml") << "name: aisle_pipes\nseed: 3\nrows: {rows: 1, plants_per_row: 1}\n"
+                                             "ground: {heating_pipes: true, pipe_offset_m: 0.6}\n";
+  try {
+    load_world_spec(dir + "/aisle_pipes.yaml");
+    FAIL() << "heating pipes in the aisle accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("aisle_pipes.yaml: key 'ground.pipe_offset_m': value '0.6'"), std::string::npos)
+        << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace canopy::jobs

@@ -49,5 +49,47 @@ TEST(SceneMjcf, MeshVerticesAreWrittenAtFullPrecision) {
   EXPECT_GT(checked_meshes, 20);
 }
 
+
+// Heating pipes: a pair along every row at the height and offsets the world file gives, from
+// half a spacing before the first plant to half a spacing after the last, labelled as ground.
+TEST(SceneMjcf, HeatingPipesRunAlongEveryRowEachSideOfItsCentreLine) {
+  const RobotConfig cfg = default_robot_config();
+  const robot::RobotDescription robot = robot::RobotDescription::load_urdf(cfg.urdf_path);
+  world::WorldSpec spec;
+  spec.rows.plants_per_row = 2;
+  spec.rows.plant_spacing_m = 0.4;
+  spec.rows.x_start_m = 0.5;
+  spec.rows.row_offset_m = 0.8;
+  spec.ground.heating_pipes = true;
+  spec.ground.pipe_offset_m = 0.2;
+  spec.ground.pipe_height_m = 0.1;
+  spec.ground.pipe_diameter_m = 0.05;
+  const world::World w = world::generate_world(spec);
+  const SceneDescription scene = make_scene_mjcf(w, robot, cfg);
+  const double expected_y[2][2] = {{0.6, 1.0}, {-1.0, -0.6}};
+  for (int row = 0; row < 2; ++row)
+    for (int side = 0; side < 2; ++side) {
+      const std::string name = "heating_pipe_" + std::to_string(row) + "_" + std::to_string(side);
+      const std::size_t at = scene.mjcf.find("<geom name=\"" + name + "\"");
+      ASSERT_NE(at, std::string::npos) << name;
+      const std::vector<double> ft = attribute_numbers(scene.mjcf, at, "fromto");
+      ASSERT_EQ(ft.size(), 6u) << name;
+      EXPECT_NEAR(ft[0], 0.3, 1e-12) << name;  // x_start - spacing / 2
+      EXPECT_NEAR(ft[3], 1.1, 1e-12) << name;  // last plant + spacing / 2
+      EXPECT_NEAR(ft[1], expected_y[row][side], 1e-12) << name;
+      EXPECT_EQ(ft[1], ft[4]) << name;
+      EXPECT_EQ(ft[2], 0.1) << name;
+      EXPECT_EQ(ft[5], 0.1) << name;
+      EXPECT_EQ(attribute_numbers(scene.mjcf, at, "size").at(0), 0.025) << name;
+      ASSERT_EQ(scene.labels.count(name), 1u) << name;
+      EXPECT_EQ(scene.labels.at(name).class_id, spec.class_of("ground")) << name;
+    }
+  EXPECT_EQ(scene.mjcf.find("heating_pipe_0_2"), std::string::npos);
+  // Off by default: the scene has none.
+  world::WorldSpec plain = spec;
+  plain.ground.heating_pipes = false;
+  EXPECT_EQ(make_scene_mjcf(world::generate_world(plain), robot, cfg).mjcf.find("heating_pipe_"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace canopy::sim

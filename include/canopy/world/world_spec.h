@@ -174,6 +174,13 @@ struct GroundLook {
   double film_r = 0.88, film_g = 0.89, film_b = 0.87;  ///< White ground film (slightly grey in shade).
   double path_r = 0.58, path_g = 0.57, path_b = 0.55;  ///< Concrete.
   double path_width_m = 1.2;  ///< Width of the concrete path across the rows' start (0: no path).
+  /// Heating pipes: a pair of pipes along every row just above the floor, one each side of the
+  /// row's centre line (a greenhouse's pipe-rail heating). Visual only: the base does not touch them.
+  bool heating_pipes = false;
+  double pipe_diameter_m = 0.051;  ///< 51 mm, the common pipe-rail tube.
+  double pipe_height_m = 0.12;     ///< Height of the pipes' axes above the floor.
+  double pipe_offset_m = 0.25;     ///< Distance of each pipe's axis from the row's centre line.
+  double pipe_r = 0.82, pipe_g = 0.83, pipe_b = 0.80;  ///< White-painted steel.
 
   /// The keys of a world file's `ground`.
   template <class Archive>
@@ -184,6 +191,14 @@ struct GroundLook {
             "Colour of the concrete path across the rows' start (linear RGB, 0-1)");
     a("path_width_m", path_width_m, limits::in(0.0, 20.0),
       "Width of the concrete path across the rows' start, where the robot enters the aisle [m]; 0: no path");
+    a("heating_pipes", heating_pipes, "Lay a pair of heating pipes along every row, just above the floor");
+    a("pipe_diameter_m", pipe_diameter_m, limits::in(0.005, 0.5), "With heating_pipes: outer diameter of each pipe [m]");
+    a("pipe_height_m", pipe_height_m, limits::in(0.0, 2.0), "With heating_pipes: height of the pipes' axes above the floor [m]");
+    a.check(pipe_height_m >= 0.5 * pipe_diameter_m, "pipe_height_m", "puts the pipes into the floor (must be >= pipe_diameter_m / 2)");
+    a("pipe_offset_m", pipe_offset_m, limits::in(0.0, 5.0),
+      "With heating_pipes: distance of each pipe's axis from its row's centre line (one pipe each side) [m]");
+    a.tuple("pipe_rgb", {&pipe_r, &pipe_g, &pipe_b}, "[r, g, b]", limits::in(0.0, 1.0),
+            "With heating_pipes: colour of the pipes (linear RGB, 0-1)");
   }
 };
 
@@ -251,7 +266,7 @@ struct WorldSpec {
     a("classes", classes.names, "Semantic classes, background first");
     a("target_class", classes.target, "The class the metrics count (fruit)");
     a.section("part_classes", part_classes, "Which class each kind of geometry carries");
-    a.section("ground", ground, "What the floor looks like: ground film and a concrete path");
+    a.section("ground", ground, "What the floor looks like: ground film, a concrete path, heating pipes");
     a.section("lighting", lighting, "The sun: fixed, or drawn per world seed");
     a.section("rows", rows, "Plants in rows along the aisle");
     a.section("plant", plant, "Ranges each procedural plant draws its shape from");
