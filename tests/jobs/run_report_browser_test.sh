@@ -9,7 +9,12 @@
 set -euo pipefail
 canopy=$1
 src=$(pwd)
-dir="${TEST_TMPDIR:-$(mktemp -d)}/report_browser"
+if [[ -n "${TEST_TMPDIR:-}" ]]; then
+  dir="$TEST_TMPDIR/report_browser"
+else
+  dir=$(mktemp -d)
+  trap 'rm -rf "$dir"' EXIT
+fi
 rm -rf "$dir" && mkdir -p "$dir"
 browser="python3 $src/tests/jobs/report_browser.py"
 
