@@ -41,6 +41,7 @@ endif()
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/include/canopy DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
 # The data the CLI and default_robot_config() look for (data_dir.h): <prefix>/share/canopy.
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/models ${PROJECT_SOURCE_DIR}/configs ${PROJECT_SOURCE_DIR}/worlds
+                  ${PROJECT_SOURCE_DIR}/web
         DESTINATION ${CMAKE_INSTALL_DATADIR}/canopy)
 install(FILES ${PROJECT_SOURCE_DIR}/tools/plot_mission.py ${PROJECT_SOURCE_DIR}/tools/plot_ablation.py
               ${PROJECT_SOURCE_DIR}/tools/plot_visibility.py

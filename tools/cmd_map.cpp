@@ -31,6 +31,7 @@ struct MapOptions {
   std::string out;
   std::string frames, intrinsics, label_colors;
   std::string export_dir;
+  bool no_report = false;
   double max_dt_s = datasets::FrameReaderOptions{}.max_time_diff_s;
 };
 
@@ -107,6 +108,7 @@ void add_map_command(CLI::App& app) {
                   "Also write a NeRF / Gaussian-splatting dataset (nerfstudio layout) of the views, with held-out "
                   "ring views, into this folder")
       ->excludes(frames);
+  sub->add_flag("--no-report", opt->no_report, "Skip report.html (the interactive 3D report, docs/report.md; world views only)");
   sub->callback([opt] {
     // Ctrl-C and SIGTERM: the views mapped so far are saved, marked incomplete.
     const InterruptScope interrupts;
@@ -120,6 +122,7 @@ void add_map_command(CLI::App& app) {
     job.settings = bundle;
     job.out = opt->out;
     job.export_dir = opt->export_dir;
+    job.report = !opt->no_report;
     job.stop_requested = [] { return interrupt_requested(); };
     job.on_view = [](const jobs::MapViewStep& s) {
       std::fprintf(stderr,

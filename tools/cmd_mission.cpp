@@ -1,6 +1,6 @@
 // canopy mission / canopy run: the closed-loop mission on the moving robot (mission::Mission),
 // and the files it leaves: views.csv, timing.csv, summary.json, settings.yaml, the final map
-// (map.csm, map.ply, map.bt), sc_entropy.png and runtime.png, and optionally a video.
+// (map.csm, map.ply, map.bt), sc_entropy.png and runtime.png, report.html, and optionally a video.
 // `canopy run` is the default mission (method ours) writing to results/.
 
 #include <spdlog/spdlog.h>
@@ -29,6 +29,7 @@ struct MissionCliOptions {
   std::uint64_t seed = 1;
   double video_fps = 25.0;
   bool no_plots = false;
+  bool no_report = false;
   bool strict = false;
 };
 
@@ -58,6 +59,7 @@ void add_options(CLI::App* sub, MissionCliOptions* o, bool out_required) {
   sub->add_option("--video-size", o->video_size, "Video frame size WxH")->capture_default_str();
   sub->add_option("--video-fps", o->video_fps, "Video frames per simulated second")->capture_default_str();
   sub->add_flag("--no-plots", o->no_plots, "Skip sc_entropy.png and runtime.png");
+  sub->add_flag("--no-report", o->no_report, "Skip report.html (the interactive 3D report, docs/report.md)");
   sub->add_flag("--strict", o->strict, kStrictColoursHelp);
   sub->add_option("--export", o->export_dir,
                   "Also write a NeRF / Gaussian-splatting dataset (nerfstudio layout) of every successful view, "
@@ -103,6 +105,7 @@ void run_mission(const MissionCliOptions& o, CLI::App* sub) {
   job.out = o.out;
   job.export_dir = o.export_dir;
   job.plots = !o.no_plots;
+  job.report = !o.no_report;
   job.strict_colours = o.strict;
   jobs::check_mission_outputs(job);
 
@@ -119,7 +122,8 @@ void run_mission(const MissionCliOptions& o, CLI::App* sub) {
   std::string split;
   for (const auto& [phase, s] : result.times.totals()) split += " " + phase + " " + std::to_string(s).substr(0, 5) + " s;";
   spdlog::info("wall time by phase:{}", split);
-  spdlog::info("wrote {}/ (views.csv, timing.csv, summary.json, settings.yaml, map.csm, map.ply, map.bt)", o.out);
+  spdlog::info("wrote {}/ (views.csv, timing.csv, summary.json, settings.yaml, map.csm, map.ply, map.bt{})", o.out,
+               r.report_written ? ", report.html" : "");
   if (!result.zero_coverage_reason.empty()) spdlog::warn("fruit SC is 0: {}", result.zero_coverage_reason);
   if (!result.complete) throw Interrupted();
   if (!r.video_error.empty())

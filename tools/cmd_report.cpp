@@ -16,7 +16,7 @@ void add_report_command(CLI::App& app) {
     bool no_plots = false;
   };
   auto o = std::make_shared<Options>();
-  CLI::App* sub = app.add_subcommand("report", "Merge experiment folders and write the report (curves, run time, findings, plots)");
+  CLI::App* sub = app.add_subcommand("report", "Merge experiment folders and write the report (curves, run time, findings, report.html, plots)");
   sub->add_option("dirs", o->job.dirs, "Experiment folders (canopy experiment --out)")->required();
   sub->add_option("--out", o->job.out, "Report folder (default: <first folder>/report)");
   sub->add_flag("--no-plots", o->no_plots, "Skip the PNG plots");

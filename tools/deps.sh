@@ -17,6 +17,8 @@ PACKAGES=(
   python3-rosbag python3-sensor-msgs python3-geometry-msgs python3-tf2-msgs python3-visualization-msgs
   python3-pil
   slurm-wlm munge parallel
+  libjs-three
+  chromium
 )
 
 missing=()

@@ -10,6 +10,7 @@
 #include "canopy/common/timer.h"
 #include "canopy/evaluation/map_metrics.h"
 #include "canopy/evaluation/view_presets.h"
+#include "canopy/jobs/run_report.h"
 #include "canopy/jobs/world_job.h"
 #include "canopy/mapping/frame_mapping.h"
 #include "canopy/mapping/map_io.h"
@@ -80,6 +81,13 @@ MapJobResult map_views(const MapJobParams& p) {
   spdlog::info("mapping {} views ({}), labels {}, P_gt {}", views.size(), p.views,
                perception::to_string(cfg.extractor.source), cfg.extractor.p_gt);
 
+  // What the report replays (replay.h).
+  std::unique_ptr<mission::MapReplay> replay;
+  if (p.report && report_libraries_present()) replay = std::make_unique<mission::MapReplay>(spec.classes);
+  else if (p.report) spdlog::warn("report.html skipped (needs Debian's libjs-three; run tools/deps.sh)");
+  auto write_report = [&](const nlohmann::json& metrics) {
+    if (replay) write_run_report(out.working_dir(), map_report_data(metrics, views, p.settings, world), *replay);
+  };
   nlohmann::json history = nlohmann::json::array();
   double insert_ms_sum = 0.0;
   nlohmann::json last;
@@ -93,6 +101,11 @@ MapJobResult map_views(const MapJobParams& p) {
     if (dataset) dataset->add_train(frame);
     insert_ms_sum += fs.insert.ms_total;
     const evaluation::MapMetrics m = evaluation::evaluate_map(map, world.truth, cfg.metrics);
+    if (replay) {
+      replay->record_scan(map, inserter.last_updates(), &inserter.last_occupancy());
+      replay->record_fruits(m);
+      replay->record_frame(frame);
+    }
     mapping::save_map(map, out.path("map.csm"));
     const std::size_t occupied = mapping::export_ply(map, out.path("map.ply"));
     mapping::export_bt(map, out.path("map.bt"));
@@ -117,6 +130,7 @@ MapJobResult map_views(const MapJobParams& p) {
   if (done < views.size()) {  // interrupted: what is mapped is saved, marked incomplete
     last["complete"] = false;
     write_json_atomic(out.path("metrics.json"), last);
+    write_report(last);
     out.commit();
     throw Interrupted("interrupted after " + std::to_string(done) + " of " + std::to_string(views.size()) +
                       " views; the map so far is saved in " + p.out + " (metrics.json \"complete\": false)");
@@ -130,6 +144,7 @@ MapJobResult map_views(const MapJobParams& p) {
     r.dataset_train = dataset->train_count();
     r.dataset_test = dataset->test_count();
   }
+  write_report(last);
   out.commit();
   r.views = views.size();
   r.coverage = history.back()["coverage"].get<double>();

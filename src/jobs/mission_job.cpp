@@ -7,7 +7,9 @@
 
 #include "canopy/common/error.h"
 #include "canopy/common/io.h"
+#include "canopy/common/timer.h"
 #include "canopy/jobs/plots.h"
+#include "canopy/jobs/run_report.h"
 #include "canopy/jobs/world_job.h"
 #include "canopy/mission/dataset_export.h"
 #include "canopy/mission/run_folder.h"
@@ -86,6 +88,16 @@ MissionJobResult run_mission_job(const world::World& world, const MissionJobPara
       if (ex.dataset) ex.dataset->add_train(f);
       if (p.on_view && running) p.on_view(v, f, sim, running->map());
     };
+  // What the report replays, recorded beside the mission (replay.h).
+  std::unique_ptr<mission::MapReplay> replay;
+  if (out && p.report) {
+    if (report_libraries_present()) {
+      replay = std::make_unique<mission::MapReplay>(world.spec.classes);
+      cb.replay = replay.get();
+    } else {
+      spdlog::warn("report.html skipped (needs Debian's libjs-three; run tools/deps.sh)");
+    }
+  }
   const std::function<bool()> stop_requested = cb.stop_requested;
   mission::Mission mission(world, settings, p.seed, cb);
   running = &mission;
@@ -115,6 +127,13 @@ MissionJobResult run_mission_job(const world::World& world, const MissionJobPara
   }
   r.summary = out ? mission::write_run_folder(out->working_dir(), r.result, settings, mission.map(), context)
                   : mission::run_summary(r.result, settings, context);
+  if (out && replay) {
+    const Stopwatch watch;
+    write_run_report(out->working_dir(), mission_report_data(r.result, settings, world, r.summary), *replay);
+    r.report_written = true;
+    spdlog::info("report.html: {} voxel changes over {} views, recorded in {:.2f} s beside the mission, written in {:.2f} s",
+                 replay->change_count(), replay->scans().size(), replay->seconds(), watch.seconds());
+  }
   if (out && p.plots) draw_plots("tools/plot_mission.py", out->working_dir(), p.out);
   if (ex.dataset && r.result.complete) {
     ex.dataset->render_test_views(mission.simulator(), world, mission::default_test_ring());

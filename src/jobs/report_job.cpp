@@ -1,9 +1,13 @@
 #include "canopy/jobs/report_job.h"
 
+#include <spdlog/spdlog.h>
+
 #include <filesystem>
 
 #include "canopy/common/io.h"
+#include "canopy/jobs/experiment_page.h"
 #include "canopy/jobs/plots.h"
+#include "canopy/jobs/run_report.h"
 
 namespace canopy::jobs {
 
@@ -20,6 +24,8 @@ ReportJobResult write_report(const ReportJobParams& params) {
   write_file_atomic(out.path("field_curves.csv"), rep.field_curves_csv);
   write_json_atomic(out.path("trials.json"), rep.trials_json);
   if (!rep.gain_truth_csv.empty()) write_file_atomic(out.path("gain_truth.csv"), rep.gain_truth_csv);
+  if (params.page && report_libraries_present()) write_experiment_page(out.working_dir(), r.out, r.merged, rep);
+  else if (params.page) spdlog::warn("report.html skipped (needs Debian's libjs-three; run tools/deps.sh)");
   if (params.plots) draw_plots("tools/plot_experiment.py", out.working_dir(), r.out);
   out.commit();
   for (const auto& t : r.merged.trials) r.ok += t.status == "ok";

@@ -173,6 +173,7 @@ struct Mission::Impl {
     rec.T_goal = view.T_world_camera;
     rec.gain = view.gain;
     rec.cluster = view.cluster;
+    rec.target = view.target;
     return rec;
   }
 
@@ -353,6 +354,7 @@ struct Mission::Impl {
     {
       ScopedPhase phase_time(rec.times, kMapping);
       settle();  // the last scan's mapping ends before the map changes
+      if (callbacks.replay) callbacks.replay->record_frame(frame);
       scans.start(std::move(look->cloud), settings.mission.record.metrics_every_view);
       background_view_ = result.views.size();  // the row this record will take
     }
@@ -656,7 +658,7 @@ struct Mission::Impl {
   int ok_views_ = 0;  // successful views so far (MissionResult::successful_views() without the count)
   std::size_t background_view_ = 0;  // the record of the scan in the pipeline
   // The last scan's mapping; last, so it ends before the members it uses are destroyed.
-  ScanPipeline scans{map, inserter, index, evaluator, *map_env};
+  ScanPipeline scans{map, inserter, index, evaluator, *map_env, callbacks.replay};
 };
 
 Mission::Mission(const world::World& world, const Settings& settings, std::uint64_t seed, MissionCallbacks callbacks)

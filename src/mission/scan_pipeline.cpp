@@ -8,8 +8,9 @@
 namespace canopy::mission {
 
 ScanPipeline::ScanPipeline(mapping::SemanticOcTree& map, mapping::ScanInserter& inserter, nbv::VoxelIndex& index,
-                           evaluation::IncrementalEvaluator& evaluator, motion::CollisionEnvironment& environment)
-    : map_(map), inserter_(inserter), index_(index), evaluator_(evaluator), environment_(environment),
+                           evaluation::IncrementalEvaluator& evaluator, motion::CollisionEnvironment& environment,
+                           MapReplay* replay)
+    : map_(map), inserter_(inserter), index_(index), evaluator_(evaluator), environment_(environment), replay_(replay),
       thread_([this] { run(); }) {}
 
 ScanPipeline::~ScanPipeline() {
@@ -72,8 +73,12 @@ void ScanPipeline::run() {
     step(phase::kMapping, Stage::kInserted, &insert_error_, [&] { inserter_.insert(cloud_); });
     step(phase::kMapping, Stage::kIndexed, &index_error_,
          [&] { index_.apply_updates(map_, revision, inserter_.last_updates()); });
-    step(metrics ? phase::kEvaluation : nullptr, Stage::kDone, &error_,  // no metrics: nothing to do
-         [&] { evaluator_.update(map_, inserter_.last_updates()); });
+    // No metrics and no replay: nothing to do.
+    step(metrics ? phase::kEvaluation : replay_ ? phase::kMapping : nullptr, Stage::kDone, &error_, [&] {
+      if (metrics) evaluator_.update(map_, inserter_.last_updates());
+      if (replay_) replay_->record_scan(map_, inserter_.last_updates(), &inserter_.last_occupancy());
+      if (replay_ && metrics) replay_->record_fruits(evaluator_.metrics());
+    });
   }
 }
 

@@ -38,6 +38,7 @@ struct MapJobParams {
   mission::Settings settings;        ///< Mapping section used; saved as settings.yaml.
   std::string out;                   ///< Output folder.
   std::string export_dir;            ///< nerfstudio dataset folder; "" exports none.
+  bool report = true;                ///< Write report.html into the folder at the end (run_report.h).
   std::function<void(const MapViewStep&)> on_view;  ///< After each view's files are written.
   std::function<bool()> stop_requested;              ///< Polled before each view.
 };

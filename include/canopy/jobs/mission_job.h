@@ -51,6 +51,7 @@ struct MissionJobParams {
   VideoOptions video;                 ///< video_options' result; path "" records none.
   std::string export_dir;             ///< nerfstudio dataset folder; "" exports none.
   bool plots = false;                 ///< Draw sc_entropy.png and runtime.png into the run folder.
+  bool report = true;                 ///< Write report.html into the run folder (run_report.h).
   bool keep_map = false;              ///< Return a copy of the final map.
   bool strict_colours = false;        ///< A non-fruit material coloured like fruit is an error (check_world_colours).
   /// Called after every successful view (after the video's and the export's hooks) with its
@@ -66,6 +67,7 @@ struct MissionJobResult {
   nlohmann::json summary;                        ///< summary.json (written or not).
   std::string video_error;                       ///< Why the video is missing; "" when it is written (or none asked).
   std::size_t video_frames = 0;
+  bool report_written = false;                   ///< report.html is in the run folder.
   bool dataset_written = false;                  ///< The export was published (complete missions only).
   std::size_t dataset_train = 0, dataset_test = 0;  ///< Its training and held-out views.
   std::shared_ptr<mapping::SemanticOcTree> map;  ///< The final map, when keep_map.

@@ -1,7 +1,7 @@
 #pragma once
 // Job: merge experiment folders (shards, machines) and write the report folder: curves.csv,
 // runtime.csv, field.csv, field_curves.csv, trials.json, findings.md, gain_truth.csv (when the
-// trials recorded candidates) and the plots (tools/plot_experiment.py).
+// trials recorded candidates), report.html (experiment_page.h) and the plots (tools/plot_experiment.py).
 
 #include <string>
 #include <vector>
@@ -15,6 +15,7 @@ struct ReportJobParams {
   std::vector<std::string> dirs;  ///< Experiment folders (canopy experiment --out).
   std::string out;                ///< Report folder; "" is <first folder>/report.
   bool plots = false;             ///< Draw the PNG plots.
+  bool page = true;               ///< Write report.html (experiment_page.h).
 };
 
 /// What it merged and where it wrote.

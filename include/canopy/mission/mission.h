@@ -26,6 +26,7 @@
 #include "canopy/evaluation/map_metrics.h"
 #include "canopy/mapping/semantic_octree.h"
 #include "canopy/mission/oracle.h"
+#include "canopy/mission/replay.h"
 #include "canopy/mission/settings.h"
 #include "canopy/motion/arm_planner.h"
 #include "canopy/motion/robot_model.h"
@@ -81,6 +82,7 @@ struct ViewRecord {
   double position_error_m = 0.0, angle_error_rad = 0.0;
   double gain = 0.0;
   int cluster = -1;
+  Vec3 target = Vec3::Zero();    ///< The point the planner aimed the view at (kept out of views.csv).
   int successful_views = 0;      ///< Successful views so far (this one included).
   double coverage = 0.0;         ///< Fruit surface coverage after this view (metrics rule).
   double entropy = 0.0;          ///< Fruit entropy after this view [nats] (metrics rule).
@@ -203,6 +205,9 @@ struct MissionCallbacks {
   /// Called after every successful view with its frame, while the simulator is in that state
   /// (before the view's map metrics are known: they are computed beside the next move).
   std::function<void(const ViewRecord& view, const LabelledFrame& frame, const sim::Simulator& sim)> on_view;
+  /// Records each successful view's map changes, fruit coverage and thumbnails for the report
+  /// (replay.h), beside the mission without slowing it; null records nothing.
+  MapReplay* replay = nullptr;
 };
 
 /// The mission controller.

@@ -1,0 +1,74 @@
+#pragma once
+// Job: report.html, the interactive report of a run folder (docs/report.md). One HTML file,
+// opened from file:// with no server and no network: three.js (Debian's libjs-three) and the
+// page's script (web/report.js in the data folder) are inlined, the run's data is a JSON block,
+// and the wrist thumbnails are PNG contact sheets beside it (report_rgb_<i>.png,
+// report_labels_<i>.png). The map states after each view come from the run's MapReplay.
+//
+// The file is the same bytes for the same run, except one line, the run's wall times
+// (`<script id="canopy-wall">`), which no two runs share.
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "canopy/mission/mission.h"
+#include "canopy/mission/replay.h"
+#include "canopy/mission/settings.h"
+#include "canopy/world/world.h"
+
+namespace canopy::jobs {
+
+/// Size limits of a report (docs/report.md#bounds).
+struct ReportBounds {
+  std::size_t max_voxels = 250000;    ///< Voxels drawn; beyond, every m-th (in order of first sight).
+  std::size_t max_changes = 500000;   ///< Voxel changes kept; beyond, map states every m views.
+  std::size_t max_thumbs = 240;       ///< Thumbnails kept; beyond, every m-th view's.
+  int thumbs_per_sheet = 100;         ///< Thumbnails per PNG sheet (10 per row).
+};
+
+/// What report.html holds besides the replay: the run as a JSON object (mission_report_data,
+/// map_report_data).
+struct RunReport {
+  nlohmann::json data;
+  nlohmann::json wall;  ///< Wall times (the line that differs between equal runs).
+};
+
+/// A mission's report data: views (poses, phases, failures, gains, curves), stops, fruits,
+/// settings that differ from the defaults, final metrics, failures by cause, times.
+RunReport mission_report_data(const mission::MissionResult& result, const mission::Settings& settings,
+                              const world::World& world, const nlohmann::json& summary);
+
+/// A `canopy map` folder's report data: the views' poses and curves (metrics.json's history).
+RunReport map_report_data(const nlohmann::json& metrics, const std::vector<Pose>& views,
+                          const mission::Settings& settings, const world::World& world);
+
+/// The settings that differ from the defaults: [{key, value, default}].
+nlohmann::json changed_settings(const mission::Settings& settings);
+
+/// Writes report.html and its thumbnail sheets into `dir` (atomically, file by file) and
+/// returns the files written. Throws IoError when three.js or the page's script is missing
+/// (the message names the package or file).
+std::vector<std::string> write_run_report(const std::string& dir, RunReport report, const mission::MapReplay& replay,
+                                          const ReportBounds& bounds = {});
+
+/// The replay packed for the page (what write_run_report embeds): voxel keys and per-state
+/// changes in base64; beyond the bounds, every m-th voxel ("voxel_step") and map states every
+/// `step` views, with a note saying so.
+nlohmann::json pack_replay(const mission::MapReplay& replay, const mapping::SemanticMapParams& map,
+                           const ReportBounds& bounds);
+
+/// True when Debian's libjs-three is installed (three.js and its orbit controls).
+bool report_libraries_present();
+
+/// The inlined libraries and page script, HTML-escaped for a <script> element; throws IoError
+/// naming what is missing.
+std::string report_scripts(const std::string& page_script);
+
+/// The page around a data block: `title`, the scripts, the JSON data and the wall line.
+std::string report_page(const std::string& title, const std::string& scripts, const nlohmann::json& data,
+                        const nlohmann::json& wall, const std::string& css);
+
+}  // namespace canopy::jobs

@@ -1,0 +1,258 @@
+#!/usr/bin/env python3
+"""Opens canopy's report.html pages in Debian's headless chromium and checks them.
+
+A small Chrome DevTools Protocol client over --remote-debugging-pipe (file descriptors 3 and
+4, NUL-separated JSON): no network, no extra Python package. Used by
+run_report_browser_test.sh and, with --screenshot, to make the README's picture.
+
+  report_browser.py [--window WxH] [--screenshot OUT.png] KIND REPORT.html [KIND REPORT.html ...]
+
+KIND is run (a complete mission or map), incomplete (an interrupted one: the page must say
+so) or experiment; the screenshot is of the first run page.
+
+Exit 0 when every check passes; otherwise one line per failure and exit 1.
+"""
+import base64
+import json
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+
+
+class Browser:
+    def __init__(self, width=1280, height=800):
+        exe = shutil.which("chromium") or shutil.which("chromium-browser")
+        if not exe:
+            raise SystemExit("chromium is not installed (tools/deps.sh installs it)")
+        self.profile = tempfile.mkdtemp(prefix="canopy-chromium-")
+        to_child_r, self.to_child = os.pipe()
+        self.from_child, from_child_w = os.pipe()
+
+        def fds():  # the child's fd 3 reads commands, fd 4 writes answers
+            os.dup2(to_child_r, 3)
+            os.dup2(from_child_w, 4)
+
+        args = [exe, "--headless", "--remote-debugging-pipe", "--no-sandbox", "--no-first-run",
+                "--no-default-browser-check", "--disable-extensions", "--disable-background-networking",
+                "--use-angle=swiftshader", "--enable-unsafe-swiftshader", "--mute-audio",
+                f"--window-size={width},{height}", f"--user-data-dir={self.profile}", "about:blank"]
+        self.proc = subprocess.Popen(args, preexec_fn=fds, pass_fds=(3, 4),
+                                     stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        os.close(to_child_r)
+        os.close(from_child_w)
+        self.buf = b""
+        self.next_id = 0
+        self.events = []
+        target = self.call("Target.createTarget", {"url": "about:blank"})["targetId"]
+        self.session = self.call("Target.attachToTarget", {"targetId": target, "flatten": True})["sessionId"]
+        for domain in ("Page", "Runtime", "Log"):
+            self.call(domain + ".enable", session=True)
+        self.call("Emulation.setDeviceMetricsOverride",
+                  {"width": width, "height": height, "deviceScaleFactor": 1, "mobile": False}, session=True)
+
+    def _read(self, timeout_s):
+        end = time.monotonic() + timeout_s
+        while b"\0" not in self.buf:
+            if time.monotonic() > end:
+                raise TimeoutError("chromium did not answer")
+            chunk = os.read(self.from_child, 1 << 20)
+            if not chunk:
+                raise RuntimeError("chromium closed the pipe")
+            self.buf += chunk
+        msg, self.buf = self.buf.split(b"\0", 1)
+        return json.loads(msg)
+
+    def call(self, method, params=None, session=False, timeout_s=60):
+        self.next_id += 1
+        msg = {"id": self.next_id, "method": method, "params": params or {}}
+        if session:
+            msg["sessionId"] = self.session
+        os.write(self.to_child, json.dumps(msg).encode() + b"\0")
+        while True:
+            m = self._read(timeout_s)
+            if m.get("id") == self.next_id:
+                if "error" in m:
+                    raise RuntimeError(f"{method}: {m['error']}")
+                return m.get("result", {})
+            self.events.append(m)
+
+    def evaluate(self, expression):
+        r = self.call("Runtime.evaluate", {"expression": expression, "returnByValue": True, "awaitPromise": True},
+                      session=True)
+        if "exceptionDetails" in r:
+            raise RuntimeError(f"{expression}: {r['exceptionDetails'].get('text')}")
+        return r["result"].get("value")
+
+    def open(self, path, timeout_s=30):
+        start = time.monotonic()
+        self.call("Page.navigate", {"url": "file://" + os.path.abspath(path)}, session=True)
+        while time.monotonic() - start < timeout_s:
+            if self.evaluate("!!(window.canopyReport && window.canopyReport.ready)"):
+                return time.monotonic() - start
+            time.sleep(0.05)
+        raise TimeoutError(f"{path}: the page did not become ready in {timeout_s} s")
+
+    def errors(self):
+        """Console errors, uncaught exceptions and failed loads seen so far."""
+        out = []
+        for e in self.events:
+            m, p = e.get("method"), e.get("params", {})
+            if m == "Runtime.exceptionThrown":
+                d = p.get("exceptionDetails", {})
+                out.append("exception: " + str(d.get("exception", {}).get("description") or d.get("text")))
+            elif m == "Runtime.consoleAPICalled" and p.get("type") in ("error", "assert"):
+                out.append("console." + p["type"] + ": " + " ".join(str(a.get("value", a.get("description"))) for a in p.get("args", [])))
+            elif m == "Log.entryAdded" and p.get("entry", {}).get("level") == "error":
+                out.append("log: " + p["entry"].get("text", "") + " " + p["entry"].get("url", ""))
+        return out
+
+    def screenshot(self, selector=None):
+        """The page as PNG bytes, or only the element `selector` (its bounding box)."""
+        params = {"format": "png"}
+        if selector:
+            r = self.evaluate(f"(() => {{ const r = document.querySelector('{selector}').getBoundingClientRect();"
+                              " return [r.x, r.y, r.width, r.height]; })()")
+            params["clip"] = {"x": r[0], "y": r[1], "width": r[2], "height": r[3], "scale": 1}
+        return base64.b64decode(self.call("Page.captureScreenshot", params, session=True)["data"])
+
+    def close(self):
+        try:
+            self.call("Browser.close", timeout_s=5)
+        except Exception:
+            pass
+        try:
+            self.proc.wait(timeout=10)
+        except subprocess.TimeoutExpired:
+            self.proc.kill()
+            self.proc.wait()
+        shutil.rmtree(self.profile, ignore_errors=True)
+
+
+def count_colours(b, png, colours, tol=40):
+    """Pixels of the screenshot `png` within `tol` (sum of channel differences) of each colour,
+    decoded and counted by the browser itself (no image package needed)."""
+    js = """(async () => {
+      const img = new Image();
+      img.src = 'data:image/png;base64,%s';
+      await img.decode();
+      const c = document.createElement('canvas');
+      c.width = img.width; c.height = img.height;
+      const g = c.getContext('2d');
+      g.drawImage(img, 0, 0);
+      const d = g.getImageData(0, 0, c.width, c.height).data, want = %s, n = want.map(() => 0);
+      for (let i = 0; i < d.length; i += 4)
+        want.forEach((w, k) => { if (Math.abs(d[i] - w[0]) + Math.abs(d[i + 1] - w[1]) + Math.abs(d[i + 2] - w[2]) <= %d) ++n[k]; });
+      return n;
+    })()""" % (base64.b64encode(png).decode(), json.dumps(colours), tol)
+    return b.evaluate(js)
+
+
+def check_run(b, path, incomplete, shot):
+    fails = []
+    load_s = b.open(path)
+    last = b.evaluate("JSON.stringify(canopyReport.state())")
+    last = json.loads(last)
+    if not last["webgl"]:
+        fails.append("no WebGL context: the 3D view is off")
+    if shot:
+        with open(shot, "wb") as f:
+            f.write(b.screenshot())
+    png = b.screenshot("#view3d canvas")  # the 3D view alone: the thumbnails have these colours too
+    colours = json.loads(b.evaluate("document.getElementById('canopy-data').textContent"))["classes"]
+    by_name = {c["name"]: c["color"] for c in colours}
+    leaf, fruit = count_colours(b, png, [by_name["leaf"], by_name["fruit"]])
+    if leaf < 50 or fruit < 5:
+        fails.append(f"the 3D view looks blank: {leaf} leaf-coloured and {fruit} fruit-coloured pixels")
+    views = b.evaluate("canopyReport.views")
+    b.evaluate("(() => { const s = document.getElementById('slider'); s.value = 0; s.dispatchEvent(new Event('input')); })()")
+    first = json.loads(b.evaluate("JSON.stringify(canopyReport.state())"))
+    count_text = b.evaluate("document.getElementById('view-count').textContent")
+    if views > 1:
+        if first["view"] != 0 or count_text != f"view 1 / {views}":
+            fails.append(f"the slider did not move to view 1: {first}, '{count_text}'")
+        if not first["shownAttempts"] < last["shownAttempts"]:
+            fails.append(f"moving the slider did not change the cameras drawn: {first['shownAttempts']} vs {last['shownAttempts']}")
+        if not first["cursor"] < last["cursor"]:
+            fails.append(f"moving the slider did not move the curve cursor: {first['cursor']} vs {last['cursor']}")
+        if not first["drawnVoxels"] < last["drawnVoxels"]:
+            fails.append(f"the map at view 1 is not smaller than at the end: {first['drawnVoxels']} vs {last['drawnVoxels']}")
+    banner = b.evaluate("document.getElementById('incomplete') ? document.getElementById('incomplete').textContent : ''")
+    if incomplete and "Incomplete" not in banner:
+        fails.append("the report of an interrupted run does not say it is incomplete")
+    if not incomplete and banner:
+        fails.append("a complete run's report says: " + banner)
+    fails += b.errors()
+    ready_ms = b.evaluate("canopyReport.readyMs")
+    marks = b.evaluate("canopyReport.marks")
+    print(f"{path}: ready in {load_s:.2f} s ({ready_ms / 1000:.2f} s after navigation started, page's own clock), {views} views, {last['drawnVoxels']} voxels at the end, "
+          f"{first['drawnVoxels']} at view 1, {leaf} leaf and {fruit} fruit pixels; page marks (ms) "
+          + ", ".join(f"{k} {v:.0f}" for k, v in marks.items()))
+    return fails
+
+
+def check_experiment(b, path):
+    fails = []
+    load_s = b.open(path)
+    links = b.evaluate("canopyReport.links")
+    trials = b.evaluate("canopyReport.trials")
+    if not links or len(links) != trials:
+        fails.append(f"{len(links or [])} trial links for {trials} trials")
+    for link in links or []:
+        target = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(path)), link))
+        if not os.path.isfile(target):
+            fails.append(f"link {link} does not resolve")
+    # Hovering a trial's curve names its method, P_gt, world and value.
+    tip = b.evaluate("""(() => {
+      const svg = document.getElementById('exp-sc'), line = svg.querySelector('path.trial-line');
+      if (!line) return '';
+      const p = line.getPointAtLength(line.getTotalLength()), r = svg.getBoundingClientRect();
+      svg.dispatchEvent(new MouseEvent('mousemove', { clientX: r.left + p.x, clientY: r.top + p.y }));
+      return document.getElementById('exp-tip').textContent;
+    })()""")
+    if trials and not all(w in tip for w in ("P_gt", "world", "SC ")):
+        fails.append(f"hovering a curve did not name its method, P_gt, world and value: '{tip}'")
+    hrefs = b.evaluate("[...document.querySelectorAll('a.trial-link')].map(a => a.href)")
+    if links and hrefs:
+        b.open(hrefs[0][len("file://"):])  # the first trial's own report opens
+    fails += b.errors()
+    print(f"{path}: ready in {load_s:.2f} s, {trials} trials, {len(links or [])} links; hover: {tip}")
+    return fails
+
+
+def main(argv):
+    args = argv[1:]
+    shot, size = None, (1280, 800)
+    if "--window" in args:  # WxH of the browser window
+        i = args.index("--window")
+        size = tuple(int(x) for x in args[i + 1].split("x"))
+        del args[i:i + 2]
+    if "--screenshot" in args:
+        i = args.index("--screenshot")
+        shot = args[i + 1]
+        del args[i:i + 2]
+    if not args or len(args) % 2 or any(k not in ("run", "incomplete", "experiment") for k in args[::2]):
+        print(__doc__)
+        return 2
+    b = Browser(*size)  # one browser for every page
+    fails = []
+    try:
+        for kind, path in zip(args[::2], args[1::2]):
+            if kind == "experiment":
+                got = check_experiment(b, path)
+            else:
+                got = check_run(b, path, kind == "incomplete", shot)
+                shot = None
+            fails += [f"{path}: {f}" for f in got]
+            b.events.clear()
+    finally:
+        b.close()
+    for f in fails:
+        print("FAIL:", f)
+    return 1 if fails else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv))

@@ -1,0 +1,73 @@
+#!/usr/bin/env bash
+# report.html in a real browser (Debian's headless chromium, tests/jobs/report_browser.py):
+# a small mission's report opens from file:// without a console error, its 3D view is not
+# blank (leaf and fruit colours in a screenshot of the canvas), the slider changes the cameras
+# drawn, the map and the curve cursor; an interrupted mission's report says it is incomplete;
+# equal seeds give the same report bytes (but for the wall-time line) and thumbnails; an
+# experiment report's links to its trials' reports resolve; canopy map's report opens too;
+# --no-report writes none. One browser opens every page.
+set -euo pipefail
+canopy=$1
+src=$(pwd)
+if [[ -n "${TEST_TMPDIR:-}" ]]; then
+  dir="$TEST_TMPDIR/report_browser"
+else
+  dir=$(mktemp -d)
+  trap 'rm -rf "$dir"' EXIT
+fi
+rm -rf "$dir" && mkdir -p "$dir"
+browser="python3 $src/tests/jobs/report_browser.py"
+
+run() { "$canopy" mission --world worlds/small.yaml --views-per-stop 3 --no-plots "$@" 2>> "$dir/log.txt"; }
+run --seed 1 --out "$dir/a"
+run --seed 1 --out "$dir/b"
+for f in "$dir"/a/report*; do
+  name=$(basename "$f")
+  if [[ $name == report.html ]]; then
+    cmp <(grep -v '^<script id="canopy-wall"' "$f") <(grep -v '^<script id="canopy-wall"' "$dir/b/$name") ||
+      { echo "report.html differs between equal seeds"; exit 1; }
+  else
+    cmp "$f" "$dir/b/$name" || { echo "$name differs between equal seeds"; exit 1; }
+  fi
+done
+[[ $(grep -c '^<script id="canopy-wall"' "$dir/a/report.html") -eq 1 ]] || { echo "no wall-time line"; exit 1; }
+
+# Ctrl-C after the first views: the report says the run is incomplete.
+"$canopy" mission --world worlds/small.yaml --views-per-stop 12 --no-plots --out "$dir/int" 2> "$dir/int.log" &
+pid=$!
+for _ in $(seq 1 600); do
+  grep -q "initial view 2 " "$dir/int.log" && break
+  sleep 0.1
+done
+kill -INT "$pid"
+set +e
+wait "$pid"
+code=$?
+set -e
+[[ $code -eq 130 ]] || { echo "interrupted mission: exit $code, expected 130"; cat "$dir/int.log"; exit 1; }
+
+# --no-report: no report.
+run --seed 2 --out "$dir/none" --no-report
+[[ ! -e "$dir/none/report.html" ]] || { echo "--no-report wrote report.html"; exit 1; }
+
+# An experiment of two trials and its report; every trial linked to its own report.
+cat > "$dir/exp.yaml" <<YAML
+name: report_browser
+world: $src/worlds/small.yaml
+overrides:
+  mission: {loop: {views_per_stop: 1}}
+methods:
+  - {label: ours, method: ours}
+p_gt: [1.0]
+seeds: [1, 2]
+trial_timeout_s: 120
+YAML
+"$canopy" experiment --config "$dir/exp.yaml" --out "$dir/exp" --jobs 2 2>> "$dir/log.txt"
+"$canopy" report "$dir/exp" --no-plots 2>> "$dir/log.txt"
+
+# canopy map's report, of three views.
+"$canopy" map --world worlds/small.yaml --views tests/jobs/report_map_views.txt --out "$dir/map" > /dev/null 2>> "$dir/log.txt"
+
+$browser run "$dir/a/report.html" incomplete "$dir/int/report.html" run "$dir/map/report.html" \
+  experiment "$dir/exp/report/report.html"
+echo "report browser test: ok"

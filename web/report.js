@@ -1,0 +1,453 @@
+// canopy's run report (docs/report.md): the map replayed view by view in three.js, the
+// camera of every attempted view, the true fruits by coverage, the curves and thumbnails.
+// Reads the JSON block #canopy-data written by jobs/run_report.cpp; needs no network.
+// Test hook: window.canopyReport (ready, setView, state).
+(function () {
+  'use strict';
+  const marks = { start: performance.now() };  // ms from navigation start (docs/report.md#bounds)
+  const data = JSON.parse(document.getElementById('canopy-data').textContent);
+  const wall = JSON.parse(document.getElementById('canopy-wall').textContent);
+  const app = document.getElementById('app');
+  const el = (tag, attrs, html) => {
+    const e = document.createElement(tag);
+    for (const k in attrs || {}) e.setAttribute(k, attrs[k]);
+    if (html !== undefined) e.innerHTML = html;
+    return e;
+  };
+  const esc = (s) => String(s).replace(/[&<>"]/g, (c) => ({ '&': '&amp;', '<': '&lt;', '>': '&gt;', '"': '&quot;' }[c]));
+  const fmt = (x, d) => (typeof x === 'number' ? x.toFixed(d === undefined ? 3 : d) : x === null || x === undefined ? '–' : esc(x));
+
+  // ---- Decoding the replay ------------------------------------------------------------
+  function bytes(b64) {
+    const s = atob(b64 || '');
+    const out = new Uint8Array(s.length);
+    for (let i = 0; i < s.length; ++i) out[i] = s.charCodeAt(i);
+    return out;
+  }
+  const map = data.map || { counts: [], keys_b64: '', changes_b64: '', step: 1, resolution_m: 0.015 };
+  const keyBytes = bytes(map.keys_b64), changeBytes = bytes(map.changes_b64);
+  const nVox = keyBytes.length / 6;
+  const res = map.resolution_m || data.resolution_m || 0.015;
+  const origin = map.key_origin || 32768;
+  const pos = new Float32Array(nVox * 3);
+  {
+    const dv = new DataView(keyBytes.buffer);
+    for (let i = 0; i < nVox; ++i)
+      for (let a = 0; a < 3; ++a) pos[3 * i + a] = (dv.getUint16(6 * i + 2 * a, true) - origin + 0.5) * res;
+  }
+  const nChanges = changeBytes.length / 6;
+  const chVox = new Uint32Array(nChanges), chState = new Uint16Array(nChanges);
+  {
+    const dv = new DataView(changeBytes.buffer);
+    for (let i = 0; i < nChanges; ++i) {
+      chVox[i] = dv.getUint32(6 * i, true);
+      chState[i] = dv.getUint16(6 * i + 4, true);
+    }
+  }
+  const groupEnd = [];  // changes of map state g end here
+  {
+    let n = 0;
+    for (const c of map.counts) groupEnd.push((n += c));
+  }
+
+  // ---- Views: successful index k, attempts up to it --------------------------------------
+  const views = data.views || [];
+  const okViews = views.filter((v) => v.ok);
+  const nK = okViews.length;
+  const attemptsUpTo = [];  // attempts shown at view k: up to and including its own
+  views.forEach((v, i) => { if (v.ok) attemptsUpTo.push(i + 1); });
+
+  // ---- Page ---------------------------------------------------------------------------
+  const s = data.summary || {};
+  const method = s.method || {};
+  app.innerHTML = '';
+  const head = el('header');
+  head.appendChild(el('h1', {}, 'canopy ' + esc(data.kind) + ' report'));
+  head.appendChild(el('span', { class: 'sub' }, esc(method.name || '') + (method.gain ? ' (' + esc(method.gain) + ', rays ' + esc(method.rays) + ')' : '') +
+    ' · world ' + esc((s.world || {}).name || '') + ' · seed ' + esc(s.seed === undefined ? '–' : s.seed) + ' · P_gt ' + esc(s.p_gt)));
+  app.appendChild(head);
+  if (!data.complete) {
+    app.appendChild(el('div', { class: 'banner', id: 'incomplete' },
+      'Incomplete run: ' + esc(data.end_reason) + ' after ' + nK + ' successful views; what it did before is shown.'));
+  }
+  if (map.note) app.appendChild(el('div', { class: 'note', id: 'decimated' }, 'Map decimated: ' + esc(map.note)));
+  const thumbs = data.thumbs || {};
+  if (thumbs.step > 1) app.appendChild(el('div', { class: 'note' }, 'Thumbnails of every ' + thumbs.step + 'th view.'));
+  const main = el('main');
+  const view3d = el('div', { id: 'view3d' });
+  const tip = el('div', { id: 'tip' });
+  const legend = el('div', { id: 'legend' });
+  view3d.appendChild(tip);
+  view3d.appendChild(legend);
+  const side = el('div', { id: 'side' });
+  main.appendChild(view3d);
+  main.appendChild(side);
+  app.appendChild(main);
+
+  side.innerHTML =
+    '<div class="controls"><button id="play">▶ play</button>' +
+    '<input id="slider" type="range" min="0" max="' + Math.max(0, nK - 1) + '" value="' + Math.max(0, nK - 1) + '">' +
+    '<span id="view-count"></span></div>' +
+    '<div class="controls">colour <select id="colour"><option value="class">class</option>' +
+    '<option value="occupancy">occupancy</option><option value="entropy">entropy</option></select>' +
+    '<label><input id="show-frusta" type="checkbox" checked> cameras</label>' +
+    '<label><input id="show-fruits" type="checkbox" checked> true fruits</label></div>' +
+    '<div id="view-info"></div>' +
+    '<div class="thumbs"><div id="thumb-rgb" class="thumb" title="wrist RGB"></div>' +
+    '<div id="thumb-labels" class="thumb" title="labels"></div></div>' +
+    '<h2>Fruit surface coverage (SC)</h2><svg id="curve-sc" class="curve" width="396" height="120"></svg>' +
+    '<h2>Fruit entropy [nats]</h2><svg id="curve-h" class="curve" width="396" height="120"></svg>' +
+    '<div id="summary"></div>';
+
+  // ---- Summary --------------------------------------------------------------------------
+  (function summary() {
+    const rows = [];
+    const add = (k, v) => rows.push('<tr><th>' + esc(k) + '</th><td>' + v + '</td></tr>');
+    add('method', esc(method.name || '') + (method.reads_ground_truth ? ' (reads the ground truth)' : ''));
+    add('labels, P_gt', esc(s.labels || '') + ', ' + fmt(s.p_gt, 2));
+    const w = s.world || {};
+    add('world', esc(w.name || '') + (w.file ? ' (' + esc(w.file) + ')' : '') + ', ' + esc(w.plants) + ' plants, ' + esc(w.fruits) + ' fruits');
+    add('views', esc(s.views_successful) + ' successful of ' + esc(s.views_attempted) + ' attempted');
+    const value = (x) => (x && typeof x === 'object'
+      ? Object.entries(x).filter(([, v]) => typeof v !== 'object').map(([k, v]) => esc(k) + ' ' + fmt(v)).join(', ')
+      : fmt(x));
+    for (const k in s.final || {}) add(k.replace(/_/g, ' '), value(s.final[k]));
+    if (s.simulated_time_s !== undefined) add('simulated time', fmt(s.simulated_time_s, 1) + ' s');
+    if (wall.wall_time_s !== undefined) add('wall time', fmt(wall.wall_time_s, 2) + ' s');
+    if (wall.ms_per_insertion !== undefined) add('insertion', fmt(wall.ms_per_insertion, 1) + ' ms per view');
+    add('end', esc(data.end_reason || ''));
+    let html = '<h2>Summary</h2><table id="summary-table">' + rows.join('') + '</table>';
+    const fails = Object.entries(s.failures || {});
+    html += '<h2>Failures by cause</h2>' + (fails.length
+      ? '<table id="failures"><tr><th>cause</th><th>attempts</th></tr>' + fails.map(([k, n]) => '<tr><td>' + esc(k) + '</td><td>' + n + '</td></tr>').join('') + '</table>'
+      : '<p>none</p>');
+    const changed = s.settings_changed || [];
+    html += '<h2>Settings that differ from the defaults</h2>' + (changed.length
+      ? '<table id="settings"><tr><th>key</th><th>value</th><th>default</th></tr>' + changed.map((c) => '<tr><td>' + esc(c.key) + '</td><td>' + esc(c.value) + '</td><td>' + esc(c.default) + '</td></tr>').join('') + '</table>'
+      : '<p>none</p>');
+    if (wall.phases_s) html += '<h2>Wall time by phase [s]</h2><table>' + Object.entries(wall.phases_s).map(([k, v]) => '<tr><td>' + esc(k) + '</td><td>' + fmt(v, 2) + '</td></tr>').join('') + '</table>';
+    document.getElementById('summary').innerHTML = html;
+  })();
+
+  // ---- Curves ---------------------------------------------------------------------------
+  function curve(svgId, values, label) {
+    const svg = document.getElementById(svgId);
+    const W = 396, H = 120, L = 36, R = 6, T = 6, B = 18;
+    const max = Math.max(1e-9, ...values.map((v) => (isFinite(v) ? v : 0)));
+    const top = label === 'SC' ? 1 : max * 1.05;
+    const x = (i) => L + (values.length > 1 ? (i / (values.length - 1)) * (W - L - R) : 0);
+    const y = (v) => T + (1 - v / top) * (H - T - B);
+    let d = '';
+    values.forEach((v, i) => { d += (i ? 'L' : 'M') + x(i).toFixed(1) + ',' + y(v).toFixed(1); });
+    svg.innerHTML =
+      '<line x1="' + L + '" y1="' + (H - B) + '" x2="' + (W - R) + '" y2="' + (H - B) + '" stroke="#999"/>' +
+      '<line x1="' + L + '" y1="' + T + '" x2="' + L + '" y2="' + (H - B) + '" stroke="#999"/>' +
+      '<text x="2" y="' + (T + 8) + '">' + fmt(top, 2) + '</text><text x="2" y="' + (H - B) + '">0</text>' +
+      '<text x="' + (W - R - 40) + '" y="' + (H - 4) + '">view ' + values.length + '</text>' +
+      '<path d="' + d + '" fill="none" stroke="#1f77b4" stroke-width="1.5"/>' +
+      '<line class="cursor" x1="0" y1="' + T + '" x2="0" y2="' + (H - B) + '" stroke="#d62728"/>' +
+      '<text class="cursor-label" x="0" y="' + (T + 10) + '"></text>';
+    svg.addEventListener('click', (ev) => {
+      const r = svg.getBoundingClientRect();
+      const i = Math.round(((ev.clientX - r.left - L) / (W - L - R)) * (values.length - 1));
+      setView(Math.max(0, Math.min(values.length - 1, i)));
+    });
+    return { svg, x, y, values };
+  }
+  const curves = [curve('curve-sc', okViews.map((v) => v.sc), 'SC'), curve('curve-h', okViews.map((v) => v.h), 'H')];
+
+  // ---- 3D scene ---------------------------------------------------------------------------
+  let renderer = null, scene, camera, controls, points, fruitMeshes = [], frusta = null, pickPoints, targetLine;
+  // Class colours of the label images; black (background) drawn dark grey to show on white.
+  const classColours = (data.classes || []).map((c) => (c.color[0] + c.color[1] + c.color[2] === 0
+    ? new THREE.Color(0.33, 0.33, 0.33) : new THREE.Color(c.color[0] / 255, c.color[1] / 255, c.color[2] / 255)));
+  const ramp = (t) => new THREE.Color().setHSL((1 - t) * 0.66, 0.9, 0.45);  // blue (low) to red (high)
+  const phaseColour = { initial: 0x8e44ad, nbv: 0x1f77b4, predefined: 0x17becf, view: 0x1f77b4 };
+  const failedColour = 0xe377c2;
+  const fruitColour = (c) => (c >= 0.8 ? 0x2b8cff : c > 0.05 ? 0xffb000 : 0x777777);
+
+  function setupScene() {
+    try {
+      renderer = new THREE.WebGLRenderer({ antialias: false, preserveDrawingBuffer: true });  // no MSAA: software GL stays fast
+    } catch (e) {
+      view3d.appendChild(el('p', { id: 'no-webgl' }, 'No WebGL in this browser: the 3D view is off (' + esc(e.message) + ').'));
+      return;
+    }
+    marks.webgl = performance.now();
+    renderer.setPixelRatio(1);
+    renderer.setClearColor(0xffffff);
+    view3d.insertBefore(renderer.domElement, tip);
+    scene = new THREE.Scene();
+    camera = new THREE.PerspectiveCamera(45, 1, 0.01, 100);
+    camera.up.set(0, 0, 1);
+    // The map's voxels: one point each, sized as a voxel.
+    const g = new THREE.BufferGeometry();
+    g.setAttribute('position', new THREE.BufferAttribute(new Float32Array(Math.max(1, nVox) * 3), 3));
+    g.setAttribute('color', new THREE.BufferAttribute(new Float32Array(Math.max(1, nVox) * 3), 3));
+    points = new THREE.Points(g, new THREE.PointsMaterial({ size: res * 1.1, vertexColors: THREE.VertexColors }));
+    scene.add(points);
+    // Bounds of the scene: voxels, fruits and cameras.
+    const box = new THREE.Box3();
+    for (let i = 0; i < nVox; ++i) box.expandByPoint(new THREE.Vector3(pos[3 * i], pos[3 * i + 1], pos[3 * i + 2]));
+    // True fruits: ellipsoids in their boxes, coloured by coverage.
+    for (const f of data.fruits || []) {
+      const c = [0, 1, 2].map((a) => (f.min[a] + f.max[a]) / 2), r = [0, 1, 2].map((a) => Math.max(0.005, (f.max[a] - f.min[a]) / 2));
+      const m = new THREE.Mesh(new THREE.SphereGeometry(1, 12, 8), new THREE.MeshBasicMaterial({ color: fruitColour(f.cov || 0), wireframe: true }));
+      m.position.set(c[0], c[1], c[2]);
+      m.scale.set(r[0], r[1], r[2]);
+      m.userData = f;
+      scene.add(m);
+      fruitMeshes.push(m);
+      box.expandByPoint(new THREE.Vector3(f.min[0], f.min[1], f.min[2]));
+      box.expandByPoint(new THREE.Vector3(f.max[0], f.max[1], f.max[2]));
+    }
+    // Cameras: a small frustum per attempted view (16 line vertices each, in attempt order, so
+    // that the views up to k are a draw range of one object), and a pick point at its centre.
+    const pick = new Float32Array(Math.max(1, views.length) * 3);
+    const fv = new Float32Array(Math.max(1, views.length) * 48), fc = new Float32Array(Math.max(1, views.length) * 48);
+    const corner = new THREE.Vector3(), q = new THREE.Quaternion();
+    views.forEach((v, i) => {
+      const p = v.goal.p;
+      q.set(v.goal.q[1], v.goal.q[2], v.goal.q[3], v.goal.q[0]);
+      const s = 0.04, h = 0.03;
+      const corners = [[-s, -h, 0.06], [s, -h, 0.06], [s, h, 0.06], [-s, h, 0.06]];
+      const local = [];
+      for (let c = 0; c < 4; ++c) local.push([0, 0, 0], corners[c], corners[c], corners[(c + 1) % 4]);
+      const colour = new THREE.Color(v.ok ? phaseColour[v.phase] || 0x1f77b4 : failedColour);
+      local.forEach((l, j) => {
+        corner.set(l[0], l[1], l[2]).applyQuaternion(q);
+        fv[48 * i + 3 * j] = p[0] + corner.x; fv[48 * i + 3 * j + 1] = p[1] + corner.y; fv[48 * i + 3 * j + 2] = p[2] + corner.z;
+        fc[48 * i + 3 * j] = colour.r; fc[48 * i + 3 * j + 1] = colour.g; fc[48 * i + 3 * j + 2] = colour.b;
+      });
+      pick[3 * i] = p[0]; pick[3 * i + 1] = p[1]; pick[3 * i + 2] = p[2];
+      box.expandByPoint(new THREE.Vector3(p[0], p[1], p[2]));
+    });
+    const fg = new THREE.BufferGeometry();
+    fg.setAttribute('position', new THREE.BufferAttribute(fv, 3));
+    fg.setAttribute('color', new THREE.BufferAttribute(fc, 3));
+    frusta = new THREE.LineSegments(fg, new THREE.LineBasicMaterial({ vertexColors: THREE.VertexColors }));
+    scene.add(frusta);
+    const pg = new THREE.BufferGeometry();
+    pg.setAttribute('position', new THREE.BufferAttribute(pick, 3));
+    pickPoints = new THREE.Points(pg, new THREE.PointsMaterial({ size: 0.015, color: 0x333333 }));
+    scene.add(pickPoints);
+    // Base stops: the footprint reached, and the goal as a cross.
+    for (const st of data.stops || []) {
+      const b = new THREE.Mesh(new THREE.PlaneGeometry(0.5, 0.4), new THREE.MeshBasicMaterial({ color: st.reached_goal ? 0xb0b0b0 : 0xf08080, transparent: true, opacity: 0.5 }));
+      b.position.set(st.reached[0], st.reached[1], 0.002);
+      b.rotation.z = st.reached[2];
+      scene.add(b);
+      box.expandByPoint(b.position);
+    }
+    const grid = new THREE.GridHelper(10, 20, 0xdddddd, 0xeeeeee);
+    grid.rotation.x = Math.PI / 2;
+    scene.add(grid);
+    targetLine = new THREE.Line(new THREE.BufferGeometry().setFromPoints([new THREE.Vector3(), new THREE.Vector3()]), new THREE.LineBasicMaterial({ color: 0x000000 }));
+    targetLine.visible = false;
+    scene.add(targetLine);
+    if (box.isEmpty()) box.set(new THREE.Vector3(-1, -1, 0), new THREE.Vector3(1, 1, 1));
+    const centre = box.getCenter(new THREE.Vector3()), size = box.getSize(new THREE.Vector3()).length();
+    camera.position.set(centre.x - 0.3 * size, centre.y - 0.75 * size, centre.z + 0.75 * size);
+    controls = new THREE.OrbitControls(camera, renderer.domElement);
+    controls.target.copy(centre);
+    controls.addEventListener('change', draw);
+    controls.update();
+    renderer.domElement.addEventListener('mousemove', hover);
+    window.addEventListener('resize', resize);
+    marks.objects = performance.now();
+    resize();
+  }
+  function resize() {
+    if (!renderer) return;
+    const w = view3d.clientWidth || 640, h = view3d.clientHeight || 480;
+    renderer.setSize(w, h, false);
+    renderer.domElement.style.width = w + 'px';
+    renderer.domElement.style.height = h + 'px';
+    camera.aspect = w / h;
+    camera.updateProjectionMatrix();
+    draw();
+  }
+  // Draws at the next animation frame, once however many changes asked for it; the first frame
+  // makes the page ready (window.canopyReport.ready).
+  let pending = false, onFirstFrame = null;
+  function draw() {
+    if (!renderer || pending) return;
+    pending = true;
+    requestAnimationFrame(() => {
+      pending = false;
+      renderer.render(scene, camera);
+      if (onFirstFrame) { const f = onFirstFrame; onFirstFrame = null; f(); }
+    });
+  }
+
+  function hover(ev) {
+    const r = renderer.domElement.getBoundingClientRect();
+    const mouse = new THREE.Vector2(((ev.clientX - r.left) / r.width) * 2 - 1, -((ev.clientY - r.top) / r.height) * 2 + 1);
+    const ray = new THREE.Raycaster();
+    ray.params.Points.threshold = 0.02;
+    ray.setFromCamera(mouse, camera);
+    const shown = attemptsUpTo[current] || 0;
+    const hit = ray.intersectObject(pickPoints).find((h) => h.index < shown);
+    let text = '';
+    targetLine.visible = false;
+    if (hit) {
+      const v = views[hit.index];
+      text = 'attempt ' + v.a + ', stop ' + v.stop + ', ' + v.phase + ' (' + v.source + ')\n' +
+        (v.ok ? 'view ' + (v.k + 1) + ': SC ' + fmt(v.sc) + ', entropy ' + fmt(v.h, 1) : 'failed: ' + v.failure + (v.message ? '\n' + v.message : '')) +
+        '\ngain ' + fmt(v.gain, 4) + (v.cluster !== undefined ? ', cluster ' + v.cluster : '');
+      if (v.target && (v.target[0] || v.target[1] || v.target[2])) {
+        text += '\ntarget ' + v.target.map((t) => t.toFixed(3)).join(', ');
+        targetLine.geometry.setFromPoints([new THREE.Vector3(...v.goal.p), new THREE.Vector3(...v.target)]);
+        targetLine.visible = true;
+      }
+    } else {
+      const f = ray.intersectObjects(fruitMeshes)[0];
+      if (f) text = 'fruit ' + f.object.userData.id + ' (plant ' + f.object.userData.plant + '): coverage ' + fmt(fruitCoverage(f.object.userData, fruitIndex(f.object)));
+    }
+    tip.style.display = text ? 'block' : 'none';
+    tip.textContent = text;
+    tip.style.left = ev.clientX - r.left + 12 + 'px';
+    tip.style.top = ev.clientY - r.top + 12 + 'px';
+    draw();
+  }
+  const fruitIndex = (m) => fruitMeshes.indexOf(m);
+  function fruitCoverage(f, i) {
+    const fc = map.fruit_coverage || [];
+    const g = Math.floor(current / (map.step || 1));
+    if (fc.length && fc[Math.min(g, fc.length - 1)]) return fc[Math.min(g, fc.length - 1)][i] || 0;
+    return f.cov || 0;
+  }
+
+  // ---- Replay --------------------------------------------------------------------------
+  const state = new Uint16Array(nVox);
+  let applied = 0;  // map states applied (groups)
+  let current = Math.max(0, nK - 1), drawnVoxels = 0, mode = 'class';
+  function colourOf(st) {
+    if (mode === 'occupancy') return ramp(((st >> 6) & 3) / 3);
+    if (mode === 'entropy') return ramp(((st >> 8) & 7) / 7);
+    return classColours[st & 63] || new THREE.Color(0.5, 0.5, 0.5);
+  }
+  function applyMap(k) {
+    const want = nK ? Math.min(map.counts.length, Math.floor(k / (map.step || 1)) + 1) : 0;
+    if (want < applied) { state.fill(0); applied = 0; }
+    for (let i = applied ? groupEnd[applied - 1] : 0; i < (want ? groupEnd[want - 1] : 0); ++i) state[chVox[i]] = chState[i];
+    applied = want;
+    if (!points) {
+      drawnVoxels = state.reduce((n, st) => n + (st ? 1 : 0), 0);
+      return;
+    }
+    const P = points.geometry.attributes.position, C = points.geometry.attributes.color;
+    let n = 0;
+    for (let i = 0; i < nVox; ++i) {
+      const st = state[i];
+      if (!st) continue;
+      P.array[3 * n] = pos[3 * i]; P.array[3 * n + 1] = pos[3 * i + 1]; P.array[3 * n + 2] = pos[3 * i + 2];
+      const c = colourOf(st);
+      C.array[3 * n] = c.r; C.array[3 * n + 1] = c.g; C.array[3 * n + 2] = c.b;
+      ++n;
+    }
+    drawnVoxels = n;
+    points.geometry.setDrawRange(0, n);
+    P.needsUpdate = true;
+    C.needsUpdate = true;
+  }
+  function setView(k) {
+    current = Math.max(0, Math.min(Math.max(0, nK - 1), k | 0));
+    document.getElementById('slider').value = current;
+    applyMap(current);
+    const shown = nK ? attemptsUpTo[current] : views.length;
+    if (frusta) {
+      frusta.visible = document.getElementById('show-frusta').checked;
+      frusta.geometry.setDrawRange(0, 16 * shown);
+      pickPoints.geometry.setDrawRange(0, shown);
+    }
+    fruitMeshes.forEach((m, i) => {
+      m.material.color.setHex(fruitColour(fruitCoverage(m.userData, i)));
+      m.visible = document.getElementById('show-fruits').checked;
+    });
+    const v = okViews[current];
+    document.getElementById('view-count').textContent = nK ? 'view ' + (current + 1) + ' / ' + nK : 'no successful view';
+    document.getElementById('view-info').innerHTML = v
+      ? 'stop ' + v.stop + ', ' + esc(v.phase) + ' (' + esc(v.source) + '), attempt ' + v.a + '; SC ' + fmt(v.sc) + ', entropy ' + fmt(v.h, 1) +
+        '; ' + shown + ' attempts shown, ' + drawnVoxels + ' voxels'
+      : '';
+    for (const c of curves) {
+      const cx = c.values.length ? c.x(current) : 0;
+      const line = c.svg.querySelector('.cursor');
+      line.setAttribute('x1', cx.toFixed(1));
+      line.setAttribute('x2', cx.toFixed(1));
+      const lab = c.svg.querySelector('.cursor-label');
+      const right = cx > 396 - 60;  // near the right edge: the label goes left of the cursor
+      lab.setAttribute('x', (right ? cx - 3 : cx + 3).toFixed(1));
+      lab.setAttribute('text-anchor', right ? 'end' : 'start');
+      lab.textContent = c.values.length ? fmt(c.values[current]) : '';
+    }
+    thumb('thumb-rgb', 'rgb');
+    thumb('thumb-labels', 'labels');
+    document.body.dataset.view = String(current);
+    document.body.dataset.shownAttempts = String(shown);
+    draw();
+  }
+  function thumb(id, kind) {
+    const e = document.getElementById(id);
+    const sheets = thumbs[kind] || [];
+    const t = Math.floor(current / (thumbs.step || 1));
+    const sheet = Math.floor(t / (thumbs.per_sheet || 100)), i = t % (thumbs.per_sheet || 100);
+    if (!sheets.length || sheet >= sheets.length) { e.style.display = 'none'; return; }
+    e.style.display = 'block';
+    e.style.width = thumbs.w + 'px';
+    e.style.height = thumbs.h + 'px';
+    e.style.backgroundImage = 'url("' + sheets[sheet] + '")';
+    e.style.backgroundPosition = -(i % thumbs.cols) * thumbs.w + 'px ' + -Math.floor(i / thumbs.cols) * thumbs.h + 'px';
+  }
+  function updateLegend() {
+    let html = '';
+    if (mode === 'class') html = (data.classes || []).map((c, i) => '<span class="sw" style="background:#' + classColours[i].getHexString() + '"></span>' + esc(c.name)).join('');
+    else html = mode + ': <span class="sw" style="background:#1f3fd6"></span>low<span class="sw" style="background:#d61f1f"></span>high';
+    html += '<br>cameras: <span class="sw" style="background:#8e44ad"></span>initial scan<span class="sw" style="background:#1f77b4"></span>next-best view' +
+      '<span class="sw" style="background:#17becf"></span>predefined<span class="sw" style="background:#e377c2"></span>failed' +
+      '<br>true fruits: <span class="sw" style="background:#2b8cff"></span>seen (SC ≥ 0.8)<span class="sw" style="background:#ffb000"></span>partly<span class="sw" style="background:#777"></span>unseen';
+    legend.innerHTML = html;
+  }
+
+  // ---- Controls ------------------------------------------------------------------------
+  let timer = null;
+  document.getElementById('slider').addEventListener('input', (e) => setView(+e.target.value));
+  document.getElementById('colour').addEventListener('change', (e) => { mode = e.target.value; applied = 0; state.fill(0); updateLegend(); setView(current); });
+  document.getElementById('show-frusta').addEventListener('change', () => setView(current));
+  document.getElementById('show-fruits').addEventListener('change', () => setView(current));
+  document.getElementById('play').addEventListener('click', () => {
+    const b = document.getElementById('play');
+    if (timer) { clearInterval(timer); timer = null; b.textContent = '▶ play'; return; }
+    if (current >= nK - 1) setView(0);
+    b.textContent = '❚❚ pause';
+    timer = setInterval(() => {
+      if (current >= nK - 1) { clearInterval(timer); timer = null; b.textContent = '▶ play'; return; }
+      setView(current + 1);
+    }, 150);
+  });
+
+  marks.decoded = performance.now();
+  setupScene();
+  marks.scene = performance.now();
+  updateLegend();
+  setView(current);
+  const hook = {
+    ready: false,
+    views: nK,
+    setView,
+    marks,
+    state: () => ({ view: current, shownAttempts: nK ? attemptsUpTo[current] : views.length, drawnVoxels,
+                    cursor: +document.querySelector('#curve-sc .cursor').getAttribute('x1'), webgl: !!renderer,
+                    complete: !!data.complete }),
+  };
+  window.canopyReport = hook;
+  const ready = () => {
+    marks.ready = performance.now();
+    hook.readyMs = marks.ready;
+    hook.ready = true;
+    document.body.dataset.ready = '1';
+  };
+  if (renderer) onFirstFrame = ready;
+  else ready();
+})();
