@@ -5,6 +5,7 @@
 #include "canopy/common/error.h"
 #include "canopy/common/io.h"
 #include "canopy/common/params.h"
+#include "canopy/datasets/sequence_mapping.h"
 #include "canopy/jobs/map_job.h"
 #include "canopy/mapping/map_io.h"
 #include "canopy/mapping/scan_inserter.h"
@@ -22,28 +23,13 @@ RecordedMapResult map_recorded(const RecordedSequence& frames, const RecordedMap
   write_file_atomic(out.path("settings.yaml"), p.settings.to_yaml_text());
   write_file_atomic(out.path("run.yaml"), yaml_text(frames.run));
 
-  std::vector<mapping::FrameMapStep> steps;
-  std::vector<datasets::SkippedFrame> skipped = frames.skipped;
+  datasets::SequenceMapResult seq = datasets::map_frames(frames.size, frames.read, frames.name, frames.skipped,
+                                                         extractor, inserter, p.on_frame, p.stop_requested);
+  const std::vector<mapping::FrameMapStep>& steps = seq.steps;
+  const std::vector<datasets::SkippedFrame>& skipped = seq.skipped;
   RecordedMapResult r;
-  for (std::size_t i = 0; i < frames.size; ++i) {
-    if (p.stop_requested && p.stop_requested()) {
-      r.complete = false;
-      break;
-    }
-    LabelledFrame frame;
-    std::string why;
-    mapping::FrameMapStep step;
-    if (frames.read(i, &frame, &why)) {
-      step = mapping::map_frame(frame, extractor, inserter);
-      ++r.mapped;
-    } else {
-      step.skip_reason = why;
-      skipped.push_back({frames.name(i), why});
-    }
-    step.name = frames.name(i);
-    if (p.on_frame) p.on_frame(step);
-    steps.push_back(std::move(step));
-  }
+  r.complete = seq.complete;
+  r.mapped = seq.mapped;
   r.skipped = skipped.size();
   if (!r.complete && r.mapped == 0) throw Interrupted("interrupted before the first frame; nothing was written");
   if (r.mapped == 0)

@@ -20,6 +20,15 @@ struct SequenceMapResult {
   bool complete = true;               ///< False when `stop` ended it early.
 };
 
+/// Maps `size` frames, each read by `read(i, &frame, &why)` (false: skipped with `why`) and
+/// named by `name(i)`, into the inserter's map; `skipped` holds the frames dropped before
+/// reading. `on_frame` and `stop` as in map_sequence. Any source of frames (a folder, a bag).
+SequenceMapResult map_frames(std::size_t size, const std::function<bool(std::size_t, LabelledFrame*, std::string*)>& read,
+                             const std::function<std::string(std::size_t)>& name, std::vector<SkippedFrame> skipped,
+                             perception::SemanticExtractor& extractor, mapping::ScanInserter& inserter,
+                             const std::function<void(const mapping::FrameMapStep&)>& on_frame = nullptr,
+                             const std::function<bool()>& stop = nullptr);
+
 /// Maps every frame of `frames` into the inserter's map; `on_frame` (may be null) is called
 /// after each; `stop` (may be null) is polled before each and ends the run early when true. Throws InputError on a bad file (frame_sequence.h).
 SequenceMapResult map_sequence(const FrameSequence& frames, perception::SemanticExtractor& extractor,
