@@ -440,7 +440,7 @@ struct Mission::Impl {
     req.attempts_left = attempts_left;
     req.reachable = [&](const nbv::PlannedView& v) {
       ScopedPhase t(result.times, kNbvPlanning);
-      return !motion::view_goal_configs(model, v, sim.base_pose(), sim.arm_positions()).empty();
+      return motion::has_free_goal(model, &planner.goal_checker(), v, sim.base_pose(), sim.arm_positions());
     };
     req.attempt = [&](const nbv::PlannedView& v) {
       check_stop();
@@ -569,7 +569,8 @@ struct Mission::Impl {
       const std::vector<nbv::PlannedView>& ordered = next.ordered;
       const std::vector<nbv::PlannedView>& unreachable = next.unreachable;
       ++s.rounds;
-      if (batch.views.empty()) {
+      s.refused += static_cast<int>(batch.refused.size());
+      if (batch.views.empty() && batch.refused.empty()) {
         const std::string why = batch.reason.empty() ? "nothing left to plan" : batch.reason;
         if (batch.finished) {
           end_stop(s, "planner_done", "the planner has nothing left to see: " + why);
@@ -587,6 +588,7 @@ struct Mission::Impl {
       const int wanted = wanted_total - ok;
       if (batch.order == nbv::BatchOrder::kTour) {
         std::vector<nbv::PlannedView> failed = unreachable;
+        failed.insert(failed.end(), batch.refused.begin(), batch.refused.end());  // not attempts
         ok += execute(ordered, phase, traits.execute_whole_batch ? -1 : wanted, &attempts_left, &failed);
         if (replaces_failed_scripted()) ok += replace_failed(failed, phase, &attempts_left);
       } else {

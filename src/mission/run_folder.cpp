@@ -64,6 +64,7 @@ nlohmann::json summary_json(const MissionResult& r) {
                      {"nbv_successful", s.nbv_ok},
                      {"scripted_replaced", s.scripted_replaced},
                      {"replacement_attempts", s.replacement_attempts},
+                     {"refused", s.refused},
                      {"rounds", s.rounds},
                      {"failures", s.failures},
                      {"end_reason", s.end_reason},
@@ -74,11 +75,13 @@ nlohmann::json summary_json(const MissionResult& r) {
                      {"sim_time_s", s.sim_time_s}});
   }
   j["stops"] = stops;
-  int replaced = 0, replacement_attempts = 0;
+  int replaced = 0, replacement_attempts = 0, refused = 0;
   for (const StopRecord& s : r.stops) {
     replaced += s.scripted_replaced;
     replacement_attempts += s.replacement_attempts;
+    refused += s.refused;
   }
+  j["refused"] = refused;
   int repairs = 0;
   for (const StopRecord& s : r.stops) repairs += s.start_repairs;
   j["start_repairs"] = repairs;

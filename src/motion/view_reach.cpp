@@ -30,6 +30,13 @@ std::vector<ArmConfig> view_goal_configs(const RobotModel& model, const nbv::Pla
   return goals;
 }
 
+bool has_free_goal(const RobotModel& model, const CollisionChecker* checker, const nbv::PlannedView& view,
+                   const BasePose& base, const ArmConfig& seed) {
+  for (const ArmConfig& g : view_goal_configs(model, view, base, seed))
+    if (!checker || !checker->in_collision(base, g)) return true;
+  return false;
+}
+
 std::vector<nbv::PlannedView> tour_order(const RobotModel& model, const TourParams& params, const BasePose& base,
                                          const ArmConfig& q0, std::vector<nbv::PlannedView> views,
                                          std::vector<nbv::PlannedView>* unreachable) {
@@ -83,6 +90,9 @@ NextViews next_views(const mapping::SemanticOcTree& map, nbv::VoxelIndex& index,
   req.reach = reach_filter(arm.workspace, request.base, [q] { return q; }, arm.checker);
   req.in_workspace = [&workspace = arm.workspace, base = request.base](const Vec3& p) {
     return workspace.in_workspace(base, p);
+  };
+  req.goal_free = [&model = arm.model, checker = arm.checker, base = request.base, q](const nbv::PlannedView& v) {
+    return has_free_goal(model, checker, v, base, q);
   };
   NextViews out;
   out.batch = planner.next(req);

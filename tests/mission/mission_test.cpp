@@ -111,7 +111,8 @@ TEST(Mission, PredefinedScansTwentyFourViewsPerStop) {
   const MissionResult r = mission.run();
   ASSERT_TRUE(r.complete);
   EXPECT_EQ(r.stops[0].initial_attempted, 12);
-  EXPECT_EQ(r.stops[0].nbv_attempted, 12);
+  // Its 12 scripted views: attempted, or refused before the move (no free goal; not replaced here).
+  EXPECT_EQ(r.stops[0].nbv_attempted + r.stops[0].refused, 12);
   EXPECT_EQ(r.stops[0].scripted_replaced, 0);
   for (const ViewRecord& v : r.views) {
     if (v.phase != ViewPhase::kInitial) {
@@ -124,13 +125,15 @@ TEST(Mission, PredefinedScansTwentyFourViewsPerStop) {
 }
 
 // Predefined scanning replaces each failed scripted view by the nearest reachable view of the
-// same scan pattern: on the small world 6 of its 24 views fail (no IK, goal in collision);
-// with replacements the stop ends with all 24, every replacement a pattern neighbour (same
-// row and distance, horizontal, no scripted view repeated), and summary.json counts them.
+// same scan pattern: on the small world 6 of its 24 views fail (no IK, goal in collision)
+// when they are attempted (nbv.predefined.goal_test_at_planning off); with replacements the
+// stop ends with all 24, every replacement a pattern neighbour (same row and distance,
+// horizontal, no scripted view repeated), and summary.json counts them.
 TEST(Mission, PredefinedReplacesFailedScriptedViews) {
   const SmallWorld& w = small();
   Settings s = w.settings;
   s.method.name = "predefined";
+  s.nbv.predefined.goal_test_at_planning = false;
   s.mission.scan.replace_failed = false;
   const MissionResult plain = Mission(w.world, s, 1).run();
   s.mission.scan.replace_failed = true;
@@ -175,6 +178,33 @@ TEST(Mission, PredefinedReplacesFailedScriptedViews) {
   Settings o = w.settings;
   o.mission.scan.replace_failed = false;
   EXPECT_EQ(views_csv(Mission(w.world, o, 1).run(), "ours"), views_csv(Mission(w.world, w.settings, 1).run(), "ours"));
+}
+
+// With the goal test at planning (the default), the same stop refuses the scripted views that
+// would fail before the arm moves and replaces them without attempting them: no attempt fails
+// for want of IK or a free goal, the stop still ends with its 24 views, in fewer attempts.
+TEST(Mission, PredefinedRefusesViewsThatWouldFailBeforeTheMove) {
+  const SmallWorld& w = small();
+  Settings s = w.settings;
+  s.method.name = "predefined";
+  ASSERT_TRUE(s.nbv.predefined.goal_test_at_planning);
+  const MissionResult r = Mission(w.world, s, 1).run();
+  s.nbv.predefined.goal_test_at_planning = false;
+  const MissionResult attempted = Mission(w.world, s, 1).run();
+  ASSERT_TRUE(r.complete);
+  int refusals_before = 0;
+  for (const ViewRecord& v : attempted.views)
+    refusals_before += v.failure == failure::kNoIk || v.failure == failure::kGoalInCollision;
+  ASSERT_GT(refusals_before, 0) << "no scripted view fails before the move here: nothing to refuse";
+  for (const ViewRecord& v : r.views) {
+    EXPECT_NE(v.failure, failure::kNoIk) << v.message;
+    EXPECT_NE(v.failure, failure::kGoalInCollision) << v.message;
+  }
+  EXPECT_GT(r.stops[0].refused, 0);
+  EXPECT_EQ(r.successful_views(), 24);
+  EXPECT_LT(r.views.size(), attempted.views.size());
+  EXPECT_EQ(summary_json(r).at("refused"), r.stops[0].refused);
+  EXPECT_EQ(summary_json(attempted).at("refused"), 0);
 }
 
 // canopy's own planner (nbv/planners/reveal/) in the mission on the small world: one view per

@@ -146,3 +146,51 @@ TEST(Frontier, PointAtIsTheSmallestRotationOntoTheTarget) {
   // Already looking at it: unchanged.
   EXPECT_LT((frontier::point_at(current, eye, Vec3(0.5, 0.3, 1.0)).linear() - current.linear()).norm(), 1e-9);
 }
+
+// The goal test at planning (nbv.frontier.goal_test_at_planning, the default): the batch holds
+// only views that pass ViewRequest::goal_free, in utility order, at most five, the dropped ones
+// counted as filtered; with the test off (the authors' code) views that fail it are sent too.
+TEST(Frontier, TheGoalTestAtPlanningKeepsOnlyViewsThatWouldNotFailBeforeTheMove) {
+  mapping::SemanticOcTree map = empty_map();
+  map.update_hit(key(0, 0, 0), kFruit);  // R with its contour F: ROI views around F
+  make_free(map, key(1, 0, 0));
+  VoxelIndex index(map);
+  ViewRequest req;
+  req.map = &map;
+  req.index = &index;
+  req.region = Eigen::AlignedBox3d(Vec3::Constant(-0.2), Vec3::Constant(0.2));
+  req.T_world_camera = look_at(Vec3(0.4, 0.0, 0.0), Vec3::Zero());
+  req.seed = 7;
+  // "No free goal" for every camera below the target's height.
+  const auto free_goal = [](const PlannedView& v) { return v.T_world_camera.translation().z() >= v.target.z(); };
+  auto planner = [](bool test) {
+    ViewPlannerSettings s;
+    s.method.name = "frontier";
+    s.params.frontier.roi_utility_threshold = -1e9;  // always the ROI views
+    s.params.frontier.goal_test_at_planning = test;
+    return make_view_planner(s);
+  };
+  const ViewBatch off = planner(false)->next(req);
+  req.goal_free = free_goal;
+  const ViewBatch sent = planner(false)->next(req);
+  const ViewBatch kept = planner(true)->next(req);
+  EXPECT_EQ(sent.views.size(), off.views.size());  // off: goal_free is never asked
+  ASSERT_GT(off.views.size(), 5u);
+  std::size_t failing = 0;
+  for (const PlannedView& v : off.views) failing += !free_goal(v);
+  ASSERT_GT(failing, 0u) << "no sampled view fails the test: the test tests nothing";
+  // Kept: the first five passing views of the same utility order, nothing else.
+  std::vector<PlannedView> expected;
+  std::size_t dropped = 0;
+  for (const PlannedView& v : off.views) {
+    if (expected.size() == 5) break;
+    if (free_goal(v)) expected.push_back(v);
+    else ++dropped;
+  }
+  ASSERT_EQ(kept.views.size(), expected.size());
+  for (std::size_t i = 0; i < expected.size(); ++i) {
+    EXPECT_TRUE(kept.views[i].T_world_camera.isApprox(expected[i].T_world_camera)) << i;
+    EXPECT_TRUE(free_goal(kept.views[i]));
+  }
+  EXPECT_EQ(kept.filtered, off.filtered + dropped);
+}

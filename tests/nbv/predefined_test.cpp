@@ -51,6 +51,46 @@ TEST(Predefined, OneBatchOfTheScriptedViewsNotTakenPerStop) {
   EXPECT_EQ(p->next(req).views.size(), 2u);
 }
 
+// With the goal test at planning (the default), scripted views that would fail before the arm
+// moves are refused (handed on to be replaced, not in the batch); with it off they are sent.
+TEST(Predefined, RefusesScriptedViewsWithoutAFreeGoalBeforeAnyMove) {
+  ViewRequest req;
+  req.scripted = {at(0.0), at(0.1), at(0.2), at(0.3)};
+  int tested = 0;
+  req.goal_free = [&](const PlannedView& v) {
+    ++tested;
+    const double x = v.T_world_camera.translation().x();
+    return x != 0.1 && x != 0.3;
+  };
+  const auto p = predefined_planner();
+  const ViewBatch b = p->next(req);
+  EXPECT_EQ(tested, 4);
+  ASSERT_EQ(b.views.size(), 2u);
+  EXPECT_TRUE(b.views[0].T_world_camera.isApprox(at(0.0)));
+  EXPECT_TRUE(b.views[1].T_world_camera.isApprox(at(0.2)));
+  ASSERT_EQ(b.refused.size(), 2u);
+  EXPECT_TRUE(b.refused[0].T_world_camera.isApprox(at(0.1)));
+  EXPECT_TRUE(b.refused[1].T_world_camera.isApprox(at(0.3)));
+  EXPECT_EQ(b.candidates, 4u);
+  EXPECT_EQ(b.filtered, 2u);
+  EXPECT_FALSE(b.finished);
+  // Every view refused: still a batch to replace, not a finished stop.
+  req.goal_free = [](const PlannedView&) { return false; };
+  p->begin_stop();
+  const ViewBatch none = p->next(req);
+  EXPECT_TRUE(none.views.empty());
+  EXPECT_EQ(none.refused.size(), 4u);
+  EXPECT_FALSE(none.finished);
+  // The authors' protocol: every scripted view is sent.
+  ViewPlannerSettings s;
+  s.method.name = "predefined";
+  s.params.predefined.goal_test_at_planning = false;
+  const auto off = make_view_planner(s);
+  const ViewBatch all = off->next(req);
+  EXPECT_EQ(all.views.size(), 4u);
+  EXPECT_TRUE(all.refused.empty());
+}
+
 TEST(Predefined, ReplacesAFailedViewByTheNearestReachableOneNotUsedBefore) {
   const auto p = predefined_planner();
   p->begin_stop();

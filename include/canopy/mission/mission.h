@@ -120,6 +120,9 @@ struct StopRecord {
   int nbv_attempted = 0, nbv_ok = 0;
   int scripted_replaced = 0;     ///< Failed scripted views replaced by a successful pattern neighbour (predefined).
   int replacement_attempts = 0;  ///< Replacement views attempted (counted in initial_ / nbv_attempted too).
+  /// Scripted views the planner refused before any move (no collision-free IK goal at this
+  /// base, nbv.predefined.goal_test_at_planning) and handed on to be replaced; not attempts.
+  int refused = 0;
   int rounds = 0;
   std::map<std::string, int> failures;
   std::string end_reason;        ///< Why the stop's loop ended (one line).

@@ -30,6 +30,12 @@ nbv::CandidateFilter reach_filter(const WorkspaceFilter& workspace, const BasePo
 std::vector<ArmConfig> view_goal_configs(const RobotModel& model, const nbv::PlannedView& view, const BasePose& base,
                                          const ArmConfig& seed);
 
+/// The arm planner's goal test ahead of execution: true when one of the view's IK goals
+/// (view_goal_configs) is free in `checker` (null: any IK goal will do). A view that fails it
+/// fails before the arm moves (no_ik, goal_in_collision).
+bool has_free_goal(const RobotModel& model, const CollisionChecker* checker, const nbv::PlannedView& view,
+                   const BasePose& base, const ArmConfig& seed);
+
 /// Orders views by an open tour from the arm at `q0` (TourParams: joint or Cartesian
 /// cost). Views without IK go to `unreachable` (may be null); the others get has_q and q.
 std::vector<nbv::PlannedView> tour_order(const RobotModel& model, const TourParams& params, const BasePose& base,

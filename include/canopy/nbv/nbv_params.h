@@ -15,6 +15,7 @@
 #include "canopy/nbv/planners/frontier/frontier_params.h"
 #include "canopy/nbv/planners/global/global_params.h"
 #include "canopy/nbv/planners/ours/ours_params.h"
+#include "canopy/nbv/planners/predefined/predefined_params.h"
 #include "canopy/nbv/planners/reveal/reveal_params.h"
 #include "canopy/nbv/planners/shape/shape_params.h"
 
@@ -123,6 +124,7 @@ struct NbvParams {
   PlannerParams planner;
   ViewRules views;
   FrontierParams frontier;
+  PredefinedParams predefined;
   GlobalParams global;
   RevealParams reveal;
   ShapeParams shape;
@@ -136,6 +138,7 @@ struct NbvParams {
     a.section("planner", planner, "The cluster planner");
     a.section("views", views, "Taken views and done clusters");
     a.section("frontier", frontier, "The frontier baseline");
+    a.section("predefined", predefined, "Dense predefined scanning");
     a.section("global", global, "The global view planner (set cover of the stop's candidates)");
     a.section("reveal", reveal, "canopy's own planner (method reveal)");
     a.section("shape", shape, "The shape-completion planner (method shape)");

@@ -56,6 +56,10 @@ struct ViewRequest {
   CandidateFilter reach;
   /// Position-only reachability (the frontier planner's precomputed workspace); may be null.
   std::function<bool(const Vec3& camera_position)> in_workspace;
+  /// The arm planner's goal test at planning time: true when the view, at its own pose (not
+  /// moved), has an IK solution at this base that is free of collision as a goal must be. A
+  /// view that fails it would fail before any move (no_ik, goal_in_collision); may be null.
+  std::function<bool(const PlannedView&)> goal_free;
   /// Scripted views of this stop (predefined scanning), in world coordinates.
   std::vector<Pose> scripted;
   /// When set, planners that score candidates call it with every candidate they scored
@@ -73,6 +77,9 @@ struct ViewBatch {
   std::size_t candidates = 0;              ///< Candidates scored.
   std::size_t filtered = 0;                ///< Candidates dropped by reachability.
   bool last_of_stop = false;               ///< The stop ends once this batch is executed (`reason` says why).
+  /// Scripted views the planner refused before any move (they fail ViewRequest::goal_free):
+  /// not attempts; the mission hands them to replace_failed (PlannerTraits::replaces_failed).
+  std::vector<PlannedView> refused;
   PhaseTimes times;                        ///< clustering, candidates, filtering, scoring.
 };
 
@@ -99,7 +106,8 @@ struct FailedScriptedView {
   std::vector<Pose> scripted;        ///< The stop's whole scan pattern (initial and extra views).
   int max_attempts = 0;              ///< Replacements attempted at most.
   const int* attempts_left = nullptr;  ///< The stop's attempt budget, when it has one (attempt() spends it).
-  /// True when the arm has an IK solution for the view at this base.
+  /// True when the view passes the arm planner's goal test at this base (an IK solution free
+  /// of collision as a goal must be): it would not fail before the arm moves.
   std::function<bool(const PlannedView&)> reachable;
   /// Executes the view and records it; true when it succeeded.
   std::function<bool(const PlannedView&)> attempt;

@@ -199,12 +199,29 @@ class FrontierPlanner : public ViewPlanner {
     } else {
       batch.views = sample(targets.exploration, &targets.exploration_normals, "exploration");
     }
+    if (params_.goal_test_at_planning && req.goal_free) keep_views_with_free_goal(req, &batch);
     batch.times.add("scoring", std::max(0.0, scoring.seconds() - batch.times.get("filtering")));
-    if (batch.views.empty()) batch.reason = "every frontier view was rejected (workspace, occupied or taken)";
+    if (batch.views.empty()) batch.reason = "every frontier view was rejected (workspace, occupied, taken or no collision-free IK goal)";
     return batch;
   }
 
  private:
+  // The goal test ahead of execution, in utility order: views that would fail before the arm
+  // moves are dropped (counted as filtered); the mission tries the batch in order until one
+  // succeeds, so once kKeep views pass the rest are not tested (and not kept).
+  static void keep_views_with_free_goal(const ViewRequest& req, ViewBatch* batch) {
+    constexpr std::size_t kKeep = 5;
+    const Stopwatch filtering;
+    std::vector<PlannedView> kept;
+    for (const PlannedView& v : batch->views) {
+      if (kept.size() >= kKeep) break;
+      if (req.goal_free(v)) kept.push_back(v);
+      else ++batch->filtered;
+    }
+    batch->views = std::move(kept);
+    batch->times.add("filtering", filtering.seconds());
+  }
+
   FrontierParams params_;
 };
 

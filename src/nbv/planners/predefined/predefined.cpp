@@ -11,7 +11,8 @@ namespace {
 // Dense predefined scanning: the stop's scripted views, once, no planning.
 class PredefinedPlanner : public ViewPlanner {
  public:
-  explicit PredefinedPlanner(const ViewPlannerSettings& s) : ViewPlanner(s.params.views) {}
+  explicit PredefinedPlanner(const ViewPlannerSettings& s)
+      : ViewPlanner(s.params.views), params_(s.params.predefined) {}
   std::string name() const override { return "predefined"; }
   PlannerTraits traits() const override {
     PlannerTraits t;
@@ -31,16 +32,24 @@ class PredefinedPlanner : public ViewPlanner {
       return batch;
     }
     served_ = true;
+    const bool test = params_.goal_test_at_planning && req.goal_free;
+    const Stopwatch filtering;
     for (const Pose& T : req.scripted) {
       if (taken_.contains(T)) continue;
       PlannedView v;
       v.T_world_camera = T;
       v.target = T * Vec3(0, 0, 0.4);
       v.source = "predefined";
+      ++batch.candidates;
+      if (test && !req.goal_free(v)) {  // would fail before the arm moves: replaced instead
+        ++batch.filtered;
+        batch.refused.push_back(v);
+        continue;
+      }
       batch.views.push_back(v);
     }
-    batch.candidates = batch.views.size();
-    if (batch.views.empty()) {
+    if (test) batch.times.add("filtering", filtering.seconds());
+    if (batch.views.empty() && batch.refused.empty()) {
       batch.finished = true;
       batch.reason = "no predefined views";
     }
@@ -71,6 +80,7 @@ class PredefinedPlanner : public ViewPlanner {
   }
 
  private:
+  PredefinedParams params_;
   bool served_ = false;
   std::vector<Pose> replacements_;  // replacements tried at this stop
 };

@@ -18,6 +18,10 @@ struct FrontierParams {
   double roi_weight = 0.5;
   double distance_cost_per_m = 0.2;
   double roi_utility_threshold = 0.2;
+  /// Views without a collision-free IK goal are dropped when planning (ViewRequest::goal_free);
+  /// false: checked only at execution, as Zaenker et al.'s code does (each such view then
+  /// costs an attempt that fails before any move).
+  bool goal_test_at_planning = true;
 
   template <class A>
   void visit(A& a) {
@@ -34,6 +38,8 @@ struct FrontierParams {
     a("distance_cost_per_m", distance_cost_per_m, limits::finite(), "Utility -= this * distance from the current camera");
     a("roi_utility_threshold", roi_utility_threshold, limits::finite(),
       "ROI views are used when the best ROI utility exceeds this");
+    a("goal_test_at_planning", goal_test_at_planning,
+      "Drop views without a collision-free IK goal when planning (false: at execution, as the authors' code)");
     a.check(max_view_distance_m >= min_view_distance_m, "max_view_distance_m", "must be >= min_view_distance_m");
     a.check(unknown_high >= unknown_low, "unknown_high", "must be in [unknown_low, 1]");
   }
