@@ -2,7 +2,7 @@
 # The default mission (default world and settings, seed 1) of each method gives the same
 # views.csv and map.csm, byte for byte, as when these hashes were recorded (golden_views.sha256:
 # views.csv's hash, map.csm's hash, the method; retaken after the white floor (maps and
-# detection columns) and the loop's repair and attempt cap (ours' and frontier's views)): a change that should not change behaviour must not change
+# detection columns) and the loop's repair and attempt cap (ours' and frontier's views), then the goal test at planning of frontier and predefined): a change that should not change behaviour must not change
 # what the robot does. A change that means to change behaviour updates the hashes and says so.
 # A second argument names another hash file of the same form (golden_oracle.sha256: the oracle,
 # recorded on main before its truth renders were kept per stop).

@@ -6,7 +6,8 @@ start_in_collision per stop, start repairs, and why each stop ended; per method 
 The checks: no stop loses more than one attempt to start_in_collision, and at least 95 % of all
 attempts succeed. Also the success rate of the attempts that got past the view's own refusals
 (no IK, every goal in collision with the map: refused before the arm moved), which are the
-method's choice of views rather than the controller's.
+method's choice of views rather than the controller's; and the scripted views a planner refused
+when planning (summary.json "refused": predefined scanning's goal test), which are not attempts.
 
 Usage: /usr/bin/python3 docs/experiments/loop/attempts.py EXPERIMENT_DIR [EXPERIMENT_DIR ...] > attempts.md
 """
@@ -31,8 +32,8 @@ def trials(folder):
 def main(folders):
     out = ["| experiment | method | trials | attempts | successful | success % | successful views / trial (min–max) "
            "| stops | most start_in_collision in a stop | stops losing > 1 | start repairs | stop ends | failures by cause "
-           "| success % past the view's own refusals |",
-           "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+           "| success % past the view's own refusals | scripted views refused at planning (not attempts) |",
+           "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     total_attempts = total_ok = worst_stop = bad_stops = total_refused = 0
     refusals = ("no_ik", "goal_in_collision")
     for folder in folders:
@@ -62,7 +63,7 @@ def main(folders):
                        f"{sum(1 for n in sic if n > 1)} | {repairs} | "
                        + ", ".join(f"{k} {v}" for k, v in sorted(ends.items())) + " | "
                        + ", ".join(f"{k} {v}" for k, v in sorted(causes.items())) + " | "
-                       f"{100.0 * ok / max(attempts - refused, 1):.1f} |")
+                       f"{100.0 * ok / max(attempts - refused, 1):.1f} | {sum(s.get('refused', 0) for s in runs)} |")
     rate = 100.0 * total_ok / max(total_attempts, 1)
     out.append("")
     out.append(f"All: {total_ok} of {total_attempts} attempts succeeded ({rate:.1f} %; check: at least 95 %: "
