@@ -40,17 +40,7 @@ class ShapePlanner : public ViewPlanner {
       std::vector<Vec3> confirmed;
       fruits = fit_fruits(*req.map, settings_.params.cluster, params_.fit, &req.region, 0.1, &confirmed, &cache_);
       points_ = unseen_surface(fruits, confirmed, params_.spacing_m, params_.covered_m);
-      // Still to be observed: a predicted point in a voxel the map knows as free or as another
-      // class's surface is refuted (the fit is off there, or a leaf covers it); one in an unknown
-      // or an unconfirmed fruit voxel stays.
-      points_.erase(std::remove_if(points_.begin(), points_.end(),
-                                   [&](const PredictedPoint& p) {
-                                     octomap::OcTreeKey k;
-                                     if (!req.map->key_of(p.position, &k)) return true;
-                                     const VoxelInfo& info = req.index->info(req.index->lookup(k));
-                                     return info.known && !info.is_target;
-                                   }),
-                    points_.end());
+      weigh_points(*req.map, *req.index);
     }
     batch.clusters = fruits.size();
     if (fruits.empty() || points_.empty()) {
@@ -97,6 +87,32 @@ class ShapePlanner : public ViewPlanner {
   }
 
  private:
+  // Still to be observed, with a weight: a predicted point in an unknown or an unconfirmed
+  // fruit voxel counts 1; one in a voxel the map knows as free is refuted (the fit is off
+  // there); one in another class's surface (a leaf covers it, or noise mislabelled the fruit)
+  // is refuted, or counts the voxel's fruit probability among its occupied classes, as
+  // nbv.shape.other_class says.
+  void weigh_points(const mapping::SemanticOcTree& map, const VoxelIndex& index) {
+    const int fruit = map.classes().target_index() + 1;  // prob[] holds free first
+    std::vector<PredictedPoint> kept;
+    weights_.clear();
+    for (const PredictedPoint& p : points_) {
+      octomap::OcTreeKey k;
+      if (!map.key_of(p.position, &k)) continue;
+      const VoxelInfo& info = index.info(index.lookup(k));
+      double w = 1.0;
+      if (info.known && !info.is_target) {
+        if (!(info.p_occ > 0.5f) || params_.other_class == "refute") continue;
+        const double occupied = 1.0 - info.prob[0];
+        w = occupied > 0.0 ? info.prob[fruit] / occupied : 0.0;
+        if (!(w > 0.0)) continue;
+      }
+      kept.push_back(p);
+      weights_.push_back(w);
+    }
+    points_ = std::move(kept);
+  }
+
   // The unseen predicted points the view would see: in the image and depth range, facing the
   // camera, each weighted by its sight line's transmission (0 past an occupied voxel,
   // unknown_transmit per unknown one; the point's own voxel is not on it).
@@ -108,7 +124,8 @@ class ShapePlanner : public ViewPlanner {
     const std::size_t cap = index.max_voxels(K.max_range_m + 0.1);
     if (buffer_.size() < cap) buffer_.resize(cap);
     double sum = 0.0;
-    for (const PredictedPoint& pp : points_) {
+    for (std::size_t i = 0; i < points_.size(); ++i) {
+      const PredictedPoint& pp = points_[i];
       const Vec3& p = pp.position;
       const Vec3 to_eye = eye - p;
       if (to_eye.dot(pp.normal) <= 0.0) continue;  // the fruit's own far side
@@ -128,7 +145,7 @@ class ShapePlanner : public ViewPlanner {
         if (!info.known) t *= params_.unknown_transmit;
         else if (info.p_occ > 0.5f) t = 0.0;
       }
-      if (t > 1e-3) sum += t;
+      if (t > 1e-3) sum += t * weights_[i];
     }
     return sum;
   }
@@ -139,6 +156,7 @@ class ShapePlanner : public ViewPlanner {
   std::unique_ptr<GainFunction> uvc_;
   ShapeFitCache cache_;
   std::vector<PredictedPoint> points_;
+  std::vector<double> weights_;  // per point of points_ (weigh_points)
   std::vector<RayVoxel> buffer_;
 };
 

@@ -1,6 +1,7 @@
 #pragma once
 // shape's parameters (the nbv.shape section of configs/nbv.yaml).
 
+#include <string>
 #include <vector>
 
 #include "canopy/common/params.h"
@@ -17,6 +18,7 @@ struct ShapeParams {
   double covered_m = 0.015;
   double unknown_transmit = 0.97;
   double uvc_weight = 0.0;
+  std::string other_class = "refute";
   int max_views = 5;
 
   template <class A>
@@ -31,6 +33,9 @@ struct ShapeParams {
       "Each unknown voxel on a sight line passes it with this factor (occupied ones block)");
     a("uvc_weight", uvc_weight, limits::in(0.0, 1e6),
       "Score = predicted points seen + this x unknown voxels counted (uvc over ours' rays)");
+    a.one_of("other_class", other_class, {"refute", "fruit_probability"},
+             "A predicted point in a voxel the map knows as another class's surface: refuted, or counted x "
+             "the voxel's fruit probability among its occupied classes");
     a("max_views", max_views, limits::in(1, 1000), "Views per round, best first, tried until one succeeds");
   }
 };
