@@ -530,6 +530,11 @@ struct Mission::Impl {
     const nbv::PlannerTraits traits = view_planner->traits();
     if (traits.scripted) req.scripted = scan_views(k, true);
     const motion::StopArm arm{model, workspace, &planner.goal_checker(), settings.motion.tour};
+    // The goal test of frontier and predefined sees the environment the arm planner will see:
+    // without the robot's own volume (plan_move clears it the same way before the move).
+    req.before_goal_test = [this, &req] {
+      map_env->clear_robot_volume(model, req.base, req.q, settings.motion.collision.environment_padding_m);
+    };
     for (;;) {
       check_stop();
       if (ok >= wanted_total) {

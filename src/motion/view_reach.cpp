@@ -91,7 +91,13 @@ NextViews next_views(const mapping::SemanticOcTree& map, nbv::VoxelIndex& index,
   req.in_workspace = [&workspace = arm.workspace, base = request.base](const Vec3& p) {
     return workspace.in_workspace(base, p);
   };
-  req.goal_free = [&model = arm.model, checker = arm.checker, base = request.base, q](const nbv::PlannedView& v) {
+  bool prepared = !request.before_goal_test;
+  req.goal_free = [&model = arm.model, checker = arm.checker, base = request.base, q, &prepared,
+                   &request](const nbv::PlannedView& v) {
+    if (!prepared) {
+      request.before_goal_test();
+      prepared = true;
+    }
     return has_free_goal(model, checker, v, base, q);
   };
   NextViews out;

@@ -61,6 +61,10 @@ struct NextViewsRequest {
   /// The batch is cut to its first max_views views (best first) before the tour: the attempts
   /// the stop has left (0: no cap).
   std::size_t max_views = 0;
+  /// Called once before the planner's first goal test (ViewRequest::goal_free) of this request:
+  /// the mission clears the robot's own volume from the collision environment there, as it
+  /// does before every arm plan, so the test sees what the arm planner will see; may be null.
+  std::function<void()> before_goal_test;
 };
 
 /// The arm's side of a stop: what reachability and the tour are computed with.
