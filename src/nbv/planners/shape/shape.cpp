@@ -94,6 +94,7 @@ class ShapePlanner : public ViewPlanner {
   // nbv.shape.other_class says.
   void weigh_points(const mapping::SemanticOcTree& map, const VoxelIndex& index) {
     const int fruit = map.classes().target_index() + 1;  // prob[] holds free first
+    const bool refute = params_.other_class == "refute";
     std::vector<PredictedPoint> kept;
     weights_.clear();
     for (const PredictedPoint& p : points_) {
@@ -102,7 +103,7 @@ class ShapePlanner : public ViewPlanner {
       const VoxelInfo& info = index.info(index.lookup(k));
       double w = 1.0;
       if (info.known && !info.is_target) {
-        if (!(info.p_occ > 0.5f) || params_.other_class == "refute") continue;
+        if (!(info.p_occ > 0.5f) || refute) continue;
         const double occupied = 1.0 - info.prob[0];
         w = occupied > 0.0 ? info.prob[fruit] / occupied : 0.0;
         if (!(w > 0.0)) continue;
