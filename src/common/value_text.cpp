@@ -126,4 +126,13 @@ Pose pose_from_json(const nlohmann::json& j) {
                    Quat(q.at(0).get<double>(), q.at(1).get<double>(), q.at(2).get<double>(), q.at(3).get<double>()));
 }
 
+std::vector<std::string> split_csv_line(const std::string& line) {
+  std::vector<std::string> out;
+  std::stringstream ss(line);
+  std::string item;
+  while (std::getline(ss, item, ',')) out.push_back(item);
+  if (!line.empty() && line.back() == ',') out.emplace_back();
+  return out;
+}
+
 }  // namespace canopy

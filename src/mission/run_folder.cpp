@@ -9,6 +9,7 @@
 
 #include "canopy/common/error.h"
 #include "canopy/common/io.h"
+#include "canopy/common/value_text.h"
 #include "canopy/mapping/map_io.h"
 #include "canopy/mission/view_columns.h"
 
@@ -165,19 +166,6 @@ nlohmann::json write_run_folder(const std::string& dir, const MissionResult& res
   write_json_atomic(d + "summary.json", summary);
   return summary;
 }
-
-namespace {
-
-std::vector<std::string> split_csv_line(const std::string& line) {
-  std::vector<std::string> out;
-  std::stringstream ss(line);
-  std::string item;
-  while (std::getline(ss, item, ',')) out.push_back(item);
-  if (!line.empty() && line.back() == ',') out.emplace_back();
-  return out;
-}
-
-}  // namespace
 
 RunFolder read_run_folder(const std::string& dir) {
   RunFolder f;

@@ -37,5 +37,13 @@ TEST(ValueText, WholeNumbersAndShardsDoNotWrapAround) {
   EXPECT_EQ(parse_numbers("-1.5e2, 2 ,3", 3, "--base")[0], -150.0);
 }
 
+TEST(ValueText, CsvLinesSplitAtEveryCommaWithEmptyFieldsKept) {
+  EXPECT_EQ(split_csv_line("a,b,c"), (std::vector<std::string>{"a", "b", "c"}));
+  EXPECT_EQ(split_csv_line("a,,c"), (std::vector<std::string>{"a", "", "c"}));
+  EXPECT_EQ(split_csv_line("a,b,"), (std::vector<std::string>{"a", "b", ""}));  // a last, empty field
+  EXPECT_EQ(split_csv_line(",").size(), 2u);
+  EXPECT_TRUE(split_csv_line("").empty());
+}
+
 }  // namespace
 }  // namespace canopy

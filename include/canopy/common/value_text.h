@@ -36,6 +36,9 @@ std::vector<double> parse_numbers(const std::string& text, int count, const std:
 /// "-1" and "99999999999999999999" are errors naming `what`).
 std::uint64_t parse_uint64(const std::string& text, const std::string& what,
                            std::uint64_t max = std::numeric_limits<std::uint64_t>::max());
+/// The fields of one CSV line split at commas (no quoting: canopy's CSV files hold numbers and
+/// names without commas); a trailing comma gives a last, empty field.
+std::vector<std::string> split_csv_line(const std::string& line);
 /// Parses "x,y,z,qw,qx,qy,qz"; the quaternion must be unit length within 1e-3.
 Pose parse_pose7(const std::string& text, const std::string& what);
 /// Parses "x,y,yaw" (metres, radians).

@@ -14,14 +14,6 @@ namespace canopy::mission {
 
 namespace {
 
-std::vector<std::string> split_csv_line(const std::string& line) {
-  std::vector<std::string> f;
-  std::stringstream ss(line);
-  std::string item;
-  while (std::getline(ss, item, ',')) f.push_back(item);
-  return f;
-}
-
 // Index of column `name` in `header`; throws naming the file otherwise.
 std::size_t column(const std::vector<std::string>& header, const std::string& name, const std::string& file) {
   const auto it = std::find(header.begin(), header.end(), name);

@@ -1,0 +1,57 @@
+#pragma once
+// Groups of an experiment's trials and the figures over them, shared by the report's tables
+// (experiment_report.cpp) and its findings (experiment_findings.cpp). Internal to the library.
+
+#include <string>
+#include <vector>
+
+#include "canopy/common/stats.h"
+#include "canopy/experiments/experiment_report.h"
+
+namespace canopy::experiments::report {
+
+using Stat = SampleStats;
+Stat stat(const std::vector<double>& v);
+
+std::string num(double x, const char* fmt = "%.6g");
+// "mean ± std (n=N)", or "n/a" without trials.
+std::string pm(const Stat& s, const char* fmt = "%.3f");
+
+// A (method label, P_gt) group of ok trials, in the experiment's order.
+struct Group {
+  ExperimentMethod method;
+  double p_gt = 1.0;
+  std::vector<const TrialResult*> trials;
+};
+
+// The groups of the expected trials: methods in the experiment's order, then P_gt from high
+// (no noise) to low; each with its ok trials.
+std::vector<Group> groups_of(const MergedTrials& m);
+
+// The seconds a trial spent in `phases`.
+double category(const TrialResult& r, const std::vector<std::string>& phases);
+// The four phases of the paper's Fig. 4 (its "total run time").
+double paper_total(const TrialResult& r);
+
+template <typename F>
+Stat over(const Group& g, F f) {
+  std::vector<double> v;
+  for (const TrialResult* r : g.trials) v.push_back(f(*r));
+  return stat(v);
+}
+
+std::string pgt_text(double p);
+// Difference of two group means with its standard error; relative to `base`.
+std::string diff_text(const Stat& a, const Stat& base, double scale, const char* unit);
+// " (within 2 standard errors: ...)" when the difference of the means is not resolved.
+std::string resolution(const Stat& a, const Stat& b);
+const Group* find_group(const std::vector<Group>& gs, const std::string& method, double p_gt);
+double final_sc(const TrialResult& t);
+// A field metric over a group's trials that have it (finite).
+Stat field_stat(const Group& g, const std::string& k);
+
+// findings.md: the experiment held against the paper's findings, section by section.
+std::string findings_markdown(const MergedTrials& m, const std::vector<Group>& groups,
+                              const std::vector<std::string>& field);
+
+}  // namespace canopy::experiments::report
