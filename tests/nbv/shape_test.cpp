@@ -119,8 +119,8 @@ TEST(Shape, TheViewOfTheHiddenHalfWins) {
   EXPECT_GT(gain_at(all_bare, 36.0), 2.0 * hidden);
 }
 
-// Nothing left: a fruit mapped from all around has no unseen predicted surface.
-TEST(Shape, DoneWhenTheWholeFruitIsSeen) {
+// The fruit mapped from all around (24 views on a 0.4 m sphere).
+mapping::SemanticOcTree all_around_map() {
   mapping::SemanticMapParams p;
   p.threads = 1;
   mapping::SemanticOcTree map(p, SemanticClasses{});
@@ -134,6 +134,12 @@ TEST(Shape, DoneWhenTheWholeFruitIsSeen) {
       const LabelledFrame f = synth::render_spheres(K, synth::look_at(eye, kShapeFruit), spheres);
       for (int i = 0; i < 2; ++i) ins.insert(perception::depth_to_cloud(K, f.T_world_camera, f.depth_m, f.class_id, 3));
     }
+  return map;
+}
+
+// Nothing left: a fruit mapped from all around has no unseen predicted surface.
+TEST(Shape, DoneWhenTheWholeFruitIsSeen) {
+  const mapping::SemanticOcTree map = all_around_map();
   std::vector<Vec3> confirmed;
   const auto fruits = fit_fruits(map, ClusterParams{}, mapping::ShapeFitParams{}, nullptr, 0.1, &confirmed);
   ASSERT_EQ(fruits.size(), 1u);
@@ -162,4 +168,31 @@ TEST(Shape, AMislabelledBackCountsByItsFruitProbability) {
   EXPECT_EQ(unknown, gain_at(plan(front_map(false), &b1, "refute"), 0.0));  // no other class: the same
   EXPECT_GT(weighted, refuted + 1.0);
   EXPECT_LT(weighted, unknown);
+}
+
+// Nothing left to complete: with nbv.shape.fallback none the stop ends; with frontier that
+// round is frontier's (its ROI / exploration views of the same map), and the reason says both.
+TEST(Shape, FallsBackToFrontierWhenNoPredictedSurfaceIsLeft) {
+  const mapping::SemanticOcTree map = all_around_map();
+  VoxelIndex index(map);
+  ViewRequest req;
+  req.map = &map;
+  req.index = &index;
+  req.region = Eigen::AlignedBox3d(Vec3(0.2, -0.4, 0.6), Vec3(0.8, 0.4, 1.4));
+  ViewPlannerSettings s;
+  s.method.name = "shape";
+  const ViewBatch done = make_view_planner(s)->next(req);
+  EXPECT_TRUE(done.finished);
+  EXPECT_TRUE(done.views.empty());
+  s.params.shape.fallback = "frontier";
+  const ViewBatch fb = make_view_planner(s)->next(req);
+  ASSERT_FALSE(fb.views.empty()) << fb.reason;
+  for (const PlannedView& v : fb.views) EXPECT_TRUE(v.source == "roi" || v.source == "exploration") << v.source;
+  EXPECT_EQ(fb.reason.rfind("shape: ", 0), 0u) << fb.reason;
+  // The same views as frontier's own round on that request.
+  s.method.name = "frontier";
+  const ViewBatch own = make_view_planner(s)->next(req);
+  ASSERT_EQ(own.views.size(), fb.views.size());
+  for (std::size_t i = 0; i < own.views.size(); ++i)
+    EXPECT_TRUE(own.views[i].T_world_camera.isApprox(fb.views[i].T_world_camera)) << i;
 }

@@ -8,6 +8,7 @@
 #include "canopy/common/error.h"
 #include "canopy/nbv/failed_views.h"
 #include "canopy/nbv/fruit_shapes.h"
+#include "canopy/nbv/planners/frontier/frontier.h"
 
 namespace canopy::nbv::shape {
 
@@ -17,18 +18,43 @@ class ShapePlanner : public ViewPlanner {
  public:
   explicit ShapePlanner(const ViewPlannerSettings& s)
       : ViewPlanner(s.params.views), settings_(s), params_(s.params.shape), failed_(s.params.views),
-        uvc_(params_.uvc_weight > 0.0 ? make_gain("uvc", s.params.gain) : nullptr) {}
+        uvc_(params_.uvc_weight > 0.0 ? make_gain("uvc", s.params.gain) : nullptr),
+        fallback_(params_.fallback == "frontier" ? frontier::make_planner(s) : nullptr) {}
 
   std::string name() const override { return "shape"; }
 
   void taken(const Pose& T) override {
     ViewPlanner::taken(T);
     failed_.taken(T);
+    if (fallback_) fallback_->taken(T);
   }
 
-  void begin_stop() override { failed_.begin_stop(); }
+  void outcome(const ViewOutcome& o) override {
+    ViewPlanner::outcome(o);
+    if (fallback_) fallback_->outcome(o);
+  }
 
+  void begin_stop() override {
+    failed_.begin_stop();
+    if (fallback_) fallback_->begin_stop();
+  }
+
+  // Shape's round; when it has nothing to offer and nbv.shape.fallback names a planner, that
+  // planner's round on the same request instead (shape plans again first next round).
   ViewBatch next(const ViewRequest& req) override {
+    ViewBatch batch = shape_round(req);
+    if (!batch.views.empty() || !fallback_) return batch;
+    ViewBatch fb = fallback_->next(req);
+    fb.times.merge(batch.times);
+    fb.clusters += batch.clusters;
+    fb.candidates += batch.candidates;
+    fb.filtered += batch.filtered;
+    fb.reason = "shape: " + batch.reason + (fb.reason.empty() ? "" : "; " + params_.fallback + ": " + fb.reason);
+    return fb;
+  }
+
+ private:
+  ViewBatch shape_round(const ViewRequest& req) {
     CANOPY_CHECK(req.map && req.index, "view request without a map");
     failed_.next_batch();
     ViewBatch batch;
@@ -64,6 +90,7 @@ class ShapePlanner : public ViewPlanner {
         for (Candidate& cand : cands) {
           {
             ScopedPhase phase(batch.times, "filtering");
+            // Taken or failed before the reach test, and again after it: the test may move the view.
             if (taken_.contains(cand.T_world_camera) || failed_.contains(cand.T_world_camera) ||
                 (req.reach && !req.reach(&cand)) || taken_.contains(cand.T_world_camera) ||
                 failed_.contains(cand.T_world_camera)) {
@@ -86,7 +113,6 @@ class ShapePlanner : public ViewPlanner {
     return batch;
   }
 
- private:
   // Still to be observed, with a weight: a predicted point in an unknown or an unconfirmed
   // fruit voxel counts 1; one in a voxel the map knows as free is refuted (the fit is off
   // there); one in another class's surface (a leaf covers it, or noise mislabelled the fruit)
@@ -141,8 +167,8 @@ class ShapePlanner : public ViewPlanner {
       const std::size_t m = index.cast(eye, end, p, buffer_.data(), buffer_.size(), &outside);
       if (outside) continue;
       double t = 1.0;
-      for (std::size_t i = 0; i < m && t > 1e-3; ++i) {
-        const VoxelInfo& info = *buffer_[i].info;
+      for (std::size_t j = 0; j < m && t > 1e-3; ++j) {
+        const VoxelInfo& info = *buffer_[j].info;
         if (!info.known) t *= params_.unknown_transmit;
         else if (info.p_occ > 0.5f) t = 0.0;
       }
@@ -159,6 +185,7 @@ class ShapePlanner : public ViewPlanner {
   std::vector<PredictedPoint> points_;
   std::vector<double> weights_;  // per point of points_ (weigh_points)
   std::vector<RayVoxel> buffer_;
+  std::unique_ptr<ViewPlanner> fallback_;  // nbv.shape.fallback, or null
 };
 
 }  // namespace

@@ -20,6 +20,7 @@ struct ShapeParams {
   double uvc_weight = 0.0;
   std::string other_class = "refute";
   int max_views = 5;
+  std::string fallback = "none";
 
   template <class A>
   void visit(A& a) {
@@ -37,6 +38,9 @@ struct ShapeParams {
              "A predicted point in a voxel the map knows as another class's surface: refuted, or counted x "
              "the voxel's fruit probability among its occupied classes");
     a("max_views", max_views, limits::in(1, 1000), "Views per round, best first, tried until one succeeds");
+    a.one_of("fallback", fallback, {"none", "frontier"},
+             "When no view sees predicted fruit surface: the stop ends (none), or that round is frontier's "
+             "(its ROI and exploration views); shape plans again first the next round");
   }
 };
 
