@@ -161,7 +161,7 @@ NaN), plus goal_pose and reached_pose (N, 4, 4; reached NaN for failed views).)"
         [](const PyWorld& world, const py::object& settings, const py::object& method, const py::object& planner,
            const py::object& seed_arg, const py::object& out, const py::object& video, std::pair<int, int> video_size,
            double video_fps, const py::object& progress, const py::object& on_view, const py::object& on_state,
-           double state_period) {
+           double state_period, bool report) {
           // Validate every input before any work.
           mission::Settings s = settings_from(settings);
           choose_method(s, method, planner);
@@ -189,6 +189,7 @@ NaN), plus goal_pose and reached_pose (N, 4, 4; reached NaN for failed views).)"
             StagedDir::check_writable(job.out, "mission", "out");  // before any work, as the command line
           }
           job.keep_map = true;
+          job.report = report;
 
           mission::MissionCallbacks cb;
           if (!progress.is_none())
@@ -287,7 +288,7 @@ NaN), plus goal_pose and reached_pose (N, 4, 4; reached NaN for failed views).)"
         py::arg("planner") = py::none(), py::arg("seed") = 1, py::arg("out") = py::none(), py::arg("video") = py::none(),
         py::arg("video_size") = std::pair<int, int>(640, 480), py::arg("video_fps") = 25.0,
         py::arg("progress") = py::none(), py::arg("on_view") = py::none(), py::arg("on_state") = py::none(),
-        py::arg("state_period") = 0.1,
+        py::arg("state_period") = 0.1, py::arg("report") = true,
         R"(Runs the closed-loop mission on a canopy.World and returns a canopy.MissionResult.
 
 settings: canopy.Settings or a bundle file (default: configs/canopy.yaml); method: a planner
@@ -295,7 +296,8 @@ of planner_names() (default: the settings' method.name); planner: a Python plann
 callable taking a canopy.PlannerRequest and returning views; docs/python.md); seed: seeds
 segmentation noise, the planner's draws and OMPL (same seed, same views.csv); out: also write
 the run folder `canopy mission --out` writes (views.csv, timing.csv, summary.json,
-settings.yaml, map.csm, map.ply, map.bt); video: also record an MP4 (video_size, video_fps);
+settings.yaml, map.csm, map.ply, map.bt, and report.html unless report=False, as --no-report);
+video: also record an MP4 (video_size, video_fps);
 progress: called with each progress line; on_view: called after every successful view with a
 dict: 'frame' (the canopy.Frame the mission mapped: rgb, depth, true labels, instances, pose),
 'map' (the mission's map with the view inserted, lent for the call: read-only, unusable

@@ -34,6 +34,11 @@ def test_builtin_method_equals_the_cli_mission(world, cli, tmp_path):
     assert canopy.Map.load(str(tmp_path / "py" / "map.csm")) == result.map
     assert canopy.Map.load(str(tmp_path / "cli" / "map.csm")) == result.map
     assert json.load(open(tmp_path / "py" / "summary.json")) == result.summary
+    assert (tmp_path / "py" / "report.html").is_file()
+    # report=False is the command line's --no-report: the same run without report.html.
+    canopy.run_mission(world, small_settings(), seed=1, out=str(tmp_path / "bare"), report=False)
+    assert (tmp_path / "bare" / "views.csv").read_text() == result.views_csv
+    assert not (tmp_path / "bare" / "report.html").exists()
     assert result.summary["method"]["name"] == "ours" and result.complete
     views = result.views
     ok = views["success"]

@@ -1,6 +1,9 @@
 #include "canopy/common/params.h"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <cstdlib>
 #include <filesystem>
 
@@ -26,22 +29,34 @@ std::string Limits::text() const {
 }
 
 namespace params_detail {
+namespace {
+// %g switches to an exponent once a number has more integer digits than the precision ("3e+01"
+// for 30 at one digit); below 1e15 more digits print it in plain decimals and still read back.
+std::string plain_decimals(char* b, std::size_t size, int p, double v) {
+  while (std::strchr(b, 'e') && std::fabs(v) >= 1.0 && std::fabs(v) < 1e15 && p < 17)
+    c_snprintf(b, size, "%.*g", ++p, v);
+  return b;
+}
+}  // namespace
+
 std::string shortest(double v) {
   char b[40];
-  for (int p = 1; p <= 17; ++p) {
+  int p = 1;
+  for (; p <= 17; ++p) {
     c_snprintf(b, sizeof b, "%.*g", p, v);
     if (c_strtod(b, nullptr) == v) break;
   }
-  return b;
+  return plain_decimals(b, sizeof b, std::min(p, 17), v);
 }
 
 std::string shortest(float v) {
   char b[40];
-  for (int p = 1; p <= 9; ++p) {
+  int p = 1;
+  for (; p <= 9; ++p) {
     c_snprintf(b, sizeof b, "%.*g", p, double(v));
     if (static_cast<float>(c_strtod(b, nullptr)) == v) break;
   }
-  return b;
+  return plain_decimals(b, sizeof b, std::min(p, 9), double(v));
 }
 
 std::string tuple_text(const char* shape, bool whole, const Limits& each) {

@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <fstream>
 
 #include "canopy/common/params.h"
@@ -153,6 +154,16 @@ TEST(Params, YamlOutReadsBackExactlyWithShortNumbers) {
   EXPECT_EQ(params_detail::shortest(0.015), "0.015");
   EXPECT_EQ(params_detail::shortest(-0.1f), "-0.1");
   EXPECT_EQ(params_detail::shortest(9.21f), "9.21");
+  // Whole and large numbers in plain decimals, not %g's exponent ("3e+01"); tiny and huge ones keep it.
+  EXPECT_EQ(params_detail::shortest(30.0), "30");
+  EXPECT_EQ(params_detail::shortest(150.0), "150");
+  EXPECT_EQ(params_detail::shortest(-30.0), "-30");
+  EXPECT_EQ(params_detail::shortest(480.0f), "480");
+  EXPECT_EQ(params_detail::shortest(1200.5), "1200.5");
+  EXPECT_EQ(params_detail::shortest(1e-5), "1e-05");
+  EXPECT_EQ(params_detail::shortest(1e20), "1e+20");
+  for (const double v : {30.0, 1e6, 123456789.0, 0.1, 1.0 / 3.0, 2.5e14})
+    EXPECT_EQ(std::strtod(params_detail::shortest(v).c_str(), nullptr), v) << v;
 }
 
 TEST(Params, ValidateChecksStructsBuiltInCode) {
