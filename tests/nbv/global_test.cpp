@@ -144,6 +144,24 @@ TEST(GlobalPlanner, CoversTheSmallSceneWithinItsBudgetAndNeverRepeatsAView) {
   const ViewBatch again = planner->next(req);
   for (const PlannedView& v : again.views)
     for (const PlannedView& t : b.views) EXPECT_FALSE(v.T_world_camera.isApprox(t.T_world_camera, 1e-9));
+  // A view that failed for a cause of its own (here a planning timeout) is not planned again;
+  // one that failed only because the arm started in collision may be.
+  ASSERT_FALSE(again.views.empty()) << again.reason;
+  ViewOutcome timed_out;
+  timed_out.view = again.views.front();
+  timed_out.failure = "plan_timeout";
+  planner->outcome(timed_out);
+  ViewOutcome blocked_start;
+  blocked_start.view = again.views.back();
+  blocked_start.view.T_world_camera.translation() += Vec3(0.2, 0.0, 0.0);  // another pose
+  blocked_start.failure = "start_in_collision";
+  planner->outcome(blocked_start);
+  EXPECT_TRUE(planner->failed_views().contains(timed_out.view.T_world_camera));
+  EXPECT_FALSE(planner->failed_views().contains(blocked_start.view.T_world_camera));
+  const ViewBatch third = planner->next(req);
+  ASSERT_FALSE(third.views.empty()) << third.reason;
+  for (const PlannedView& v : third.views)
+    EXPECT_FALSE(v.T_world_camera.isApprox(timed_out.view.T_world_camera, 1e-9));
   // Nothing in the region: finished with a reason.
   ViewRequest empty = req;
   empty.region = Eigen::AlignedBox3d(Vec3(5, 5, 5), Vec3(6, 6, 6));

@@ -81,7 +81,8 @@ class GlobalPlanner : public ViewPlanner {
       batch.reason = "no fruit clusters in reach";
       return batch;
     }
-    // Candidates of every cluster, reachable and not taken (the same filter as ours).
+    // Candidates of every cluster, reachable, not taken and not failed for a cause of their own
+    // (ours' filter, plus the views the mission reported failed: outcome()).
     std::vector<Candidate> cands;
     {
       ScopedPhase phase(batch.times, "candidates");
@@ -93,9 +94,9 @@ class GlobalPlanner : public ViewPlanner {
     {
       ScopedPhase phase(batch.times, "filtering");
       for (Candidate& c : cands) {
-        if (taken_.contains(c.T_world_camera)) continue;
-        if (req.reach && !req.reach(&c)) continue;
-        if (taken_.contains(c.T_world_camera)) continue;
+        if (taken_.contains(c.T_world_camera) || failed_views_.contains(c.T_world_camera)) continue;
+        if (req.reach && !req.reach(&c)) continue;  // it may move the view: test the moved pose again
+        if (taken_.contains(c.T_world_camera) || failed_views_.contains(c.T_world_camera)) continue;
         kept.push_back(c);
       }
     }
