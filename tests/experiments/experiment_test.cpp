@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <set>
 
 #include "canopy/common/error.h"
@@ -120,6 +121,27 @@ TEST(Experiment, TheShippedExperimentsLoad) {
   EXPECT_EQ(Experiment::load("experiments/fig3_reveal_oracle.yaml", default_robot_config()).trials().size(), 60u);
   EXPECT_EQ(Experiment::load("experiments/paper_fig3_smoke.yaml", default_robot_config()).trials().size(), 12u);
   EXPECT_EQ(Experiment::load("experiments/small.yaml", default_robot_config()).trials().size(), 12u);
+  // The shape planner's files: its evaluation worlds are Fig. 3's, its tuning worlds others.
+  const std::map<std::string, std::size_t> shape_files = {
+      {"fig3_shape", 20}, {"shape_fig3", 100}, {"shape_dense", 40}, {"fig3_dense", 120}, {"shape_dev", 36}};
+  for (const auto& [name, trials] : shape_files) {
+    const Experiment e = Experiment::load("experiments/" + name + ".yaml", default_robot_config());
+    EXPECT_EQ(e.trials().size(), trials) << name;
+    ASSERT_FALSE(e.world_seeds.empty()) << name;
+    for (std::uint64_t w : e.world_seeds) {
+      if (name == "shape_dev") EXPECT_LT(w, 1000u) << name;
+      else EXPECT_GT(w, 1000u) << name;
+    }
+  }
+  // Every file the project ships loads (the docs' commands name them).
+  int files = 0;
+  for (const auto& entry : std::filesystem::directory_iterator("experiments")) {
+    if (entry.path().extension() != ".yaml") continue;
+    ++files;
+    EXPECT_NO_THROW(EXPECT_FALSE(Experiment::load(entry.path().string(), default_robot_config()).trials().empty()))
+        << entry.path();
+  }
+  EXPECT_GE(files, 9);
 }
 
 TEST(Experiment, RejectsBadFilesWithTheKeyNamed) {
