@@ -4,6 +4,7 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/info.h>
 #include <tbb/task_arena.h>
 
 #include <algorithm>
@@ -33,17 +34,11 @@ constexpr std::size_t kParallelPoints = 100000;
 constexpr std::size_t kParallelRays = 8192;
 constexpr std::size_t kParallelCells = std::size_t(1) << 21;
 
-// Axis-aligned box of keys with a dense byte grid index.
+// Axis-aligned box of keys (a dense bit grid over it: KeyBitGrid).
 struct KeyBox {
   int lo[3] = {0, 0, 0};
   int n[3] = {0, 0, 0};
   std::size_t cells() const { return std::size_t(n[0]) * n[1] * n[2]; }
-  bool index(const octomap::OcTreeKey& k, std::size_t* i) const {
-    const int x = k[0] - lo[0], y = k[1] - lo[1], z = k[2] - lo[2];
-    if (x < 0 || y < 0 || z < 0 || x >= n[0] || y >= n[1] || z >= n[2]) return false;
-    *i = (std::size_t(z) * n[1] + y) * n[0] + x;
-    return true;
-  }
 };
 
 // The ray's segment: OctoMap's arithmetic (float points), so the fast kernel and
@@ -308,73 +303,97 @@ KeyBox ray_segments(const SemanticOcTree& map, const SemanticMapParams& P, const
   return box;
 }
 
-// Marks every cell the rays cross in the box's byte grid as free (1) unless it is untouched
-// no longer (2: hit in this scan).
-void mark_rays(const SemanticOcTree& map, const KeyBox& box, const std::vector<RaySegment>& segments, int threads,
-               bool vectorised, std::uint8_t* grid) {
-  const std::size_t ray_grain = segments.size() < kParallelRays || threads == 1 ? segments.size() + 1 : 256;
-  run_in_arena(threads, [&] {
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, segments.size(), ray_grain), [&](const auto& r) {
-      const RaySegment* chunk = segments.data() + r.begin();
-      walk_rays(
-          map, r.size(),
-          [chunk](std::size_t i, octomap::point3d* a, octomap::point3d* b) {
-            *a = chunk[i].origin;
-            *b = chunk[i].end;
-          },
-          [&](unsigned x, unsigned y, unsigned z) {
-            std::size_t idx;
-            if (!box.index(octomap::OcTreeKey(static_cast<octomap::key_type>(x), static_cast<octomap::key_type>(y),
-                                              static_cast<octomap::key_type>(z)),
-                           &idx))
-              return;
-            // Read first: cells near the origin are shared by every ray; writing only
-            // untouched cells keeps their cache lines shared between the cores.
-            if (__atomic_load_n(grid + idx, __ATOMIC_RELAXED) == 0) __atomic_store_n(grid + idx, 1, __ATOMIC_RELAXED);
-          },
-          vectorised);
+// The byte grid over `box` in `cells`.
+KeyByteGrid byte_grid(const KeyBox& box, std::uint8_t* cells) {
+  KeyByteGrid g;
+  for (int a = 0; a < 3; ++a) {
+    g.lo[a] = box.lo[a];
+    g.n[a] = box.n[a];
+  }
+  g.cells = cells;
+  return g;
+}
+
+// How many threads mark rays: one grid each.
+int marking_planes(int threads, std::size_t rays) {
+  if (rays < kParallelRays || threads == 1) return 1;
+  return threads > 1 ? threads : std::max(1, tbb::info::default_concurrency());
+}
+
+// Marks every cell the rays cross, one byte per cell of the box, in grid t of `planes` (`size`
+// bytes each) for the thread in slot t: no cache line is written by two threads.
+void mark_rays(const SemanticOcTree& map, const KeyBox& box, const std::vector<RaySegment>& segments, int planes,
+               bool vectorised, std::uint8_t* grids, std::size_t size) {
+  auto mark = [&](const RaySegment* chunk, std::size_t n, std::uint8_t* grid) {
+    mark_walked_voxels(
+        map, n,
+        [chunk](std::size_t i, octomap::point3d* a, octomap::point3d* b) {
+          *a = chunk[i].origin;
+          *b = chunk[i].end;
+        },
+        byte_grid(box, grid), vectorised);
+  };
+  if (planes == 1) {
+    mark(segments.data(), segments.size(), grids);
+    return;
+  }
+  tbb::task_arena arena(planes);
+  arena.execute([&] {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, segments.size(), 256), [&](const auto& r) {
+      const int slot = tbb::this_task_arena::current_thread_index();
+      CANOPY_CHECK(slot >= 0 && slot < planes, "ray marking: thread slot " << slot << " of " << planes);
+      mark(segments.data() + r.begin(), r.size(), grids + std::size_t(slot) * size);
     });
   });
 }
 
-// The free cells of one z-slice of the grid, in order, into `out`; clears the slice.
-void collect_slice(const KeyBox& box, int z, std::uint8_t* grid, std::vector<std::uint64_t>& out) {
-  const std::size_t plane = std::size_t(box.n[0]) * box.n[1];
-  std::uint8_t* g = grid + std::size_t(z) * plane;
-  for (std::size_t i = 0; i < plane; ++i) {
-    if ((i & 7) == 0 && i + 8 <= plane) {
-      std::uint64_t word;
-      std::memcpy(&word, g + i, 8);
-      if (word == 0) {
-        i += 7;
-        continue;
-      }
+// The free cells (marked in a grid, not hit) among cells [c0, c1) (multiples of 8 but for the
+// last), in order, into `out`; clears those cells of the grids and of the hits.
+void collect_cells(const KeyBox& box, int planes, std::size_t size, std::uint8_t* grids, std::uint8_t* hit,
+                   std::size_t c0, std::size_t c1, std::vector<std::uint64_t>& out) {
+  const std::size_t nx = std::size_t(box.n[0]), nxy = nx * std::size_t(box.n[1]);
+  for (std::size_t c = c0; c < c1; c += 8) {
+    const std::size_t k = std::min<std::size_t>(8, c1 - c);
+    std::uint64_t m = 0, h = 0;
+    for (int p = 0; p < planes; ++p) {
+      std::uint8_t* g = grids + std::size_t(p) * size + c;
+      std::uint64_t w = 0;
+      std::memcpy(&w, g, k);
+      m |= w;
+      std::memset(g, 0, k);
     }
-    if (g[i] == 0) continue;
-    if (g[i] == 1) {
-      const int x = int(i % box.n[0]), y = int(i / box.n[0]);
-      const octomap::OcTreeKey k(static_cast<octomap::key_type>(box.lo[0] + x),
-                                 static_cast<octomap::key_type>(box.lo[1] + y),
-                                 static_cast<octomap::key_type>(box.lo[2] + z));
-      out.push_back(morton_code(k));
+    std::memcpy(&h, hit + c, k);
+    std::memset(hit + c, 0, k);
+    m &= ~h;  // bytes are 0 or 1
+    while (m) {
+      const std::size_t i = c + std::size_t(__builtin_ctzll(m)) / 8;
+      m &= m - 1;
+      const std::size_t z = i / nxy, r = i % nxy, y = r / nx, x = r % nx;
+      out.push_back(morton_code(octomap::OcTreeKey(static_cast<octomap::key_type>(box.lo[0] + int(x)),
+                                                   static_cast<octomap::key_type>(box.lo[1] + int(y)),
+                                                   static_cast<octomap::key_type>(box.lo[2] + int(z)))));
     }
-    g[i] = 0;
   }
 }
 
-// The grid's free cells as sorted codes, collected per z-slice (in order, so the result does
-// not depend on threads); leaves the grid cleared.
-void collect_free(const KeyBox& box, int threads, std::uint8_t* grid, std::vector<std::vector<std::uint64_t>>* slices,
-                  std::vector<std::uint64_t>* free_codes, std::vector<std::uint64_t>* scratch) {
-  if (slices->size() < static_cast<std::size_t>(box.n[2])) slices->resize(static_cast<std::size_t>(box.n[2]));
+// The free cells as sorted codes, collected over ranges of cells (in order, so the result
+// does not depend on threads); leaves the grids and the hits cleared.
+void collect_free(const KeyBox& box, int threads, int planes, std::uint8_t* grids, std::uint8_t* hit,
+                  std::vector<std::vector<std::uint64_t>>* slices, std::vector<std::uint64_t>* free_codes,
+                  std::vector<std::uint64_t>* scratch) {
+  constexpr std::size_t kCellsPerRange = std::size_t(1) << 16;
+  const std::size_t size = box.cells(), ranges = (size + kCellsPerRange - 1) / kCellsPerRange;
+  if (slices->size() < ranges) slices->resize(ranges);
   for (auto& sl : *slices) sl.clear();
-  const int slice_grain = box.cells() < kParallelCells || threads == 1 ? box.n[2] + 1 : 4;
+  const std::size_t grain = size < kParallelCells || threads == 1 ? ranges + 1 : 1;
   run_in_arena(threads, [&] {
-    tbb::parallel_for(tbb::blocked_range<int>(0, box.n[2], slice_grain), [&](const auto& r) {
-      for (int z = r.begin(); z != r.end(); ++z) collect_slice(box, z, grid, (*slices)[static_cast<std::size_t>(z)]);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, ranges, grain), [&](const auto& r) {
+      for (std::size_t k = r.begin(); k != r.end(); ++k)
+        collect_cells(box, planes, size, grids, hit, k * kCellsPerRange, std::min(size, (k + 1) * kCellsPerRange),
+                      (*slices)[k]);
     });
   });
-  for (const auto& s : *slices) free_codes->insert(free_codes->end(), s.begin(), s.end());
+  for (std::size_t k = 0; k < ranges; ++k) free_codes->insert(free_codes->end(), (*slices)[k].begin(), (*slices)[k].end());
   detail::radix_sort_u64(*free_codes, *scratch, 48);
 }
 
@@ -454,21 +473,25 @@ void ScanInserter::compute_updates(const perception::LabelledCloud& input, std::
   stats->ms_filter = t0.ms();
   const Stopwatch t1;
 
-  // 3. Free space: mark the cells of every ray in a byte grid over the rays' box
-  //    (0 untouched, 1 free, 2 hit in this scan), then collect the free ones.
+  // 3. Free space: mark the cells of every ray in byte grids over the rays' box (one per
+  //    thread), then collect the cells marked in any grid and not hit in this scan.
   const octomap::point3d origin(o.x(), o.y(), o.z());
   // segments_ is reused: large vectors would be mmap'ed anew
   const KeyBox box = ray_segments(map_, P, origin_key, origin, ray_targets_, &segments_);
   free_codes_.clear();
   if (box.cells() <= kMaxGridCells) {
-    if (grid_.size() < box.cells()) grid_.assign(box.cells(), 0);
-    std::uint8_t* grid = grid_.data();
+    const std::size_t size = box.cells();
+    const int planes = marking_planes(P.threads, segments_.size());
+    // Both stay cleared between scans (collect_free clears what it used).
+    if (crossed_.size() < std::size_t(planes) * size) crossed_.assign(std::size_t(planes) * size, 0);
+    if (hit_cells_.size() < size) hit_cells_.assign(size, 0);
+    const KeyByteGrid hit = byte_grid(box, hit_cells_.data());
     for (const VoxelUpdate& h : hits_) {
-      std::size_t idx;
-      if (box.index(morton_key(h.code), &idx)) grid[idx] = 2;
+      const octomap::OcTreeKey k = morton_key(h.code);
+      hit(k[0], k[1], k[2]);
     }
-    mark_rays(map_, box, segments_, P.threads, vectorised_, grid);
-    collect_free(box, P.threads, grid, &slices_, &free_codes_, &scratch_);
+    mark_rays(map_, box, segments_, planes, vectorised_, crossed_.data(), size);
+    collect_free(box, P.threads, planes, crossed_.data(), hit_cells_.data(), &slices_, &free_codes_, &scratch_);
   } else {
     free_by_sorting(map_, segments_, hits_, &free_codes_, &scratch_);
   }

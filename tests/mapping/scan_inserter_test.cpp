@@ -161,6 +161,43 @@ TEST(ScanInserter, BadPointsAndLabelsAreSkippedAndCounted) {
 
 // One or two threads give the identical map, on scans big enough to take every parallel
 // path (points, rays, free-space grid cells and the tree update all above their thresholds).
+// An inserter keeps its scratch grids between scans: what one scan leaves in them must not
+// change the next. Scan after scan (boxes that grow, shrink and move; many rays and few; one
+// thread and two), a reused inserter gives the updates of a fresh one on the same map.
+TEST(ScanInserter, ReusedInserterGivesAFreshInsertersUpdates) {
+  for (const int threads : {1, 2}) {
+    SemanticMapParams p;
+    p.threads = threads;
+    SemanticOcTree map(p, SemanticClasses{});
+    ScanInserter reused(map);
+    Rng rng(5 + threads);
+    for (int scan = 0; scan < 6; ++scan) {
+      LabelledCloud cloud;
+      cloud.origin_world = Vec3(0.3 * scan, -0.2 * (scan % 2), 1.0);
+      const int n = scan % 3 == 2 ? 3000 : 60000;  // few rays: one grid; many: one per thread
+      const double spread = scan % 2 == 0 ? 0.8 : 0.3;
+      for (int i = 0; i < n; ++i) {
+        Vec3 d(rng.uniform(-spread, spread), rng.uniform(-spread, spread), -1.0);
+        d.normalize();
+        cloud.points_world.push_back((cloud.origin_world + rng.uniform(0.2, 0.9) * d).cast<float>());
+        cloud.labels.push_back(static_cast<std::uint8_t>(rng.integer(0, 2)));
+      }
+      ScanInserter fresh(map);
+      std::vector<VoxelUpdate> a, b;
+      InsertStats sa, sb;
+      fresh.compute_updates(cloud, &b, &sb);
+      reused.compute_updates(cloud, &a, &sa);
+      ASSERT_GT(sb.free_voxels, 1000u);
+      ASSERT_EQ(a.size(), b.size()) << "threads " << threads << ", scan " << scan;
+      for (std::size_t i = 0; i < a.size(); ++i) {
+        ASSERT_EQ(a[i].code, b[i].code) << "threads " << threads << ", scan " << scan << ", update " << i;
+        ASSERT_EQ(a[i].label, b[i].label) << "threads " << threads << ", scan " << scan << ", update " << i;
+      }
+      reused.insert(cloud);  // the map moves on, and the grids are used once more
+    }
+  }
+}
+
 TEST(ScanInserter, ThreadCountDoesNotChangeTheMap) {
   auto params = [](int threads) {
     SemanticMapParams p;

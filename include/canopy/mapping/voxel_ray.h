@@ -10,6 +10,9 @@
 #include <octomap/octomap_types.h>
 
 #include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <immintrin.h>
 #include <limits>
 
 namespace canopy::mapping {
@@ -101,9 +104,14 @@ using V4l = long long __attribute__((vector_size(32)));
 
 // walk_rays on four rays at a time in AVX2 lanes: each lane steps as walk_ray (the same
 // double additions and comparisons, ties alike); a lane whose ray ends takes the next ray.
-template <typename Tree, typename Segment, typename Visit>
+// A ray's first voxel goes to visit(x, y, z); the voxels of a step go to
+// visit4(kx, ky, kz, lanes) at once, lanes[l] = -1 for each lane that visits.
+template <typename Tree, typename Segment, typename Visit, typename Visit4>
 __attribute__((target("avx2"))) void walk_rays_avx2(const Tree& tree, std::size_t n, Segment& segment,
-                                                    Visit& visit) {
+                                                    Visit& visit, const Visit4& visit4_in) {
+  // A copy whose address is not taken: stores of the visits (bytes may alias anything)
+  // cannot change it, so what it holds stays in registers.
+  const Visit4 visit4 = visit4_in;
   V4d tx{}, ty{}, tz{}, dx{}, dy{}, dz{}, len{};
   V4l kx{}, ky{}, kz{}, sx{}, sy{}, sz{}, ex{}, ey{}, ez{}, live{};
   std::size_t next = 0;
@@ -130,6 +138,7 @@ __attribute__((target("avx2"))) void walk_rays_avx2(const Tree& tree, std::size_
   int alive = 0;
   for (int l = 0; l < 4; ++l) alive += refill(l);
   const V4l mask16 = {0xFFFF, 0xFFFF, 0xFFFF, 0xFFFF};
+  const V4l all = {-1, -1, -1, -1};
   while (alive > 0) {
     const V4l xy = tx < ty, xz = tx < tz, yz = ty < tz;
     const V4l cx = xy & xz, cy = ~xy & yz, cz = ~(cx | cy);
@@ -139,23 +148,57 @@ __attribute__((target("avx2"))) void walk_rays_avx2(const Tree& tree, std::size_
     tx += reinterpret_cast<V4d>(reinterpret_cast<V4l>(dx) & cx);
     ty += reinterpret_cast<V4d>(reinterpret_cast<V4l>(dy) & cy);
     tz += reinterpret_cast<V4d>(reinterpret_cast<V4l>(dz) & cz);
-    const V4d m = tx < ty ? (tz < tx ? tz : tx) : (tz < ty ? tz : ty);
+    // The least of the three (never NaN): the value the ternaries of walk_ray pick.
+    const V4d m = V4d(_mm256_min_pd(__m256d(tx), _mm256_min_pd(__m256d(ty), __m256d(tz))));
     const V4l stop = ((kx == ex) & (ky == ey) & (kz == ez)) | (m > len) | ~live;
-    if (!(stop[0] | stop[1] | stop[2] | stop[3])) {
-      for (int l = 0; l < 4; ++l) visit(unsigned(kx[l]), unsigned(ky[l]), unsigned(kz[l]));
+    const int stopped = _mm256_movemask_pd(__m256d(stop));
+    if (stopped == 0) {
+      visit4(kx, ky, kz, all);
       continue;
     }
-    for (int l = 0; l < 4; ++l) {
-      if (!live[l]) continue;
-      if (stop[l]) {
-        if (!refill(l)) --alive;
-      } else {
-        visit(unsigned(kx[l]), unsigned(ky[l]), unsigned(kz[l]));
-      }
-    }
+    if (stopped != 0xF) visit4(kx, ky, kz, ~stop);
+    for (int l = 0; l < 4; ++l)
+      if (live[l] && stop[l] && !refill(l)) --alive;
   }
 }
 }  // namespace detail
+
+/// A box of voxel keys, [lo, lo + n) per axis, with one byte per cell in `cells` (x fastest:
+/// cell (x, y, z) of the box is byte (z * n[1] + y) * n[0] + x). Sets to 1 the byte of each
+/// key it is given that lies in the box; keys outside it are ignored. Only stores, no loads:
+/// a grid per thread keeps cache lines unshared.
+struct KeyByteGrid {
+  int lo[3] = {0, 0, 0};
+  int n[3] = {0, 0, 0};
+  std::uint8_t* cells = nullptr;
+
+  std::size_t size() const { return std::size_t(n[0]) * std::size_t(n[1]) * std::size_t(n[2]); }
+  void operator()(unsigned kx, unsigned ky, unsigned kz) const {
+    const int x = int(kx) - lo[0], y = int(ky) - lo[1], z = int(kz) - lo[2];
+    if (x < 0 || y < 0 || z < 0 || x >= n[0] || y >= n[1] || z >= n[2]) return;
+    cells[(std::size_t(z) * std::size_t(n[1]) + std::size_t(y)) * std::size_t(n[0]) + std::size_t(x)] = 1;
+  }
+  /// The lanes' keys at once (walk_rays_avx2's visit4).
+  __attribute__((target("avx2"))) void operator()(const detail::V4l& kx, const detail::V4l& ky,
+                                                  const detail::V4l& kz, const detail::V4l& lanes) const {
+    using detail::V4l;
+    const V4l l0 = {lo[0], lo[0], lo[0], lo[0]}, l1 = {lo[1], lo[1], lo[1], lo[1]}, l2 = {lo[2], lo[2], lo[2], lo[2]};
+    const V4l n0 = {n[0], n[0], n[0], n[0]}, n1 = {n[1], n[1], n[1], n[1]}, n2 = {n[2], n[2], n[2], n[2]};
+    const V4l minus1 = {-1, -1, -1, -1};
+    const V4l x = kx - l0, y = ky - l1, z = kz - l2;
+    const V4l in = lanes & (x > minus1) & (y > minus1) & (z > minus1) & (x < n0) & (y < n1) & (z < n2);
+    // The lane multiply takes 32 bits: z * n[1] + y < n[1] * n[2] and every factor of a box
+    // of fewer than 2^32 cells fit.
+    const V4l i = V4l(_mm256_mul_epu32(__m256i(V4l(_mm256_mul_epu32(__m256i(z), __m256i(n1))) + y), __m256i(n0))) + x;
+    std::uint8_t* const c = cells;
+    if (_mm256_movemask_pd(__m256d(in)) == 0xF) {
+      c[i[0]] = 1, c[i[1]] = 1, c[i[2]] = 1, c[i[3]] = 1;
+      return;
+    }
+    for (int l = 0; l < 4; ++l)
+      if (in[l]) c[i[l]] = 1;
+  }
+};
 
 /// Walks every segment i < n (segment(i, &origin, &end)) as walk_ray does, visiting each
 /// segment's voxels in no set order across segments: the union of their walks, for callers
@@ -164,7 +207,12 @@ __attribute__((target("avx2"))) void walk_rays_avx2(const Tree& tree, std::size_
 template <typename Tree, typename Segment, typename Visit>
 void walk_rays(const Tree& tree, std::size_t n, Segment&& segment, Visit&& visit, bool vectorised = true) {
   if (vectorised && __builtin_cpu_supports("avx2")) {
-    detail::walk_rays_avx2(tree, n, segment, visit);
+    auto lanes = [&visit](const detail::V4l& kx, const detail::V4l& ky, const detail::V4l& kz,
+                          const detail::V4l& on) {
+      for (int l = 0; l < 4; ++l)
+        if (on[l]) visit(unsigned(kx[l]), unsigned(ky[l]), unsigned(kz[l]));
+    };
+    detail::walk_rays_avx2(tree, n, segment, visit, lanes);
     return;
   }
   for (std::size_t i = 0; i < n; ++i) {
@@ -175,6 +223,21 @@ void walk_rays(const Tree& tree, std::size_t n, Segment&& segment, Visit&& visit
       return true;
     });
   }
+}
+
+/// Marks in `grid` every voxel of every segment i < n (segment(i, &origin, &end)) that
+/// walk_ray visits and that lies in the grid's box: walk_rays with a visit that sets the
+/// cell's byte, its index computed in the AVX2 lanes themselves when `vectorised` (the same
+/// cells either way: tests compare both). The grid must have fewer than 2^32 cells.
+template <typename Tree, typename Segment>
+void mark_walked_voxels(const Tree& tree, std::size_t n, Segment&& segment, const KeyByteGrid& grid,
+                        bool vectorised = true) {
+  KeyByteGrid g = grid;
+  if (vectorised && __builtin_cpu_supports("avx2")) {
+    detail::walk_rays_avx2(tree, n, segment, g, g);
+    return;
+  }
+  walk_rays(tree, n, segment, g, false);
 }
 
 }  // namespace canopy::mapping
