@@ -29,6 +29,8 @@ std::string temp_video_path(const std::string& path) { return path + ".partial.m
 constexpr const char* kVideoComment = "written by canopy";
 
 constexpr Rgb8 kMapBackground{45, 45, 45};
+// The chase view's tessellation of cylinders (MuJoCo's default is 28 slices, 16 stacks).
+constexpr int kVideoPrimitiveSlices = 12, kVideoPrimitiveStacks = 2;
 
 // An encoder that reads no frame for this long is given up (the run goes on without the
 // video). CANOPY_VIDEO_STALL_S overrides it: a test hook, so a test need not wait a minute.
@@ -286,7 +288,14 @@ MissionVideo::MissionVideo(const std::string& path, int w, int h, double fps, si
   k.min_range_m = 0.01;
   k.max_range_m = 50.0;
   chase_k_ = k;
-  renderer_ = std::make_unique<sim::Renderer>(sim, k, sim::RenderOptions{false, 1, false});
+  sim::RenderOptions ro;
+  ro.shadows = false;
+  ro.self_filter = false;
+  // Coarser cylinders than the wrist camera's (docs/mission.md, "The video": the robot pass
+  // cost about half as much).
+  ro.primitive_slices = kVideoPrimitiveSlices;
+  ro.primitive_stacks = kVideoPrimitiveStacks;
+  renderer_ = std::make_unique<sim::Renderer>(sim, k, ro);
   const auto rect = map_inset_rect();
   map_ = Image<Rgb8>(rect[2], rect[3], kMapBackground);  // empty until the first view
 }

@@ -192,7 +192,25 @@ Renderer::Renderer(Simulator& sim, const CameraIntrinsics& intrinsics, const Ren
   mjr_defaultContext(&r.context);
   mjv_makeScene(m, &r.scene, m->ngeom + 64);
   r.scene_made = true;
-  mjr_makeContext(m, &r.context, mjFONTSCALE_50);
+  if (options_.primitive_slices < 0 || (options_.primitive_slices > 0 && options_.primitive_slices < 3) ||
+      options_.primitive_stacks < 0)
+    throw InputError("renderer: primitive slices must be 0 (the model's) or >= 3, stacks 0 or >= 1; got " +
+                     std::to_string(options_.primitive_slices) + " and " + std::to_string(options_.primitive_stacks));
+  if (options_.primitive_slices > 0 || options_.primitive_stacks > 0) {
+    // The context's display lists come from a copy with the coarser tessellation; the scene
+    // still draws the simulator's model (the same geoms, meshes and materials).
+    std::unique_ptr<mjModel, void (*)(mjModel*)> coarse(mj_copyModel(nullptr, m), mj_deleteModel);
+    if (!coarse) throw std::runtime_error("MuJoCo: cannot copy the model for the renderer");
+    if (options_.primitive_slices > 0) coarse->vis.quality.numslices = options_.primitive_slices;
+    if (options_.primitive_stacks > 0) coarse->vis.quality.numstacks = options_.primitive_stacks;
+    slices_ = coarse->vis.quality.numslices;
+    stacks_ = coarse->vis.quality.numstacks;
+    mjr_makeContext(coarse.get(), &r.context, mjFONTSCALE_50);
+  } else {
+    slices_ = m->vis.quality.numslices;
+    stacks_ = m->vis.quality.numstacks;
+    mjr_makeContext(m, &r.context, mjFONTSCALE_50);
+  }
   r.context_made = true;
   mjr_setBuffer(mjFB_OFFSCREEN, &r.context);
   if (r.context.currentBuffer != mjFB_OFFSCREEN) throw std::runtime_error("MuJoCo: off-screen buffer not supported");
@@ -355,7 +373,7 @@ void Renderer::pass(const Pose& T_world_camera, bool world, bool show_robot, con
       last_triangles_ += m->mesh_facenum[m->geom_dataid[geom.objid]];
     else if (geom.type == mjGEOM_BOX) last_triangles_ += 12;
     else if (geom.type == mjGEOM_PLANE) last_triangles_ += 2;
-    else last_triangles_ += 2L * m->vis.quality.numslices * m->vis.quality.numstacks;
+    else last_triangles_ += 2L * slices_ * stacks_;
   }
 
   const mjrRect whole{0, 0, W, H};

@@ -13,6 +13,7 @@
 #include <string>
 
 #include "canopy/common/camera.h"
+#include "canopy/common/error.h"
 #include "canopy/common/io.h"
 #include "canopy/common/random.h"
 #include "canopy/sim/renderer.h"
@@ -278,6 +279,65 @@ TEST(RenderVideoFrame, ARepeatedStateGivesTheLastFrameWithoutDrawing) {
   EXPECT_EQ(video.last_video_path(), Renderer::VideoPath::kRobotOnly);
   expect_looks_as_full_render(captioned, full.render_captioned(T, true, "stop 2/5 | views 7 | SC 0.41"), "new caption");
   EXPECT_GT(image_diff(captioned, again).pixels, 50);  // the caption changed
+}
+
+// The video's coarser cylinders (RenderOptions::primitive_slices / _stacks): the world
+// without the robot renders the same but for the sky (MuJoCo draws the skybox as a sphere,
+// about 10 m away here), the robot with far fewer triangles and nearly the same pixels, and
+// video frames still look as full renders with the same options. Tessellations MuJoCo cannot
+// draw are refused.
+TEST(RenderVideoFrame, CoarseCylindersDrawFewerTrianglesAndChangeOnlyTheRobot) {
+  DefaultWorld& w = scene();
+  const CameraIntrinsics K = chase_intrinsics(320, 240);
+  RenderOptions coarse;
+  coarse.primitive_slices = 12;
+  coarse.primitive_stacks = 2;
+  Renderer fine_r(w.sim, K), coarse_r(w.sim, K, coarse), coarse_video(w.sim, K, coarse);
+  const BasePose base{0.6, 0.0, 0.0};
+  ArmConfig q = default_robot_config().home;
+  w.sim.set_robot_state(base, q);
+  const Pose T = chase(base);
+  const LabelledFrame world_fine = fine_r.render(T, /*show_robot=*/false, /*labels=*/false);
+  const long world_triangles = fine_r.last_triangle_count();
+  const LabelledFrame world_coarse = coarse_r.render(T, false, false);
+  EXPECT_EQ(coarse_r.last_triangle_count(), world_triangles);
+  long sky = 0, elsewhere = 0;
+  for (std::size_t i = 0; i < world_fine.depth_m.data.size(); ++i) {
+    const float a = world_fine.depth_m.data[i], b = world_coarse.depth_m.data[i];
+    if (a == b && world_fine.rgb.data[i] == world_coarse.rgb.data[i]) continue;
+    (std::min(a, b) > 9.0f ? sky : elsewhere) += 1;
+  }
+  EXPECT_EQ(elsewhere, 0);
+  EXPECT_GT(sky, 0);
+
+  const LabelledFrame robot_fine = fine_r.render(T, true, true);
+  const long fine_robot_triangles = fine_r.last_triangle_count() - world_triangles;
+  const LabelledFrame robot_coarse = coarse_r.render(T, true, true);
+  const long coarse_robot_triangles = coarse_r.last_triangle_count() - world_triangles;
+  EXPECT_GT(coarse_robot_triangles, 0);
+  EXPECT_LT(coarse_robot_triangles * 4, fine_robot_triangles);
+  long robot_pixels = 0;
+  for (std::size_t i = 0; i < robot_fine.class_id.data.size(); ++i)
+    robot_pixels += robot_fine.depth_m.data[i] != world_fine.depth_m.data[i];
+  const ImageDiff d = image_diff(robot_fine.rgb, robot_coarse.rgb);
+  EXPECT_GT(robot_pixels, 1000);          // the robot is in view
+  EXPECT_GT(d.pixels, 0);                 // and drawn differently
+  EXPECT_LT(d.pixels * 4, robot_pixels);  // on its facets' edges and shading only
+
+  Rng rng(4);
+  for (int k = 0; k < 4; ++k) {
+    for (auto& v : q) v += rng.uniform(-0.3, 0.3);
+    w.sim.set_robot_state(base, q);
+    expect_looks_as_full_render(coarse_video.render_video_frame(T, "views 3"),
+                                coarse_r.render_captioned(T, true, "views 3"), "frame " + std::to_string(k));
+  }
+
+  for (const auto& [slices, stacks] : {std::pair{2, 4}, std::pair{-1, 0}, std::pair{12, -3}}) {
+    RenderOptions bad;
+    bad.primitive_slices = slices;
+    bad.primitive_stacks = stacks;
+    EXPECT_THROW(Renderer(w.sim, K, bad), InputError) << slices << " " << stacks;
+  }
 }
 
 TEST(RenderCulling, ACameraLookingAtOnePlantDrawsFewGeoms) {

@@ -22,6 +22,11 @@ struct RenderOptions {
   /// pipeline masks the robot out), so a map built from the wrist camera never holds the
   /// robot. Needs the segmentation pass (labels).
   bool self_filter = false;
+  /// Tessellation of MuJoCo's cylinders, capsules and spheres (slices around, stacks along);
+  /// 0 = the model's (visual/quality: 28 and 16). llvmpipe pays per triangle drawn, and the
+  /// robot is mostly cylinders: a chase view needs far fewer than a wrist camera's labels.
+  int primitive_slices = 0;
+  int primitive_stacks = 0;
 };
 
 /// Renders frames of a Simulator's scene. It owns an OSMesa context and a MuJoCo render
@@ -102,6 +107,7 @@ class Renderer {
   Rng noise_rng_;
   long last_triangles_ = 0;
   int drawn_geoms_ = 0, scene_geoms_ = 0;
+  int slices_ = 0, stacks_ = 0;  // the render context's tessellation of primitives
   bool culling_ = true;
   VideoFrameCache video_;  ///< the still-camera video frame: kept world, caption, robot rectangle
 };
