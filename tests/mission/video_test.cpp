@@ -113,7 +113,7 @@ TEST(VideoWriter, EveryFrameReachesTheEncoderInOrder) {
     VideoWriter video(path, 64, 48, 25.0);
     for (int i = 0; i < kFrames; ++i) {
       const Image<Rgb8> f = frame(64, 48, static_cast<std::uint8_t>(7 * i));
-      expected.append(reinterpret_cast<const char*>(f.data.data()), f.data.size() * sizeof(Rgb8));
+      for (const Rgb8& p : f.data) expected += {char(p.b), char(p.g), char(p.r)};  // ffmpeg reads bgr24
       video.write(f);
     }
     EXPECT_TRUE(video.close()) << video.error();
@@ -139,6 +139,33 @@ TEST(VideoWriter, WritesAPlayableFileWithRealFfmpeg) {
   ASSERT_TRUE(fs::exists(path));
   EXPECT_GT(fs::file_size(path), 100u);
   EXPECT_FALSE(fs::exists(path + ".partial.mp4"));
+}
+
+// The colours survive the trip (the frames go to ffmpeg as BGR, and it is told so): an orange
+// frame decodes orange, within what H.264's 4:2:0 YUV rounds.
+TEST(VideoWriter, ColoursReachTheFileUnswapped) {
+  if (!run_process({"sh", "-c", "command -v ffmpeg > /dev/null"}).ok()) GTEST_SKIP() << "ffmpeg not installed";
+  const fs::path d = fresh_dir("video_colour");
+  const std::string path = (d / "orange.mp4").string();
+  const Rgb8 orange{230, 120, 20};
+  {
+    VideoWriter video(path, 64, 48, 25.0);
+    Image<Rgb8> f(64, 48);
+    for (auto& p : f.data) p = orange;
+    for (int i = 0; i < 5; ++i) video.write(f);
+    ASSERT_TRUE(video.close()) << video.error();
+  }
+  const fs::path raw = d / "first.rgb";
+  ASSERT_TRUE(run_process({"ffmpeg", "-loglevel", "error", "-y", "-i", path, "-frames:v", "1", "-f", "rawvideo",
+                           "-pix_fmt", "rgb24", raw.string()})
+                  .ok());
+  std::ifstream in(raw, std::ios::binary);
+  const std::string got((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  ASSERT_EQ(got.size(), 64u * 48u * 3u);
+  const std::size_t mid = 3 * (24 * 64 + 32);
+  EXPECT_NEAR(static_cast<unsigned char>(got[mid]), orange.r, 6);
+  EXPECT_NEAR(static_cast<unsigned char>(got[mid + 1]), orange.g, 6);
+  EXPECT_NEAR(static_cast<unsigned char>(got[mid + 2]), orange.b, 6);
 }
 
 // The chase camera holds still while the base jitters within its dead band (3 mm, 3 mrad, also
