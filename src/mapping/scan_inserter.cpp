@@ -4,7 +4,6 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
-#include <tbb/info.h>
 #include <tbb/task_arena.h>
 
 #include <algorithm>
@@ -34,7 +33,7 @@ constexpr std::size_t kParallelPoints = 100000;
 constexpr std::size_t kParallelRays = 8192;
 constexpr std::size_t kParallelCells = std::size_t(1) << 21;
 
-// Axis-aligned box of keys (a dense bit grid over it: KeyBitGrid).
+// Axis-aligned box of keys (dense byte grids over it: KeyByteGrid).
 struct KeyBox {
   int lo[3] = {0, 0, 0};
   int n[3] = {0, 0, 0};
@@ -314,10 +313,12 @@ KeyByteGrid byte_grid(const KeyBox& box, std::uint8_t* cells) {
   return g;
 }
 
-// How many threads mark rays: one grid each.
+// How many threads mark rays, one grid each: those asked for (0: all), never more than the
+// calling arena can run at once (the grids cost a box's bytes each).
 int marking_planes(int threads, std::size_t rays) {
   if (rays < kParallelRays || threads == 1) return 1;
-  return threads > 1 ? threads : std::max(1, tbb::info::default_concurrency());
+  const int available = std::max(1, tbb::this_task_arena::max_concurrency());
+  return threads > 1 ? std::min(threads, available) : available;
 }
 
 // Marks every cell the rays cross, one byte per cell of the box, in grid t of `planes` (`size`
@@ -490,8 +491,14 @@ void ScanInserter::compute_updates(const perception::LabelledCloud& input, std::
       const octomap::OcTreeKey k = morton_key(h.code);
       hit(k[0], k[1], k[2]);
     }
-    mark_rays(map_, box, segments_, planes, vectorised_, crossed_.data(), size);
-    collect_free(box, P.threads, planes, crossed_.data(), hit_cells_.data(), &slices_, &free_codes_, &scratch_);
+    try {
+      mark_rays(map_, box, segments_, planes, vectorised_, crossed_.data(), size);
+      collect_free(box, P.threads, planes, crossed_.data(), hit_cells_.data(), &slices_, &free_codes_, &scratch_);
+    } catch (...) {  // leave the grids cleared for the next scan
+      std::fill(crossed_.begin(), crossed_.begin() + std::ptrdiff_t(std::size_t(planes) * size), std::uint8_t(0));
+      std::fill(hit_cells_.begin(), hit_cells_.begin() + std::ptrdiff_t(size), std::uint8_t(0));
+      throw;
+    }
   } else {
     free_by_sorting(map_, segments_, hits_, &free_codes_, &scratch_);
   }

@@ -295,8 +295,8 @@ MissionVideo::MissionVideo(const std::string& path, int w, int h, double fps, si
   sim::RenderOptions ro;
   ro.shadows = false;
   ro.self_filter = false;
-  // Coarser cylinders than the wrist camera's (docs/mission.md, "The video": the robot pass
-  // cost about half as much).
+  // Coarser cylinders than the wrist camera's (docs/mission.md, "The video": the robot pass in
+  // about 0.4x its time).
   ro.primitive_slices = kVideoPrimitiveSlices;
   ro.primitive_stacks = kVideoPrimitiveStacks;
   renderer_ = std::make_unique<sim::Renderer>(sim, k, ro);

@@ -192,9 +192,10 @@ Renderer::Renderer(Simulator& sim, const CameraIntrinsics& intrinsics, const Ren
   mjr_defaultContext(&r.context);
   mjv_makeScene(m, &r.scene, m->ngeom + 64);
   r.scene_made = true;
+  // MuJoCo halves the stacks for hemispheres and disks: fewer than 2 would draw none.
   if (options_.primitive_slices < 0 || (options_.primitive_slices > 0 && options_.primitive_slices < 3) ||
-      options_.primitive_stacks < 0)
-    throw InputError("renderer: primitive slices must be 0 (the model's) or >= 3, stacks 0 or >= 1; got " +
+      options_.primitive_stacks < 0 || options_.primitive_stacks == 1)
+    throw InputError("renderer: primitive slices must be 0 (the model's) or >= 3, stacks 0 or >= 2; got " +
                      std::to_string(options_.primitive_slices) + " and " + std::to_string(options_.primitive_stacks));
   if (options_.primitive_slices > 0 || options_.primitive_stacks > 0) {
     // The context's display lists come from a copy with the coarser tessellation; the scene

@@ -159,8 +159,6 @@ TEST(ScanInserter, BadPointsAndLabelsAreSkippedAndCounted) {
   EXPECT_EQ(map.find(Vec3(0.3, 0.0, 1.0)), nullptr);  // the bad-label point left no hit
 }
 
-// One or two threads give the identical map, on scans big enough to take every parallel
-// path (points, rays, free-space grid cells and the tree update all above their thresholds).
 // An inserter keeps its scratch grids between scans: what one scan leaves in them must not
 // change the next. Scan after scan (boxes that grow, shrink and move; many rays and few; one
 // thread and two), a reused inserter gives the updates of a fresh one on the same map.
@@ -188,6 +186,11 @@ TEST(ScanInserter, ReusedInserterGivesAFreshInsertersUpdates) {
       fresh.compute_updates(cloud, &b, &sb);
       reused.compute_updates(cloud, &a, &sa);
       ASSERT_GT(sb.free_voxels, 1000u);
+      if (n > 8192) {
+        ASSERT_GT(sb.rays, 8192u) << "scan " << scan << " must take the parallel path";
+      } else {
+        ASSERT_LT(sb.rays, 8192u) << "scan " << scan << " must take the one-grid path";
+      }
       ASSERT_EQ(a.size(), b.size()) << "threads " << threads << ", scan " << scan;
       for (std::size_t i = 0; i < a.size(); ++i) {
         ASSERT_EQ(a[i].code, b[i].code) << "threads " << threads << ", scan " << scan << ", update " << i;
@@ -198,6 +201,8 @@ TEST(ScanInserter, ReusedInserterGivesAFreshInsertersUpdates) {
   }
 }
 
+// One or two threads give the identical map, on scans big enough to take every parallel
+// path (points, rays, free-space grid cells and the tree update all above their thresholds).
 TEST(ScanInserter, ThreadCountDoesNotChangeTheMap) {
   auto params = [](int threads) {
     SemanticMapParams p;
@@ -545,6 +550,59 @@ TEST(VoxelRay, BatchWalkVisitsWhatEachWalkVisits) {
         vectorised);
     std::sort(got.begin(), got.end());
     EXPECT_EQ(got, expected) << (vectorised ? "vectorised" : "one ray at a time");
+  }
+}
+
+// mark_walked_voxels marks exactly the voxels walk_ray visits that lie in the grid's box, in
+// AVX2 lanes and one ray at a time, also when the box holds only part of the walks (lanes
+// outside it in x, y or z, below and above) and rays that start or end outside it.
+TEST(VoxelRay, ByteGridMarksTheWalkedVoxelsInItsBoxOnly) {
+  SemanticOcTree map = make_inserter_tree();
+  std::mt19937_64 rng(23);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::vector<std::pair<octomap::point3d, octomap::point3d>> segs;
+  const octomap::point3d o(0.05f, -0.12f, 1.0f);
+  for (int i = 0; i < 2000; ++i) {
+    octomap::point3d d(float(u(rng)), float(u(rng)), float(u(rng)));
+    d.normalize();
+    segs.emplace_back(i % 4 == 0 ? octomap::point3d(float(0.5 * u(rng)), float(0.5 * u(rng)), float(1.0 + 0.5 * u(rng))) : o,
+                      o + d * float(0.7 * (0.3 + 0.7 * std::abs(u(rng)))));
+  }
+  octomap::OcTreeKey ko;
+  ASSERT_TRUE(map.coordToKeyChecked(o, ko));
+  KeyByteGrid box;  // about a quarter of the walks' extent around the origin, off centre
+  box.lo[0] = int(ko[0]) - 7;
+  box.lo[1] = int(ko[1]) - 12;
+  box.lo[2] = int(ko[2]) - 4;
+  box.n[0] = 19, box.n[1] = 15, box.n[2] = 23;
+  std::vector<std::uint8_t> expected(box.size(), 0);
+  long outside = 0;
+  for (const auto& [a, b] : segs)
+    walk_ray(map, a, b, [&](unsigned x, unsigned y, unsigned z) {
+      const int i = int(x) - box.lo[0], j = int(y) - box.lo[1], k = int(z) - box.lo[2];
+      if (i < 0 || j < 0 || k < 0 || i >= box.n[0] || j >= box.n[1] || k >= box.n[2]) {
+        ++outside;
+      } else {
+        expected[(std::size_t(k) * box.n[1] + j) * box.n[0] + i] = 1;
+      }
+      return true;
+    });
+  ASSERT_GT(outside, 20000);  // most of the walks leave the box
+  ASSERT_GT(std::count(expected.begin(), expected.end(), 1), 500);
+  for (const bool vectorised : {true, false}) {
+    std::vector<std::uint8_t> got(box.size() + 64, 0);  // a margin that must stay untouched
+    KeyByteGrid g = box;
+    g.cells = got.data() + 32;
+    mark_walked_voxels(
+        map, segs.size(),
+        [&](std::size_t i, octomap::point3d* a, octomap::point3d* b) {
+          *a = segs[i].first;
+          *b = segs[i].second;
+        },
+        g, vectorised);
+    EXPECT_TRUE(std::equal(expected.begin(), expected.end(), got.begin() + 32)) << (vectorised ? "lanes" : "one at a time");
+    EXPECT_EQ(std::count(got.begin(), got.begin() + 32, 0), 32);
+    EXPECT_EQ(std::count(got.end() - 32, got.end(), 0), 32);
   }
 }
 

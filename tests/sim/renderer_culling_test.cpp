@@ -332,7 +332,7 @@ TEST(RenderVideoFrame, CoarseCylindersDrawFewerTrianglesAndChangeOnlyTheRobot) {
                                 coarse_r.render_captioned(T, true, "views 3"), "frame " + std::to_string(k));
   }
 
-  for (const auto& [slices, stacks] : {std::pair{2, 4}, std::pair{-1, 0}, std::pair{12, -3}}) {
+  for (const auto& [slices, stacks] : {std::pair{2, 4}, std::pair{-1, 0}, std::pair{12, -3}, std::pair{12, 1}}) {
     RenderOptions bad;
     bad.primitive_slices = slices;
     bad.primitive_stacks = stacks;

@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <immintrin.h>
 #include <limits>
+#include <stdexcept>
 
 namespace canopy::mapping {
 
@@ -232,6 +233,8 @@ void walk_rays(const Tree& tree, std::size_t n, Segment&& segment, Visit&& visit
 template <typename Tree, typename Segment>
 void mark_walked_voxels(const Tree& tree, std::size_t n, Segment&& segment, const KeyByteGrid& grid,
                         bool vectorised = true) {
+  if (grid.n[0] < 0 || grid.n[1] < 0 || grid.n[2] < 0 || grid.size() >= (std::uint64_t(1) << 32))
+    throw std::length_error("mark_walked_voxels: the grid must have fewer than 2^32 cells");
   KeyByteGrid g = grid;
   if (vectorised && __builtin_cpu_supports("avx2")) {
     detail::walk_rays_avx2(tree, n, segment, g, g);
