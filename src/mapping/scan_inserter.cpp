@@ -33,13 +33,6 @@ constexpr std::size_t kParallelPoints = 100000;
 constexpr std::size_t kParallelRays = 8192;
 constexpr std::size_t kParallelCells = std::size_t(1) << 21;
 
-// Axis-aligned box of keys (dense byte grids over it: KeyByteGrid).
-struct KeyBox {
-  int lo[3] = {0, 0, 0};
-  int n[3] = {0, 0, 0};
-  std::size_t cells() const { return std::size_t(n[0]) * n[1] * n[2]; }
-};
-
 // The ray's segment: OctoMap's arithmetic (float points), so the fast kernel and
 // computeRayKeys visit the same voxels.
 using Segment = RaySegment;
@@ -280,11 +273,11 @@ std::size_t voxel_targets(const std::vector<std::uint64_t>& values, bool per_end
 
 // Stage 3's first step: the segment of every ray target, and the box of keys holding the
 // origin and every segment's end, with one cell to spare on each side.
-KeyBox ray_segments(const SemanticOcTree& map, const SemanticMapParams& P, const octomap::OcTreeKey& origin_key,
-                    const octomap::point3d& origin, const std::vector<std::uint64_t>& ray_targets,
-                    std::vector<RaySegment>* segments) {
+KeyByteGrid ray_segments(const SemanticOcTree& map, const SemanticMapParams& P, const octomap::OcTreeKey& origin_key,
+                         const octomap::point3d& origin, const std::vector<std::uint64_t>& ray_targets,
+                         std::vector<RaySegment>* segments) {
   segments->resize(ray_targets.size());
-  KeyBox box;
+  KeyByteGrid box;  // its cells come later
   int lo[3] = {origin_key[0], origin_key[1], origin_key[2]}, hi[3] = {lo[0], lo[1], lo[2]};
   for (std::size_t r = 0; r < ray_targets.size(); ++r) {
     (*segments)[r] = ray_segment(map, origin, ray_targets[r], P.ray_range_m, P.max_range_m);
@@ -302,15 +295,10 @@ KeyBox ray_segments(const SemanticOcTree& map, const SemanticMapParams& P, const
   return box;
 }
 
-// The byte grid over `box` in `cells`.
-KeyByteGrid byte_grid(const KeyBox& box, std::uint8_t* cells) {
-  KeyByteGrid g;
-  for (int a = 0; a < 3; ++a) {
-    g.lo[a] = box.lo[a];
-    g.n[a] = box.n[a];
-  }
-  g.cells = cells;
-  return g;
+// The box's grid in `cells`.
+KeyByteGrid over(KeyByteGrid box, std::uint8_t* cells) {
+  box.cells = cells;
+  return box;
 }
 
 // How many threads mark rays, one grid each: those asked for (0: all), never more than the
@@ -323,7 +311,7 @@ int marking_planes(int threads, std::size_t rays) {
 
 // Marks every cell the rays cross, one byte per cell of the box, in grid t of `planes` (`size`
 // bytes each) for the thread in slot t: no cache line is written by two threads.
-void mark_rays(const SemanticOcTree& map, const KeyBox& box, const std::vector<RaySegment>& segments, int planes,
+void mark_rays(const SemanticOcTree& map, const KeyByteGrid& box, const std::vector<RaySegment>& segments, int planes,
                bool vectorised, std::uint8_t* grids, std::size_t size) {
   auto mark = [&](const RaySegment* chunk, std::size_t n, std::uint8_t* grid) {
     mark_walked_voxels(
@@ -332,7 +320,7 @@ void mark_rays(const SemanticOcTree& map, const KeyBox& box, const std::vector<R
           *a = chunk[i].origin;
           *b = chunk[i].end;
         },
-        byte_grid(box, grid), vectorised);
+        over(box, grid), vectorised);
   };
   if (planes == 1) {
     mark(segments.data(), segments.size(), grids);
@@ -350,7 +338,7 @@ void mark_rays(const SemanticOcTree& map, const KeyBox& box, const std::vector<R
 
 // The free cells (marked in a grid, not hit) among cells [c0, c1) (multiples of 8 but for the
 // last), in order, into `out`; clears those cells of the grids and of the hits.
-void collect_cells(const KeyBox& box, int planes, std::size_t size, std::uint8_t* grids, std::uint8_t* hit,
+void collect_cells(const KeyByteGrid& box, int planes, std::size_t size, std::uint8_t* grids, std::uint8_t* hit,
                    std::size_t c0, std::size_t c1, std::vector<std::uint64_t>& out) {
   const std::size_t nx = std::size_t(box.n[0]), nxy = nx * std::size_t(box.n[1]);
   for (std::size_t c = c0; c < c1; c += 8) {
@@ -379,11 +367,11 @@ void collect_cells(const KeyBox& box, int planes, std::size_t size, std::uint8_t
 
 // The free cells as sorted codes, collected over ranges of cells (in order, so the result
 // does not depend on threads); leaves the grids and the hits cleared.
-void collect_free(const KeyBox& box, int threads, int planes, std::uint8_t* grids, std::uint8_t* hit,
+void collect_free(const KeyByteGrid& box, int threads, int planes, std::uint8_t* grids, std::uint8_t* hit,
                   std::vector<std::vector<std::uint64_t>>* slices, std::vector<std::uint64_t>* free_codes,
                   std::vector<std::uint64_t>* scratch) {
   constexpr std::size_t kCellsPerRange = std::size_t(1) << 16;
-  const std::size_t size = box.cells(), ranges = (size + kCellsPerRange - 1) / kCellsPerRange;
+  const std::size_t size = box.size(), ranges = (size + kCellsPerRange - 1) / kCellsPerRange;
   if (slices->size() < ranges) slices->resize(ranges);
   for (auto& sl : *slices) sl.clear();
   const std::size_t grain = size < kParallelCells || threads == 1 ? ranges + 1 : 1;
@@ -478,15 +466,15 @@ void ScanInserter::compute_updates(const perception::LabelledCloud& input, std::
   //    thread), then collect the cells marked in any grid and not hit in this scan.
   const octomap::point3d origin(o.x(), o.y(), o.z());
   // segments_ is reused: large vectors would be mmap'ed anew
-  const KeyBox box = ray_segments(map_, P, origin_key, origin, ray_targets_, &segments_);
+  const KeyByteGrid box = ray_segments(map_, P, origin_key, origin, ray_targets_, &segments_);
   free_codes_.clear();
-  if (box.cells() <= kMaxGridCells) {
-    const std::size_t size = box.cells();
+  if (box.size() <= kMaxGridCells) {
+    const std::size_t size = box.size();
     const int planes = marking_planes(P.threads, segments_.size());
     // Both stay cleared between scans (collect_free clears what it used).
     if (crossed_.size() < std::size_t(planes) * size) crossed_.assign(std::size_t(planes) * size, 0);
     if (hit_cells_.size() < size) hit_cells_.assign(size, 0);
-    const KeyByteGrid hit = byte_grid(box, hit_cells_.data());
+    const KeyByteGrid hit = over(box, hit_cells_.data());
     for (const VoxelUpdate& h : hits_) {
       const octomap::OcTreeKey k = morton_key(h.code);
       hit(k[0], k[1], k[2]);

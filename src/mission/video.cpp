@@ -162,7 +162,7 @@ void VideoWriter::send_frames() {
       sending_ = true;
     }
     // ffmpeg converts BGR to YUV for about 0.7 ms less CPU per 640x480 frame than RGB (libswscale's
-    // paths; measured over 2000 frames), more than this swap costs here, beside the mission.
+    // paths; measured over 2000 frames); the swap runs here, beside the mission.
     for (std::size_t i = 0; i + 2 < frame.size(); i += 3) std::swap(frame[i], frame[i + 2]);
     const bool sent = encoder_->write(frame.data(), frame.size());
     {

@@ -504,15 +504,18 @@ TEST(ScanInserter, LastOccupancyEqualsLookupsBeforeAndAfterTheScan) {
   }
 }
 
-// walk_rays (four rays per AVX2 register where the processor has them) visits each segment's
-// voxels exactly as walk_ray does: the same multiset of visits, on random, axis-aligned,
-// one-voxel and outside-the-tree segments; and so does its one-ray-at-a-time fallback.
-TEST(VoxelRay, BatchWalkVisitsWhatEachWalkVisits) {
-  SemanticOcTree map = make_inserter_tree();
+namespace {
+
+// Where the ray-walk tests' segments start: a third of them here, the others anywhere.
+const octomap::point3d kWalkOrigin(0.31f, -0.77f, 1.03f);
+
+// 3000 segments up to 0.8 m long: random, axis-aligned, in a plane through voxel edges, within
+// one voxel, and one that leaves the tree.
+std::vector<std::pair<octomap::point3d, octomap::point3d>> walk_segments() {
   std::mt19937_64 rng(17);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   std::vector<std::pair<octomap::point3d, octomap::point3d>> segs;
-  const octomap::point3d o(0.31f, -0.77f, 1.03f);
+  const octomap::point3d o = kWalkOrigin;
   for (int i = 0; i < 3000; ++i) {
     octomap::point3d a = i % 3 == 0 ? o : octomap::point3d(float(u(rng)), float(u(rng)), float(1.0 + u(rng)));
     octomap::point3d d(float(u(rng)), float(u(rng)), float(u(rng)));
@@ -524,6 +527,17 @@ TEST(VoxelRay, BatchWalkVisitsWhatEachWalkVisits) {
     if (i == 5) len = 1e5f;         // leaves the tree
     segs.emplace_back(a, a + d * len);
   }
+  return segs;
+}
+
+}  // namespace
+
+// walk_rays (four rays per AVX2 register where the processor has them) visits each segment's
+// voxels exactly as walk_ray does: the same multiset of visits, on random, axis-aligned,
+// one-voxel and outside-the-tree segments; and so does its one-ray-at-a-time fallback.
+TEST(VoxelRay, BatchWalkVisitsWhatEachWalkVisits) {
+  SemanticOcTree map = make_inserter_tree();
+  const auto segs = walk_segments();
   std::vector<std::uint64_t> expected;
   for (const auto& [a, b] : segs)
     walk_ray(map, a, b, [&](unsigned x, unsigned y, unsigned z) {
@@ -558,18 +572,9 @@ TEST(VoxelRay, BatchWalkVisitsWhatEachWalkVisits) {
 // outside it in x, y or z, below and above) and rays that start or end outside it.
 TEST(VoxelRay, ByteGridMarksTheWalkedVoxelsInItsBoxOnly) {
   SemanticOcTree map = make_inserter_tree();
-  std::mt19937_64 rng(23);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  std::vector<std::pair<octomap::point3d, octomap::point3d>> segs;
-  const octomap::point3d o(0.05f, -0.12f, 1.0f);
-  for (int i = 0; i < 2000; ++i) {
-    octomap::point3d d(float(u(rng)), float(u(rng)), float(u(rng)));
-    d.normalize();
-    segs.emplace_back(i % 4 == 0 ? octomap::point3d(float(0.5 * u(rng)), float(0.5 * u(rng)), float(1.0 + 0.5 * u(rng))) : o,
-                      o + d * float(0.7 * (0.3 + 0.7 * std::abs(u(rng)))));
-  }
+  const auto segs = walk_segments();
   octomap::OcTreeKey ko;
-  ASSERT_TRUE(map.coordToKeyChecked(o, ko));
+  ASSERT_TRUE(map.coordToKeyChecked(kWalkOrigin, ko));
   KeyByteGrid box;  // about a quarter of the walks' extent around the origin, off centre
   box.lo[0] = int(ko[0]) - 7;
   box.lo[1] = int(ko[1]) - 12;

@@ -187,6 +187,15 @@ class ViewPlanner {
 
  protected:
   explicit ViewPlanner(const ViewRules& rules) : taken_(rules), failed_views_(rules) {}
+  /// True when `candidate` may be offered: neither taken nor in `failed`, reachable when the
+  /// request can tell, and still neither taken nor failed after that test, which may move it.
+  template <class Failed>
+  bool offerable(Candidate* candidate, const ViewRequest& request, const Failed& failed) const {
+    auto fresh = [&] {
+      return !taken_.contains(candidate->T_world_camera) && !failed.contains(candidate->T_world_camera);
+    };
+    return fresh() && (!request.reach || request.reach(candidate)) && fresh();
+  }
   TakenViews taken_;
   TakenViews failed_views_;
 };

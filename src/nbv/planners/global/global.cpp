@@ -94,10 +94,7 @@ class GlobalPlanner : public ViewPlanner {
     {
       ScopedPhase phase(batch.times, "filtering");
       for (Candidate& c : cands) {
-        if (taken_.contains(c.T_world_camera) || failed_views_.contains(c.T_world_camera)) continue;
-        if (req.reach && !req.reach(&c)) continue;  // it may move the view: test the moved pose again
-        if (taken_.contains(c.T_world_camera) || failed_views_.contains(c.T_world_camera)) continue;
-        kept.push_back(c);
+        if (offerable(&c, req, failed_views_)) kept.push_back(c);
       }
     }
     batch.filtered = cands.size() - kept.size();

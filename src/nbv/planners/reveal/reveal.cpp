@@ -60,9 +60,7 @@ class RevealPlanner : public ViewPlanner {
         for (Candidate& cand : cands) {
           {
             ScopedPhase phase(batch.times, "filtering");
-            if (taken_.contains(cand.T_world_camera) || failed_.contains(cand.T_world_camera) ||
-                (req.reach && !req.reach(&cand)) || taken_.contains(cand.T_world_camera) ||
-                failed_.contains(cand.T_world_camera)) {
+            if (!offerable(&cand, req, failed_)) {
               ++batch.filtered;
               continue;
             }

@@ -90,10 +90,7 @@ class ShapePlanner : public ViewPlanner {
         for (Candidate& cand : cands) {
           {
             ScopedPhase phase(batch.times, "filtering");
-            // Taken or failed before the reach test, and again after it: the test may move the view.
-            if (taken_.contains(cand.T_world_camera) || failed_.contains(cand.T_world_camera) ||
-                (req.reach && !req.reach(&cand)) || taken_.contains(cand.T_world_camera) ||
-                failed_.contains(cand.T_world_camera)) {
+            if (!offerable(&cand, req, failed_)) {
               ++batch.filtered;
               continue;
             }
