@@ -150,8 +150,9 @@ constexpr std::uint64_t kLow56 = (1ull << 56) - 1;
 constexpr std::uint64_t kMaxRun = 254;  // so a value never equals kInvalid
 
 // Stage 1 on the points of `r`: each point's (code << 8 | label) or, beyond range, its code
-// with kBeyond; runs of equal values merged into one carrying the run length in its top byte,
-// written from r.begin() on; the rest of the chunk kInvalid.
+// with kBeyond; runs of equal values merged into one carrying the run length in its top byte
+// (or added to the value an earlier run of the chunk wrote, while it fits), written from
+// r.begin() on; the rest of the chunk kInvalid.
 void code_point_chunk(const PointCoding& c, const tbb::blocked_range<std::size_t>& r,
                       std::vector<std::uint64_t>& values, PointCounts& counts) {
   std::size_t nb = 0, nl = 0, no = 0, nf = 0;
@@ -159,8 +160,26 @@ void code_point_chunk(const PointCoding& c, const tbb::blocked_range<std::size_t
   std::uint64_t run_value = kInvalid, run_length = 0;
   octomap::OcTreeKey last_key(0, 0, 0);
   std::uint64_t last_code = morton_code(last_key) << 8;
+  // The rows of a chunk cross the same voxels again: a run whose value was written recently
+  // (a direct-mapped table of values and where they went) adds its length there.
+  constexpr int kSlotBits = 10;
+  std::uint64_t slot_value[1 << kSlotBits];
+  std::uint32_t slot_at[1 << kSlotBits];
+  std::fill(std::begin(slot_value), std::end(slot_value), kInvalid);
   auto flush = [&] {
-    if (run_length) values[out++] = (run_length << 56) | run_value;
+    if (!run_length) return;
+    const std::size_t slot = std::size_t((run_value * 0x9E3779B97F4A7C15ull) >> (64 - kSlotBits));
+    if (slot_value[slot] == run_value) {
+      std::uint64_t& v = values[slot_at[slot]];
+      if ((v >> 56) + run_length <= kMaxRun) {
+        v += run_length << 56;
+        run_length = 0;
+        return;
+      }
+    }
+    slot_value[slot] = run_value;
+    slot_at[slot] = static_cast<std::uint32_t>(out);
+    values[out++] = (run_length << 56) | run_value;
     run_length = 0;
   };
   for (std::size_t i = r.begin(); i != r.end(); ++i) {
@@ -271,49 +290,71 @@ std::size_t voxel_targets(const std::vector<std::uint64_t>& values, bool per_end
   return hit_updates;
 }
 
-// Stage 3's first step: the segment of every ray target, and the box of keys holding the
-// origin and every segment's end, with one cell to spare on each side.
-KeyByteGrid ray_segments(const SemanticOcTree& map, const SemanticMapParams& P, const octomap::OcTreeKey& origin_key,
-                         const octomap::point3d& origin, const std::vector<std::uint64_t>& ray_targets,
-                         std::vector<RaySegment>* segments) {
-  segments->resize(ray_targets.size());
-  KeyByteGrid box;  // its cells come later
-  int lo[3] = {origin_key[0], origin_key[1], origin_key[2]}, hi[3] = {lo[0], lo[1], lo[2]};
-  for (std::size_t r = 0; r < ray_targets.size(); ++r) {
-    (*segments)[r] = ray_segment(map, origin, ray_targets[r], P.ray_range_m, P.max_range_m);
-    octomap::OcTreeKey ke;
-    if (!map.coordToKeyChecked((*segments)[r].end, ke)) continue;
-    for (int a = 0; a < 3; ++a) {
-      lo[a] = std::min(lo[a], int(ke[a]));
-      hi[a] = std::max(hi[a], int(ke[a]));
-    }
-  }
-  for (int a = 0; a < 3; ++a) {
-    box.lo[a] = lo[a] - 1;
-    box.n[a] = hi[a] - lo[a] + 3;
-  }
-  return box;
-}
-
-// The box's grid in `cells`.
-KeyByteGrid over(KeyByteGrid box, std::uint8_t* cells) {
-  box.cells = cells;
-  return box;
-}
-
-// How many threads mark rays, one grid each: those asked for (0: all), never more than the
-// calling arena can run at once (the grids cost a box's bytes each).
-int marking_planes(int threads, std::size_t rays) {
+// How many threads share a scan's rays (their segments, then marking them, one grid each):
+// those asked for (0: all), never more than the calling arena can run at once (the grids cost
+// a box's bits each).
+int ray_threads(int threads, std::size_t rays) {
   if (rays < kParallelRays || threads == 1) return 1;
   const int available = std::max(1, tbb::this_task_arena::max_concurrency());
   return threads > 1 ? std::min(threads, available) : available;
 }
 
-// Marks every cell the rays cross, one byte per cell of the box, in grid t of `planes` (`size`
-// bytes each) for the thread in slot t: no cache line is written by two threads.
-void mark_rays(const SemanticOcTree& map, const KeyByteGrid& box, const std::vector<RaySegment>& segments, int planes,
-               bool vectorised, std::uint8_t* grids, std::size_t size) {
-  auto mark = [&](const RaySegment* chunk, std::size_t n, std::uint8_t* grid) {
+// Stage 3's first step: the segment of every ray target, and the box of keys holding the
+// origin and every segment's end, with one cell to spare on each side. Large scans split the
+// segments between threads (each segment is its own; the box is the bounds' union).
+KeyBitGrid ray_segments(const SemanticOcTree& map, const SemanticMapParams& P, const octomap::OcTreeKey& origin_key,
+                        const octomap::point3d& origin, const std::vector<std::uint64_t>& ray_targets,
+                        std::vector<RaySegment>* segments) {
+  segments->resize(ray_targets.size());
+  struct Bounds {
+    int lo[3], hi[3];
+  };
+  auto part = [&](std::size_t r0, std::size_t r1, Bounds* b) {
+    for (int a = 0; a < 3; ++a) b->lo[a] = b->hi[a] = origin_key[a];
+    for (std::size_t r = r0; r < r1; ++r) {
+      (*segments)[r] = ray_segment(map, origin, ray_targets[r], P.ray_range_m, P.max_range_m);
+      octomap::OcTreeKey ke;
+      if (!map.coordToKeyChecked((*segments)[r].end, ke)) continue;
+      for (int a = 0; a < 3; ++a) {
+        b->lo[a] = std::min(b->lo[a], int(ke[a]));
+        b->hi[a] = std::max(b->hi[a], int(ke[a]));
+      }
+    }
+  };
+  const std::size_t n = ray_targets.size();
+  const int parts = ray_threads(P.threads, n);
+  std::vector<Bounds> bounds(static_cast<std::size_t>(parts));
+  if (parts == 1) {
+    part(0, n, &bounds[0]);
+  } else {
+    run_in_arena(parts, [&] {
+      tbb::parallel_for(0, parts, [&](int k) {
+        const std::size_t q = std::size_t(k), m = std::size_t(parts);
+        part(n * q / m, n * (q + 1) / m, &bounds[q]);
+      });
+    });
+  }
+  KeyBitGrid box;  // its cells come later
+  for (int a = 0; a < 3; ++a) {
+    int lo = bounds[0].lo[a], hi = bounds[0].hi[a];
+    for (const Bounds& b : bounds) lo = std::min(lo, b.lo[a]), hi = std::max(hi, b.hi[a]);
+    box.lo[a] = lo - 1;
+    box.n[a] = hi - lo + 3;
+  }
+  return box;
+}
+
+// The box's grid in `words`.
+KeyBitGrid over(KeyBitGrid box, std::uint64_t* words) {
+  box.words = words;
+  return box;
+}
+
+// Marks every cell the rays cross, one bit per cell of the box, in grid t of `planes` (`size`
+// words each) for the thread in slot t: no cache line is written by two threads.
+void mark_rays(const SemanticOcTree& map, const KeyBitGrid& box, const std::vector<RaySegment>& segments, int planes,
+               bool vectorised, std::uint64_t* grids, std::size_t size) {
+  auto mark = [&](const RaySegment* chunk, std::size_t n, std::uint64_t* grid) {
     mark_walked_voxels(
         map, n,
         [chunk](std::size_t i, octomap::point3d* a, octomap::point3d* b) {
@@ -336,26 +377,22 @@ void mark_rays(const SemanticOcTree& map, const KeyByteGrid& box, const std::vec
   });
 }
 
-// The free cells (marked in a grid, not hit) among cells [c0, c1) (multiples of 8 but for the
-// last), in order, into `out`; clears those cells of the grids and of the hits.
-void collect_cells(const KeyByteGrid& box, int planes, std::size_t size, std::uint8_t* grids, std::uint8_t* hit,
-                   std::size_t c0, std::size_t c1, std::vector<std::uint64_t>& out) {
+// The free cells (marked in a grid, not hit) among the cells of words [w0, w1), in order, into
+// `out`; clears those words of the grids and of the hits.
+void collect_cells(const KeyBitGrid& box, int planes, std::size_t size, std::uint64_t* grids, std::uint64_t* hit,
+                   std::size_t w0, std::size_t w1, std::vector<std::uint64_t>& out) {
   const std::size_t nx = std::size_t(box.n[0]), nxy = nx * std::size_t(box.n[1]);
-  for (std::size_t c = c0; c < c1; c += 8) {
-    const std::size_t k = std::min<std::size_t>(8, c1 - c);
-    std::uint64_t m = 0, h = 0;
+  for (std::size_t w = w0; w < w1; ++w) {
+    std::uint64_t m = 0;
     for (int p = 0; p < planes; ++p) {
-      std::uint8_t* g = grids + std::size_t(p) * size + c;
-      std::uint64_t w = 0;
-      std::memcpy(&w, g, k);
-      m |= w;
-      std::memset(g, 0, k);
+      std::uint64_t& g = grids[std::size_t(p) * size + w];
+      m |= g;
+      g = 0;
     }
-    std::memcpy(&h, hit + c, k);
-    std::memset(hit + c, 0, k);
-    m &= ~h;  // bytes are 0 or 1
+    m &= ~hit[w];
+    hit[w] = 0;
     while (m) {
-      const std::size_t i = c + std::size_t(__builtin_ctzll(m)) / 8;
+      const std::size_t i = w * 64 + std::size_t(__builtin_ctzll(m));
       m &= m - 1;
       const std::size_t z = i / nxy, r = i % nxy, y = r / nx, x = r % nx;
       out.push_back(morton_code(octomap::OcTreeKey(static_cast<octomap::key_type>(box.lo[0] + int(x)),
@@ -365,20 +402,20 @@ void collect_cells(const KeyByteGrid& box, int planes, std::size_t size, std::ui
   }
 }
 
-// The free cells as sorted codes, collected over ranges of cells (in order, so the result
+// The free cells as sorted codes, collected over ranges of words (in order, so the result
 // does not depend on threads); leaves the grids and the hits cleared.
-void collect_free(const KeyByteGrid& box, int threads, int planes, std::uint8_t* grids, std::uint8_t* hit,
+void collect_free(const KeyBitGrid& box, int threads, int planes, std::uint64_t* grids, std::uint64_t* hit,
                   std::vector<std::vector<std::uint64_t>>* slices, std::vector<std::uint64_t>* free_codes,
                   std::vector<std::uint64_t>* scratch) {
-  constexpr std::size_t kCellsPerRange = std::size_t(1) << 16;
-  const std::size_t size = box.size(), ranges = (size + kCellsPerRange - 1) / kCellsPerRange;
+  constexpr std::size_t kWordsPerRange = std::size_t(1) << 10;
+  const std::size_t size = box.word_count(), ranges = (size + kWordsPerRange - 1) / kWordsPerRange;
   if (slices->size() < ranges) slices->resize(ranges);
   for (auto& sl : *slices) sl.clear();
-  const std::size_t grain = size < kParallelCells || threads == 1 ? ranges + 1 : 1;
+  const std::size_t grain = box.size() < kParallelCells || threads == 1 ? ranges + 1 : 1;
   run_in_arena(threads, [&] {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, ranges, grain), [&](const auto& r) {
       for (std::size_t k = r.begin(); k != r.end(); ++k)
-        collect_cells(box, planes, size, grids, hit, k * kCellsPerRange, std::min(size, (k + 1) * kCellsPerRange),
+        collect_cells(box, planes, size, grids, hit, k * kWordsPerRange, std::min(size, (k + 1) * kWordsPerRange),
                       (*slices)[k]);
     });
   });
@@ -466,15 +503,15 @@ void ScanInserter::compute_updates(const perception::LabelledCloud& input, std::
   //    thread), then collect the cells marked in any grid and not hit in this scan.
   const octomap::point3d origin(o.x(), o.y(), o.z());
   // segments_ is reused: large vectors would be mmap'ed anew
-  const KeyByteGrid box = ray_segments(map_, P, origin_key, origin, ray_targets_, &segments_);
+  const KeyBitGrid box = ray_segments(map_, P, origin_key, origin, ray_targets_, &segments_);
   free_codes_.clear();
   if (box.size() <= kMaxGridCells) {
-    const std::size_t size = box.size();
-    const int planes = marking_planes(P.threads, segments_.size());
+    const std::size_t size = box.word_count();
+    const int planes = ray_threads(P.threads, segments_.size());
     // Both stay cleared between scans (collect_free clears what it used).
     if (crossed_.size() < std::size_t(planes) * size) crossed_.assign(std::size_t(planes) * size, 0);
     if (hit_cells_.size() < size) hit_cells_.assign(size, 0);
-    const KeyByteGrid hit = over(box, hit_cells_.data());
+    const KeyBitGrid hit = over(box, hit_cells_.data());
     for (const VoxelUpdate& h : hits_) {
       const octomap::OcTreeKey k = morton_key(h.code);
       hit(k[0], k[1], k[2]);
@@ -483,8 +520,8 @@ void ScanInserter::compute_updates(const perception::LabelledCloud& input, std::
       mark_rays(map_, box, segments_, planes, vectorised_, crossed_.data(), size);
       collect_free(box, P.threads, planes, crossed_.data(), hit_cells_.data(), &slices_, &free_codes_, &scratch_);
     } catch (...) {  // leave the grids cleared for the next scan
-      std::fill(crossed_.begin(), crossed_.begin() + std::ptrdiff_t(std::size_t(planes) * size), std::uint8_t(0));
-      std::fill(hit_cells_.begin(), hit_cells_.begin() + std::ptrdiff_t(size), std::uint8_t(0));
+      std::fill(crossed_.begin(), crossed_.begin() + std::ptrdiff_t(std::size_t(planes) * size), std::uint64_t(0));
+      std::fill(hit_cells_.begin(), hit_cells_.begin() + std::ptrdiff_t(size), std::uint64_t(0));
       throw;
     }
   } else {

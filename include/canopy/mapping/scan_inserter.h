@@ -88,7 +88,7 @@ class ScanInserter {
   std::vector<std::vector<VoxelUpdate>> extra_;  // per_endpoint: further hits, in layers
   perception::LabelledCloud filtered_;           // per_endpoint: the camera-frame voxel filter's points
   std::vector<std::uint64_t> ray_targets_;       // endpoint voxel codes, bit 63: beyond range
-  std::vector<std::uint8_t> crossed_, hit_cells_;  // bytes over the rays' box: crossed (a grid per thread), hit
+  std::vector<std::uint64_t> crossed_, hit_cells_;  // bits over the rays' box: crossed (a grid per thread), hit
   std::vector<RaySegment> segments_;
   std::vector<std::vector<std::uint64_t>> slices_;  // free codes per range of the box's cells
 };

@@ -110,11 +110,14 @@ using V4l = long long __attribute__((vector_size(32)));
 template <typename Tree, typename Segment, typename Visit, typename Visit4>
 __attribute__((target("avx2"))) void walk_rays_avx2(const Tree& tree, std::size_t n, Segment& segment,
                                                     Visit& visit, const Visit4& visit4_in) {
-  // A copy whose address is not taken: stores of the visits (bytes may alias anything)
-  // cannot change it, so what it holds stays in registers.
+  // A copy whose address is not taken: stores of the visits (which may alias anything of
+  // their type) cannot change it, so what it holds stays in registers or is loaded unchanged.
   const Visit4 visit4 = visit4_in;
   V4d tx{}, ty{}, tz{}, dx{}, dy{}, dz{}, len{};
-  V4l kx{}, ky{}, kz{}, sx{}, sy{}, sz{}, ex{}, ey{}, ez{}, live{};
+  V4l kx{}, ky{}, kz{}, sx{}, sy{}, sz{}, ex{}, ey{}, ez{};
+  // Lanes without a ray: a bit each here, and a length below every boundary parameter (those
+  // are >= 0), so that they always count as stopped without a vector of their own.
+  int dead = 0;
   std::size_t next = 0;
   auto refill = [&](int l) {
     RayWalk w;
@@ -130,10 +133,10 @@ __attribute__((target("avx2"))) void walk_rays_avx2(const Tree& tree, std::size_
       sx[l] = static_cast<int>(w.s[0]), sy[l] = static_cast<int>(w.s[1]), sz[l] = static_cast<int>(w.s[2]);
       ex[l] = w.e[0], ey[l] = w.e[1], ez[l] = w.e[2];
       len[l] = w.len;
-      live[l] = -1;
       return true;
     }
-    live[l] = 0;
+    dead |= 1 << l;
+    len[l] = -1.0;
     return false;
   };
   int alive = 0;
@@ -151,7 +154,7 @@ __attribute__((target("avx2"))) void walk_rays_avx2(const Tree& tree, std::size_
     tz += reinterpret_cast<V4d>(reinterpret_cast<V4l>(dz) & cz);
     // The least of the three (never NaN): the value the ternaries of walk_ray pick.
     const V4d m = V4d(_mm256_min_pd(__m256d(tx), _mm256_min_pd(__m256d(ty), __m256d(tz))));
-    const V4l stop = ((kx == ex) & (ky == ey) & (kz == ez)) | (m > len) | ~live;
+    const V4l stop = ((kx == ex) & (ky == ey) & (kz == ez)) | (m > len);
     const int stopped = _mm256_movemask_pd(__m256d(stop));
     if (stopped == 0) {
       visit4(kx, ky, kz, all);
@@ -159,47 +162,65 @@ __attribute__((target("avx2"))) void walk_rays_avx2(const Tree& tree, std::size_
     }
     if (stopped != 0xF) visit4(kx, ky, kz, ~stop);
     for (int l = 0; l < 4; ++l)
-      if (live[l] && stop[l] && !refill(l)) --alive;
+      if (!(dead >> l & 1) && (stopped >> l & 1) && !refill(l)) --alive;
   }
 }
 }  // namespace detail
 
-/// A box of voxel keys, [lo, lo + n) per axis, with one byte per cell in `cells` (x fastest:
-/// cell (x, y, z) of the box is byte (z * n[1] + y) * n[0] + x). Sets to 1 the byte of each
-/// key it is given that lies in the box; keys outside it are ignored. Only stores, no loads:
+/// A box of voxel keys, [lo, lo + n) per axis, with one bit per cell in `words` (x fastest:
+/// cell (x, y, z) of the box is bit c % 64 of word c / 64, c = (z * n[1] + y) * n[0] + x).
+/// Sets the bit of each key it is given that lies in the box; keys outside it are ignored.
+/// A bit per cell keeps a grid of a scan's box (some 10^5 cells) in the first-level cache;
 /// a grid per thread keeps cache lines unshared.
-struct KeyByteGrid {
+struct KeyBitGrid {
   int lo[3] = {0, 0, 0};
   int n[3] = {0, 0, 0};
-  std::uint8_t* cells = nullptr;
+  std::uint64_t* words = nullptr;
 
   std::size_t size() const { return std::size_t(n[0]) * std::size_t(n[1]) * std::size_t(n[2]); }
+  /// Words holding size() bits.
+  std::size_t word_count() const { return (size() + 63) / 64; }
   void operator()(unsigned kx, unsigned ky, unsigned kz) const {
     const int x = int(kx) - lo[0], y = int(ky) - lo[1], z = int(kz) - lo[2];
     if (x < 0 || y < 0 || z < 0 || x >= n[0] || y >= n[1] || z >= n[2]) return;
-    cells[(std::size_t(z) * std::size_t(n[1]) + std::size_t(y)) * std::size_t(n[0]) + std::size_t(x)] = 1;
+    const std::size_t c = (std::size_t(z) * std::size_t(n[1]) + std::size_t(y)) * std::size_t(n[0]) + std::size_t(x);
+    words[c / 64] |= std::uint64_t(1) << (c % 64);
   }
-  /// The lanes' keys at once (walk_rays_avx2's visit4).
-  __attribute__((target("avx2"))) void operator()(const detail::V4l& kx, const detail::V4l& ky,
-                                                  const detail::V4l& kz, const detail::V4l& lanes) const {
-    using detail::V4l;
-    const V4l l0 = {lo[0], lo[0], lo[0], lo[0]}, l1 = {lo[1], lo[1], lo[1], lo[1]}, l2 = {lo[2], lo[2], lo[2], lo[2]};
-    const V4l n0 = {n[0], n[0], n[0], n[0]}, n1 = {n[1], n[1], n[1], n[1]}, n2 = {n[2], n[2], n[2], n[2]};
-    const V4l minus1 = {-1, -1, -1, -1};
-    const V4l x = kx - l0, y = ky - l1, z = kz - l2;
-    const V4l in = lanes & (x > minus1) & (y > minus1) & (z > minus1) & (x < n0) & (y < n1) & (z < n2);
+};
+
+namespace detail {
+// A KeyBitGrid as walk_rays_avx2's visit4: the box's bounds broadcast to the lanes once, and
+// the lanes' cell indices, bounds tests and bits computed in the lanes.
+struct KeyBitGridLanes {
+  V4l lo0, lo1, lo2, n0, n1, n2;
+  std::uint64_t* words;
+
+  explicit KeyBitGridLanes(const KeyBitGrid& g)
+      : lo0{g.lo[0], g.lo[0], g.lo[0], g.lo[0]}, lo1{g.lo[1], g.lo[1], g.lo[1], g.lo[1]},
+        lo2{g.lo[2], g.lo[2], g.lo[2], g.lo[2]}, n0{g.n[0], g.n[0], g.n[0], g.n[0]},
+        n1{g.n[1], g.n[1], g.n[1], g.n[1]}, n2{g.n[2], g.n[2], g.n[2], g.n[2]}, words(g.words) {}
+
+  __attribute__((target("avx2"))) void operator()(const V4l& kx, const V4l& ky, const V4l& kz, const V4l& lanes) const {
+    const V4l zero = {0, 0, 0, 0}, low6 = {63, 63, 63, 63}, one = {1, 1, 1, 1};
+    const V4l x = kx - lo0, y = ky - lo1, z = kz - lo2;
+    // In the box: no coordinate negative (the sign of their union) and each below its extent.
+    const V4l in = lanes & ~(zero > (x | y | z)) & (x < n0) & (y < n1) & (z < n2);
     // The lane multiply takes 32 bits: z * n[1] + y < n[1] * n[2] and every factor of a box
     // of fewer than 2^32 cells fit.
-    const V4l i = V4l(_mm256_mul_epu32(__m256i(V4l(_mm256_mul_epu32(__m256i(z), __m256i(n1))) + y), __m256i(n0))) + x;
-    std::uint8_t* const c = cells;
+    const V4l c = V4l(_mm256_mul_epu32(__m256i(V4l(_mm256_mul_epu32(__m256i(z), __m256i(n1))) + y), __m256i(n0))) + x;
+    const V4l w = V4l(_mm256_srli_epi64(__m256i(c), 6));
+    const V4l bit = V4l(_mm256_sllv_epi64(__m256i(one), __m256i(c & low6)));
+    std::uint64_t* const g = words;
     if (_mm256_movemask_pd(__m256d(in)) == 0xF) {
-      c[i[0]] = 1, c[i[1]] = 1, c[i[2]] = 1, c[i[3]] = 1;
+      g[w[0]] |= std::uint64_t(bit[0]), g[w[1]] |= std::uint64_t(bit[1]);
+      g[w[2]] |= std::uint64_t(bit[2]), g[w[3]] |= std::uint64_t(bit[3]);
       return;
     }
     for (int l = 0; l < 4; ++l)
-      if (in[l]) c[i[l]] = 1;
+      if (in[l]) g[w[l]] |= std::uint64_t(bit[l]);
   }
 };
+}  // namespace detail
 
 /// Walks every segment i < n (segment(i, &origin, &end)) as walk_ray does, visiting each
 /// segment's voxels in no set order across segments: the union of their walks, for callers
@@ -228,16 +249,16 @@ void walk_rays(const Tree& tree, std::size_t n, Segment&& segment, Visit&& visit
 
 /// Marks in `grid` every voxel of every segment i < n (segment(i, &origin, &end)) that
 /// walk_ray visits and that lies in the grid's box: walk_rays with a visit that sets the
-/// cell's byte, its index computed in the AVX2 lanes themselves when `vectorised` (the same
+/// cell's bit, its index computed in the AVX2 lanes themselves when `vectorised` (the same
 /// cells either way: tests compare both). The grid must have fewer than 2^32 cells.
 template <typename Tree, typename Segment>
-void mark_walked_voxels(const Tree& tree, std::size_t n, Segment&& segment, const KeyByteGrid& grid,
+void mark_walked_voxels(const Tree& tree, std::size_t n, Segment&& segment, const KeyBitGrid& grid,
                         bool vectorised = true) {
   if (grid.n[0] < 0 || grid.n[1] < 0 || grid.n[2] < 0 || grid.size() >= (std::uint64_t(1) << 32))
     throw std::length_error("mark_walked_voxels: the grid must have fewer than 2^32 cells");
-  KeyByteGrid g = grid;
+  KeyBitGrid g = grid;
   if (vectorised && __builtin_cpu_supports("avx2")) {
-    detail::walk_rays_avx2(tree, n, segment, g, g);
+    detail::walk_rays_avx2(tree, n, segment, g, detail::KeyBitGridLanes(g));
     return;
   }
   walk_rays(tree, n, segment, g, false);
