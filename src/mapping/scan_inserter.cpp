@@ -499,7 +499,7 @@ void ScanInserter::compute_updates(const perception::LabelledCloud& input, std::
   stats->ms_filter = t0.ms();
   const Stopwatch t1;
 
-  // 3. Free space: mark the cells of every ray in byte grids over the rays' box (one per
+  // 3. Free space: mark the cells of every ray in bit grids over the rays' box (one per
   //    thread), then collect the cells marked in any grid and not hit in this scan.
   const octomap::point3d origin(o.x(), o.y(), o.z());
   // segments_ is reused: large vectors would be mmap'ed anew

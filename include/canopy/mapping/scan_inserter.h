@@ -6,7 +6,7 @@
 // same scan; every voxel gets at most one update per scan, applied in one Morton-ordered
 // pass over the tree.
 //
-// The free cells of a scan are collected in a dense byte grid over the rays' bounding box
+// The free cells of a scan are collected in a dense bit grid over the rays' bounding box
 // (no hashing), sorted by radix sort, and merged with the hits. Results do not depend on the
 // number of threads.
 
