@@ -1,6 +1,7 @@
 #include "canopy/motion/arm_planner.h"
 
 #include <ompl/base/goals/GoalStates.h>
+#include <ompl/base/DiscreteMotionValidator.h>
 #include <ompl/base/PlannerTerminationCondition.h>
 #include <ompl/base/spaces/RealVectorStateSpace.h>
 #include <ompl/geometric/PathSimplifier.h>
@@ -22,8 +23,13 @@
 #include <ompl/util/Console.h>
 #include <ompl/util/RandomNumbers.h>
 
+#include <tbb/task_arena.h>
+#include <tbb/task_group.h>
+
+#include <atomic>
 #include <chrono>
 #include <cmath>
+#include <deque>
 #include <functional>
 #include <map>
 #include <memory>
@@ -198,11 +204,81 @@ std::vector<ArmConfig> free_goals_nearest_first(const CollisionChecker& checker,
   return free_goals;
 }
 
-// OMPL's problem in the 6-D joint space bounded by the planning limits: states valid when the
-// arm is free, the start, the goals and the parameters' planner, its streams seeded from `seed`.
-std::unique_ptr<og::SimpleSetup> make_setup(const CollisionChecker& checker_ref, const PlannerParams& params,
-                                            const BasePose& base, const ArmConfig& start,
-                                            const std::vector<ArmConfig>& free_goals, std::uint64_t seed) {
+// OMPL's DiscreteMotionValidator's verdicts, the states of a long motion tested on all cores:
+// a motion is valid when its end and every state at k / n of the way are valid (n the motion's
+// valid-segment count, k = 1 .. n - 1), which does not depend on the order they are tested in.
+// Each thread takes every t-th state of OMPL's bisection order and all stop at the first
+// invalid one. Short motions, and the variant that reports the last valid state (whose answer
+// does depend on the order), are OMPL's own.
+class SharedMotionValidator : public ob::MotionValidator {
+ public:
+  SharedMotionValidator(const ob::SpaceInformationPtr& si, int threads)
+      : ob::MotionValidator(si), serial_(si), threads_(threads) {}
+
+  bool checkMotion(const ob::State* s1, const ob::State* s2) const override {
+    const ob::StateSpacePtr& space = si_->getStateSpace();
+    const int n = space->validSegmentCount(s1, s2);
+    const int threads = threads_;
+    if (n < kSharedSegments) return count(serial_.checkMotion(s1, s2));
+    if (!si_->isValid(s2)) return count(false);
+    const std::vector<int> order = bisection_order(n);
+    std::atomic<bool> invalid{false};
+    auto test = [&](int first) {
+      ob::State* s = si_->allocState();
+      for (std::size_t i = std::size_t(first); i < order.size() && !invalid.load(std::memory_order_relaxed);
+           i += std::size_t(threads)) {
+        space->interpolate(s1, s2, double(order[i]) / double(n), s);
+        if (!si_->isValid(s)) invalid.store(true, std::memory_order_relaxed);
+      }
+      si_->freeState(s);
+    };
+    tbb::task_group group;
+    for (int t = 1; t < threads; ++t) group.run([&test, t] { test(t); });
+    test(0);
+    group.wait();
+    return count(!invalid.load());
+  }
+
+  bool checkMotion(const ob::State* s1, const ob::State* s2, std::pair<ob::State*, double>& last_valid) const override {
+    return count(serial_.checkMotion(s1, s2, last_valid));
+  }
+
+ private:
+  // Motions of fewer segments are tested on the calling thread (waking a worker costs about
+  // what a few state tests do).
+  static constexpr int kSharedSegments = 16;
+
+  // The states 1 .. n - 1 in the order OMPL's DiscreteMotionValidator tests them: the middle of
+  // the motion first, then the middles of its halves, breadth first.
+  static std::vector<int> bisection_order(int n) {
+    std::vector<int> order;
+    order.reserve(std::size_t(n));
+    std::deque<std::pair<int, int>> spans{{1, n - 1}};
+    while (!spans.empty()) {
+      const auto [lo, hi] = spans.front();
+      spans.pop_front();
+      const int mid = (lo + hi) / 2;
+      order.push_back(mid);
+      if (lo < mid) spans.emplace_back(lo, mid - 1);
+      if (mid < hi) spans.emplace_back(mid + 1, hi);
+    }
+    return order;
+  }
+
+  bool count(bool valid) const {
+    valid ? ++valid_ : ++invalid_;
+    return valid;
+  }
+
+  ob::DiscreteMotionValidator serial_;
+  int threads_;
+};
+
+// OMPL's view of the arm at `base`: the 6-D joint space bounded by the planning limits, its
+// sampler's stream seeded from `seed`, states valid when the arm is free, motions tested at the
+// parameters' resolution on their motion-check threads.
+ob::SpaceInformationPtr make_space_information(const CollisionChecker& checker_ref, const PlannerParams& params,
+                                               const BasePose& base, std::uint64_t seed) {
   const ArmLimits& lim = checker_ref.model().limits();
   auto space = std::make_shared<ob::RealVectorStateSpace>(kArmDof);
   const std::uint_fast32_t sampler_seed = stream_seed(seed, 1);
@@ -215,9 +291,9 @@ std::unique_ptr<og::SimpleSetup> make_setup(const CollisionChecker& checker_ref,
     bounds.setHigh(static_cast<unsigned>(i), lim.upper[i]);
   }
   space->setBounds(bounds);
-  auto ss = std::make_unique<og::SimpleSetup>(space);
+  auto si = std::make_shared<ob::SpaceInformation>(space);
   const CollisionChecker* checker = &checker_ref;
-  ss->setStateValidityChecker([checker, base, space](const ob::State* s) {
+  si->setStateValidityChecker([checker, base, space](const ob::State* s) {
     if (!space->satisfiesBounds(s)) return false;
     const auto* v = s->as<ob::RealVectorStateSpace::StateType>();
     ArmConfig q;
@@ -225,8 +301,20 @@ std::unique_ptr<og::SimpleSetup> make_setup(const CollisionChecker& checker_ref,
     return !checker->in_collision(base, q, BodySet::kArmOnly);
   });
   // A fixed joint-space resolution: OMPL takes it as a fraction of the space's extent.
-  ss->getSpaceInformation()->setStateValidityCheckingResolution(params.motion_check_resolution_rad /
-                                                                 space->getMaximumExtent());
+  si->setStateValidityCheckingResolution(params.motion_check_resolution_rad / space->getMaximumExtent());
+  const int available = std::max(1, tbb::this_task_arena::max_concurrency());
+  const int threads = params.motion_check_threads == 0 ? available : std::min(params.motion_check_threads, available);
+  if (threads > 1) si->setMotionValidator(std::make_shared<SharedMotionValidator>(si, threads));
+  return si;
+}
+
+// OMPL's problem: the arm's space information, the start, the goals and the parameters'
+// planner, its streams seeded from `seed`.
+std::unique_ptr<og::SimpleSetup> make_setup(const CollisionChecker& checker_ref, const PlannerParams& params,
+                                            const BasePose& base, const ArmConfig& start,
+                                            const std::vector<ArmConfig>& free_goals, std::uint64_t seed) {
+  auto ss = std::make_unique<og::SimpleSetup>(make_space_information(checker_ref, params, base, seed));
+  const ob::StateSpacePtr& space = ss->getStateSpace();
   ob::ScopedState<> start_state(space);
   for (int i = 0; i < kArmDof; ++i) start_state[static_cast<unsigned>(i)] = start[i];
   ss->setStartState(start_state);
@@ -271,6 +359,19 @@ std::vector<ArmConfig> solution_configs(og::SimpleSetup& ss) {
 }
 
 }  // namespace
+
+bool planner_checks_motion(const CollisionChecker& checker, const PlannerParams& params, const BasePose& base,
+                           const ArmConfig& a, const ArmConfig& b) {
+  params.validate();
+  const ob::SpaceInformationPtr si = make_space_information(checker, params, base, 0);
+  si->setup();
+  ob::ScopedState<> sa(si), sb(si);
+  for (int i = 0; i < kArmDof; ++i) {
+    sa[static_cast<unsigned>(i)] = a[i];
+    sb[static_cast<unsigned>(i)] = b[i];
+  }
+  return si->checkMotion(sa.get(), sb.get());
+}
 
 CollisionParams goal_collision_params(const CollisionParams& collision, const PlannerParams& planner) {
   CollisionParams c = collision;

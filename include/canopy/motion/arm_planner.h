@@ -40,6 +40,9 @@ struct PlannerParams {
   int max_iterations = 20000;
   double time_limit_s = 10.0;              ///< Wall-clock safety net per request.
   double motion_check_resolution_rad = 0.02;  ///< Joint-space (Euclidean) step of motion checks.
+  /// Threads testing the states of one long motion (0: all cores, 1: the planning thread
+  /// alone). The verdicts, hence the plans, are the same for any number.
+  int motion_check_threads = 0;
   double range_rad = 0.0;                  ///< Tree extension step; 0: the planner's default.
   bool try_direct_first = true;            ///< Try the straight joint-space line before OMPL.
   bool simplify = true;                    ///< Shortcut the path (deterministic, to convergence).
@@ -71,6 +74,14 @@ struct PlannerParams {
 /// filter uses the same, so that a view it keeps is not refused at planning).
 CollisionParams goal_collision_params(const CollisionParams& collision, const PlannerParams& planner);
 
+/// The planner's verdict on the straight joint-space motion a -> b of the arm at `base` (the
+/// arm alone against the map, as the planner tests states): OMPL's discrete motion check at
+/// params.motion_check_resolution_rad (b and every state at k / n of the way, n the motion's
+/// valid-segment count), its states tested on params.motion_check_threads threads. `a` is
+/// taken as valid.
+bool planner_checks_motion(const CollisionChecker& checker, const PlannerParams& params, const BasePose& base,
+                           const ArmConfig& a, const ArmConfig& b);
+
 /// Names accepted by PlannerParams::planner.
 std::vector<std::string> planner_names();
 
@@ -81,6 +92,8 @@ void PlannerParams::visit(A& a) {
   a("time_limit_s", time_limit_s, limits::positive(), "Wall-clock safety net per request [s]");
   a("motion_check_resolution_rad", motion_check_resolution_rad, limits::positive(),
     "Joint-space step of motion checks [rad]");
+  a("motion_check_threads", motion_check_threads, limits::in(0, 256),
+    "Threads testing one motion's states; 0 = all cores (the plans are the same)");
   a("range_rad", range_rad, limits::non_negative(), "Tree extension step; 0 = the planner's default [rad]");
   a("try_direct_first", try_direct_first, "Try the straight joint-space line before OMPL");
   a("simplify", simplify, "Shortcut the path (deterministic, to convergence)");
