@@ -218,7 +218,6 @@ class SharedMotionValidator : public ob::MotionValidator {
   bool checkMotion(const ob::State* s1, const ob::State* s2) const override {
     const ob::StateSpacePtr& space = si_->getStateSpace();
     const int n = space->validSegmentCount(s1, s2);
-    const int threads = threads_;
     if (n < kSharedSegments) return count(serial_.checkMotion(s1, s2));
     if (!si_->isValid(s2)) return count(false);
     const std::vector<int> order = bisection_order(n);
@@ -226,14 +225,14 @@ class SharedMotionValidator : public ob::MotionValidator {
     auto test = [&](int first) {
       ob::State* s = si_->allocState();
       for (std::size_t i = std::size_t(first); i < order.size() && !invalid.load(std::memory_order_relaxed);
-           i += std::size_t(threads)) {
+           i += std::size_t(threads_)) {
         space->interpolate(s1, s2, double(order[i]) / double(n), s);
         if (!si_->isValid(s)) invalid.store(true, std::memory_order_relaxed);
       }
       si_->freeState(s);
     };
     tbb::task_group group;
-    for (int t = 1; t < threads; ++t) group.run([&test, t] { test(t); });
+    for (int t = 1; t < threads_; ++t) group.run([&test, t] { test(t); });
     test(0);
     group.wait();
     return count(!invalid.load());
