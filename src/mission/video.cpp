@@ -292,9 +292,7 @@ MissionVideo::MissionVideo(const std::string& path, int w, int h, double fps, si
   k.min_range_m = 0.01;
   k.max_range_m = 50.0;
   chase_k_ = k;
-  sim::RenderOptions ro;
-  ro.shadows = false;
-  ro.self_filter = false;
+  sim::RenderOptions ro;  // no shadows, no self filter
   // Coarser cylinders than the wrist camera's (docs/mission.md, "The video": the robot pass in
   // about 0.4x its time).
   ro.primitive_slices = kVideoPrimitiveSlices;

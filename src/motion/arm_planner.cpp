@@ -29,7 +29,6 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
-#include <deque>
 #include <functional>
 #include <map>
 #include <memory>
@@ -248,14 +247,15 @@ class SharedMotionValidator : public ob::MotionValidator {
   static constexpr int kSharedSegments = 16;
 
   // The states 1 .. n - 1 in the order OMPL's DiscreteMotionValidator tests them: the middle of
-  // the motion first, then the middles of its halves, breadth first.
+  // the motion first, then the middles of its halves, breadth first (the spans are the queue,
+  // read from its front as it grows; two allocations against n collision tests).
   static std::vector<int> bisection_order(int n) {
     std::vector<int> order;
+    std::vector<std::pair<int, int>> spans{{1, n - 1}};
     order.reserve(std::size_t(n));
-    std::deque<std::pair<int, int>> spans{{1, n - 1}};
-    while (!spans.empty()) {
-      const auto [lo, hi] = spans.front();
-      spans.pop_front();
+    spans.reserve(std::size_t(n));
+    for (std::size_t k = 0; k < spans.size(); ++k) {
+      const auto [lo, hi] = spans[k];
       const int mid = (lo + hi) / 2;
       order.push_back(mid);
       if (lo < mid) spans.emplace_back(lo, mid - 1);

@@ -197,20 +197,18 @@ Renderer::Renderer(Simulator& sim, const CameraIntrinsics& intrinsics, const Ren
       options_.primitive_stacks < 0 || options_.primitive_stacks == 1)
     throw InputError("renderer: primitive slices must be 0 (the model's) or >= 3, stacks 0 or >= 2; got " +
                      std::to_string(options_.primitive_slices) + " and " + std::to_string(options_.primitive_stacks));
-  if (options_.primitive_slices > 0 || options_.primitive_stacks > 0) {
+  slices_ = options_.primitive_slices > 0 ? options_.primitive_slices : m->vis.quality.numslices;
+  stacks_ = options_.primitive_stacks > 0 ? options_.primitive_stacks : m->vis.quality.numstacks;
+  if (slices_ == m->vis.quality.numslices && stacks_ == m->vis.quality.numstacks) {
+    mjr_makeContext(m, &r.context, mjFONTSCALE_50);
+  } else {
     // The context's display lists come from a copy with the coarser tessellation; the scene
     // still draws the simulator's model (the same geoms, meshes and materials).
     std::unique_ptr<mjModel, void (*)(mjModel*)> coarse(mj_copyModel(nullptr, m), mj_deleteModel);
     if (!coarse) throw std::runtime_error("MuJoCo: cannot copy the model for the renderer");
-    if (options_.primitive_slices > 0) coarse->vis.quality.numslices = options_.primitive_slices;
-    if (options_.primitive_stacks > 0) coarse->vis.quality.numstacks = options_.primitive_stacks;
-    slices_ = coarse->vis.quality.numslices;
-    stacks_ = coarse->vis.quality.numstacks;
+    coarse->vis.quality.numslices = slices_;
+    coarse->vis.quality.numstacks = stacks_;
     mjr_makeContext(coarse.get(), &r.context, mjFONTSCALE_50);
-  } else {
-    slices_ = m->vis.quality.numslices;
-    stacks_ = m->vis.quality.numstacks;
-    mjr_makeContext(m, &r.context, mjFONTSCALE_50);
   }
   r.context_made = true;
   mjr_setBuffer(mjFB_OFFSCREEN, &r.context);
