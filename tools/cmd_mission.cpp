@@ -125,7 +125,9 @@ void run_mission(const MissionCliOptions& o, CLI::App* sub) {
   spdlog::info("wrote {}/ (views.csv, timing.csv, summary.json, settings.yaml, map.csm, map.ply, map.bt{})", o.out,
                r.report_written ? ", report.html" : "");
   if (!result.zero_coverage_reason.empty()) spdlog::warn("fruit SC is 0: {}", result.zero_coverage_reason);
-  if (!result.complete) throw Interrupted();
+  if (!result.complete || r.plots_interrupted) throw Interrupted();
+  if (result.stops_not_reached() > 0)
+    throw std::runtime_error("the mission failed: " + result.end_reason + "; its results are in " + o.out);
   if (!r.video_error.empty())
     throw std::runtime_error("the video " + o.video + " is missing (" + r.video_error + "); the other results are in " +
                              o.out);

@@ -10,11 +10,13 @@ namespace canopy {
 namespace {
 
 std::atomic<int> g_signal{0};
+std::atomic<int> g_count{0};
 std::atomic<int> g_scopes{0};
 
 extern "C" void on_interrupt(int sig) {
   if (g_scopes.load() > 0) {
     g_signal.store(sig);
+    g_count.fetch_add(1);
     return;
   }
   // Nothing to save: end now, as the default action would, with one line (async-signal-safe).
@@ -48,9 +50,8 @@ void install_interrupt_handlers() {
 }
 
 bool interrupt_requested() { return g_signal.load() != 0; }
-int interrupt_signal() { return g_signal.load(); }
+int interrupt_count() { return g_count.load(); }
 int interrupt_exit_code() { return 128 + (g_signal.load() ? g_signal.load() : SIGINT); }
-void clear_interrupt() { g_signal.store(0); }
 
 InterruptScope::InterruptScope() { ++g_scopes; }
 InterruptScope::~InterruptScope() { --g_scopes; }

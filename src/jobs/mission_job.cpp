@@ -1,5 +1,6 @@
 #include "canopy/jobs/mission_job.h"
 
+#include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
 #include <cmath>
@@ -12,6 +13,7 @@
 #include "canopy/jobs/run_report.h"
 #include "canopy/jobs/world_job.h"
 #include "canopy/mission/dataset_export.h"
+#include "canopy/mission/mission_params.h"
 #include "canopy/mission/run_folder.h"
 #include "canopy/mission/video.h"
 
@@ -42,6 +44,23 @@ struct Export {
 
 }  // namespace
 
+void check_stops_in_reach(const world::WorldSpec& spec, const mission::StopParams& stops, const RobotConfig& robot) {
+  const world::WorldSpec::BaseRange r = base_range(robot, robot::RobotDescription::load_urdf(robot.urdf_path));
+  const auto range = [](double lo, double hi) { return fmt::format("[{:g}, {:g}] m", lo, hi); };
+  const std::vector<double> xs = mission::stop_positions(stops, spec);
+  for (std::size_t k = 0; k < xs.size(); ++k) {
+    const double base_x = xs[k] - r.arm_x_m;
+    if (base_x < r.x_lower_m || base_x > r.x_upper_m)
+      throw InputError(fmt::format("mission.stops.{}: stop {} at x = {:g} m puts the base at x = {:g} m, beyond its "
+                                   "joint '{}' range {} ({})",
+                                   stops.positions_m.empty() ? "count" : "positions_m", k + 1, xs[k], base_x, r.x_joint,
+                                   range(r.x_lower_m, r.x_upper_m), r.source));
+  }
+  if (stops.base_y_m < r.y_lower_m || stops.base_y_m > r.y_upper_m)
+    throw InputError(fmt::format("mission.stops.base_y_m: {:g} m lies beyond the base's joint '{}' range {} ({})",
+                                 stops.base_y_m, r.y_joint, range(r.y_lower_m, r.y_upper_m), r.source));
+}
+
 void check_mission_outputs(const MissionJobParams& p) {
   check_disjoint_outputs({{p.out, p.out_option}, {p.export_dir, "--export"}, {p.video.path, "--video"}});
   if (!p.out.empty()) StagedDir::check_writable(p.out, "mission", p.out_option);
@@ -54,6 +73,7 @@ MissionJobResult run_mission_job(const world::World& world, const MissionJobPara
                                  mission::MissionCallbacks cb, const std::function<void(mission::MissionResult&)>& amend) {
   check_mission_outputs(p);
   const mission::Settings& settings = p.settings;
+  check_stops_in_reach(world.spec, settings.mission.stops);
   check_world_colours(world, settings.mapping.extractor, p.strict_colours);
   const nbv::MethodChoice& method = settings.method;
   spdlog::info("mission: method {}{}, {} plants, {} fruits, P_gt {}, seed {}", method.name,
@@ -134,7 +154,14 @@ MissionJobResult run_mission_job(const world::World& world, const MissionJobPara
     spdlog::info("report.html: {} voxel changes over {} views, recorded in {:.2f} s beside the mission, written in {:.2f} s",
                  replay->change_count(), replay->scans().size(), replay->seconds(), watch.seconds());
   }
-  if (out && p.plots) draw_plots("tools/plot_mission.py", out->working_dir(), p.out);
+  if (out && p.plots) {
+    try {
+      draw_plots("tools/plot_mission.py", out->working_dir(), p.out);
+    } catch (const Interrupted&) {  // a signal while drawing: the run is published without its plots
+      spdlog::warn("the plots of {} are skipped: interrupted while drawing them", p.out);
+      r.plots_interrupted = true;
+    }
+  }
   if (ex.dataset && r.result.complete) {
     ex.dataset->render_test_views(mission.simulator(), world, mission::default_test_ring());
     ex.dataset->finish({{"command", "mission"}, {"world", p.world_file}, {"method", method.name}, {"seed", p.seed}});

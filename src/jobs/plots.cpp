@@ -20,7 +20,10 @@ bool draw_plots(const std::string& script, const std::string& folder, const std:
   const std::string path = find_data_file(script);
   ProcessOptions options;
   options.timeout_s = kPlotTimeout_s;
-  options.cancel = [] { return interrupt_requested(); };
+  // Stopped by a signal that arrives while the plots are drawn: after an interrupted mission
+  // (whose signal arrived before) the plots of the views so far are still drawn.
+  const int signals_before = interrupt_count();
+  options.cancel = [signals_before] { return interrupt_count() > signals_before; };
   const ProcessStatus plot = run_process({"/usr/bin/python3", path, folder}, options);
   if (plot.ok()) return true;
   const std::string where = shown.empty() ? folder : shown;

@@ -290,10 +290,17 @@ std::string report_scripts(const std::string& page_script) {
 
 std::string report_page(const std::string& title, const std::string& scripts, const nlohmann::json& data,
                         const nlohmann::json& wall, const std::string& css) {
-  // "</" inside a script element would end it early; JSON allows "<\/".
-  auto escaped = [](std::string text) {
-    for (std::size_t i = text.find("</"); i != std::string::npos; i = text.find("</", i + 3)) text.replace(i, 2, "<\\/");
-    return text;
+  // Inside a script element "</script" ends it and "<!--" starts the HTML parser's
+  // script-data-escaped state, in which a later "<script" swallows the rest of the page. JSON
+  // has '<' only inside strings, where "\u003c" means the same character: no '<' reaches the page.
+  auto escaped = [](const std::string& text) {
+    std::string out;
+    out.reserve(text.size());
+    for (char c : text) {
+      if (c == '<') out += "\\u003c";
+      else out += c;
+    }
+    return out;
   };
   std::string html = "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n<title>";
   for (char c : title) html += c == '<' ? std::string("&lt;") : c == '&' ? std::string("&amp;") : std::string(1, c);

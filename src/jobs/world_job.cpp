@@ -3,6 +3,7 @@
 #include <spdlog/spdlog.h>
 
 #include <array>
+#include <limits>
 #include <map>
 #include <vector>
 
@@ -13,12 +14,31 @@
 
 namespace canopy::jobs {
 
+world::WorldSpec::BaseRange base_range(const RobotConfig& robot, const robot::RobotDescription& description) {
+  if (robot.base_joints.size() < 2) throw InputError(robot.urdf_path + ": the robot names no planar base joints");
+  const robot::Joint& x = description.joint(robot.base_joints[0]);
+  const robot::Joint& y = description.joint(robot.base_joints[1]);
+  const std::string base_link = description.joint(robot.base_joints.back()).child_link;
+  world::WorldSpec::BaseRange r;
+  const double inf = std::numeric_limits<double>::infinity();
+  r.x_lower_m = x.limited() ? x.lower : -inf;
+  r.x_upper_m = x.limited() ? x.upper : inf;
+  r.y_lower_m = y.limited() ? y.lower : -inf;
+  r.y_upper_m = y.limited() ? y.upper : inf;
+  r.arm_x_m = description.relative_pose(base_link, robot.arm_base_frame, {}).translation().x();
+  r.x_joint = x.name;
+  r.y_joint = y.name;
+  r.source = robot.urdf_path;
+  return r;
+}
+
 world::WorldSpec load_world_spec(const std::string& path, const RobotConfig& robot, std::optional<std::uint64_t> seed) {
   world::WorldSpec spec = world::WorldSpec::load(find_data_file(path));
   if (seed) spec.seed = *seed;
   const robot::RobotDescription description = robot::RobotDescription::load_urdf(robot.urdf_path);
   const std::string base_link = description.joint(robot.base_joints.back()).child_link;
   spec.check_aisle(description.collision_half_width_m(base_link), robot.aisle_clearance_m);
+  spec.check_base_range(base_range(robot, description));
   spdlog::info("world '{}' from {}: {} plants, seed {}", spec.name, path, spec.plant_count(), spec.seed);
   return spec;
 }

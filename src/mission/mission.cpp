@@ -93,6 +93,17 @@ bool Mission::Impl::drive_to_stop(int k) {
   return rec.reached_goal;
 }
 
+void Mission::Impl::note_unreached_stops() {
+  if (result.stops_not_reached() == 0) return;
+  std::string which;
+  for (const StopRecord& s : result.stops)
+    if (s.end == "base_failed") which += (which.empty() ? "" : ", ") + std::to_string(s.stop + 1);
+  const std::string line = std::to_string(result.stops_not_reached()) + " of " + std::to_string(stops_x.size()) +
+                           " stops not reached by the base (stop" + (result.stops_not_reached() > 1 ? "s " : " ") +
+                           which + ": base_failed)";
+  result.end_reason = result.complete ? line : result.end_reason + "; " + line;
+}
+
 void Mission::Impl::note_failed_attempts() {
   const int attempts = static_cast<int>(result.views.size());
   const int failed = attempts - ok_views_;
@@ -135,6 +146,7 @@ MissionResult Mission::Impl::run() {
     result.end_reason = "interrupted";
     if (!result.stops.empty() && result.stops.back().end.empty()) end_stop(result.stops.back(), "interrupted", "interrupted");
   }
+  note_unreached_stops();
   note_failed_attempts();
   settle();
   result.final_metrics = evaluation::evaluate_map(map, world.truth, settings.mapping.metrics);

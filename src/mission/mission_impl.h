@@ -167,6 +167,7 @@ struct Mission::Impl {
   void nbv_loop(int k, int scan_views_count);
 
   // The mission's end reason: a run most of whose attempts failed says so.
+  void note_unreached_stops();
   void note_failed_attempts();
   MissionResult run();
 

@@ -88,6 +88,12 @@ int MissionResult::successful_views() const {
   return n;
 }
 
+int MissionResult::stops_not_reached() const {
+  int n = 0;
+  for (const StopRecord& s : stops) n += s.end == "base_failed";
+  return n;
+}
+
 std::string zero_coverage_cause(const std::string& target, perception::LabelSource labels, long target_points,
                                 long true_target_pixels) {
   const std::string t = "'" + target + "'";

@@ -184,6 +184,34 @@ double WorldSpec::plant_reach_m() const {
   return rows.position_jitter_m + plant.petiole_length_max_m + plant.leaf_length_max_m;
 }
 
+void WorldSpec::check_base_range(const BaseRange& r) const {
+  const std::string file = source_file.empty() ? std::string("world") : source_file;
+  const auto range = [](double lo, double hi) {
+    std::ostringstream os;
+    os << "[" << lo << ", " << hi << "] m";
+    return os.str();
+  };
+  // The arm stands over the first and the last plant of the rows; the base behind it.
+  const double first = rows.x_start_m, last = rows.x_start_m + rows.plant_spacing_m * (rows.plants_per_row - 1);
+  const double base_first = first - r.arm_x_m, base_last = last - r.arm_x_m;
+  if (base_first < r.x_lower_m || base_last > r.x_upper_m) {
+    std::ostringstream os;
+    os << file << ": key 'rows.x_start_m': rows from x = " << first << " to " << last << " m need the base at x = "
+       << base_first << " to " << base_last << " m, beyond its joint '" << r.x_joint << "' range "
+       << range(r.x_lower_m, r.x_upper_m) << " (" << r.source << "); the rows' plants must lie within x = "
+       << r.x_lower_m + r.arm_x_m << " to " << r.x_upper_m + r.arm_x_m << " m";
+    throw InputError(os.str());
+  }
+  if (robot_start.x_m < r.x_lower_m || robot_start.x_m > r.x_upper_m || robot_start.y_m < r.y_lower_m ||
+      robot_start.y_m > r.y_upper_m) {
+    std::ostringstream os;
+    os << file << ": key 'robot_start': [" << robot_start.x_m << ", " << robot_start.y_m
+       << "] lies outside the base's joint ranges ('" << r.x_joint << "' " << range(r.x_lower_m, r.x_upper_m) << ", '"
+       << r.y_joint << "' " << range(r.y_lower_m, r.y_upper_m) << ", " << r.source << ")";
+    throw InputError(os.str());
+  }
+}
+
 void WorldSpec::check_aisle(double base_half_width_m, double clearance_m) const {
   const double free_half_width = rows.row_offset_m - plant_reach_m();
   const double needed = base_half_width_m + clearance_m;

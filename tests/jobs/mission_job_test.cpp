@@ -71,6 +71,36 @@ TEST(MissionJob, AStopRequestBeforeTheStartWritesNothing) {
   EXPECT_FALSE(fs::exists(out + ".partial"));
 }
 
+// Stops beyond the base's joints are refused before any work, naming the setting; a stop the
+// base does not reach in time fails the run: the result says which, never "all stops done".
+TEST(MissionJob, StopsTheBaseCannotServeAreRefusedOrFailTheRun) {
+  const std::string out = testing::TempDir() + "/mission_job_far";
+  fs::remove_all(out);
+  MissionJobParams p;
+  p.settings = quick_settings();
+  p.out = out;
+  p.settings.mission.stops.positions_m = {0.0, 150.0};
+  try {
+    run_mission_job(small(), p);
+    FAIL() << "a stop at x = 150 m accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("mission.stops.positions_m: stop 2 at x = 150 m", 0), 0u) << e.what();
+  }
+  p.settings.mission.stops.positions_m.clear();
+  p.settings.mission.stops.base_y_m = -120.0;
+  EXPECT_THROW(run_mission_job(small(), p), InputError);
+  EXPECT_FALSE(fs::exists(out));
+  EXPECT_FALSE(fs::exists(out + ".partial"));
+
+  p.settings.mission.stops.base_y_m = 0.0;
+  p.settings.mission.stops.timeout_s = 0.05;  // the base cannot drive 0.5 m in 0.05 s
+  const MissionJobResult r = run_mission_job(small(), p);
+  EXPECT_EQ(r.result.stops_not_reached(), 1);
+  EXPECT_EQ(r.result.end_reason.rfind("1 of 1 stops not reached by the base (stop 1: base_failed)", 0), 0u)
+      << r.result.end_reason;
+  EXPECT_EQ(r.summary["end_reason"], r.result.end_reason);
+}
+
 TEST(MissionJob, VideoOptionsAreCheckedUnderTheCallersNames) {
   const std::string dir = testing::TempDir();
   const VideoOptions v = video_options(dir + "/v.mp4", "128x96", 4.0);

@@ -15,12 +15,12 @@ namespace canopy {
 void install_interrupt_handlers();
 /// True once SIGINT or SIGTERM arrived while an InterruptScope was open.
 bool interrupt_requested();
-/// The signal that arrived (SIGINT or SIGTERM), 0 when none.
-int interrupt_signal();
+/// How many signals arrived while an InterruptScope was open. A step that runs after the
+/// command was interrupted (saving the work so far) stops only for a signal later than the
+/// count it started with: the first signal ends the work, a second one the saving's extras.
+int interrupt_count();
 /// The exit code for the signal that arrived: 128 + signal (130 for SIGINT, 143 for SIGTERM).
 int interrupt_exit_code();
-/// Forgets an earlier signal (tests).
-void clear_interrupt();
 
 /// While alive, SIGINT and SIGTERM set the flag instead of ending the process.
 class InterruptScope {

@@ -14,7 +14,9 @@
 
 #include "canopy/mapping/semantic_octree.h"
 #include "canopy/mission/mission.h"
+#include "canopy/mission/mission_params.h"
 #include "canopy/mission/settings.h"
+#include "canopy/robot/robot_config.h"
 #include "canopy/world/world.h"
 
 namespace canopy::jobs {
@@ -68,10 +70,16 @@ struct MissionJobResult {
   std::string video_error;                       ///< Why the video is missing; "" when it is written (or none asked).
   std::size_t video_frames = 0;
   bool report_written = false;                   ///< report.html is in the run folder.
+  bool plots_interrupted = false;                ///< A signal while the plots were drawn: published without them.
   bool dataset_written = false;                  ///< The export was published (complete missions only).
   std::size_t dataset_train = 0, dataset_test = 0;  ///< Its training and held-out views.
   std::shared_ptr<mapping::SemanticOcTree> map;  ///< The final map, when keep_map.
 };
+
+/// Throws InputError (naming the setting) unless the base can stand at every stop of `stops`
+/// in `spec` (the arm over the stop's x) and at its y, within its joints' ranges (the URDF's).
+void check_stops_in_reach(const world::WorldSpec& spec, const mission::StopParams& stops,
+                          const RobotConfig& robot = default_robot_config());
 
 /// Checks the places a mission writes before any work (InputError): --out, --export and
 /// --video are never inside one another nor inside another command's output folder (a later

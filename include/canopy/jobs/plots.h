@@ -6,7 +6,7 @@
 namespace canopy::jobs {
 
 /// Runs `python3 <script> <folder>` (the script found like data files; bounded, and stopped by
-/// Ctrl-C or SIGTERM: Interrupted). Without python3-matplotlib (the script exits with code 3)
+/// a Ctrl-C or SIGTERM that arrives while it runs: Interrupted). Without python3-matplotlib (the script exits with code 3)
 /// the plots are skipped with a warning and false is returned; any other failure (disk full,
 /// an unwritable file, a crash) throws IoError naming the script and, when given, `shown` (the
 /// folder as the user named it), so the caller never publishes a folder with missing or

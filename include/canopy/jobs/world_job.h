@@ -13,6 +13,7 @@
 
 #include "canopy/perception/semantic_extractor.h"
 #include "canopy/robot/robot_config.h"
+#include "canopy/robot/robot_description.h"
 #include "canopy/world/world.h"
 #include "canopy/world/world_spec.h"
 
@@ -27,8 +28,12 @@ struct WorldJobParams {
   bool strict_colours = false;               ///< A non-fruit material coloured like fruit is an error, not a warning.
 };
 
+/// The base's reach from the robot's URDF: its planar joints' ranges and the arm's offset on it.
+world::WorldSpec::BaseRange base_range(const RobotConfig& robot, const robot::RobotDescription& description);
+
 /// Reads a world file (found like data files, data_dir.h), replaces its seed when `seed` is
-/// given, checks that the robot's base fits its aisle (robot.yaml aisle_clearance_m) and logs
+/// given, checks that the robot's base fits its aisle (robot.yaml aisle_clearance_m) and can
+/// stand beside every plant of the rows and at robot_start within its joints' ranges, and logs
 /// what it is. Throws InputError on problems.
 world::WorldSpec load_world_spec(const std::string& path, const RobotConfig& robot = default_robot_config(),
                                  std::optional<std::uint64_t> seed = std::nullopt);

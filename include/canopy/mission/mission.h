@@ -142,8 +142,9 @@ struct MissionResult {
   std::vector<ViewRecord> views;
   std::vector<StopRecord> stops;
   bool complete = true;          ///< False when interrupted (the views so far are valid).
-  /// Why the run ended: "all stops done", "interrupted"; followed by "; most attempts failed
-  /// (...)" when fewer than half of the attempts succeeded.
+  /// Why the run ended: "all stops done", "interrupted", or "K of N stops not reached (...)"
+  /// when the base failed to reach a stop (stops_not_reached); followed by "; most attempts
+  /// failed (...)" when fewer than half of the attempts succeeded.
   std::string end_reason = "all stops done";
   double sim_time_s = 0.0;
   double wall_time_s = 0.0;
@@ -164,6 +165,9 @@ struct MissionResult {
   /// (mission.record.candidates; empty otherwise).
   std::vector<CandidateRecord> candidates;
   int successful_views() const;
+  /// The stops whose base never arrived (end "base_failed"): a run with any did not serve
+  /// its rows, and the command fails (exit code 1), whatever its coverage.
+  int stops_not_reached() const;
 };
 
 /// What the mission gives its planner beside the settings (nbv::ViewPlannerSettings::context):

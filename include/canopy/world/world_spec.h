@@ -296,6 +296,16 @@ struct WorldSpec {
   /// Throws InputError (naming source_file and rows.row_offset_m) unless a base of half width
   /// `base_half_width_m` on the aisle's centre line keeps `clearance_m` from every plant's reach.
   void check_aisle(double base_half_width_m, double clearance_m) const;
+  /// The base's reach: its planar joints' ranges [lower, upper] (m) and the arm's offset along
+  /// the base's x axis (a stop at arm x = s puts the base at s - arm_x_m).
+  struct BaseRange {
+    double x_lower_m = 0.0, x_upper_m = 0.0, y_lower_m = 0.0, y_upper_m = 0.0, arm_x_m = 0.0;
+    std::string x_joint = "base_x", y_joint = "base_y", source;  ///< Names in messages (source: the URDF).
+  };
+  /// Throws InputError (naming source_file and the key) unless the base, within `range`, can
+  /// stand beside every plant of the rows (the arm over the first and the last plant) and
+  /// start at robot_start.
+  void check_base_range(const BaseRange& range) const;
   /// The resolved parameters as JSON, with the keys of a world file (JSON is YAML, so
   /// load() reads a saved copy back to the same spec).
   nlohmann::json to_json() const;
