@@ -8,7 +8,8 @@ run_report_browser_test.sh and, with --screenshot, to make the README's picture.
   report_browser.py [--window WxH] [--screenshot OUT.png] KIND REPORT.html [KIND REPORT.html ...]
 
 KIND is run (a complete mission or map), incomplete (an interrupted one: the page must say
-so) or experiment; the screenshot is of the first run page.
+so), experiment, or poisoned (a page whose data strings hold "<!--<script>": it must open and
+show them as text); the screenshot is of the first run page.
 
 Exit 0 when every check passes; otherwise one line per failure and exit 1.
 """
@@ -222,6 +223,27 @@ def check_experiment(b, path):
     return fails
 
 
+def check_poisoned(b, path):
+    """A page whose data strings hold "<!--<script>" (which once blanked it): it becomes ready,
+    throws nothing, and shows the string as text. Links and images built from poisoned names
+    may not resolve; that is not checked here."""
+    fails = []
+    load_s = b.open(path)
+    shown = b.evaluate("""(() => {  // text nodes of the page (hidden and SVG ones too), not its scripts
+      const w = document.createTreeWalker(document.body, NodeFilter.SHOW_TEXT);
+      let n = 0;
+      while (w.nextNode())
+        if (!['SCRIPT', 'STYLE'].includes(w.currentNode.parentNode.nodeName))
+          n += w.currentNode.nodeValue.split('<!--<script>').length - 1;
+      return n;
+    })()""")
+    if not shown:
+        fails.append("the page shows no '<!--<script>' as text")
+    fails += [e for e in b.errors() if not e.startswith("log: Failed to load resource")]
+    print(f"{path}: ready in {load_s:.2f} s, '<!--<script>' shown {shown} times as text")
+    return fails
+
+
 def main(argv):
     args = argv[1:]
     shot, size = None, (1280, 800)
@@ -233,7 +255,7 @@ def main(argv):
         i = args.index("--screenshot")
         shot = args[i + 1]
         del args[i:i + 2]
-    if not args or len(args) % 2 or any(k not in ("run", "incomplete", "experiment") for k in args[::2]):
+    if not args or len(args) % 2 or any(k not in ("run", "incomplete", "experiment", "poisoned") for k in args[::2]):
         print(__doc__)
         return 2
     b = Browser(*size)  # one browser for every page
@@ -242,6 +264,8 @@ def main(argv):
         for kind, path in zip(args[::2], args[1::2]):
             if kind == "experiment":
                 got = check_experiment(b, path)
+            elif kind == "poisoned":
+                got = check_poisoned(b, path)
             else:
                 got = check_run(b, path, kind == "incomplete", shot)
                 shot = None

@@ -5,9 +5,11 @@
 # drawn, the map and the curve cursor; an interrupted mission's report says it is incomplete;
 # equal seeds give the same report bytes (but for the wall-time line) and thumbnails; an
 # experiment report's links to its trials' reports resolve; canopy map's report opens too;
-# --no-report writes none. One browser opens every page.
+# --no-report writes none; both pages open with "<!--<script>" in every user string of their
+# data. One browser opens every page.
 set -euo pipefail
 canopy=$1
+jobs_tests=$2
 src=$(pwd)
 if [[ -n "${TEST_TMPDIR:-}" ]]; then
   dir="$TEST_TMPDIR/report_browser"
@@ -63,11 +65,20 @@ seeds: [1, 2]
 trial_timeout_s: 120
 YAML
 "$canopy" experiment --config "$dir/exp.yaml" --out "$dir/exp" --jobs 2 2>> "$dir/log.txt"
+mkdir "$dir/exp/trials/x<!--<script>.partial"  # listed by the report: its name reaches the page's data
 "$canopy" report "$dir/exp" --no-plots 2>> "$dir/log.txt"
+grep -q 'x\\u003c!--\\u003cscript>.partial' "$dir/exp/report/report.html" ||
+  { echo "the experiment page does not list the folder trials/x<!--<script>.partial"; exit 1; }
+
+# Both pages written again with every user string of their data holding "<!--<script>" (which
+# once blanked them), by the page writer with the real scripts (tests/jobs/run_report_test.cpp).
+poison() { CANOPY_POISONED_REPORT="$1:$2:$3" "$jobs_tests" --gtest_filter=RunReport.NoLessThanSignReachesThePageFromItsData > /dev/null; }
+poison "$dir/a/report.html" "$dir/a/poisoned.html" report.js
+poison "$dir/exp/report/report.html" "$dir/exp/report/poisoned.html" experiment_report.js
 
 # canopy map's report, of three views.
 "$canopy" map --world worlds/small.yaml --views tests/jobs/report_map_views.txt --out "$dir/map" > /dev/null 2>> "$dir/log.txt"
 
 $browser run "$dir/a/report.html" incomplete "$dir/int/report.html" run "$dir/map/report.html" \
-  experiment "$dir/exp/report/report.html"
+  experiment "$dir/exp/report/report.html" poisoned "$dir/a/poisoned.html" poisoned "$dir/exp/report/poisoned.html"
 echo "report browser test: ok"

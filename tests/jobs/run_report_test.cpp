@@ -6,6 +6,11 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdlib>
+#include <sstream>
+
+#include "canopy/common/data_dir.h"
+#include "canopy/common/io.h"
 
 #include "canopy/mapping/voxel_key.h"
 #include "canopy/robot/robot_config.h"
@@ -112,10 +117,64 @@ TEST(RunReport, PageKeepsItsDataInsideTheScriptElement) {
   const nlohmann::json data = {{"text", "</script><b>"}};
   const std::string html = report_page("a <title>", "", data, {{"wall_time_s", 1.5}}, "");
   EXPECT_EQ(html.find("</script><b>"), std::string::npos);
-  EXPECT_NE(html.find("<\\/script><b>"), std::string::npos);
+  EXPECT_NE(html.find("\\u003c/script>\\u003cb>"), std::string::npos);
   EXPECT_NE(html.find("<title>a &lt;title></title>"), std::string::npos);
   EXPECT_NE(html.find("<script id=\"canopy-wall\" type=\"application/json\">{\"wall_time_s\":1.5}</script>\n"),
             std::string::npos);
+}
+
+// Every string of `j` with an HTML comment opener and a script tag appended, the strings that
+// once blanked the page ("<!--<script>" puts the HTML parser in the script-data-escaped state).
+// Left alone: what canopy itself encodes (base64 payloads, the thumbnail files it names) and
+// its own vocabularies the page looks up (kinds, phases, stop ends); every text that can come
+// from a user (paths, names, classes, messages, settings) is poisoned.
+nlohmann::json poisoned(const nlohmann::json& j) {
+  if (j.is_string()) return j.get<std::string>() + "<!--<script>";
+  nlohmann::json out = j;
+  const auto canopys_own = [](const std::string& key) {
+    return (key.size() > 4 && key.compare(key.size() - 4, 4, "_b64") == 0) || key == "thumbs" || key == "kind" ||
+           key == "phase" || key == "source" || key == "end";
+  };
+  if (j.is_object())
+    for (auto it = j.begin(); it != j.end(); ++it)
+      if (!canopys_own(it.key())) out[it.key()] = poisoned(it.value());
+  if (j.is_array())
+    for (std::size_t i = 0; i < j.size(); ++i) out[i] = poisoned(j[i]);
+  return out;
+}
+
+// The JSON of the data element of a report page.
+nlohmann::json page_data(const std::string& html, const std::string& id) {
+  const std::string open = "<script id=\"" + id + "\" type=\"application/json\">";
+  const std::size_t a = html.find(open);
+  EXPECT_NE(a, std::string::npos) << id;
+  const std::size_t b = html.find("</script>", a);
+  const std::string text = html.substr(a + open.size(), b - a - open.size());
+  EXPECT_EQ(text.find('<'), std::string::npos) << "a '<' in the page's data: " << text.substr(0, 200);
+  return nlohmann::json::parse(text);
+}
+
+TEST(RunReport, NoLessThanSignReachesThePageFromItsData) {
+  const nlohmann::json data = poisoned({{"world", "d/a"}, {"trials", {{{"message", "m"}, {"id", "x.partial"}}}},
+                                        {"n", 3}, {"nested", {{"deeper", {"s", "</script>", "<!--"}}}}});
+  const std::string html = report_page("t", "", data, {{"wall", "w"}}, "");
+  EXPECT_EQ(page_data(html, "canopy-data"), data);
+  EXPECT_EQ(page_data(html, "canopy-wall"), (nlohmann::json{{"wall", "w"}}));
+  EXPECT_EQ(html.find("<!--"), std::string::npos);
+
+  // With CANOPY_POISONED_REPORT=IN.html:OUT.html:SCRIPT.js (run_report_browser_test.sh): the
+  // report IN written again as OUT with every string of its data poisoned, through the page
+  // writer and the real scripts (web/SCRIPT.js), for the browser to open.
+  const char* env = std::getenv("CANOPY_POISONED_REPORT");
+  if (!env) return;
+  std::vector<std::string> io;
+  for (std::stringstream in(env); io.emplace_back(), std::getline(in, io.back(), ':');) {}
+  io.pop_back();
+  ASSERT_EQ(io.size(), 3u) << env;
+  const std::string page = read_file(io[0]);
+  write_file_atomic(io[1], report_page("poisoned <!--<script>", report_scripts("web/" + io[2]),
+                                     poisoned(page_data(page, "canopy-data")), page_data(page, "canopy-wall"),
+                                     read_file(find_data_file("web/report.css"))));
 }
 
 }  // namespace
