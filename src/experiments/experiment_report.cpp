@@ -71,6 +71,31 @@ void read_mission(const fs::path& mission, TrialResult* r) {
 
 }  // namespace
 
+TrialResult read_trial(const std::string& dir) {
+  const fs::path p(dir);
+  TrialResult r;
+  r.folder = p.string();
+  try {
+    const nlohmann::json t = parse_json_file(p / "trial.json");
+    r.spec = TrialSpec::from_json(t.at("trial"), (p / "trial.json").string());
+    r.status = t.at("status").get<std::string>();
+    r.message = t.value("message", std::string());
+    if (r.spec.id != p.filename().string()) throw InputError("its trial.json describes trial " + r.spec.id);
+    if (r.status != "ok" && r.status != "failed") throw InputError("unknown status '" + r.status + "'");
+    r.fingerprint = r.status + (r.status == "ok" ? std::string() : "\n" + r.message);
+  } catch (const std::exception& e) {
+    throw InputError(std::string("unreadable: ") + e.what());
+  }
+  if (r.status == "ok") {  // an ok trial's results must read back whole
+    try {
+      read_mission(p / "mission", &r);
+    } catch (const std::exception& e) {
+      throw InputError(std::string("damaged: an ok trial whose mission/ does not read back (") + e.what() + ")");
+    }
+  }
+  return r;
+}
+
 std::vector<std::string> field_metric_names(const std::vector<TrialResult>& trials) {
   std::vector<std::string> names;
   for (const mission::ViewColumn* c : mission::final_figure_columns()) names.push_back(c->final.key);
@@ -137,30 +162,14 @@ MergedTrials merge_experiment_folders(const std::vector<std::string>& dirs) {
         m.incomplete.push_back({p.string(), "in flight or killed (.partial)"});
         continue;
       }
+      // A trial whose files are damaged (a truncated summary.json, a deleted views.csv) is left
+      // out and listed with why, never averaged: `experiment --resume` runs it again.
       TrialResult r;
-      r.folder = p.string();
       try {
-        const nlohmann::json t = parse_json_file(p / "trial.json");
-        r.spec = TrialSpec::from_json(t.at("trial"), (p / "trial.json").string());
-        r.status = t.at("status").get<std::string>();
-        r.message = t.value("message", std::string());
-        if (r.spec.id != name) throw InputError("its trial.json describes trial " + r.spec.id);
-        if (r.status != "ok" && r.status != "failed") throw InputError("unknown status '" + r.status + "'");
-        r.fingerprint = r.status + (r.status == "ok" ? std::string() : "\n" + r.message);
+        r = read_trial(p.string());
       } catch (const std::exception& e) {
-        m.incomplete.push_back({p.string(), std::string("unreadable: ") + e.what()});
+        m.incomplete.push_back({p.string(), e.what()});
         continue;
-      }
-      // A trial that says it is ok but whose results are malformed (NaN, a missing column) is
-      // an error: averaging over it, or quietly leaving it out, would report wrong figures.
-      if (r.status == "ok") {
-        try {
-          read_mission(p / "mission", &r);
-        } catch (const InputError&) {
-          throw;
-        } catch (const std::exception& e) {
-          throw InputError((p / "mission").string() + ": malformed results (" + e.what() + ")");
-        }
       }
       const auto it = present.find(r.spec.id);
       if (it == present.end()) {

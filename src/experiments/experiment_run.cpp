@@ -16,6 +16,7 @@
 #include "canopy/common/process.h"
 #include "canopy/common/timer.h"
 #include "canopy/experiments/experiment.h"
+#include "canopy/experiments/experiment_report.h"
 
 namespace canopy::experiments {
 
@@ -216,13 +217,29 @@ ExperimentRunSummary run_experiment(const Experiment& e, const std::string& out_
       todo.push_back(t);
       continue;
     }
-    const nlohmann::json saved = read_json(dir / "trial.json");
+    nlohmann::json saved;
+    try {
+      saved = read_json(dir / "trial.json");
+    } catch (const std::exception& ex) {  // a truncated record: the trial is run again
+      if (o.progress) o.progress("trial " + t.id + ": its trial.json does not read back (" + ex.what() + "); run again");
+      todo.push_back(t);
+      continue;
+    }
     const std::string diff = first_difference(saved.value("trial", nlohmann::json::object()), e.trial_identity(t));
     if (!diff.empty())
       throw InputError("--resume: trial " + t.id + " in " + out_dir + " was run with other settings: " + diff +
                        " (saved vs " + e.source_file + ")");
-    if (saved.value("status", std::string()) == "ok") ++summary.skipped;
-    else todo.push_back(t);  // a failed trial is run again
+    if (saved.value("status", std::string()) != "ok") {
+      todo.push_back(t);  // a failed trial is run again
+      continue;
+    }
+    try {  // an ok trial counts as done only when its results read back as the report reads them
+      read_trial(dir.string());
+      ++summary.skipped;
+    } catch (const std::exception& ex) {
+      if (o.progress) o.progress("trial " + t.id + ": " + ex.what() + "; run again");
+      todo.push_back(t);
+    }
   }
   if (o.progress)
     o.progress("experiment " + e.name + ": " + std::to_string(all.size()) + " trials, shard " +

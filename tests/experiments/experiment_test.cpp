@@ -367,6 +367,43 @@ TEST(ExperimentRun, ResumeRerunsKilledAndFailedTrialsAndChecksSettings) {
   EXPECT_THROW(run_experiment(load(replaced(kBase, "count: 2", "count: 3")), out, o), InputError);
 }
 
+// Damaged ok trials (a truncated summary.json, a deleted views.csv, a truncated trial.json):
+// the report leaves them out and lists why; --resume runs them again instead of counting them.
+TEST(ExperimentRun, ResumeRerunsDamagedTrialsAndTheReportListsThem) {
+  const fs::path d = fresh_dir("damaged");
+  const Experiment e = load(kBase);
+  ExperimentRunOptions o;
+  o.mission_command = fake_mission(d);
+  o.jobs = 2;
+  const std::string out = (d / "out").string();
+  ASSERT_EQ(run_experiment(e, out, o).ok, 12);
+  const fs::path trials = d / "out" / "trials";
+  const fs::path summary = trials / "ours_pgt1_seed11" / "mission" / "summary.json";
+  const std::string text = read_file(summary.string());
+  write_file_atomic(summary.string(), text.substr(0, text.size() / 2));
+  fs::remove(trials / "frontier_pgt1_seed12" / "mission" / "views.csv");
+  const fs::path record = trials / "ours_pgt0.7_seed12" / "trial.json";
+  write_file_atomic(record.string(), read_file(record.string()).substr(0, 20));
+
+  const MergedTrials m = merge_experiment_folders({out});  // no throw: listed
+  EXPECT_EQ(m.trials.size(), 9u);
+  ASSERT_EQ(m.incomplete.size(), 3u);
+  std::map<std::string, std::string> why;
+  for (const IncompleteFolder& f : m.incomplete) why[fs::path(f.path).filename().string()] = f.reason;
+  EXPECT_EQ(why["ours_pgt1_seed11"].rfind("damaged: ", 0), 0u) << why["ours_pgt1_seed11"];
+  EXPECT_NE(why["frontier_pgt1_seed12"].find("views.csv"), std::string::npos) << why["frontier_pgt1_seed12"];
+  EXPECT_EQ(why["ours_pgt0.7_seed12"].rfind("unreadable: ", 0), 0u) << why["ours_pgt0.7_seed12"];
+  EXPECT_EQ(m.missing.size(), 3u);
+
+  o.resume = true;
+  const ExperimentRunSummary s = run_experiment(e, out, o);
+  EXPECT_EQ(s.skipped, 9);
+  EXPECT_EQ(s.ok, 3);
+  const MergedTrials after = merge_experiment_folders({out});
+  EXPECT_EQ(after.trials.size(), 12u);
+  EXPECT_TRUE(after.incomplete.empty());
+}
+
 TEST(ExperimentReport, MergingShardFoldersEqualsOneFolderAndConflictsAreErrors) {
   const fs::path d = fresh_dir("merge");
   const Experiment e = load(kBase);
@@ -395,7 +432,7 @@ TEST(ExperimentReport, MergingShardFoldersEqualsOneFolderAndConflictsAreErrors) 
   EXPECT_EQ(merge_experiment_folders({(d / "a").string(), (d / "all").string()}).trials.size(), 12u);
   const fs::path v = d / "b" / "trials" / "ours_pgt0.7_seed11" / "mission" / "views.csv";
   ASSERT_TRUE(fs::exists(v));  // trial 3 of 12: shard 1 of 2
-  write_file_atomic(v.string(), read_file(v.string()) + "9,1,0.99,1\n");
+  write_file_atomic(v.string(), read_file(v.string()) + "3,1,0.99,60,0.5,0.1\n");  // another view: other results
   try {
     merge_experiment_folders({(d / "all").string(), (d / "b").string()});
     ADD_FAILURE() << "no conflict error";

@@ -51,8 +51,13 @@ struct MergedTrials {
   std::vector<IncompleteFolder> incomplete;
 };
 
-/// Reads and merges experiment folders. Throws InputError for a folder that is not an
-/// experiment folder, for a trial present twice with different results (naming the trial
+/// Reads one trial folder (trials/<id>): its trial.json, and for an ok trial its mission's
+/// results. Throws InputError saying why when a file is missing or does not read back
+/// ("unreadable: ..." for the record, "damaged: ..." for an ok trial's results).
+TrialResult read_trial(const std::string& dir);
+
+/// Reads and merges experiment folders; a trial folder read_trial refuses is listed in
+/// `incomplete` with why. Throws InputError for a folder that is not an experiment folder, for a trial present twice with different results (naming the trial
 /// and both folders), or for two experiments that give one id different settings.
 MergedTrials merge_experiment_folders(const std::vector<std::string>& dirs);
 
