@@ -115,10 +115,8 @@ void add_ablate_command(CLI::App& app) {
     // Validate everything before any work.
     mission::Settings bundle = load_settings(o.config);
     if (!o.seg.empty()) bundle.mapping.extractor.source = perception::label_source_from_string(o.seg, "--seg");
-    for (const std::string& s : o.set) {
-      const mission::SettingOverride kv = mission::parse_override(s, "--set");
-      bundle.set(kv.first, kv.second, "--set " + s);
-    }
+    for (const mission::SettingOverride& kv : mission::parse_overrides(o.set, "--set"))
+      bundle.set(kv.first, kv.second, "--set " + kv.first + "=" + kv.second);
     const std::vector<std::string> gains = split(o.gains), rays = split(o.rays);
     std::vector<double> pgts;
     for (const auto& s : split(o.pgt)) {

@@ -95,10 +95,8 @@ void run_mission(const MissionCliOptions& o, CLI::App* sub) {
       settings.set("mission.stops.positions_m", list + "]", "--stops");
     }
   }
-  for (const std::string& s : o.set) {
-    const mission::SettingOverride kv = mission::parse_override(s, "--set");
-    settings.set(kv.first, kv.second, "--set " + s);
-  }
+  for (const mission::SettingOverride& kv : mission::parse_overrides(o.set, "--set"))
+    settings.set(kv.first, kv.second, "--set " + kv.first + "=" + kv.second);
   job.video = jobs::video_options(o.video, o.video_size, o.video_fps);
   job.world_file = o.world;
   job.seed = o.seed;

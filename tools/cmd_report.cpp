@@ -5,6 +5,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include "canopy/common/interrupt.h"
 #include "canopy/jobs/report_job.h"
 #include "commands.h"
 
@@ -22,6 +23,8 @@ void add_report_command(CLI::App& app) {
   sub->add_flag("--no-plots", o->no_plots, "Skip the PNG plots");
   sub->callback([o] {
     o->job.plots = !o->no_plots;
+    const InterruptScope interrupts;  // Ctrl-C / SIGTERM: nothing is published and nothing left behind
+    o->job.stop_requested = [] { return interrupt_requested(); };
     const jobs::ReportJobResult r = jobs::write_report(o->job);
     const experiments::MergedTrials& merged = r.merged;
     spdlog::info("report: {} trials expected, {} ok, {} failed, {} missing, {} incomplete folders ignored; wrote {}/",

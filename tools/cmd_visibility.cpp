@@ -3,6 +3,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include "canopy/common/interrupt.h"
 #include "canopy/jobs/visibility_job.h"
 #include "cli_util.h"
 #include "commands.h"
@@ -48,6 +49,8 @@ void add_visibility_command(CLI::App& app) {
     p.protocol.max_occlusion = opt->max_occlusion;
     p.protocol.points_per_fruit = opt->points;
     p.plot = !opt->no_plot;
+    const InterruptScope interrupts;  // Ctrl-C / SIGTERM: nothing is published and nothing left behind
+    p.stop_requested = [] { return interrupt_requested(); };
     const jobs::VisibilitySummary s = jobs::run_visibility(p);
     const auto& r = s.results.back();
     spdlog::info("wrote {}/visibility.md, visibility.csv, combinations.csv, fruits.csv, visibility.json: {} fruits, "

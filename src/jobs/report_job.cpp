@@ -4,6 +4,7 @@
 
 #include <filesystem>
 
+#include "canopy/common/error.h"
 #include "canopy/common/io.h"
 #include "canopy/jobs/experiment_page.h"
 #include "canopy/jobs/plots.h"
@@ -16,6 +17,12 @@ ReportJobResult write_report(const ReportJobParams& params) {
   r.merged = experiments::merge_experiment_folders(params.dirs);
   const experiments::ExperimentReport rep = experiments::make_experiment_report(r.merged);
   r.out = params.out.empty() ? (std::filesystem::path(params.dirs.front()) / "report").string() : params.out;
+  spdlog::info("report: merged {} trial folders of {} expected ({} incomplete folders); writing {}/",
+               r.merged.trials.size(), r.merged.expected.size(), r.merged.incomplete.size(), r.out);
+  const auto check_stop = [&params] {
+    if (params.stop_requested && params.stop_requested()) throw Interrupted("interrupted; nothing was written");
+  };
+  check_stop();
   StagedDir out(r.out, "report");
   write_file_atomic(out.path("curves.csv"), rep.curves_csv);
   write_file_atomic(out.path("runtime.csv"), rep.runtime_csv);
@@ -27,6 +34,7 @@ ReportJobResult write_report(const ReportJobParams& params) {
   if (params.page && report_libraries_present()) write_experiment_page(out.working_dir(), r.out, r.merged, rep);
   else if (params.page) spdlog::warn("report.html skipped (needs Debian's libjs-three; run tools/deps.sh)");
   if (params.plots) draw_plots("tools/plot_experiment.py", out.working_dir(), r.out);
+  check_stop();
   out.commit();
   for (const auto& t : r.merged.trials) r.ok += t.status == "ok";
   return r;

@@ -57,13 +57,24 @@ VisibilitySummary run_visibility(const VisibilityJobParams& params) {
   if (!(proto.section_width_m > 0.0) || !(proto.section_height_m > 0.0)) throw InputError("--section must be > 0");
   if (!(proto.max_occlusion >= 0.0 && proto.max_occlusion <= 1.0)) throw InputError("--max-occlusion must be in [0, 1]");
   if (proto.points_per_fruit < 1) throw InputError("--points must be >= 1");
+  for (std::size_t i = 0; i < params.seeds.size(); ++i)
+    for (std::size_t j = 0; j < i; ++j)
+      if (params.seeds[i] == params.seeds[j])
+        throw InputError("--seed: seed " + std::to_string(params.seeds[i]) +
+                         " is given twice; each world is measured and pooled once");
   StagedDir out(params.out_dir, "visibility");
+  const auto check_stop = [&params](const std::string& when) {
+    if (params.stop_requested && params.stop_requested())
+      throw Interrupted("interrupted " + when + "; nothing was written");
+  };
   std::vector<std::optional<std::uint64_t>> seeds;
   for (auto s : params.seeds) seeds.push_back(s);
   if (seeds.empty()) seeds.push_back(std::nullopt);
   VisibilitySummary summary;
   world::WorldSpec first_spec;
   for (const auto& seed : seeds) {
+    check_stop(summary.results.empty() ? "before the first world" : "after " + std::to_string(summary.results.size()) +
+                                                                         " of " + std::to_string(seeds.size()) + " worlds");
     const world::WorldSpec spec = load_world_spec(params.world_file, default_robot_config(), seed);
     if (summary.results.empty()) first_spec = spec;
     const world::World world = build_world(spec);
@@ -171,6 +182,7 @@ VisibilitySummary run_visibility(const VisibilityJobParams& params) {
   YAML::Node run = run_record("visibility", first_spec);
   write_file_atomic(out.path("run.yaml"), YAML::Dump(run) + "\n");
   if (params.plot) draw_plots("tools/plot_visibility.py", out.working_dir(), params.out_dir);
+  check_stop("before publishing");
   out.commit();
   return summary;
 }

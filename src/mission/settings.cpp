@@ -95,6 +95,19 @@ SettingOverride parse_override(const std::string& text, const std::string& where
   return {text.substr(0, eq), text.substr(eq + 1)};
 }
 
+std::vector<SettingOverride> parse_overrides(const std::vector<std::string>& texts, const std::string& where) {
+  std::vector<SettingOverride> out;
+  for (const std::string& text : texts) {
+    SettingOverride kv = parse_override(text, where);
+    for (const SettingOverride& earlier : out)
+      if (earlier.first == kv.first)
+        throw InputError(where + ": key '" + kv.first + "' is given twice ('" + earlier.first + "=" + earlier.second +
+                         "' and '" + text + "'); give it once");
+    out.push_back(std::move(kv));
+  }
+  return out;
+}
+
 std::string default_settings_path() { return "configs/canopy.yaml"; }
 
 }  // namespace canopy::mission

@@ -38,6 +38,10 @@
 
 namespace canopy {
 
+/// The most numbers a list setting holds (a stop list for a 1,000-plant row); lists whose
+/// entries multiply the work (candidate radii) declare a lower limit of their own.
+constexpr std::size_t kMaxListEntries = 1000;
+
 /// What a number must satisfy. Numbers are always finite.
 struct Limits {
   double lo = -std::numeric_limits<double>::infinity();
@@ -170,6 +174,8 @@ class YamlIn {
     }
     const YAML::Node n = y_.require<YAML::Node>(key);
     y_.check(n.IsSequence(), key, "must be a list of numbers");
+    y_.check(n.size() <= kMaxListEntries, key,
+             "holds " + std::to_string(n.size()) + " numbers, at most " + std::to_string(kMaxListEntries));
     std::vector<T> v;
     for (const auto& item : n) {
       double d = 0.0;

@@ -3,6 +3,7 @@
 // runtime.csv, field.csv, field_curves.csv, trials.json, findings.md, gain_truth.csv (when the
 // trials recorded candidates), report.html (experiment_page.h) and the plots (tools/plot_experiment.py).
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -16,6 +17,9 @@ struct ReportJobParams {
   std::string out;                ///< Report folder; "" is <first folder>/report.
   bool plots = false;             ///< Draw the PNG plots.
   bool page = true;               ///< Write report.html (experiment_page.h).
+  /// Polled before writing and before publishing (may be null): true ends the job with
+  /// Interrupted and nothing written (no folder, no .partial, no lock).
+  std::function<bool()> stop_requested;
 };
 
 /// What it merged and where it wrote.

@@ -5,6 +5,7 @@
 // (visibility.png, tools/plot_visibility.py). docs/visibility.md describes the protocol.
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -18,6 +19,9 @@ struct VisibilityJobParams {
   std::string out_dir;
   evaluation::VisibilityParams protocol;
   bool plot = true;
+  /// Polled before each world and before publishing (may be null): true ends the job with
+  /// Interrupted and nothing written (no folder, no .partial, no lock).
+  std::function<bool()> stop_requested;
 };
 
 /// Per seed and pooled over all seeds (the last entry, seed label "all").

@@ -145,6 +145,7 @@ struct OracleParams {
       "A surface point is visible when its depth is within this (plus 1.5 render pixels) of the rendered depth [m]");
     a("max_views", max_views, limits::in(1, 1000), "Views returned per round, best first, tried until one succeeds");
     a("any_radii_m", any_radii_m, limits::in(0.05, 2.0), "oracle_any: sphere radii around each fruit [m]");
+    a.check(any_radii_m.size() <= 16, "any_radii_m", "holds more than 16 radii (each adds a sphere of candidates per fruit)");
     a("any_polar_count", any_polar_count, limits::in(1, 100), "oracle_any: polar angles (30-150 deg) per sphere");
     a("any_azimuth_count", any_azimuth_count, limits::in(1, 360), "oracle_any: azimuths per sphere");
     a("any_scored", any_scored, limits::in(1, 100000),

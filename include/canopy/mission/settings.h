@@ -86,6 +86,9 @@ struct Settings {
 
 /// Parses "key=value" (the value is YAML); throws InputError naming `where`.
 SettingOverride parse_override(const std::string& text, const std::string& where);
+/// parse_override of each text; a key given twice is an InputError naming both (a repeated
+/// `--set` would otherwise keep the last silently).
+std::vector<SettingOverride> parse_overrides(const std::vector<std::string>& texts, const std::string& where);
 
 /// The default bundle, relative to the data folder: "configs/canopy.yaml" (find_data_file
 /// resolves it).

@@ -27,6 +27,7 @@ struct ShapeParams {
     a.section("fit", fit, "The fruit shape fit (a spheroid with the world's fruit-size prior)");
     a("radii_m", radii_m, limits::in(0.05, 2.0),
       "Candidate spheres around each fitted fruit centre (each like nbv.candidates.sphere) [m]");
+    a.check(radii_m.size() <= 16, "radii_m", "holds more than 16 radii (each adds a sphere of candidates per cluster)");
     a("spacing_m", spacing_m, limits::in(0.001, 0.1), "Spacing of the predicted surface points [m]");
     a("covered_m", covered_m, limits::in(0.0, 0.1),
       "A predicted point is seen when a confirmed fruit voxel centre lies this close (delta S) [m]");
