@@ -9,7 +9,7 @@
 #include "canopy/motion/view_reach.h"
 #include "canopy/nbv/candidates.h"
 #include "canopy/nbv/clusters.h"
-#include "canopy/nbv/planner.h"
+#include "canopy/nbv/view_evaluator.h"
 #include "objects.h"
 #include "python_planner.h"
 

@@ -10,10 +10,14 @@
 //  - grid keys: unbounded cubic grids of any edge (the ground truth's voxels), 21 bits per axis
 //    around the origin (about +-15 km at 1.5 cm).
 
+// OctoMap's OcTreeKey.h uses uint16_t, size_t and std::vector without including their headers.
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
 #include <octomap/OcTreeKey.h>
 
 #include <cmath>
-#include <cstdint>
 
 #include "canopy/common/types.h"
 

@@ -6,12 +6,15 @@
 // space with it (walk_rays: many segments at once, four per AVX2 register) and the
 // next-best-view index casts its rays with it.
 
+// OctoMap's OcTreeKey.h uses uint16_t, size_t and std::vector without including their headers.
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
 #include <octomap/OcTreeKey.h>
 #include <octomap/octomap_types.h>
 
 #include <cmath>
-#include <cstddef>
-#include <cstdint>
 #include <immintrin.h>
 #include <limits>
 #include <stdexcept>
