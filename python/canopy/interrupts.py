@@ -1,0 +1,31 @@
+"""SIGTERM handled as Ctrl-C (docs/python.md#ctrl-c-and-sigterm).
+
+canopy's long calls (run_mission, record_bag, export_bag, map_frames, map_bag) stop on Ctrl-C
+and keep what the call promises: Python raises KeyboardInterrupt, the call finishes its step,
+saves or removes its output and raises KeyboardInterrupt. Python's default for SIGTERM (what
+`kill` and SLURM's scancel send) ends the process at once instead: nothing is saved, and an
+output folder is left as DIR.partial (the next run on DIR removes it). stop_on_sigterm() makes
+SIGTERM take Ctrl-C's path; `python3 -m canopy` calls it first thing.
+"""
+
+import signal
+
+_received = 0
+
+
+def _interrupt(signum, frame):
+    global _received
+    _received = signum
+    raise KeyboardInterrupt(f"interrupted by {signal.Signals(signum).name}")
+
+
+def stop_on_sigterm():
+    """Makes SIGTERM raise KeyboardInterrupt as Ctrl-C (SIGINT) does, and notes which of the two
+    arrived (exit_code). Call it from the main thread."""
+    signal.signal(signal.SIGTERM, _interrupt)
+    signal.signal(signal.SIGINT, _interrupt)
+
+
+def exit_code():
+    """128 + the signal that arrived: 130 for Ctrl-C, 143 for SIGTERM (as the canopy CLI)."""
+    return 128 + (_received or signal.SIGINT)
