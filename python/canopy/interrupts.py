@@ -1,4 +1,4 @@
-"""SIGTERM handled as Ctrl-C (docs/python.md#ctrl-c-and-sigterm).
+"""SIGTERM handled as Ctrl-C (docs/python.md#what-the-module-holds).
 
 canopy's long calls (run_mission, record_bag, export_bag, map_frames, map_bag) stop on Ctrl-C
 and keep what the call promises: Python raises KeyboardInterrupt, the call finishes its step,

@@ -188,7 +188,7 @@ def _depth(msg, topic, ns, K):
         header = bytes(msg.data[:12])
         raw = np.asarray(_decode_compressed(msg, topic, ns, K, "depth"))
         if fmt.startswith("16UC1"):
-            return raw.astype(np.uint16), 0.001
+            return raw.astype(np.uint16, copy=False), 0.001
         a, b = np.frombuffer(header[4:12].ljust(8, b"\0"), dtype="<f4")  # 32FC1: z = a / (v - b), quantised
         v = raw.astype(np.float32)
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
@@ -202,7 +202,8 @@ def _rgb(msg, topic, ns, K):
         enc = msg.encoding
         a = _pixels(msg, topic, ns, np.uint8, 3) if enc in ("rgb8", "bgr8") else _pixels(msg, topic, ns, np.uint8, 4)[:, :, :3]
         return np.ascontiguousarray(a[:, :, ::-1] if enc.startswith("bgr") else a)
-    return np.asarray(_decode_compressed(msg, topic, ns, K, "rgb").convert("RGB"), dtype=np.uint8)
+    image = _decode_compressed(msg, topic, ns, K, "rgb")
+    return np.asarray(image if image.mode == "RGB" else image.convert("RGB"), dtype=np.uint8)
 
 
 def _labels(msg, topic, ns, K, colors):
