@@ -111,8 +111,12 @@ def main(argv=None):
     try:
         args = _parser().parse_args(argv)
 
-        def progress(line):
-            sys.stderr.write(line + "\n")
+        def progress(line):  # never fatal: stderr piped into `head` that has ended loses the lines only
+            try:
+                sys.stderr.write(line + "\n")
+                sys.stderr.flush()
+            except OSError:
+                pass
 
         if args.command == "map-bag":
             _map_bag(args, progress)

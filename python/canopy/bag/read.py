@@ -240,17 +240,18 @@ def _nearest(stamps, ns):
 
 
 class _Progress:
-    """Calls `progress` with a line at most every PROGRESS_PERIOD_S seconds (and when forced)."""
+    """A progress callback called at most every PROGRESS_PERIOD_S seconds (and when forced)."""
 
     def __init__(self, progress):
         self.progress, self.last = progress, time.monotonic()
 
+    def due(self):
+        """True when a line is due now (the caller then makes it and calls this object)."""
+        return self.progress is not None and time.monotonic() - self.last >= PROGRESS_PERIOD_S
+
     def __call__(self, line, force=False):
-        if self.progress is None:
-            return
-        now = time.monotonic()
-        if force or now - self.last >= PROGRESS_PERIOD_S:
-            self.last = now
+        if self.progress is not None and (force or self.due()):
+            self.last = time.monotonic()
             self.progress(line)
 
 
@@ -315,7 +316,8 @@ class BagReader:
             done = 0
             for topic, raw, _ in bag.read_messages(topics=list(self._roles) + tf_topics, raw=True):
                 done += 1
-                self._progress(f"reading {path}: {done} of {total} messages ({100 * done // max(total, 1)}%)")
+                if self._progress.due():
+                    self._progress(f"reading {path}: {done} of {total} messages ({100 * done // max(total, 1)}%)")
                 if topic in ("/tf", "/tf_static"):
                     for tfm in _deserialize(raw, topic).transforms:
                         self.tf.add(tfm, topic, topic == "/tf_static")
@@ -362,7 +364,7 @@ class BagReader:
         width, height, K, _ = next(k for k, i in self._info_keys.items() if i == idx)
         topic = self._topics["camera_info"]
         if K[0] <= 0 or K[4] <= 0:
-            raise BagError(f"{topic}: camera_info K = {short(list(K), 120)} has no focal lengths")
+            raise BagError(f"{topic}: camera_info K has no focal lengths (fx {K[0]:g}, fy {K[4]:g})")
         try:  # ROS puts pixel centres at integer coordinates, canopy at +0.5
             return _canopy.Intrinsics(width, height, K[0], K[4], K[2] + 0.5, K[5] + 0.5, self._min_range,
                                       self._max_range)
@@ -466,6 +468,8 @@ class BagReader:
                     next_frame += 1
                     yield self._frame(name, ns, msgs, K, T)
                     msgs = None
+                if next_frame == len(self._plan):
+                    break  # the rest of the bag holds no planned frame's message
                 if held_bytes > MAX_BUFFERED_BYTES:
                     name = self._plan[next_frame][0]
                     raise BagError(f"{self.path}: the messages of frame {name} lie more than "
@@ -479,9 +483,20 @@ class BagReader:
 
     def _frame(self, name, ns, msgs, K, T):
         t = self._topics
-        d, depth_scale = _depth(msgs["depth"], t["depth"], ns, K)
-        rgb = _rgb(msgs["rgb"], t["rgb"], ns, K) if "rgb" in msgs else None
-        labels = _labels(msgs["labels"], t["labels"], ns, K, self._colors) if "labels" in msgs else None
+        arrays = {}
+        for role, decode in (("depth", lambda m: _depth(m, t["depth"], ns, K)),
+                             ("rgb", lambda m: _rgb(m, t["rgb"], ns, K)),
+                             ("labels", lambda m: _labels(m, t["labels"], ns, K, self._colors))):
+            if role not in msgs:
+                continue
+            try:
+                arrays[role] = decode(msgs[role])
+            except (BagError, MemoryError, ImportError):
+                raise
+            except Exception as e:  # whatever else a malformed message raises: named, on one line
+                raise BagError(f"{_where(t[role], ns)}: {type(e).__name__}: {short(e)}") from None
+        d, depth_scale = arrays["depth"]
+        rgb, labels = arrays.get("rgb"), arrays.get("labels")
         try:
             return _canopy.Frame(d, T, K, labels=labels, rgb=rgb, depth_scale=depth_scale, name=name)
         except ValueError as e:
