@@ -28,8 +28,12 @@ Bad input raises ValueError naming the value. Long calls release the GIL. Arrays
 are copies, or read-only views that keep their owner alive.
 """
 
-from . import _canopy
-from ._canopy import *  # noqa: F401,F403
+from . import interrupts
+
+interrupts.note_while_the_command_imports()  # only as `python3 -m canopy`: before the slow imports
+
+from . import _canopy  # noqa: E402
+from ._canopy import *  # noqa: E402,F401,F403
 
 for _type in list(vars(_canopy).values()):
     if isinstance(_type, type):

@@ -24,7 +24,7 @@ class _Parser(argparse.ArgumentParser):
 
 
 def _parser():
-    from . import bag
+    from . import _canopy, bag
 
     p = _Parser(prog="python3 -m canopy", description="canopy's Python commands: ROS 1 bags in and out.")
     sub = p.add_subparsers(dest="command", required=True, parser_class=_Parser)
@@ -63,10 +63,11 @@ def _parser():
     m.add_argument("--max-dt", type=float, default=bag.DEFAULT_MAX_DT,
                    help="largest stamp difference of a depth image and its partners, and tf extrapolation [s] "
                         "(default: %(default)s)")
-    m.add_argument("--min-range", type=float, default=None, help="valid depth from [m] (default: the D405's, "
-                   "canopy.Intrinsics().min_range_m)")
-    m.add_argument("--max-range", type=float, default=None, help="valid depth to [m] (default: the D405's, "
-                   "canopy.Intrinsics().max_range_m)")
+    K = _canopy.Intrinsics()
+    m.add_argument("--min-range", type=float, default=None,
+                   help=f"valid depth from [m] (default: {K.min_range_m:g}, the D405's)")
+    m.add_argument("--max-range", type=float, default=None,
+                   help=f"valid depth to [m] (default: {K.max_range_m:g}, the D405's)")
 
     e = sub.add_parser("export-bag", help="write a `canopy mission` run folder as a ROS 1 bag",
                        description="Replays the run from its own records (settings.yaml, the world's spec and the "
@@ -107,6 +108,9 @@ def main(argv=None):
     # past `ulimit -f` fails like a full disk instead of killing the process (as the canopy CLI).
     interrupts.stop_on_sigterm()
     signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
+    if interrupts.received():  # while the package imported
+        sys.stderr.write("canopy: interrupted; nothing was written\n")
+        return interrupts.exit_code()
     args = None
     try:
         args = _parser().parse_args(argv)

@@ -9,6 +9,7 @@ SIGTERM take Ctrl-C's path; `python3 -m canopy` calls it first thing.
 """
 
 import signal
+import sys
 
 _received = 0
 
@@ -17,6 +18,27 @@ def _interrupt(signum, frame):
     global _received
     _received = signum
     raise KeyboardInterrupt(f"interrupted by {signal.Signals(signum).name}")
+
+
+def _note(signum, frame):
+    global _received
+    _received = signum
+
+
+def note_while_the_command_imports():
+    """Run as `python3 -m canopy` (the interpreter's own command line, sys.orig_argv, says so):
+    while the package imports (0.4 s: the extension, numpy), SIGINT and SIGTERM are noted, and
+    the command ends at its start, nothing done. Imported by a program, canopy leaves its
+    signals alone."""
+    argv = getattr(sys, "orig_argv", [])
+    if "-m" in argv and argv[argv.index("-m") + 1:argv.index("-m") + 2] == ["canopy"]:
+        signal.signal(signal.SIGTERM, _note)
+        signal.signal(signal.SIGINT, _note)
+
+
+def received():
+    """The signal noted or raised so far (0 when none)."""
+    return _received
 
 
 def stop_on_sigterm():

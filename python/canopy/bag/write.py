@@ -8,11 +8,13 @@ canopy output folder (that command's next run replaces the folder whole), and an
 is replaced only when canopy wrote it (is_canopy_bag: the marker topic WRITER_TOPIC with
 WRITER_FIELD in its connection header)."""
 
+import contextlib
 import errno
 import fcntl
 import json
 import os
 import pathlib
+import signal
 import stat
 import tempfile
 
@@ -292,6 +294,17 @@ def _check_replaceable(p):
                        f"choose another name)")
 
 
+@contextlib.contextmanager
+def _signals_held():
+    """SIGINT and SIGTERM wait (blocked) while the block runs; their handlers run after it."""
+    held = {signal.SIGINT, signal.SIGTERM}
+    previous = signal.pthread_sigmask(signal.SIG_BLOCK, held)
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, previous)
+
+
 class _PartialBag:
     """The bag being written: `.NAME.partial` beside NAME, locked (flock) while written,
     published by a rename, removed on any failure."""
@@ -326,6 +339,7 @@ class _PartialBag:
         else:
             raise BagError(f"{self.tmp}: cannot be locked")
         self._lock_fd = fd
+        self.published = False
         os.ftruncate(fd, 0)
         # rosbag closes the file it is given; the lock is held by our own descriptor until the
         # bag is published or removed.
@@ -333,22 +347,31 @@ class _PartialBag:
 
     def publish(self):
         """Renames the complete bag into place (again refused when a file canopy did not write
-        appeared there meanwhile)."""
+        appeared there meanwhile). Ctrl-C and SIGTERM wait while it renames, so `published`
+        says whether the bag is in place."""
+        _check_replaceable(self.path)
         try:
-            _check_replaceable(self.path)
-            os.replace(self.tmp, self.path)
+            with _signals_held():
+                os.replace(self.tmp, self.path)
+                self.published = True
         except OSError as e:
             raise _write_error(self.path, e) from None
-        finally:
-            self._close()
+        self._close()
 
     def discard(self):
-        """Removes the partial bag (whatever stopped the writing)."""
-        try:
-            os.unlink(self.tmp)
-        except OSError:
-            pass
+        """Removes the partial bag (whatever stopped the writing), unless it was published."""
+        if not self.published and self._lock_fd is not None:
+            try:
+                os.unlink(self.tmp)
+            except OSError:
+                pass
         self._close()
+
+    def interrupted_after_publishing(self, error):
+        """KeyboardInterrupt saying the bag is whole, when `error` came after publish()."""
+        if self.published and isinstance(error, KeyboardInterrupt):
+            return KeyboardInterrupt(f"interrupted after {self.path} was written whole")
+        return None
 
     def _close(self):
         try:
@@ -383,9 +406,9 @@ def record_bag(world, path, settings=None, *, state_period=0.1, **mission):
     try:
         result = _record(world, partial, settings, "record_bag", state_period, mission)
         partial.publish()
-    except BaseException:
+    except BaseException as e:
         partial.discard()
-        raise
+        raise partial.interrupted_after_publishing(e) or e
     return result
 
 
@@ -433,7 +456,7 @@ def export_bag(run_dir, path, *, progress=None):
             raise BagError(f"{run}: replaying the run gave other views than its views.csv (first difference on line "
                            f"{line + 1}); was it made by another canopy? No bag written")
         partial.publish()
-    except BaseException:
+    except BaseException as e:
         partial.discard()
-        raise
+        raise partial.interrupted_after_publishing(e) or e
     return result
