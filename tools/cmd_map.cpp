@@ -58,8 +58,11 @@ void map_recorded(const MapOptions& opt, const mission::Settings& bundle) {
   seq.run["labels"] = reader.label_images ? "label images" : "color";
   seq.run["classes"] = frames.classes().names;
   seq.run["max_time_diff_s"] = opt.max_dt_s;
-  spdlog::info("mapping {} frames ({} layout, {} skipped while pairing), labels {}", frames.size(),
-               datasets::to_string(frames.layout()), frames.skipped().size(), reader.label_images ? "from images" : "color");
+  seq.run["p_gt"] = bundle.mapping.extractor.p_gt;
+  spdlog::info("mapping {} frames ({} layout, {} skipped while pairing), labels {}: {}", frames.size(),
+               datasets::to_string(frames.layout()), frames.skipped().size(), reader.label_images ? "from images" : "color",
+               opt.pgt < 0.0 ? "no simulated mask noise (p_gt 1; --pgt adds it)"
+                             : "simulated mask noise, p_gt " + format_number(bundle.mapping.extractor.p_gt, "%g"));
   for (const std::string& note : frames.notes()) spdlog::warn("{}: {}", opt.frames, note);
   jobs::RecordedMapParams job;
   job.settings = bundle;
@@ -101,7 +104,9 @@ void add_map_command(CLI::App& app) {
   sub->add_option("--config", opt->config, kConfigHelp)->capture_default_str();
   sub->add_option("--seg", opt->seg, "Labels: color (HSV segmentation) or truth (renderer; with --frames: the label images); default from config")
       ->check(CLI::IsMember({"color", "truth"}));
-  sub->add_option("--pgt", opt->pgt, "Probability a mask keeps its class (1 = no noise); default from config")
+  sub->add_option("--pgt", opt->pgt,
+                  "Simulated mask noise: probability a mask keeps its class (1 = no noise); default: the config's "
+                  "mapping.extractor.p_gt, with --frames 1 (recorded labels are taken as they are)")
       ->check(CLI::Range(0.0, 1.0));
   sub->add_option("--out", opt->out, "Output folder")->required();
   sub->add_option("--export", opt->export_dir,
@@ -115,6 +120,9 @@ void add_map_command(CLI::App& app) {
     mission::Settings bundle = load_settings(opt->config);
     if (!opt->seg.empty()) bundle.set("mapping.extractor.source", opt->seg, "--seg");
     if (opt->pgt >= 0.0) bundle.set("mapping.extractor.p_gt", format_number(opt->pgt, "%.17g"), "--pgt");
+    // A recording's labels (or its colours' segmentation) are what they are: the bundle's p_gt
+    // is the simulator's mask noise, applied to recorded frames only when --pgt asks for it.
+    else if (!opt->frames.empty()) bundle.set("mapping.extractor.p_gt", "1", "--frames");
     if (!opt->frames.empty()) return map_recorded(*opt, bundle);
     jobs::MapJobParams job;
     job.world_file = opt->world;

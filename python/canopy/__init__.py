@@ -18,16 +18,22 @@ Quick start (docs/python.md)::
   planner written in Python (planner=f, where f(request: PlannerRequest) returns views).
 
 - ROS 1 bags (canopy.bag, Debian's python3-rosbag): read_bag (a recording as Frames, poses from
-  /tf), map_bag (into the run folder `canopy map --frames` writes), record_bag (a mission
-  written as a bag while it runs), export_bag (a run folder's bag); `python3 -m canopy map-bag`
-  and `export-bag`.
+  /tf), map_bag (streamed into the run folder `canopy map --frames` writes), record_bag (a
+  mission written as a bag while it runs), export_bag (a run folder's bag); `python3 -m canopy
+  map-bag` and `export-bag`.
+- stop_on_sigterm(): SIGTERM stops canopy's long calls as Ctrl-C does, so they keep their work
+  so far (Python's default ends the process at once, saving nothing).
 
 Bad input raises ValueError naming the value. Long calls release the GIL. Arrays handed back
 are copies, or read-only views that keep their owner alive.
 """
 
-from . import _canopy
-from ._canopy import *  # noqa: F401,F403
+from . import interrupts
+
+interrupts.note_while_the_command_imports()  # only as `python3 -m canopy`: before the slow imports
+
+from . import _canopy  # noqa: E402
+from ._canopy import *  # noqa: E402,F401,F403
 
 for _type in list(vars(_canopy).values()):
     if isinstance(_type, type):
@@ -35,3 +41,4 @@ for _type in list(vars(_canopy).values()):
 del _type
 
 from .bag import BagError, export_bag, map_bag, read_bag, record_bag  # noqa: E402,F401  (ROS imported on use)
+from .interrupts import stop_on_sigterm  # noqa: E402,F401

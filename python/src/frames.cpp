@@ -39,15 +39,26 @@ Image<T> image_from(const py::object& obj, const CameraIntrinsics& K, const std:
   Image<T> image;
   if (obj.is_none()) return image;
   const int channels = std::is_same_v<T, Rgb8> ? 3 : 1;
-  using Source = std::conditional_t<std::is_floating_point_v<Elem>, Elem, double>;
-  auto a = py::array_t<Source, py::array::c_style | py::array::forcecast>::ensure(obj);
-  const bool shaped = a && a.ndim() == (channels == 3 ? 3 : 2) && a.shape(0) == K.height_px &&
-                      a.shape(1) == K.width_px && (channels == 1 || a.shape(2) == 3);
-  if (!shaped)
-    throw InputError(what + ": " + describe(obj) + " is not an image of " + std::to_string(K.height_px) + " x " +
-                     std::to_string(K.width_px) + (channels == 3 ? " x 3" : "") + " (the intrinsics' height x width)");
+  const auto check_shape = [&](const py::array& a) {
+    const bool shaped = a && a.ndim() == (channels == 3 ? 3 : 2) && a.shape(0) == K.height_px &&
+                        a.shape(1) == K.width_px && (channels == 1 || a.shape(2) == 3);
+    if (!shaped)
+      throw InputError(what + ": " + describe(obj) + " is not an image of " + std::to_string(K.height_px) + " x " +
+                       std::to_string(K.width_px) + (channels == 3 ? " x 3" : "") + " (the intrinsics' height x width)");
+  };
   image = Image<T>(K.width_px, K.height_px);
   Elem* out = reinterpret_cast<Elem*>(image.data.data());
+  // An array of the image's own type holds only valid values: copied as it is (no temporary
+  // of doubles, which for a 4096 x 4096 RGB image would be 400 MB).
+  if (py::array_t<Elem>::check_(obj)) {
+    const auto a = py::array_t<Elem, py::array::c_style | py::array::forcecast>::ensure(obj);
+    check_shape(a);
+    std::copy(a.data(), a.data() + a.size(), out);
+    return image;
+  }
+  using Source = std::conditional_t<std::is_floating_point_v<Elem>, Elem, double>;
+  auto a = py::array_t<Source, py::array::c_style | py::array::forcecast>::ensure(obj);
+  check_shape(a);
   const Source* in = a.data();
   for (py::ssize_t i = 0; i < a.size(); ++i) {
     if constexpr (!std::is_floating_point_v<Elem>) {
@@ -79,6 +90,55 @@ YAML::Node yaml_from(const py::handle& obj, const std::string& what) {
   }
   throw InputError(what + ": " + describe(obj) + " is not a dict, list, str, bool or number");
 }
+
+// The frames map_frames hands to the job, one at a time, from a list or any iterable (a
+// generator over a bag: memory then holds one frame, not the recording). The next frame is
+// made (by Python, GIL held) when the job asks whether to go on, before each frame: a
+// KeyboardInterrupt raised while Python makes it stops the job as Ctrl-C does.
+class FrameFeed {
+ public:
+  FrameFeed(const py::object& frames, std::size_t count) : it_(py::iter(frames)), count_(count) {}
+  ~FrameFeed() {
+    py::gil_scoped_acquire gil;
+    next_ = py::object();
+    it_ = py::iterator();
+  }
+
+  // GIL held. Makes the next frame unless it is made or all are taken; Python's exceptions
+  // propagate (py::error_already_set).
+  void fetch() {
+    if (next_ || taken_ == count_) return;
+    PyObject* item = PyIter_Next(it_.ptr());
+    if (!item) {
+      if (PyErr_Occurred()) throw py::error_already_set();
+      throw InputError("frames: the iterable ended after " + std::to_string(taken_) + " of " + std::to_string(count_) +
+                       " frames (count)");
+    }
+    next_ = py::reinterpret_steal<py::object>(item);
+    if (!py::isinstance<PyFrame>(next_))
+      throw InputError("frames: item " + std::to_string(taken_) + ", " + describe(next_) + ", is not a canopy.Frame");
+  }
+
+  // GIL held. The next frame (moved out when nothing else holds it, copied otherwise).
+  void take(LabelledFrame* f) {
+    fetch();
+    const auto frame = next_.cast<std::shared_ptr<PyFrame>>();
+    names_.push_back(frame->name.empty() ? "frame " + std::to_string(taken_) : frame->name);
+    if (next_.ref_count() == 1 && frame.use_count() <= 2) *f = std::move(frame->frame);
+    else *f = frame->frame;
+    next_ = py::object();
+    ++taken_;
+  }
+
+  const std::string& name(std::size_t i) const { return names_.at(i); }
+
+ private:
+  py::iterator it_;
+  std::size_t count_;
+  std::size_t taken_ = 0;
+  py::object next_;
+  std::vector<std::string> names_;
+};
 
 }  // namespace
 
@@ -256,19 +316,35 @@ Returns {"frames": [Frame], "skipped": [{"frame", "reason"}], "classes": [names]
 
   m.def("map_frames",
         [](const py::object& frames_arg, const py::object& out, const py::object& settings, const py::object& classes_arg,
-           const py::object& run, const py::object& skipped_arg, const py::object& notes_arg, const py::object& progress) {
+           const py::object& run, const py::object& skipped_arg, const py::object& notes_arg, const py::object& progress,
+           const py::object& count_arg) {
           jobs::RecordedMapParams job;
           job.settings = settings_from(settings);
           job.out = path_from(out, "out");
           job.out_option = "out";
           StagedDir::check_writable(job.out, "map", "out");
-          std::vector<std::shared_ptr<PyFrame>> frames;
-          std::vector<std::string> names;
-          for (const py::handle& f : frames_arg) {
-            if (!py::isinstance<PyFrame>(f)) throw InputError("frames: " + describe(f) + " is not a canopy.Frame");
-            frames.push_back(f.cast<std::shared_ptr<PyFrame>>());
-            names.push_back(frames.back()->name.empty() ? "frame " + std::to_string(frames.size() - 1) : frames.back()->name);
+          // A list is checked whole before any work; an iterable (a generator) says how many
+          // frames it yields, and each is checked when it comes.
+          const std::uint64_t count_given = count_arg.is_none() ? 0 : seed_from(count_arg, "count");
+          std::size_t count = 0;
+          if (py::hasattr(frames_arg, "__len__")) {
+            count = py::len(frames_arg);
+            if (!count_arg.is_none() && count_given != count)
+              throw InputError("count: " + describe(count_arg) + " is not the number of frames (" + std::to_string(count) + ")");
+            std::size_t i = 0;
+            for (const py::handle& f : frames_arg) {
+              if (!py::isinstance<PyFrame>(f))
+                throw InputError("frames: item " + std::to_string(i) + ", " + describe(f) + ", is not a canopy.Frame");
+              ++i;
+            }
+          } else if (py::hasattr(frames_arg, "__iter__")) {
+            if (count_arg.is_none())
+              throw InputError("count: an iterable of frames (a generator) needs count=, the number of frames it yields");
+            count = static_cast<std::size_t>(count_given);
+          } else {
+            throw InputError("frames: " + describe(frames_arg) + " is not a list or an iterable of canopy.Frame");
           }
+          FrameFeed feed(frames_arg, count);
           jobs::RecordedSequence seq;
           seq.source = "frames";
           if (!classes_arg.is_none()) {
@@ -279,10 +355,11 @@ Returns {"frames": [Frame], "skipped": [{"frame", "reason"}], "classes": [names]
             }
           }
           seq.classes.validate("classes");
-          seq.size = frames.size();
-          seq.name = [&names](std::size_t i) { return names[i]; };
-          seq.read = [&frames](std::size_t i, LabelledFrame* f, std::string*) {
-            *f = frames[i]->frame;
+          seq.size = count;
+          seq.name = [&feed](std::size_t i) { return feed.name(i); };
+          seq.read = [&feed](std::size_t, LabelledFrame* f, std::string*) {
+            py::gil_scoped_acquire gil;
+            feed.take(f);
             return true;
           };
           if (!skipped_arg.is_none())
@@ -295,27 +372,35 @@ Returns {"frames": [Frame], "skipped": [{"frame", "reason"}], "classes": [names]
           if (!progress.is_none() && !PyCallable_Check(progress.ptr()))
             throw InputError("progress: " + describe(progress) + " is not callable");
           // Ctrl-C: Python's handler only sets a flag while the job runs without the GIL; it is
-          // polled before each frame, and noted when the progress callback raised
-          // KeyboardInterrupt (the frames so far are published, marked incomplete, and
-          // KeyboardInterrupt raised).
+          // polled before each frame, and noted when the progress callback or the making of the
+          // next frame raised KeyboardInterrupt (the frames so far are published, marked
+          // incomplete, and KeyboardInterrupt raised).
           bool interrupted = false;
+          const auto noting_interrupt = [&interrupted](auto&& f) {
+            try {
+              f();
+            } catch (py::error_already_set& e) {
+              if (!e.matches(PyExc_KeyboardInterrupt)) throw;
+              interrupted = true;
+            }
+          };
           if (!progress.is_none())
-            job.on_frame = [&progress, &interrupted](const mapping::FrameMapStep& s) {
+            job.on_frame = [&progress, &noting_interrupt](const mapping::FrameMapStep& s) {
               py::gil_scoped_acquire gil;
-              try {
+              noting_interrupt([&] {
                 progress(s.mapped ? "frame " + s.name + ": " + std::to_string(s.extract.points) + " points"
                                   : "frame " + s.name + ": skipped (" + s.skip_reason + ")");
-              } catch (py::error_already_set& e) {
-                if (!e.matches(PyExc_KeyboardInterrupt)) throw;
-                interrupted = true;
-              }
+              });
             };
-          job.stop_requested = [&interrupted] {
+          job.stop_requested = [&interrupted, &noting_interrupt, &feed] {
             if (interrupted) return true;
             py::gil_scoped_acquire gil;
-            if (PyErr_CheckSignals() == 0) return false;
-            PyErr_Clear();
-            return true;
+            if (PyErr_CheckSignals() != 0) {
+              PyErr_Clear();
+              return interrupted = true;
+            }
+            noting_interrupt([&] { feed.fetch(); });
+            return interrupted;
           };
           jobs::RecordedMapResult r;
           {
@@ -327,17 +412,19 @@ Returns {"frames": [Frame], "skipped": [{"frame", "reason"}], "classes": [names]
         },
         py::arg("frames"), py::arg("out"), py::arg("settings") = py::none(), py::kw_only(),
         py::arg("classes") = py::none(), py::arg("run") = py::none(), py::arg("skipped") = py::none(),
-        py::arg("notes") = py::none(), py::arg("progress") = py::none(),
+        py::arg("notes") = py::none(), py::arg("progress") = py::none(), py::arg("count") = py::none(),
         R"(Maps recorded frames into the run folder `canopy map --frames` writes.
 
 frames: canopy.Frame objects, mapped in order with the settings' frame step (colour
-segmentation of their rgb, or their labels with mapping.extractor.source: truth); out: the
-folder (map.csm, map.ply, map.bt, frames.json, run.yaml, settings.yaml; written and published
-as every canopy output folder); classes: the label classes (default: canopy's); run: what
-run.yaml records (a dict); skipped, notes: frames dropped before mapping ({'frame', 'reason'})
-and the reader's notes, for frames.json; progress: called with a line per frame. Ctrl-C
-publishes the frames mapped so far (frames.json "complete": false) and raises KeyboardInterrupt.
-Returns {'mapped', 'skipped', 'occupied_voxels'}.)");
+segmentation of their rgb, or their labels with mapping.extractor.source: truth): a list, or
+any iterable (a generator making one frame at a time, as canopy.bag.map_bag streams a bag)
+with count=, the number of frames it yields; out: the folder (map.csm, map.ply, map.bt,
+frames.json, run.yaml, settings.yaml; written and published as every canopy output folder);
+classes: the label classes (default: canopy's); run: what run.yaml records (a dict); skipped,
+notes: frames dropped before mapping ({'frame', 'reason'}) and the reader's notes, for
+frames.json; progress: called with a line per frame. An exception of the iterable ends the
+call with nothing written. Ctrl-C publishes the frames mapped so far (frames.json "complete":
+false) and raises KeyboardInterrupt. Returns {'mapped', 'skipped', 'occupied_voxels'}.)");
 }
 
 }  // namespace canopy::python

@@ -197,7 +197,7 @@ NaN), plus goal_pose and reached_pose (N, 4, 4; reached NaN for failed views).)"
               py::gil_scoped_acquire gil;
               call_noting_interrupt([&] { progress(message); });
             };
-          // The robot's state for on_view and on_state (a bag of the run, canopy/bag.py); the link
+          // The robot's state for on_view and on_state (a bag of the run, canopy/bag/write.py); the link
           // tree is read once, from the simulator's robot.
           std::optional<LinkTree> tree;
           const auto links_of = [&tree](const sim::Simulator& sim) -> const LinkTree& {

@@ -7,6 +7,7 @@
 #include "canopy/common/data_dir.h"
 #include "canopy/common/error.h"
 #include "canopy/common/io.h"
+#include "canopy/common/output_dir.h"
 #include "canopy/robot/robot_config.h"
 #include "objects.h"
 #include "python_planner.h"
@@ -91,6 +92,16 @@ PYBIND11_MODULE(_canopy, m) {
     }
   });
   m.def("data_dir", &canopy::data_dir, "canopy's data folder (models/, configs/, worlds/), as every canopy program finds it.");
+  // The output-place checks of every canopy command, for the package's Python writers (bags).
+  m.def("_check_output", [](const py::object& path, const std::string& option, const std::string& kind) {
+    const std::string p = path_from(path, option);
+    canopy::check_output_place(p, option);
+    if (!kind.empty()) canopy::StagedDir::check_writable(p, kind, option);
+  }, py::arg("path"), py::arg("option"), py::arg("kind") = "",
+  "ValueError unless an output may be written at path: not inside another canopy output folder (and, with kind, "
+  "a folder that is absent, empty or canopy's output of that kind).");
+  m.def("_check_disjoint_outputs", &canopy::check_disjoint_outputs, py::arg("outputs"),
+        "ValueError when one of [(path, option)] is the same place as another or inside it.");
   bind_settings(m);
   bind_frames(m);
   bind_worlds(m);

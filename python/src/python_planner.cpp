@@ -2,6 +2,7 @@
 
 #include <pybind11/stl.h>
 
+#include <limits>
 #include <mutex>
 #include <set>
 
@@ -152,8 +153,17 @@ class PythonPlanner final : public nbv::ViewPlanner {
       v.gain = g.data()[0];
     }
     if (d.contains("cluster")) {
-      if (!py::isinstance<py::int_>(d["cluster"])) throw InputError(what + " cluster: " + describe(d["cluster"]) + " is not an integer");
-      v.cluster = d["cluster"].cast<int>();
+      // Any Python int is accepted by isinstance; one beyond C++'s int is refused, not wrapped
+      // (pybind's cast would raise RuntimeError).
+      const py::object c = d["cluster"];
+      int overflow = 0;
+      const long long value = py::isinstance<py::int_>(c) ? PyLong_AsLongLongAndOverflow(c.ptr(), &overflow) : 0;
+      if (!py::isinstance<py::int_>(c) || overflow != 0 || value < std::numeric_limits<int>::min() ||
+          value > std::numeric_limits<int>::max())
+        throw InputError(what + " cluster: " + describe(c) + " is not an integer in [" +
+                         std::to_string(std::numeric_limits<int>::min()) + ", " +
+                         std::to_string(std::numeric_limits<int>::max()) + "]");
+      v.cluster = static_cast<int>(value);
     }
     if (d.contains("joints") && !d["joints"].is_none()) {
       v.q = joints_from(d["joints"], what + " joints");

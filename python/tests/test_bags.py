@@ -2,16 +2,24 @@
 a mission written as a bag and mapped back gives the mission's map.csm byte for byte; the reader
 takes 16UC1 and 32FC1 depth, compressed RGB, /tf_static and interpolated /tf; a missing
 transform, a wrong encoding, out-of-order stamps and a missing topic are one clear error (exit
-code 2 from `python3 -m canopy`)."""
+code 2 from `python3 -m canopy`). map-bag streams (memory does not grow with the recording),
+checks declared image sizes before decoding, takes a recording's labels without simulated
+noise and only the depth images' own frame; a bag is never written over a file canopy did not
+write nor into a canopy output folder, and a full disk is one line naming the file."""
 
 import io
 import json
 import os
+import resource
+import shutil
+import struct
 import subprocess
 import sys
+import zlib
 
 import numpy as np
 import pytest
+import yaml
 
 import canopy
 from canopy import bag as cbag
@@ -34,10 +42,23 @@ def settings_for(source):
     return s
 
 
-def run_cli(*args):
-    env = dict(os.environ)
+def run_cli(*args, **kwargs):
     return subprocess.run([sys.executable, "-m", "canopy", *map(str, args)], capture_output=True, text=True,
-                          cwd=SOURCE, env=env)
+                          cwd=SOURCE, **kwargs)
+
+
+def cli_fails(*args, **kwargs):
+    """Runs `python3 -m canopy ARGS`, which must fail with exit code 2 and one error line, its last
+    line (progress lines may come before it); returns that line."""
+    p = run_cli(*args, **kwargs)
+    assert p.returncode == 2, p.stdout + p.stderr
+    lines = p.stderr.strip().splitlines()
+    assert [line for line in lines if line.startswith("canopy: error")] == lines[-1:], p.stderr
+    return lines[-1]
+
+
+def hidden_leftovers(folder):
+    return sorted(n for n in os.listdir(folder) if n.startswith(".") or n.endswith((".partial", ".lock")))
 
 
 @pytest.fixture(scope="module")
@@ -210,7 +231,7 @@ def test_missing_transform_is_one_error(tmp_path):
         canopy.read_bag(tmp_path / "r.bag", **TOPICS)
     assert "a transform between the trees is missing" in cli_error(tmp_path, tmp_path / "r.bag")
     with pytest.raises(canopy.BagError, match="frame 'nowhere' is not in the bag's /tf or /tf_static"):
-        canopy.read_bag(tmp_path / "r.bag", frame="nowhere", **TOPICS)
+        canopy.read_bag(tmp_path / "r.bag", frame="nowhere", override_frame=True, **TOPICS)
 
 
 def test_wrong_encoding_is_one_error(tmp_path):
@@ -286,3 +307,231 @@ def test_compressed_depth_and_colour_labels(tmp_path):
                         labels="/cam/labels")
     (f,) = r["frames"]
     assert np.allclose(f.depth, 0.75) and np.array_equal(f.labels, ids)
+
+
+# --- what canopy writes, and where -------------------------------------------------------------
+
+def test_a_bag_never_replaces_what_canopy_did_not_write(mission_bag, world, tmp_path):
+    """An existing file at the bag's name is replaced only when canopy wrote it (its marker); a
+    bag is never written into a canopy output folder, which that command's next run replaces
+    whole. Refusals come before the replay, leave the file as it was and nothing beside it."""
+    tmp, settings, result = mission_bag
+    lab = tmp_path / "lab.bag"
+    write_bag(lab)  # a lab's recording
+    before = lab.read_bytes()
+    assert "lab.bag: exists and is not a bag canopy wrote" in cli_fails("export-bag", tmp / "run", lab)
+    assert lab.read_bytes() == before
+    # A recording of a canopy bag played back carries the marker topic, not canopy's connection header.
+    rerecorded = tmp_path / "rerecorded.bag"
+    with rosbag.Bag(str(tmp / "run.bag")) as src, rosbag.Bag(str(rerecorded), "w") as dst:
+        for topic, msg, t in src.read_messages(topics=[cbag.WRITER_TOPIC, "/tf"]):
+            dst.write(topic, msg, t)
+    assert cbag.is_canopy_bag(tmp / "run.bag") and not cbag.is_canopy_bag(rerecorded)
+    assert not cbag.is_canopy_bag(lab) and not cbag.is_canopy_bag(tmp / "run" / "summary.json")
+    assert "exists and is not a bag canopy wrote" in cli_fails("export-bag", tmp / "run", rerecorded)
+    # Inside the run folder (a canopy output): refused, nothing written there.
+    line = cli_fails("export-bag", tmp / "run", tmp / "run" / "run.bag")
+    assert "is inside" in line and str(tmp / "run") in line
+    assert not (tmp / "run" / "run.bag").exists() and hidden_leftovers(tmp / "run") == [".canopy-output"]
+    (tmp_path / "out").mkdir()
+    with pytest.raises(canopy.BagError, match="is inside out"):
+        canopy.record_bag(world, tmp_path / "out" / "x.bag", settings, out=tmp_path / "out")
+    assert os.listdir(tmp_path / "out") == []
+    # A bag canopy wrote is replaced by the new one.
+    ours = tmp_path / "ours.bag"
+    shutil.copy(tmp / "run.bag", ours)
+    p = run_cli("export-bag", tmp / "run", ours)
+    assert p.returncode == 0, p.stderr
+    assert cbag.is_canopy_bag(ours)
+    with rosbag.Bag(str(ours)) as b:
+        assert b.get_type_and_topic_info().topics[cbag.TOPICS["depth"]].message_count == result.successful_views
+    assert hidden_leftovers(tmp_path) == []
+
+
+@pytest.fixture
+def tiny_disk(tmp_path):
+    """A 1 MB tmpfs (mounting needs root; skipped without it)."""
+    d = tmp_path / "tiny"
+    d.mkdir()
+    if subprocess.run(["mount", "-t", "tmpfs", "-o", "size=1m", "tmpfs", str(d)], capture_output=True).returncode:
+        pytest.skip("cannot mount a tmpfs here (needs root)")
+    yield d
+    subprocess.run(["umount", str(d)], check=True)
+
+
+def test_export_bag_on_a_full_disk(mission_bag, tiny_disk):
+    tmp = mission_bag[0]
+    line = cli_fails("export-bag", tmp / "run", tiny_disk / "run.bag")
+    assert f"{tiny_disk / 'run.bag'}: cannot write the bag: the disk is full" in line
+    assert os.listdir(tiny_disk) == []
+
+
+def test_export_bag_past_the_file_size_limit(mission_bag, tmp_path):
+    """RLIMIT_FSIZE (ulimit -f): the write fails with EFBIG (canopy ignores SIGXFSZ) and says so."""
+    tmp = mission_bag[0]
+
+    def limit():
+        resource.setrlimit(resource.RLIMIT_FSIZE, (1 << 20, 1 << 20))
+
+    line = cli_fails("export-bag", tmp / "run", tmp_path / "run.bag", preexec_fn=limit)
+    assert f"{tmp_path / 'run.bag'}: cannot write the bag: the file size limit is reached" in line
+    assert os.listdir(tmp_path) == []
+
+
+# --- reading: streamed, checked before decoding ------------------------------------------------
+
+def write_long_bag(path, n, width=640, height=480, stamp0=1.0, period=0.05):
+    """n frames of a static camera 0.5 m before a wall, LZ4-compressed: 16UC1 depth, valid on a
+    small patch only (mapping each frame stays cheap, reading and decoding it does not), rgb8."""
+    d = np.zeros((height, width), np.uint16)
+    d[height // 2 - 4:height // 2 + 4, width // 2 - 4:width // 2 + 4] = 500
+    rgb = np.zeros((height, width, 3), np.uint8)
+    rgb[:, :, 1] = 160
+    rgb[::7, :, 0] = 90
+    cam_info = CameraInfo()
+    cam_info.header.frame_id, cam_info.width, cam_info.height = "cam", width, height
+    cam_info.K = [width * 0.8, 0, width / 2 - 0.5, 0, width * 0.8, height / 2 - 0.5, 0, 0, 1]
+    with rosbag.Bag(str(path), "w", compression="lz4") as b:
+        b.write("/tf_static", tf_msg("world", "cam", 0.0, (0.0, 0.0, 1.0)), stamp(0.5))
+        for k in range(n):
+            t = stamp0 + k * period
+            cam_info.header.stamp = stamp(t)
+            b.write("/cam/info", cam_info, stamp(t))
+            b.write("/cam/depth", image(t, d, "16UC1"), stamp(t))
+            b.write("/cam/rgb", image(t, rgb, "rgb8"), stamp(t))
+
+
+MAP_IN_CHILD = """
+import resource, sys, canopy
+r = canopy.map_bag(sys.argv[1], sys.argv[2], rgb="/cam/rgb", depth="/cam/depth", camera_info="/cam/info")
+print(r["mapped"], resource.getrusage(resource.RUSAGE_SELF).ru_maxrss // 1024)
+"""
+
+
+def test_map_bag_memory_does_not_grow_with_the_recording(tmp_path):
+    """Peak memory of mapping 20 and 80 frames of 640 x 480 in a child process: holding the
+    recording costs 3.9 MB a frame (230 MB more for the longer one); streamed, the peak is the
+    same within 40 MB."""
+    peaks = {}
+    for n in (20, 80):
+        write_long_bag(tmp_path / f"{n}.bag", n)
+        p = subprocess.run([sys.executable, "-c", MAP_IN_CHILD, tmp_path / f"{n}.bag", tmp_path / f"out{n}"],
+                           capture_output=True, text=True, cwd=SOURCE)
+        assert p.returncode == 0, p.stderr
+        mapped, peaks[n] = map(int, p.stdout.split())
+        assert mapped == n
+    assert peaks[80] - peaks[20] < 40, peaks
+
+
+def test_map_bag_says_what_it_reads(tmp_path, monkeypatch):
+    """A line while the first pass reads (every PROGRESS_PERIOD_S), one before mapping naming the
+    frames, the camera frame and the labels, then one per frame."""
+    write_long_bag(tmp_path / "r.bag", 3, width=64, height=48)
+    monkeypatch.setattr(cbag.read, "PROGRESS_PERIOD_S", 0.0)
+    lines = []
+    canopy.map_bag(tmp_path / "r.bag", tmp_path / "out", rgb="/cam/rgb", depth="/cam/depth", camera_info="/cam/info",
+                   progress=lines.append)
+    assert lines[0].startswith(f"reading {tmp_path / 'r.bag'}: 1 of 10 messages")
+    mapping = next(i for i, line in enumerate(lines) if line.startswith("read "))
+    assert "mapping 3 frames (0 skipped), camera frame 'cam'" in lines[mapping]
+    assert [line.split(":")[0] for line in lines[mapping + 1:]] == [f"frame /cam/depth@{1 + 0.05 * k:.9f}"
+                                                                     for k in range(3)]
+
+
+def png_bytes(a, declared=None):
+    """PNG of array a; with declared=(w, h), its header claims that size (CRC kept valid)."""
+    from PIL import Image as PILImage
+    buf = io.BytesIO()
+    PILImage.fromarray(a).save(buf, format="PNG")
+    data = bytearray(buf.getvalue())
+    if declared is not None:  # IHDR: after the 8-byte signature, length and type; then width, height
+        data[16:24] = struct.pack(">II", *declared)
+        data[29:33] = struct.pack(">I", zlib.crc32(bytes(data[12:29])))
+    return bytes(data)
+
+
+def compressed_rgb_bag(path, data):
+    with rosbag.Bag(str(path), "w") as b:
+        b.write("/tf_static", tf_msg("world", "cam", 0.0, (0.0, 0.0, 1.0)), stamp(0.5))
+        b.write("/cam/info", info(1.0), stamp(1.0))
+        b.write("/cam/depth", image(1.0, np.full((H, W), 500, np.uint16), "16UC1"), stamp(1.0))
+        c = CompressedImage(format="png", data=data)
+        c.header.stamp, c.header.frame_id = stamp(1.0), "cam"
+        b.write("/cam/rgb", c, stamp(1.0))
+
+
+def test_image_sizes_are_checked_before_decoding(tmp_path):
+    """A PNG declaring 4096 x 4096 (its data is 8 x 6's) is refused by its declared size, naming
+    the topic and the stamp, before a pixel is decoded; a truncated PNG of the right size names
+    them too."""
+    rgb = np.zeros((H, W, 3), np.uint8)
+    compressed_rgb_bag(tmp_path / "big.bag", png_bytes(rgb, declared=(4096, 4096)))
+    line = cli_error(tmp_path, tmp_path / "big.bag")
+    assert "/cam/rgb at 1.000000000 s: rgb image of 4096 x 4096 px, but camera_info says 8 x 6" in line
+    noise = png_bytes(np.random.default_rng(1).integers(0, 255, (H, W, 3), dtype=np.uint8))
+    compressed_rgb_bag(tmp_path / "cut.bag", noise[:len(noise) // 2])
+    line = cli_fails("map-bag", tmp_path / "cut.bag", "--out", tmp_path / "out", "--rgb", "/cam/rgb", "--depth",
+                     "/cam/depth", "--camera-info", "/cam/info")
+    assert line == ("canopy: error: /cam/rgb at 1.000000000 s: a CompressedImage (png) that cannot be decoded: image "
+                    "file is truncated")
+    assert not (tmp_path / "out").exists() and hidden_leftovers(tmp_path) == []
+
+
+# --- a recording's labels and frames -----------------------------------------------------------
+
+def test_a_recordings_labels_are_taken_as_they_are(mission_bag, tmp_path):
+    """No simulated mask noise unless --pgt asks: with a bundle whose p_gt is 0.7 (the
+    simulator's), the true-label bag maps to the mission's map (p_gt 1) byte for byte, the
+    progress says so, and run.yaml and settings.yaml record p_gt 1; --pgt 0.7 draws noise."""
+    tmp, settings, _ = mission_bag
+    noisy = settings.copy().set("mapping.extractor.p_gt", 0.7)
+    noisy.save(tmp_path / "noisy.yaml")
+    p = run_cli("map-bag", tmp / "run.bag", "--out", tmp_path / "a", "--config", tmp_path / "noisy.yaml")
+    assert p.returncode == 0, p.stderr
+    assert "no simulated mask noise (p_gt 1" in p.stderr
+    assert (tmp_path / "a" / "map.csm").read_bytes() == (tmp / "run" / "map.csm").read_bytes()
+    run = yaml.safe_load((tmp_path / "a" / "run.yaml").read_text())
+    assert run["p_gt"] == 1.0 and run["frame"] == "camera_optical_frame"
+    assert canopy.Settings(str(tmp_path / "a" / "settings.yaml")).get("mapping.extractor.p_gt") == 1.0
+    p = run_cli("map-bag", tmp / "run.bag", "--out", tmp_path / "b", "--config", tmp_path / "noisy.yaml", "--pgt", 0.7)
+    assert p.returncode == 0, p.stderr
+    assert (tmp_path / "b" / "map.csm").read_bytes() != (tmp / "run" / "map.csm").read_bytes()
+
+
+def test_the_frame_is_the_depth_images_own(tmp_path):
+    """--frame naming another frame than the depth images' frame_id is refused, naming both;
+    --override-frame takes it with a warning; run.yaml records the frame used."""
+    write_bag(tmp_path / "r.bag")
+    line = cli_error(tmp_path, tmp_path / "r.bag", "--frame", "base")
+    assert "frame 'base' is not the depth images' frame 'cam'" in line
+    topics = ["--rgb", "/cam/rgb", "--depth", "/cam/depth", "--camera-info", "/cam/info"]
+    p = run_cli("map-bag", tmp_path / "r.bag", "--out", tmp_path / "o", *topics, "--frame", "base", "--override-frame")
+    assert p.returncode == 0 and "warning: /cam/depth: poses of frame 'base'" in p.stderr, p.stderr
+    assert yaml.safe_load((tmp_path / "o" / "run.yaml").read_text())["frame"] == "base"
+    p = run_cli("map-bag", tmp_path / "r.bag", "--out", tmp_path / "d", *topics)
+    assert p.returncode == 0, p.stderr
+    assert yaml.safe_load((tmp_path / "d" / "run.yaml").read_text())["frame"] == "cam"
+
+
+@pytest.mark.parametrize("command", ["map-bag", "export-bag"])
+def test_help_shows_every_default(command):
+    p = run_cli(command, "--help")
+    assert p.returncode == 0, p.stderr
+    entries, current = [], None  # each argument's help: from its name to the next argument
+    for line in p.stdout.splitlines():
+        if line.startswith("  ") and not line.startswith("   ") or line.startswith("  -"):
+            current = [line]
+            entries.append(current)
+        elif current is not None and line.startswith("    "):
+            current.append(line)
+        else:
+            current = None
+    texts = [" ".join(" ".join(e).split()) for e in entries if not e[0].strip().startswith("-h")]
+    assert texts and all("(default:" in t or "(required)" in t for t in texts), texts
+
+
+def test_canopy_map_frames_help_shows_its_defaults():
+    p = subprocess.run([os.environ["CANOPY_CLI"], "map", "--help"], capture_output=True, text=True, cwd=SOURCE)
+    text = " ".join(p.stdout.split())
+    assert "with --frames 1 (recorded labels are taken as they are)" in text
+    assert "0.02" in text and "DIR/camera.yaml" in text

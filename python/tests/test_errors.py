@@ -102,6 +102,7 @@ def settings0():
     ([{"pose": np.eye(4), "joints": [0.0] * 6, "gain": "high"}], "gain"),
     ([{"pose": np.eye(4), "source": "my,source"}], "my,source"),
     ({"views": [], "order": "random"}, "random"),
+    ([{"pose": np.eye(4), "cluster": 2**62}], "cluster: 4611686018427387904 is not an integer in"),
 ])
 def test_bad_planner_answers(world, answer, fragment):
     raises(fragment, canopy.run_mission, world, settings0(), planner=lambda request: answer)

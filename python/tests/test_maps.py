@@ -26,12 +26,16 @@ def test_map_of_rendered_views_equals_the_cli_map(world, cli, tmp_path):
 
 
 def test_map_of_recorded_frames_equals_the_cli_map(world, cli, tmp_path):
-    """Frames `canopy render` wrote, read back and inserted with true labels, as `canopy map --frames --seg truth`."""
+    """Frames `canopy render` wrote, read back and inserted with true labels, as `canopy map --frames --seg truth`
+    (without mask noise: recorded labels are taken as they are)."""
     for k, x in enumerate([-0.1, 0.1]):
         pose = pose7(look_at([x, -0.25, 0.65], [x, 0.75, 0.6]))
         cli("render", "--world", "worlds/small.yaml", "--camera-pose", pose, "--out", tmp_path / "frames" / f"f{k}")
-    cli("map", "--frames", tmp_path / "frames", "--seg", "truth", "--out", tmp_path / "m")
-    settings = canopy.Settings().set("mapping.extractor.source", "truth")
+    p = cli("map", "--frames", tmp_path / "frames", "--seg", "truth", "--out", tmp_path / "m")
+    # Recorded labels are taken as they are: no simulated mask noise unless --pgt asks for it,
+    # whatever the bundle's p_gt (0.7, the simulator's), and the command says so.
+    assert "no simulated mask noise" in p.stderr
+    settings = canopy.Settings().set("mapping.extractor.source", "truth").set("mapping.extractor.p_gt", 1)
     recorded = canopy.read_frames(str(tmp_path / "frames"), labels=True)
     assert [f.name for f in recorded["frames"]] == ["f0", "f1"] and recorded["skipped"] == []
     m = canopy.Map(settings, classes=recorded["classes"])
