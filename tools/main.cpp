@@ -94,6 +94,7 @@ int main(int argc, char** argv) {
   CLI::App app{"canopy: simulator and planner for active semantic mapping in greenhouses"};
   app.require_subcommand(1);
   app.set_help_all_flag("--help-all", "Show help for every subcommand");
+  app.set_version_flag("--version", "canopy " CANOPY_VERSION);
   // Flag errors read like every other input error: one line, exit code 2.
   app.failure_message(
       [](const CLI::App*, const CLI::Error& e) { return "canopy: error: " + std::string(e.what()) + "\n"; });

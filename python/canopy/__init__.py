@@ -34,6 +34,7 @@ interrupts.note_while_the_command_imports()  # only as `python3 -m canopy`: befo
 
 from . import _canopy  # noqa: E402
 from ._canopy import *  # noqa: E402,F401,F403
+from ._canopy import __version__  # noqa: E402,F401  (the C++ package's version)
 
 for _type in list(vars(_canopy).values()):
     if isinstance(_type, type):

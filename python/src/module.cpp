@@ -77,6 +77,7 @@ ValueError names an unknown key or a bad value. Returns the settings (calls chai
 PYBIND11_MODULE(_canopy, m) {
   using namespace canopy::python;
   m.doc() = "canopy's C++ library (the canopy package re-exports it; help(canopy) for the overview).";
+  m.attr("__version__") = CANOPY_VERSION;  // the package's version (CMakeLists.txt project())
   // The library's jobs log their steps at info level for the command line; Python hands
   // progress to callbacks, so only warnings and errors print (the module's own spdlog).
   spdlog::set_level(spdlog::level::warn);

@@ -14,6 +14,7 @@
 #include <sstream>
 
 #include "canopy/common/error.h"
+#include "canopy/common/read_file.h"
 #include "canopy/common/value_text.h"
 #include "canopy/common/stats.h"
 #include "canopy/mission/run_folder.h"
@@ -84,14 +85,35 @@ TrialResult read_trial(const std::string& dir) {
     if (r.status != "ok" && r.status != "failed") throw InputError("unknown status '" + r.status + "'");
     r.fingerprint = r.status + (r.status == "ok" ? std::string() : "\n" + r.message);
   } catch (const std::exception& e) {
-    throw InputError(std::string("unreadable: ") + e.what());
+    throw DamagedTrial(std::string("unreadable: ") + e.what());
   }
-  if (r.status == "ok") {  // an ok trial's results must read back whole
-    try {
-      read_mission(p / "mission", &r);
-    } catch (const std::exception& e) {
-      throw InputError(std::string("damaged: an ok trial whose mission/ does not read back (") + e.what() + ")");
-    }
+  if (r.status != "ok") return r;
+  // An ok trial's results must read back whole: a missing or truncated file is damage (left
+  // out and listed; --resume runs the trial again); a whole file holding an impossible value
+  // (a NaN coverage) is an error, since averaging over it or leaving it out quietly would
+  // report wrong figures.
+  const fs::path mission = p / "mission";
+  try {
+    const std::string views = read_file((mission / "views.csv").string());
+    const std::size_t header_end = views.find('\n');
+    const std::size_t columns = std::count(views.begin(), views.begin() + static_cast<std::ptrdiff_t>(
+                                                                               std::min(header_end, views.size())), ',');
+    std::stringstream rows(views.substr(std::min(header_end, views.size())));
+    for (std::string line; std::getline(rows, line);)
+      if (!line.empty() && static_cast<std::size_t>(std::count(line.begin(), line.end(), ',')) != columns)
+        throw InputError((mission / "views.csv").string() + ": a row of another length (truncated?)");
+    if (header_end == std::string::npos || views.back() != '\n')
+      throw InputError((mission / "views.csv").string() + ": does not end with a whole line (truncated?)");
+    (void)nlohmann::json::parse(read_file((mission / "summary.json").string()));
+  } catch (const std::exception& e) {
+    throw DamagedTrial(std::string("damaged: an ok trial whose mission/ does not read back (") + e.what() + ")");
+  }
+  try {
+    read_mission(mission, &r);
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw InputError(mission.string() + ": malformed results (" + e.what() + ")");
   }
   return r;
 }
@@ -167,7 +189,7 @@ MergedTrials merge_experiment_folders(const std::vector<std::string>& dirs) {
       TrialResult r;
       try {
         r = read_trial(p.string());
-      } catch (const std::exception& e) {
+      } catch (const DamagedTrial& e) {
         m.incomplete.push_back({p.string(), e.what()});
         continue;
       }

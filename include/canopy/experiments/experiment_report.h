@@ -15,6 +15,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "canopy/common/error.h"
 #include "canopy/experiments/experiment.h"
 
 namespace canopy::experiments {
@@ -51,9 +52,17 @@ struct MergedTrials {
   std::vector<IncompleteFolder> incomplete;
 };
 
+/// A trial folder whose files are missing or do not read back whole (a truncated trial.json
+/// or summary.json, a deleted views.csv): left out of the figures and listed.
+class DamagedTrial : public InputError {
+ public:
+  using InputError::InputError;
+};
+
 /// Reads one trial folder (trials/<id>): its trial.json, and for an ok trial its mission's
-/// results. Throws InputError saying why when a file is missing or does not read back
-/// ("unreadable: ..." for the record, "damaged: ..." for an ok trial's results).
+/// results. Throws DamagedTrial saying why when a file is missing or does not read back whole
+/// ("unreadable: ..." for the record, "damaged: ..." for an ok trial's results), and
+/// InputError when a whole file holds an impossible value (a NaN coverage).
 TrialResult read_trial(const std::string& dir);
 
 /// Reads and merges experiment folders; a trial folder read_trial refuses is listed in
