@@ -116,7 +116,7 @@ void add_ablate_command(CLI::App& app) {
     mission::Settings bundle = load_settings(o.config);
     if (!o.seg.empty()) bundle.mapping.extractor.source = perception::label_source_from_string(o.seg, "--seg");
     for (const mission::SettingOverride& kv : mission::parse_overrides(o.set, "--set"))
-      bundle.set(kv.first, kv.second, "--set " + kv.first + "=" + kv.second);
+      bundle.set(kv.first, kv.second, "--set " + kv.first);
     const std::vector<std::string> gains = split(o.gains), rays = split(o.rays);
     std::vector<double> pgts;
     for (const auto& s : split(o.pgt)) {

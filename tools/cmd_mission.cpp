@@ -96,7 +96,7 @@ void run_mission(const MissionCliOptions& o, CLI::App* sub) {
     }
   }
   for (const mission::SettingOverride& kv : mission::parse_overrides(o.set, "--set"))
-    settings.set(kv.first, kv.second, "--set " + kv.first + "=" + kv.second);
+    settings.set(kv.first, kv.second, "--set " + kv.first);
   job.video = jobs::video_options(o.video, o.video_size, o.video_fps);
   job.world_file = o.world;
   job.seed = o.seed;

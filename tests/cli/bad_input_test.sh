@@ -65,6 +65,14 @@ expect_error "--video: cannot write '$tmp/no_such_folder/v.mp4': folder '$tmp/no
   run --video "$tmp/no_such_folder/v.mp4"
 expect_error "--video: '$tmp/a_folder' is a folder" run --video "$tmp/a_folder"
 expect_error "--video: cannot write '/proc/canopy.mp4'" run --video /proc/canopy.mp4
+# A key given twice, a seed given twice, lists beyond their limits (issue 45, point 10).
+expect_error "--set: key 'mission.loop.views_per_stop' is given twice ('mission.loop.views_per_stop=2' and 'mission.loop.views_per_stop=3'); give it once" \
+  mission --world worlds/small.yaml --set mission.loop.views_per_stop=2 --set mission.loop.views_per_stop=3
+expect_error "--seed: seed 1 is given twice" visibility --seed 1,1
+expect_error "holds more than 16 radii" mission --world worlds/small.yaml --method shape \
+  --set "nbv.shape.radii_m=[$(seq -s, 0.3 0.01 0.5)]"
+expect_error "holds 1001 numbers, at most 1000" mission --world worlds/small.yaml \
+  --set "mission.record.time_budgets_s=[$(seq -s, 1 1001)]"
 
 # Every command protects a folder it did not write: map and ablate (with or without
 # --resume) refuse it and leave the user's files as they were.
