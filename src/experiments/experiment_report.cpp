@@ -104,7 +104,8 @@ TrialResult read_trial(const std::string& dir) {
         throw InputError((mission / "views.csv").string() + ": a row of another length (truncated?)");
     if (header_end == std::string::npos || views.back() != '\n')
       throw InputError((mission / "views.csv").string() + ": does not end with a whole line (truncated?)");
-    (void)nlohmann::json::parse(read_file((mission / "summary.json").string()));
+    if (!nlohmann::json::accept(read_file((mission / "summary.json").string())))
+      throw InputError((mission / "summary.json").string() + ": not valid JSON (truncated?)");
   } catch (const std::exception& e) {
     throw DamagedTrial(std::string("damaged: an ok trial whose mission/ does not read back (") + e.what() + ")");
   }
