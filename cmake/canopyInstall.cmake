@@ -7,8 +7,8 @@
 include(GNUInstallDirs)
 include(CMakePackageConfigHelpers)
 
-set(CANOPY_CORE_MODULES common robot world perception mapping datasets evaluation nbv motion)
-set(CANOPY_SIM_MODULES sim mission experiments jobs)
+set(CANOPY_CORE_MODULES common robot world perception mapping datasets evaluation nbv motion settings records)
+set(CANOPY_SIM_MODULES sim video mission experiments jobs)
 set(CANOPY_INSTALL_CMAKEDIR ${CMAKE_INSTALL_LIBDIR}/cmake/canopy)
 
 set(canopy_core_targets canopy_ompl canopy_warnings)

@@ -7,7 +7,7 @@
 #include <string>
 
 #include "canopy/jobs/world_job.h"
-#include "canopy/mission/settings.h"
+#include "canopy/settings/settings.h"
 #include "canopy/robot/robot_config.h"
 
 namespace canopy::cli {
@@ -16,7 +16,7 @@ namespace canopy::cli {
 std::string default_world_path();
 /// Loads the settings bundle every command's --config names, found like a world file
 /// (InputError on problems).
-mission::Settings load_settings(const std::string& path);
+settings::Settings load_settings(const std::string& path);
 /// Help text of --config.
 constexpr const char* kStrictColoursHelp =
     "Refuse the world when colour segmentation would label a non-fruit material (floor, leaf) fruit "

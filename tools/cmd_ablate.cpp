@@ -51,7 +51,7 @@ void print_table(const std::vector<experiments::AblationRow>& rows, int views) {
 void add_ablate_command(CLI::App& app) {
   struct Options {
     std::string world = "worlds/ablation.yaml";
-    std::string config = mission::default_settings_path();
+    std::string config = settings::default_settings_path();
     int plants = 6, views = 30, trials = 10, initial_views = 2, threads = 2;
     std::string protocol = "paper";
     std::string proximity;
@@ -113,9 +113,9 @@ void add_ablate_command(CLI::App& app) {
       if (unset("--pgt")) o.pgt = "1.0";
     }
     // Validate everything before any work.
-    mission::Settings bundle = load_settings(o.config);
+    settings::Settings bundle = load_settings(o.config);
     if (!o.seg.empty()) bundle.mapping.extractor.source = perception::label_source_from_string(o.seg, "--seg");
-    for (const mission::SettingOverride& kv : mission::parse_overrides(o.set, "--set"))
+    for (const settings::SettingOverride& kv : settings::parse_overrides(o.set, "--set"))
       bundle.set(kv.first, kv.second, "--set " + kv.first);
     const std::vector<std::string> gains = split(o.gains), rays = split(o.rays);
     std::vector<double> pgts;
@@ -133,10 +133,10 @@ void add_ablate_command(CLI::App& app) {
     for (const auto& p : proximities) nbv::proximity_from_string(p, "--osamcep-proximity");
     std::vector<experiments::SettingSweep> sweeps;
     for (const std::string& s : o.sweep) {
-      const mission::SettingOverride kv = mission::parse_override(s, "--sweep");
+      const settings::SettingOverride kv = settings::parse_override(s, "--sweep");
       experiments::SettingSweep sw{kv.first, split(kv.second)};
       for (const std::string& v : sw.values) {
-        mission::Settings probe = bundle;
+        settings::Settings probe = bundle;
         probe.set(sw.key, v, "--sweep " + s);  // every value must be valid before any job runs
       }
       sweeps.push_back(sw);

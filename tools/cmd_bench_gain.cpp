@@ -17,7 +17,7 @@ namespace canopy::cli {
 void add_bench_gain(CLI::App& bench) {
   auto opt = std::make_shared<jobs::BenchGainParams>();
   opt->world_file = default_world_path();
-  auto config = std::make_shared<std::string>(mission::default_settings_path());
+  auto config = std::make_shared<std::string>(settings::default_settings_path());
   CLI::App* sub = bench.add_subcommand("gain", "Information gain per view for each ray set: fast traversal vs reference");
   sub->add_option("--world", opt->world_file, "World file (YAML)")->capture_default_str();
   sub->add_option("--config", *config, kConfigHelp)->capture_default_str();

@@ -7,7 +7,7 @@
 #include <cstdio>
 
 #include "canopy/common/timer.h"
-#include "canopy/mission/settings.h"
+#include "canopy/settings/settings.h"
 #include "canopy/mapping/scan_inserter.h"
 #include "canopy/evaluation/view_presets.h"
 #include "canopy/sim/renderer.h"
@@ -71,7 +71,7 @@ Timing time_octomap(const std::vector<octomap::Pointcloud>& clouds, const std::v
 void add_bench_map(CLI::App& bench) {
   struct Options {
     std::string world = default_world_path();
-    std::string config = mission::default_settings_path();
+    std::string config = settings::default_settings_path();
     std::string views = "ring";
     int frames = 32;
     int repeats = 3;
@@ -84,7 +84,7 @@ void add_bench_map(CLI::App& bench) {
   sub->add_option("--frames", opt->frames, "Frames to insert, spread over the views")->capture_default_str()->check(CLI::Range(1, 10000));
   sub->add_option("--repeats", opt->repeats, "Runs over all frames, averaged")->capture_default_str()->check(CLI::Range(1, 100));
   sub->callback([opt] {
-    const mission::MappingSettings cfg = load_settings(opt->config).mapping;
+    const settings::MappingSettings cfg = load_settings(opt->config).mapping;
     const world::WorldSpec spec = jobs::load_world_spec(opt->world);
     const world::World world = jobs::build_world(spec);
     sim::Simulator sim(world, default_robot_config());

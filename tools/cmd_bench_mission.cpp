@@ -52,7 +52,7 @@ double peak_rss_mb() {
 void add_bench_mission(CLI::App& bench) {
   struct Options {
     std::string world = default_world_path();
-    std::string config = mission::default_settings_path();
+    std::string config = settings::default_settings_path();
     std::string rows = "4:5,16:20";
     std::string method = "ours";
     unsigned seed = 1;
@@ -123,7 +123,7 @@ void add_bench_mission(CLI::App& bench) {
     }
     const std::vector<RowSize> rows = parse_rows(opt->rows);
     const world::WorldSpec base = jobs::load_world_spec(opt->world);
-    mission::Settings settings = load_settings(opt->config);
+    settings::Settings settings = load_settings(opt->config);
     settings.set("method.name", opt->method, "--method");
     struct Line {
       RowSize size;
@@ -135,7 +135,7 @@ void add_bench_mission(CLI::App& bench) {
     for (const RowSize& r : rows) {
       world::WorldSpec spec = base;
       spec.rows.plants_per_row = r.plants_per_row;
-      mission::Settings s = settings;
+      settings::Settings s = settings;
       s.set("mission.stops.count", std::to_string(r.stops), "--rows");
       s.mission.stops.positions_m.clear();
       Line line;
@@ -155,7 +155,7 @@ void add_bench_mission(CLI::App& bench) {
           spdlog::info("  stop {}/{}", k, n);
       };
       mission::Mission mission(world, s, opt->seed, cb);
-      const mission::MissionResult res = mission.run();
+      const records::MissionResult res = mission.run();
       line.views = res.successful_views();
       line.wall_s = res.wall_time_s;
       line.sim_s = res.sim_time_s;

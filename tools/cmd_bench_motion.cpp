@@ -11,7 +11,8 @@
 
 #include "canopy/common/error.h"
 #include "canopy/common/timer.h"
-#include "canopy/common/io.h"
+#include "canopy/common/atomic_file.h"
+#include "canopy/common/value_text.h"
 #include "canopy/common/random.h"
 #include "canopy/motion/motion_config.h"
 #include "canopy/evaluation/truth_voxels.h"
@@ -37,7 +38,7 @@ double percentile(std::vector<double> v, double p) {
 void add_bench_motion(CLI::App& bench) {
   struct Options {
     std::string world = default_world_path();
-    std::string config = mission::default_settings_path();
+    std::string config = settings::default_settings_path();
     std::string base = "0.75,0,0";
     std::string json;
     int ik_poses = 100000;

@@ -6,7 +6,7 @@
 #include <map>
 
 #include "canopy/common/error.h"
-#include "canopy/common/io.h"
+#include "canopy/common/output_dir.h"
 #include "canopy/evaluation/segmentation_check.h"
 #include "canopy/world/plant_import.h"
 #include "cli_util.h"
@@ -17,7 +17,7 @@ namespace canopy::cli {
 void add_import_plant_command(CLI::App& app) {
   struct Options {
     std::string file, out, preset, up = "auto", gt = "surface", texture = "image";
-    std::string config = mission::default_settings_path();
+    std::string config = settings::default_settings_path();
     bool strict = false;
     std::vector<std::string> classes;
     double unit_scale = 0.0;

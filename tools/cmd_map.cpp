@@ -10,7 +10,7 @@
 
 #include "canopy/common/error.h"
 #include "canopy/common/interrupt.h"
-#include "canopy/common/io.h"
+#include "canopy/common/value_text.h"
 #include "canopy/datasets/frame_sequence.h"
 #include "canopy/jobs/map_job.h"
 #include "canopy/jobs/recorded_map_job.h"
@@ -25,7 +25,7 @@ namespace {
 struct MapOptions {
   std::string world = default_world_path();
   std::string views = "ring";
-  std::string config = mission::default_settings_path();
+  std::string config = settings::default_settings_path();
   std::string seg;
   double pgt = -1.0;
   std::string out;
@@ -37,7 +37,7 @@ struct MapOptions {
 
 // canopy map --frames: no world, no ground truth; the map and what each frame gave
 // (jobs::map_recorded, canopy/jobs/recorded_map_job.h).
-void map_recorded(const MapOptions& opt, const mission::Settings& bundle) {
+void map_recorded(const MapOptions& opt, const settings::Settings& bundle) {
   datasets::FrameReaderOptions reader;
   reader.intrinsics_file = opt.intrinsics;
   reader.label_colors_file = opt.label_colors;
@@ -117,7 +117,7 @@ void add_map_command(CLI::App& app) {
   sub->callback([opt] {
     // Ctrl-C and SIGTERM: the views mapped so far are saved, marked incomplete.
     const InterruptScope interrupts;
-    mission::Settings bundle = load_settings(opt->config);
+    settings::Settings bundle = load_settings(opt->config);
     if (!opt->seg.empty()) bundle.set("mapping.extractor.source", opt->seg, "--seg");
     if (opt->pgt >= 0.0) bundle.set("mapping.extractor.p_gt", format_number(opt->pgt, "%.17g"), "--pgt");
     // A recording's labels (or its colours' segmentation) are what they are: the bundle's p_gt

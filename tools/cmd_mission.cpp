@@ -7,10 +7,10 @@
 
 #include "canopy/common/error.h"
 #include "canopy/common/interrupt.h"
-#include "canopy/common/io.h"
+#include "canopy/common/value_text.h"
 #include "canopy/jobs/mission_job.h"
 #include "canopy/jobs/world_job.h"
-#include "canopy/mission/video.h"
+#include "canopy/video/video.h"
 #include "cli_util.h"
 #include "commands.h"
 
@@ -20,7 +20,7 @@ namespace {
 
 struct MissionCliOptions {
   std::string world = default_world_path();
-  std::string config = mission::default_settings_path();
+  std::string config = settings::default_settings_path();
   std::string method = "ours", gain = "osamcep", rays = "ours";  // override the bundle's `method` when given
   std::vector<std::string> set;
   std::string seg, stops, out, video, video_size = "640x480", export_dir;
@@ -37,7 +37,6 @@ void add_options(CLI::App* sub, MissionCliOptions* o, bool out_required) {
   sub->add_option("--world", o->world, "World file (YAML)")->capture_default_str();
   sub->add_option("--config", o->config, kConfigHelp)->capture_default_str();
   sub->add_option("--method", o->method, "View planner: " + [] {
-        mission::register_oracle_planners();
         std::string s;
         for (const auto& e : nbv::view_planner_registry())
           s += (s.empty() ? "" : ", ") + e.name + (e.reads_ground_truth ? " (ORACLE: reads the ground truth)" : "");
@@ -70,11 +69,11 @@ void run_mission(const MissionCliOptions& o, CLI::App* sub) {
   // Ctrl-C and SIGTERM from here on: the views so far are saved, marked incomplete.
   const InterruptScope interrupts;
   // Validate every input before any work.
-  if (!o.video.empty()) mission::VideoWriter::validate_output_path(o.video);
+  if (!o.video.empty()) video::VideoWriter::validate_output_path(o.video);
   const world::WorldSpec spec = jobs::load_world_spec(o.world);
   jobs::MissionJobParams job;
   job.settings = load_settings(o.config);
-  mission::Settings& settings = job.settings;
+  settings::Settings& settings = job.settings;
   if (sub->count("--method")) settings.set("method.name", o.method, "--method");
   if (sub->count("--gain")) settings.set("method.gain", o.gain, "--gain");
   if (sub->count("--rays")) settings.set("method.rays", o.rays, "--rays");
@@ -95,7 +94,7 @@ void run_mission(const MissionCliOptions& o, CLI::App* sub) {
       settings.set("mission.stops.positions_m", list + "]", "--stops");
     }
   }
-  for (const mission::SettingOverride& kv : mission::parse_overrides(o.set, "--set"))
+  for (const settings::SettingOverride& kv : settings::parse_overrides(o.set, "--set"))
     settings.set(kv.first, kv.second, "--set " + kv.first);
   job.video = jobs::video_options(o.video, o.video_size, o.video_fps);
   job.world_file = o.world;
@@ -112,7 +111,7 @@ void run_mission(const MissionCliOptions& o, CLI::App* sub) {
   cb.progress = [](const std::string& m) { spdlog::info("{}", m); };
   cb.stop_requested = [] { return interrupt_requested(); };
   const jobs::MissionJobResult r = jobs::run_mission_job(world, job, cb);
-  const mission::MissionResult& result = r.result;
+  const records::MissionResult& result = r.result;
   spdlog::info("{}: {} of {} views successful, fruit SC {:.3f}, entropy {:.1f} nats, {:.1f} s simulated, {:.1f} s wall",
                result.complete ? "mission done" : "mission INTERRUPTED (partial results, marked incomplete)",
                result.successful_views(), result.views.size(), result.final_metrics.coverage,

@@ -8,7 +8,9 @@
 
 #include "canopy/common/error.h"
 #include "canopy/datasets/frame_sequence.h"
-#include "canopy/common/io.h"
+#include "canopy/common/atomic_file.h"
+#include "canopy/common/read_file.h"
+#include "canopy/common/value_text.h"
 #include "canopy/mapping/map_io.h"
 #include "canopy/mission/mission.h"
 #include "canopy/motion/view_reach.h"
@@ -74,7 +76,7 @@ void check_views_out(const std::string& out, const std::vector<std::pair<std::st
 void add_nbv_command(CLI::App& app) {
   struct Options {
     std::string map, base, joints, out, intrinsics;
-    std::string config = mission::default_settings_path();
+    std::string config = settings::default_settings_path();
     std::string gain, rays;  // "": the bundle's method.gain / method.rays
     int k = -1;
     std::uint64_t seed = 1;
@@ -97,7 +99,7 @@ void add_nbv_command(CLI::App& app) {
   sub->callback([opt] {
     // Validate every input before doing any work.
     check_views_out(opt->out, {{opt->map, "--map"}, {opt->config, "--config"}, {opt->intrinsics, "--intrinsics"}});
-    mission::Settings settings = load_settings(opt->config);
+    settings::Settings settings = load_settings(opt->config);
     if (opt->k > 0) settings.nbv.planner.top_k = opt->k;
     const RobotConfig robot = default_robot_config();
     const motion::RobotModel model = motion::RobotModel::load(robot);

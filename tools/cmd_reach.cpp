@@ -7,7 +7,10 @@
 #include <cmath>
 
 #include "canopy/common/error.h"
-#include "canopy/common/io.h"
+#include "canopy/common/atomic_file.h"
+#include "canopy/common/output_dir.h"
+#include "canopy/common/png_io.h"
+#include "canopy/common/value_text.h"
 #include "canopy/motion/motion_config.h"
 #include "canopy/evaluation/truth_voxels.h"
 #include "canopy/motion/reachability.h"
@@ -61,7 +64,7 @@ nlohmann::json rgb_json(const Rgb8& c) { return {c.r, c.g, c.b}; }
 void add_reach_command(CLI::App& app) {
   struct Options {
     std::string world = default_world_path();
-    std::string config = mission::default_settings_path();
+    std::string config = settings::default_settings_path();
     std::string base, joints, out;
     motion::ReachParams grid;
     double voxel_m = 0.015;

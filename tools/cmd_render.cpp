@@ -6,7 +6,9 @@
 
 #include "canopy/common/error.h"
 #include "canopy/datasets/frame_io.h"
-#include "canopy/common/io.h"
+#include "canopy/common/atomic_file.h"
+#include "canopy/common/output_dir.h"
+#include "canopy/common/value_text.h"
 #include "canopy/motion/robot_model.h"
 #include "canopy/sim/renderer.h"
 #include "cli_util.h"

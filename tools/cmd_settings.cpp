@@ -4,7 +4,6 @@
 
 #include <cstdio>
 
-#include "canopy/common/io.h"
 #include "canopy/world/world_spec.h"
 #include "cli_util.h"
 #include "commands.h"
@@ -13,7 +12,7 @@ namespace canopy::cli {
 
 void add_settings_command(CLI::App& app) {
   struct Options {
-    std::string config = mission::default_settings_path();
+    std::string config = settings::default_settings_path();
     bool markdown = false;
     bool world = false;
   };

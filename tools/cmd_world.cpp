@@ -4,7 +4,9 @@
 
 #include <filesystem>
 
-#include "canopy/common/io.h"
+#include "canopy/common/atomic_file.h"
+#include "canopy/common/output_dir.h"
+#include "canopy/common/read_file.h"
 #include "canopy/sim/scene_mjcf.h"
 #include "cli_util.h"
 #include "commands.h"
@@ -15,7 +17,7 @@ void add_world_command(CLI::App& app) {
   struct Options {
     std::string world = default_world_path();
     std::string out;
-    std::string config = mission::default_settings_path();
+    std::string config = settings::default_settings_path();
     std::string seg;
     bool strict = false;
   };
@@ -32,7 +34,7 @@ void add_world_command(CLI::App& app) {
   sub->callback([opt] {
     const world::WorldSpec spec = jobs::load_world_spec(opt->world);
     const world::World world = jobs::build_world(spec);
-    mission::Settings settings = load_settings(opt->config);
+    settings::Settings settings = load_settings(opt->config);
     if (!opt->seg.empty()) settings.set("mapping.extractor.source", opt->seg, "--seg");
     jobs::check_world_colours(world, settings.mapping.extractor, opt->strict);
     const RobotConfig robot_config = default_robot_config();

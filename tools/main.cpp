@@ -13,7 +13,8 @@
 
 #include "canopy/common/error.h"
 #include "canopy/common/interrupt.h"
-#include "canopy/common/io.h"
+#include "canopy/common/atomic_file.h"
+#include "canopy/common/value_text.h"
 #include "commands.h"
 
 namespace {

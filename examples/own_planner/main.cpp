@@ -13,9 +13,9 @@
 #include <string>
 
 #include "canopy/common/error.h"
-#include "canopy/common/io.h"
+#include "canopy/common/output_dir.h"
 #include "canopy/mission/mission.h"
-#include "canopy/mission/run_folder.h"
+#include "canopy/records/run_folder.h"
 #include "canopy/nbv/candidates.h"
 #include "canopy/nbv/clusters.h"
 #include "canopy/nbv/view_planner.h"
@@ -83,25 +83,25 @@ int main(int argc, char** argv) {
                                 [](const nbv::ViewPlannerSettings& s) { return std::make_unique<NearestPlanner>(s); }});
 
     const RobotConfig robot = default_robot_config();
-    mission::Settings settings = mission::Settings::load(find_data_file(mission::default_settings_path()), robot);
+    settings::Settings settings = settings::Settings::load(find_data_file(settings::default_settings_path()), robot);
     settings.set("method.name", "nearest", "own_planner");
     settings.set("mission.loop.views_per_stop", "2", "own_planner");
     const std::string world_file = argc > 1 ? argv[1] : "worlds/small.yaml";
     const world::World world = world::generate_world(world::WorldSpec::load(find_data_file(world_file)));
 
     mission::Mission mission(world, settings, /*seed=*/1);
-    const mission::MissionResult result = mission.run();
-    for (const mission::ViewRecord& v : result.views)
+    const records::MissionResult result = mission.run();
+    for (const records::ViewRecord& v : result.views)
       if (v.success) std::printf("view %d (%s): fruit SC %.3f\n", v.successful_views, v.source.c_str(), v.coverage);
     std::printf("planner '%s': %d of %zu views successful, fruit SC %.3f, %.1f s simulated\n",
                 settings.method.name.c_str(), result.successful_views(), result.views.size(),
                 result.final_metrics.coverage, result.sim_time_s);
     if (argc > 2) {
       StagedDir out(argv[2], "mission");
-      mission::RunContext context;
+      records::RunContext context;
       context.world_file = world_file;
       context.world = &world;
-      mission::write_run_folder(out.working_dir(), result, settings, mission.map(), context);
+      records::write_run_folder(out.working_dir(), result, settings, mission.map(), context);
       out.commit();
       std::printf("wrote %s\n", argv[2]);
     }

@@ -8,7 +8,7 @@
 #include <exception>
 
 #include "canopy/common/error.h"
-#include "canopy/common/io.h"
+#include "canopy/common/value_text.h"
 #include "canopy/datasets/frame_sequence.h"
 #include "canopy/datasets/sequence_mapping.h"
 #include "canopy/mapping/map_params.h"

@@ -197,12 +197,12 @@ std::uint64_t seed_from(const py::object& seed, const std::string& what) {
   throw InputError(what + ": " + describe(seed) + " is not an integer in [0, 2^64)");
 }
 
-mission::Settings settings_from(const py::object& settings) {
+settings::Settings settings_from(const py::object& settings) {
   if (settings.is_none())
-    return mission::Settings::load(find_data_file(mission::default_settings_path()), default_robot_config());
-  if (py::isinstance<mission::Settings>(settings)) return settings.cast<mission::Settings>();
+    return settings::Settings::load(find_data_file(settings::default_settings_path()), default_robot_config());
+  if (py::isinstance<settings::Settings>(settings)) return settings.cast<settings::Settings>();
   if (py::isinstance<py::str>(settings) || py::hasattr(settings, "__fspath__"))
-    return mission::Settings::load(find_data_file(path_from(settings, "settings")), default_robot_config());
+    return settings::Settings::load(find_data_file(path_from(settings, "settings")), default_robot_config());
   throw InputError("settings: " + describe(settings) + " is not a canopy.Settings, a bundle file or None");
 }
 

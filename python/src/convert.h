@@ -16,7 +16,7 @@
 
 #include "canopy/common/camera.h"
 #include "canopy/common/types.h"
-#include "canopy/mission/settings.h"
+#include "canopy/settings/settings.h"
 
 namespace canopy::python {
 
@@ -78,7 +78,7 @@ std::uint64_t seed_from(const py::object& seed, const std::string& what);
 
 /// `settings` as a bundle: a canopy.Settings, a bundle file's path, or None for the default
 /// bundle (configs/canopy.yaml, as the command line loads it).
-mission::Settings settings_from(const py::object& settings);
+settings::Settings settings_from(const py::object& settings);
 /// `intrinsics` (a canopy.Intrinsics) or `fallback` when None; validated.
 CameraIntrinsics intrinsics_from(const py::object& intrinsics, const CameraIntrinsics& fallback);
 

@@ -8,7 +8,7 @@
 
 #include "canopy/common/data_dir.h"
 #include "canopy/common/error.h"
-#include "canopy/common/io.h"
+#include "canopy/common/output_dir.h"
 #include "canopy/datasets/frame_sequence.h"
 #include "canopy/jobs/recorded_map_job.h"
 #include "objects.h"

@@ -10,16 +10,16 @@
 
 namespace canopy::python {
 
-PyMap::PyMap(const mission::MappingSettings& settings, const SemanticClasses& classes)
+PyMap::PyMap(const settings::MappingSettings& settings, const SemanticClasses& classes)
     : owned_(std::make_unique<mapping::SemanticOcTree>(settings.map, classes)), settings_(settings) {}
 
-PyMap::PyMap(mapping::SemanticOcTree map, const mission::MappingSettings& settings)
+PyMap::PyMap(mapping::SemanticOcTree map, const settings::MappingSettings& settings)
     : owned_(std::make_unique<mapping::SemanticOcTree>(std::move(map))), settings_(settings) {
   settings_.map = owned_->params();
 }
 
 std::shared_ptr<PyMap> PyMap::borrow(const mapping::SemanticOcTree& map, std::shared_ptr<const bool> alive,
-                                     const mission::MappingSettings& settings) {
+                                     const settings::MappingSettings& settings) {
   std::shared_ptr<PyMap> m(new PyMap());
   m->borrowed_ = &map;
   m->alive_ = std::move(alive);

@@ -8,12 +8,12 @@
 #include <optional>
 
 #include "canopy/common/error.h"
-#include "canopy/common/io.h"
+#include "canopy/common/output_dir.h"
 #include "canopy/common/timer.h"
 #include "canopy/jobs/mission_job.h"
 #include "canopy/mission/mission.h"
-#include "canopy/mission/run_folder.h"
-#include "canopy/mission/view_columns.h"
+#include "canopy/records/run_folder.h"
+#include "canopy/records/view_columns.h"
 #include "canopy/robot/robot_description.h"
 #include "objects.h"
 #include "python_planner.h"
@@ -23,39 +23,39 @@ namespace canopy::python {
 namespace {
 
 struct PyMissionResult {
-  mission::MissionResult result;
-  mission::Settings settings;
+  records::MissionResult result;
+  settings::Settings settings;
   nlohmann::json summary;
   std::shared_ptr<PyMap> map;
 };
 
-// One entry per attempted view: every column of views.csv (mission::view_columns(), empty
+// One entry per attempted view: every column of views.csv (records::view_columns(), empty
 // fields as NaN), plus the goal and reached poses as 4x4 matrices.
-py::dict views_dict(const mission::MissionResult& r, const std::string& method) {
+py::dict views_dict(const records::MissionResult& r, const std::string& method) {
   py::dict d;
-  for (const mission::ViewColumn& c : mission::view_columns()) {
-    std::vector<mission::ColumnValue> values;
-    for (const mission::ViewRecord& v : r.views) values.push_back(c.get(v, method));
+  for (const records::ViewColumn& c : records::view_columns()) {
+    std::vector<records::ColumnValue> values;
+    for (const records::ViewRecord& v : r.views) values.push_back(c.get(v, method));
     switch (c.type) {
-      case mission::ColumnType::kInt: {
+      case records::ColumnType::kInt: {
         std::vector<int> a;
         for (const auto& x : values) a.push_back(static_cast<int>(std::get<long long>(x)));
         d[c.name] = array_of(a);
         break;
       }
-      case mission::ColumnType::kFlag: {
+      case records::ColumnType::kFlag: {
         std::vector<bool> a;
         for (const auto& x : values) a.push_back(std::get<long long>(x) != 0);
         d[c.name] = array_of(a);
         break;
       }
-      case mission::ColumnType::kReal: {
+      case records::ColumnType::kReal: {
         std::vector<double> a;
         for (const auto& x : values) a.push_back(std::holds_alternative<double>(x) ? std::get<double>(x) : std::nan(""));
         d[c.name] = array_of(a);
         break;
       }
-      case mission::ColumnType::kText: {
+      case records::ColumnType::kText: {
         std::vector<std::string> a;
         for (const auto& x : values) a.push_back(std::get<std::string>(x));
         d[c.name] = strings_array(a);
@@ -64,7 +64,7 @@ py::dict views_dict(const mission::MissionResult& r, const std::string& method) 
     }
   }
   std::vector<Pose> goal, reached;
-  for (const mission::ViewRecord& v : r.views) {
+  for (const records::ViewRecord& v : r.views) {
     goal.push_back(v.T_goal);
     reached.push_back(v.T_reached);
   }
@@ -135,7 +135,7 @@ NaN), plus goal_pose and reached_pose (N, 4, 4; reached NaN for failed views).)"
       .def("sc_curve", [](const PyMissionResult& r) {
         std::vector<int> views;
         std::vector<double> coverage, entropy;
-        for (const mission::ViewRecord& v : r.result.views)
+        for (const records::ViewRecord& v : r.result.views)
           if (v.success) {
             views.push_back(v.successful_views);
             coverage.push_back(v.coverage);
@@ -152,7 +152,7 @@ NaN), plus goal_pose and reached_pose (N, 4, 4; reached NaN for failed views).)"
       .def_property_readonly("settings", [](const PyMissionResult& r) { return r.settings; },
                              "The settings bundle the mission ran with.")
       .def_property_readonly("views_csv", [](const PyMissionResult& r) {
-        return mission::views_csv(r.result, r.settings.method.name);
+        return records::views_csv(r.result, r.settings.method.name);
       }, "views.csv's text (byte-identical for a seed).")
       .def_property_readonly("complete", [](const PyMissionResult& r) { return r.result.complete; })
       .def_property_readonly("successful_views", [](const PyMissionResult& r) { return r.result.successful_views(); });
@@ -163,7 +163,7 @@ NaN), plus goal_pose and reached_pose (N, 4, 4; reached NaN for failed views).)"
            double video_fps, const py::object& progress, const py::object& on_view, const py::object& on_state,
            double state_period, bool report) {
           // Validate every input before any work.
-          mission::Settings s = settings_from(settings);
+          settings::Settings s = settings_from(settings);
           choose_method(s, method, planner);
           const std::uint64_t seed = seed_from(seed_arg, "seed");
           std::string video_error;
@@ -205,7 +205,7 @@ NaN), plus goal_pose and reached_pose (N, 4, 4; reached NaN for failed views).)"
             return *tree;
           };
           if (!on_view.is_none())
-            job.on_view = [&on_view, &links_of, map_settings = s.mapping](const mission::ViewRecord& v, const LabelledFrame& f,
+            job.on_view = [&on_view, &links_of, map_settings = s.mapping](const records::ViewRecord& v, const LabelledFrame& f,
                                                                      const sim::Simulator& sim,
                                                                      const mapping::SemanticOcTree& map) {
               const LinkTree& t = links_of(sim);
@@ -218,7 +218,7 @@ NaN), plus goal_pose and reached_pose (N, 4, 4; reached NaN for failed views).)"
               py::dict d = robot_state(sim, t);
               d["attempt"] = v.attempt;
               d["stop"] = v.stop;
-              d["phase"] = mission::to_string(v.phase);
+              d["phase"] = records::to_string(v.phase);
               d["source"] = v.source;
               d["successful_views"] = v.successful_views;
               d["goal"] = pose_array(v.T_goal);
@@ -255,7 +255,7 @@ NaN), plus goal_pose and reached_pose (N, 4, 4; reached NaN for failed views).)"
             }
             return interrupted;
           };
-          const auto amend = [&interrupted](mission::MissionResult& r) {
+          const auto amend = [&interrupted](records::MissionResult& r) {
             if (take_interrupt()) interrupted = true;  // noted after the last poll (the last stop's planner)
             if (interrupted) {
               r.complete = false;

@@ -6,7 +6,7 @@
 
 #include "canopy/common/data_dir.h"
 #include "canopy/common/error.h"
-#include "canopy/common/io.h"
+#include "canopy/common/atomic_file.h"
 #include "canopy/common/output_dir.h"
 #include "canopy/robot/robot_config.h"
 #include "objects.h"
@@ -15,30 +15,30 @@
 namespace canopy::python {
 
 void bind_settings(py::module_& m) {
-  py::class_<mission::Settings>(m, "Settings", R"(The settings bundle: sections method, mapping, nbv, motion and mission.
+  py::class_<settings::Settings>(m, "Settings", R"(The settings bundle: sections method, mapping, nbv, motion and mission.
 
 Every setting is named by its key path ("mission.loop.views_per_stop"); docs/settings.md
 lists them all with their defaults, limits and help (so does describe()).)")
       .def(py::init([](const py::object& path) { return settings_from(path); }), py::arg("path") = py::none(),
            "Loads a bundle file (default: configs/canopy.yaml, found like the command line's --config).")
-      .def_static("defaults", [] { return mission::Settings::defaults(default_robot_config()); },
+      .def_static("defaults", [] { return settings::Settings::defaults(default_robot_config()); },
                   "The struct defaults (equal to configs/canopy.yaml).")
       .def_static("from_yaml", [](const std::string& text, const std::string& folder) {
-        return mission::Settings::load_string(text, "settings text", folder, default_robot_config());
+        return settings::Settings::load_string(text, "settings text", folder, default_robot_config());
       }, py::arg("text"), py::arg("folder") = ".", "Parses bundle text; component files are read relative to folder.")
-      .def("set", [](mission::Settings& s, const std::string& key, const py::object& value) -> mission::Settings& {
+      .def("set", [](settings::Settings& s, const std::string& key, const py::object& value) -> settings::Settings& {
         s.set(key, yaml_value(value), "settings");
         return s;
       }, py::arg("key"), py::arg("value"), py::return_value_policy::reference_internal,
       R"(Sets the setting at key path `key` (str values are YAML text) and validates the bundle;
 ValueError names an unknown key or a bad value. Returns the settings (calls chain).)")
-      .def("update", [](mission::Settings& s, const py::dict& values) -> mission::Settings& {
+      .def("update", [](settings::Settings& s, const py::dict& values) -> settings::Settings& {
         for (const auto& kv : values) s.set(py::str(kv.first), yaml_value(kv.second), "settings");
         return s;
       }, py::arg("values"), py::return_value_policy::reference_internal, "set() for each key: value of a dict, in order.")
-      .def("to_yaml", &mission::Settings::to_yaml_text, "Every section inline: what settings.yaml holds.")
-      .def("to_dict", [](const mission::Settings& s) { return yaml_to_py(s.to_yaml()); }, "Every section as nested dicts.")
-      .def("get", [](const mission::Settings& s, const std::string& key) {
+      .def("to_yaml", &settings::Settings::to_yaml_text, "Every section inline: what settings.yaml holds.")
+      .def("to_dict", [](const settings::Settings& s) { return yaml_to_py(s.to_yaml()); }, "Every section as nested dicts.")
+      .def("get", [](const settings::Settings& s, const std::string& key) {
         YAML::Node node = s.to_yaml();
         std::size_t start = 0;
         for (;;) {
@@ -54,20 +54,20 @@ ValueError names an unknown key or a bad value. Returns the settings (calls chai
         }
         return yaml_to_py(node);
       }, py::arg("key"), "The value at a key path (a section as a dict).")
-      .def("save", [](const mission::Settings& s, const py::object& path) {
+      .def("save", [](const settings::Settings& s, const py::object& path) {
         write_file_atomic(path_from(path, "path"), s.to_yaml_text());
       },
            py::arg("path"), "Writes the bundle (a loadable --config) atomically.")
-      .def("describe", [](const mission::Settings& s) {
+      .def("describe", [](const settings::Settings& s) {
         py::list out;
         for (const ParamDescription& d : s.describe())
           out.append(py::dict(py::arg("key") = d.key, py::arg("value") = d.value, py::arg("limits") = d.limits,
                               py::arg("help") = d.help));
         return out;
       }, "Every setting: key, value (YAML text), limits and help.")
-      .def("copy", [](const mission::Settings& s) { return s; })
-      .def("__eq__", [](const mission::Settings& a, const mission::Settings& b) { return a == b; }, py::is_operator())
-      .def("__repr__", [](const mission::Settings& s) {
+      .def("copy", [](const settings::Settings& s) { return s; })
+      .def("__eq__", [](const settings::Settings& a, const settings::Settings& b) { return a == b; }, py::is_operator())
+      .def("__repr__", [](const settings::Settings& s) {
         return "<canopy.Settings method=" + s.method.name + " gain=" + s.method.gain + " rays=" + s.method.rays + ">";
       });
 }

@@ -9,7 +9,7 @@
 #include "canopy/mapping/frame_mapping.h"
 #include "canopy/mapping/scan_inserter.h"
 #include "canopy/mapping/semantic_octree.h"
-#include "canopy/mission/settings.h"
+#include "canopy/settings/settings.h"
 #include "canopy/motion/robot_model.h"
 #include "canopy/nbv/clusters.h"
 #include "canopy/nbv/view_planner.h"
@@ -61,12 +61,12 @@ class PyWorld {
 class PyMap {
  public:
   /// An empty map with the mapping settings (map parameters, extractor, metrics).
-  PyMap(const mission::MappingSettings& settings, const SemanticClasses& classes);
+  PyMap(const settings::MappingSettings& settings, const SemanticClasses& classes);
   /// Takes `map` over; `settings` gives the extractor and metrics (the map keeps its own parameters).
-  PyMap(mapping::SemanticOcTree map, const mission::MappingSettings& settings);
+  PyMap(mapping::SemanticOcTree map, const settings::MappingSettings& settings);
   /// A read-only loan of `map`, valid while *alive is true.
   static std::shared_ptr<PyMap> borrow(const mapping::SemanticOcTree& map, std::shared_ptr<const bool> alive,
-                                       const mission::MappingSettings& settings);
+                                       const settings::MappingSettings& settings);
 
   /// Runs f(map) under the map's lock (the GIL may be released around it); throws when a loan
   /// has ended.
@@ -80,7 +80,7 @@ class PyMap {
   /// Inserts a labelled cloud. Owned maps only.
   mapping::InsertStats insert_cloud(const perception::LabelledCloud& cloud);
 
-  const mission::MappingSettings& settings() const { return settings_; }
+  const settings::MappingSettings& settings() const { return settings_; }
   bool borrowed() const { return borrowed_ != nullptr; }
   /// Identical trees, payloads, parameters and classes (both locks taken without deadlock).
   static bool identical(const PyMap& a, const PyMap& b);
@@ -94,7 +94,7 @@ class PyMap {
   std::unique_ptr<mapping::SemanticOcTree> owned_;
   const mapping::SemanticOcTree* borrowed_ = nullptr;
   std::shared_ptr<const bool> alive_;
-  mission::MappingSettings settings_;
+  settings::MappingSettings settings_;
   std::unique_ptr<mapping::ScanInserter> inserter_;  // made by the first insert
   std::unique_ptr<perception::SemanticExtractor> extractor_;
   // Recursive: a Python planner given to next_views(map) may query that same map while

@@ -117,7 +117,7 @@ Vec3 arm_base(const BasePose& base) {
   return motion::RobotModel::T_world_base(base) * robot_model().T_base_arm().translation();
 }
 
-Eigen::AlignedBox3d stop_region_of(const BasePose& base, const mission::Settings& s) {
+Eigen::AlignedBox3d stop_region_of(const BasePose& base, const settings::Settings& s) {
   const Vec3 arm = arm_base(base);
   return mission::stop_region(s.mission.loop, arm.x(), arm.y());
 }
@@ -162,7 +162,7 @@ it with zero roll: {'pose': (N, 4, 4), 'target': (N, 3), 'polar_deg', 'azimuth_d
 
   m.def("gains", [](const PyMap& map, const py::object& poses, const py::object& targets, const std::string& gain,
                     const std::string& rays, const py::object& settings, const py::object& intrinsics, const py::object& seed) {
-        const mission::Settings s = settings_from(settings);
+        const settings::Settings s = settings_from(settings);
         const CameraIntrinsics K = intrinsics_from(intrinsics, CameraIntrinsics{});
         return map.read([&](const mapping::SemanticOcTree& tree) {
           nbv::VoxelIndex index;
@@ -184,7 +184,7 @@ planner in the loop scores against the mission's index with request.gains.)");
   m.def("next_views", [](const PyMap& map, const py::object& base, const py::object& joints, const py::object& settings,
                          const py::object& method, const py::object& planner, const py::object& seed,
                          const py::object& intrinsics) {
-        mission::Settings s = settings_from(settings);
+        settings::Settings s = settings_from(settings);
         choose_method(s, method, planner);
         motion::NextViewsRequest req;
         req.base = base_from(base, "base");

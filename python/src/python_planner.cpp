@@ -34,7 +34,7 @@ struct PyRequest {
 class PythonPlanner final : public nbv::ViewPlanner {
  public:
   // GIL held.
-  PythonPlanner(py::object fn, const nbv::ViewPlannerSettings& settings, const mission::MappingSettings& mapping)
+  PythonPlanner(py::object fn, const nbv::ViewPlannerSettings& settings, const settings::MappingSettings& mapping)
       : ViewPlanner(settings.params.views), fn_(std::move(fn)), settings_(settings), mapping_(mapping) {
     traits_.scripted = py::bool_(py::getattr(fn_, "scripted", py::bool_(false)));
     traits_.execute_whole_batch = py::bool_(py::getattr(fn_, "execute_whole_batch", py::bool_(false)));
@@ -228,7 +228,7 @@ class PythonPlanner final : public nbv::ViewPlanner {
 
   py::object fn_, begin_stop_, outcome_;
   nbv::ViewPlannerSettings settings_;
-  mission::MappingSettings mapping_;
+  settings::MappingSettings mapping_;
   nbv::PlannerTraits traits_;
   std::vector<Pose> taken_poses_;
   std::vector<nbv::ViewOutcome> outcomes_;
@@ -245,7 +245,7 @@ bool take_interrupt() {
   return was;
 }
 
-void choose_method(mission::Settings& settings, const py::object& method, const py::object& planner) {
+void choose_method(settings::Settings& settings, const py::object& method, const py::object& planner) {
   if (!planner.is_none()) {
     if (!PyCallable_Check(planner.ptr()))
       throw InputError("planner: " + describe(planner) + " is not callable (a function of a canopy.PlannerRequest)");
@@ -259,7 +259,7 @@ void choose_method(mission::Settings& settings, const py::object& method, const 
     throw InputError("method 'python': pass the Python planner itself as planner=");
 }
 
-PendingPlanner::PendingPlanner(const py::object& planner, const mission::MappingSettings& mapping)
+PendingPlanner::PendingPlanner(const py::object& planner, const settings::MappingSettings& mapping)
     : planner_(planner), mapping_(mapping), previous_(g_pending) {
   g_pending = this;
 }

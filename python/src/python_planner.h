@@ -13,23 +13,23 @@ namespace canopy::python {
 /// Names the method in `settings`: "python" when `planner` is given (ValueError when it is not
 /// callable or `method` names another planner), else `method` when given (ValueError for an
 /// unknown name). ValueError when the result is "python" without a planner.
-void choose_method(mission::Settings& settings, const py::object& method, const py::object& planner);
+void choose_method(settings::Settings& settings, const py::object& method, const py::object& planner);
 
 /// While it lives, the entry "python" builds its planners, on this thread, from `planner`
 /// (None: it refuses). Construct and destroy with the GIL held.
 class PendingPlanner {
  public:
-  PendingPlanner(const py::object& planner, const mission::MappingSettings& mapping);
+  PendingPlanner(const py::object& planner, const settings::MappingSettings& mapping);
   ~PendingPlanner();
   PendingPlanner(const PendingPlanner&) = delete;
   PendingPlanner& operator=(const PendingPlanner&) = delete;
 
   const py::object& planner() const { return planner_; }
-  const mission::MappingSettings& mapping() const { return mapping_; }
+  const settings::MappingSettings& mapping() const { return mapping_; }
 
  private:
   py::object planner_;
-  mission::MappingSettings mapping_;  // what the lent map's queries use (its metrics, extractor)
+  settings::MappingSettings mapping_;  // what the lent map's queries use (its metrics, extractor)
   const PendingPlanner* previous_;
 };
 

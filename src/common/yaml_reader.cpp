@@ -6,7 +6,7 @@
 #include <yaml-cpp/eventhandler.h>
 #include <yaml-cpp/parser.h>
 
-#include "canopy/common/io.h"
+#include "canopy/common/read_file.h"
 
 namespace canopy {
 

@@ -4,7 +4,9 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "canopy/common/io.h"
+#include "canopy/common/atomic_file.h"
+#include "canopy/common/png_io.h"
+#include "canopy/common/value_text.h"
 
 namespace canopy::datasets {
 

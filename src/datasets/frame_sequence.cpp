@@ -6,7 +6,9 @@
 #include <sstream>
 
 #include "canopy/common/error.h"
-#include "canopy/common/io.h"
+#include "canopy/common/png_io.h"
+#include "canopy/common/read_file.h"
+#include "canopy/common/value_text.h"
 #include "canopy/common/params.h"
 #include "canopy/common/yaml_reader.h"
 

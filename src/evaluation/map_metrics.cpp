@@ -12,13 +12,6 @@ using namespace mapping;  // the map types this file reads
 
 std::string to_string(EvaluationRule r) { return enum_name(kEvaluationRuleNames, r); }
 
-std::vector<Vec3> class_voxel_centers(const SemanticOcTree& map, int class_index) {
-  std::vector<Vec3> out;
-  map.for_each_voxel_if([&](const SemanticState& s) { return SemanticOcTree::is_class_voxel(s, class_index); },
-                         [&](const octomap::OcTreeKey& key, const SemanticState&) { out.push_back(map.center_of(key)); });
-  return out;
-}
-
 namespace {
 
 // Calls f(key, centre) for every voxel whose centre (k - 32768 + 0.5) * res lies in [lo, hi].

@@ -5,7 +5,8 @@
 #include <sstream>
 
 #include "canopy/common/error.h"
-#include "canopy/common/io.h"
+#include "canopy/common/read_file.h"
+#include "canopy/common/value_text.h"
 
 namespace canopy::evaluation {
 

@@ -7,7 +7,8 @@
 #include <map>
 
 #include "canopy/common/error.h"
-#include "canopy/common/io.h"
+#include "canopy/common/atomic_file.h"
+#include "canopy/common/value_text.h"
 #include "canopy/common/random.h"
 #include "canopy/common/stats.h"
 #include "canopy/evaluation/map_metrics.h"
@@ -37,9 +38,9 @@ AblationProtocol ablation_protocol_from_string(const std::string& s, const std::
   return enum_from_name(kAblationProtocolNames, s, where, "ablation protocol");
 }
 
-mission::Settings ablation_job_settings(const mission::Settings& bundle, const AblationConfig& cfg,
+settings::Settings ablation_job_settings(const settings::Settings& bundle, const AblationConfig& cfg,
                                         const AblationSettings& set) {
-  mission::Settings s = bundle;
+  settings::Settings s = bundle;
   s.method.name = "ours";
   s.method.gain = cfg.gain;
   s.method.rays = cfg.rays;
@@ -82,10 +83,10 @@ std::vector<double> step_values(const nlohmann::json& job, const char* key, int 
 }  // namespace
 
 nlohmann::json run_ablation_job(const AblationConfig& cfg, int trial, int plant, const AblationSettings& set,
-                                const mission::Settings& bundle, const world::World& world,
+                                const settings::Settings& bundle, const world::World& world,
                                 sim::Renderer& renderer) {
   const std::uint64_t job_seed = mix_seed(set.seed, std::uint64_t(trial) * 1000 + std::uint64_t(plant));
-  const mission::Settings s = ablation_job_settings(bundle, cfg, set);
+  const settings::Settings s = ablation_job_settings(bundle, cfg, set);
   perception::ExtractorParams ep = s.mapping.extractor;
   ep.seed = mix_seed(job_seed, 1);  // same noise stream for every configuration (paired trials)
   perception::SemanticExtractor extractor(ep, world.spec.classes);

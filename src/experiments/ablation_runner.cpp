@@ -17,10 +17,10 @@ namespace canopy::experiments {
 namespace {
 
 // Every combination of the sweeps' values, as override lists (one empty list without sweeps).
-std::vector<std::vector<mission::SettingOverride>> sweep_combinations(const std::vector<SettingSweep>& sweeps) {
-  std::vector<std::vector<mission::SettingOverride>> out = {{}};
+std::vector<std::vector<settings::SettingOverride>> sweep_combinations(const std::vector<SettingSweep>& sweeps) {
+  std::vector<std::vector<settings::SettingOverride>> out = {{}};
   for (const SettingSweep& s : sweeps) {
-    std::vector<std::vector<mission::SettingOverride>> next;
+    std::vector<std::vector<settings::SettingOverride>> next;
     for (const auto& prefix : out)
       for (const std::string& v : s.values) {
         auto o = prefix;
@@ -46,10 +46,10 @@ std::vector<AblationConfig> ablation_matrix(const std::vector<std::string>& gain
   const auto combos = sweep_combinations(sweeps);
   // OSAMCEP runs once per proximity test asked for, each once per sweep combination.
   auto variants = [&](const std::string& gain) {
-    std::vector<std::vector<mission::SettingOverride>> out;
+    std::vector<std::vector<settings::SettingOverride>> out;
     for (const std::string& p : gain == "osamcep" ? proximities : std::vector<std::string>{""})
       for (const auto& combo : combos) {
-        std::vector<mission::SettingOverride> o;
+        std::vector<settings::SettingOverride> o;
         if (!p.empty()) o.emplace_back("nbv.gain.proximity", p);
         o.insert(o.end(), combo.begin(), combo.end());
         out.push_back(std::move(o));
@@ -83,7 +83,7 @@ YAML::Node ablation_run_record(const AblationPlan& plan) {
   return n;
 }
 
-AblationRunResult run_ablation(const AblationPlan& plan, const mission::Settings& bundle, const world::World& world,
+AblationRunResult run_ablation(const AblationPlan& plan, const settings::Settings& bundle, const world::World& world,
                                const StagedDir& out_dir, const AblationRunOptions& options) {
   const Stopwatch watch;
   const std::string out = out_dir.working_dir();

@@ -11,9 +11,9 @@
 #include <set>
 
 #include "canopy/common/error.h"
-#include "canopy/common/io.h"
+#include "canopy/common/read_file.h"
+#include "canopy/common/value_text.h"
 #include "canopy/common/yaml_reader.h"
-#include "canopy/mission/oracle.h"
 #include "canopy/nbv/gains.h"
 #include "canopy/nbv/ray_sets.h"
 #include "canopy/nbv/view_planner.h"
@@ -57,7 +57,6 @@ std::vector<ExperimentMethod> read_methods(YamlReader& y) {
   y.check(list.IsSequence() && list.size() > 0, "methods", "must be a non-empty list");
   std::vector<ExperimentMethod> out;
   std::set<std::string> labels;
-  mission::register_oracle_planners();
   const std::vector<std::string> planners = nbv::view_planner_names(), gains = nbv::gain_names();
   for (std::size_t i = 0; i < list.size(); ++i) {
     YamlReader m(list[i], y.file(), "methods[" + std::to_string(i) + "]");
@@ -246,20 +245,20 @@ Experiment Experiment::load_string(const std::string& text, const std::string& n
   e.world_file = resolve(y.require<std::string>("world"), dir);
   e.world = world::WorldSpec::load(e.world_file);
   const std::string bundle = resolve(y.get<std::string>("settings", "configs/canopy.yaml"), dir);
-  const mission::Settings base = mission::Settings::load(bundle, robot);
+  const settings::Settings base = settings::Settings::load(bundle, robot);
   if (y.has("overrides")) {
     const YAML::Node over = y.require<YAML::Node>("overrides");
     y.check(over.IsMap(), "overrides", "must be a mapping of settings sections (mapping, nbv, motion, mission)");
     YAML::Emitter out;
     out.SetDoublePrecision(17);
     out << merged(base.to_yaml(), over);
-    e.settings = mission::Settings::load_string(out.c_str(), name + ": overrides", dir, robot);
+    e.settings = settings::Settings::load_string(out.c_str(), name + ": overrides", dir, robot);
   } else {
     e.settings = base;
   }
   e.methods = read_methods(y);
   for (const ExperimentMethod& m : e.methods) {  // every method's settings must load
-    mission::Settings s = e.settings;
+    settings::Settings s = e.settings;
     s.apply(m.set, name + ": methods: " + m.label);
   }
   e.p_gt = read_pgt(y);
@@ -292,8 +291,8 @@ world::WorldSpec Experiment::trial_world(const TrialSpec& trial) const {
   return w;
 }
 
-mission::Settings Experiment::trial_settings(const TrialSpec& trial) const {
-  mission::Settings s = settings;
+settings::Settings Experiment::trial_settings(const TrialSpec& trial) const {
+  settings::Settings s = settings;
   s.method = trial.method.choice;
   s.apply(trial.method.set, source_file + ": method " + trial.method.label);
   s.mapping.extractor.p_gt = trial.p_gt;

@@ -9,8 +9,7 @@
 #include "canopy/common/error.h"
 #include "canopy/common/stats.h"
 #include "canopy/common/value_text.h"
-#include "canopy/mission/oracle.h"
-#include "canopy/mission/view_columns.h"
+#include "canopy/records/view_columns.h"
 #include "report_groups.h"
 
 namespace canopy::experiments::report {
@@ -244,8 +243,8 @@ std::string field_section(const std::vector<Group>& groups, const std::vector<st
   // One table per report group of the column table, in its order; then the time budgets.
   std::vector<std::pair<std::string, std::vector<std::string>>> all_tables;
   std::map<std::string, const char*> formats;
-  for (const mission::ViewColumn* c : mission::final_figure_columns()) {
-    const std::string title = mission::report_group_title(c->final.group);
+  for (const records::ViewColumn* c : records::final_figure_columns()) {
+    const std::string title = records::report_group_title(c->final.group);
     if (all_tables.empty() || all_tables.back().first != title) all_tables.push_back({title, {}});
     all_tables.back().second.push_back(c->final.key);
     formats[c->final.key] = c->final.format;

@@ -2,7 +2,7 @@
 
 #include "canopy/experiments/experiment_report.h"
 
-#include "canopy/mission/oracle.h"
+#include "canopy/records/candidates_csv.h"
 
 #include <algorithm>
 #include <cmath>
@@ -17,8 +17,8 @@
 #include "canopy/common/read_file.h"
 #include "canopy/common/value_text.h"
 #include "canopy/common/stats.h"
-#include "canopy/mission/run_folder.h"
-#include "canopy/mission/view_columns.h"
+#include "canopy/records/run_folder.h"
+#include "canopy/records/view_columns.h"
 
 namespace canopy::experiments {
 
@@ -33,7 +33,7 @@ nlohmann::json parse_json_file(const fs::path& p) {
 }
 
 void read_mission(const fs::path& mission, TrialResult* r) {
-  const mission::RunFolder f = mission::read_run_folder(mission.string());
+  const records::RunFolder f = records::read_run_folder(mission.string());
   r->coverage = f.coverage;
   r->entropy = f.entropy;
   r->curves = f.curves;
@@ -56,7 +56,7 @@ void read_mission(const fs::path& mission, TrialResult* r) {
     return j.is_object() && j.contains(k) ? j.at(k) : none;
   };
   // Each per-view column's figure at the end, where the column table says summary.json holds it.
-  for (const mission::ViewColumn* c : mission::final_figure_columns()) {
+  for (const records::ViewColumn* c : records::final_figure_columns()) {
     const nlohmann::json* v = &s;
     std::stringstream path(c->final.path);
     for (std::string k; std::getline(path, k, '/');) v = &at(*v, k);
@@ -121,7 +121,7 @@ TrialResult read_trial(const std::string& dir) {
 
 std::vector<std::string> field_metric_names(const std::vector<TrialResult>& trials) {
   std::vector<std::string> names;
-  for (const mission::ViewColumn* c : mission::final_figure_columns()) names.push_back(c->final.key);
+  for (const records::ViewColumn* c : records::final_figure_columns()) names.push_back(c->final.key);
   std::vector<std::pair<double, std::string>> budgets;
   for (const TrialResult& t : trials)
     for (const auto& [k, v] : t.field)
@@ -250,7 +250,7 @@ std::string curves_csv_text(const std::vector<Group>& groups) {
 std::string field_curves_csv_text(const std::vector<Group>& groups) {
   std::string fcv = "method,label,p_gt,metric,view,trials,mean,std\n";
   for (const Group& g : groups)
-    for (const std::string& metric : mission::curve_column_names()) {
+    for (const std::string& metric : records::curve_column_names()) {
       std::vector<std::vector<double>> runs;
       for (const TrialResult* r : g.trials) {
         const auto it = r->curves.find(metric);
@@ -326,7 +326,7 @@ std::string gain_truth_table(const std::vector<Group>& groups) {
     }
     if (files.empty()) continue;
     if (out.empty()) out = "label,p_gt,score,rounds,spearman,top1,top5,mean_oracle_rank,truth_share\n";
-    const std::string table = mission::gain_truth_csv(mission::gain_truth(files));
+    const std::string table = records::gain_truth_csv(records::gain_truth(files));
     std::stringstream ss(table);
     std::string line;
     std::getline(ss, line);  // header

@@ -12,7 +12,9 @@
 #include <thread>
 
 #include "canopy/common/error.h"
-#include "canopy/common/io.h"
+#include "canopy/common/atomic_file.h"
+#include "canopy/common/output_dir.h"
+#include "canopy/common/value_text.h"
 #include "canopy/common/process.h"
 #include "canopy/common/timer.h"
 #include "canopy/experiments/experiment.h"

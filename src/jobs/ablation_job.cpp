@@ -1,7 +1,7 @@
 #include "canopy/jobs/ablation_job.h"
 
 #include "canopy/common/error.h"
-#include "canopy/common/io.h"
+#include "canopy/common/output_dir.h"
 #include "canopy/jobs/plots.h"
 #include "canopy/jobs/world_job.h"
 #include "canopy/mission/mission.h"
@@ -12,7 +12,7 @@ namespace {
 
 // A zero never goes unexplained.
 std::string explain_zero_coverage(const experiments::AblationRunResult& r, const world::World& world,
-                                  const mission::Settings& bundle) {
+                                  const settings::Settings& bundle) {
   bool all_zero = !r.rows.empty();
   long target_points = 0, true_pixels = 0, uncounted = 0;
   for (const auto& row : r.rows) {
@@ -25,13 +25,13 @@ std::string explain_zero_coverage(const experiments::AblationRunResult& r, const
   if (uncounted > 0)
     return "fruit coverage is 0 in every configuration; " + std::to_string(uncounted) + " views come from job files of an older canopy that did not count target "
            "pixels: rerun without --resume to learn why";
-  return "fruit coverage is 0 in every configuration: " + mission::zero_coverage_cause(world.spec.classes.target, bundle.mapping.extractor.source, target_points,
+  return "fruit coverage is 0 in every configuration: " + records::zero_coverage_cause(world.spec.classes.target, bundle.mapping.extractor.source, target_points,
                                       true_pixels);
 }
 
 }  // namespace
 
-AblationJobResult run_ablation_job(const AblationJobParams& params, const mission::Settings& bundle) {
+AblationJobResult run_ablation_job(const AblationJobParams& params, const settings::Settings& bundle) {
   world::WorldSpec spec = load_world_spec(params.world_file);
   spec.camera.depth_noise_k = 0.0;  // segmentation noise only, and renderers stay stateless
   const world::World world = build_world(spec);

@@ -162,8 +162,8 @@ class RaySetBench {
 
 }  // namespace
 
-BenchGainResult bench_gain(const BenchGainParams& params, const mission::Settings& bundle) {
-  const mission::MappingSettings& cfg = bundle.mapping;
+BenchGainResult bench_gain(const BenchGainParams& params, const settings::Settings& bundle) {
+  const settings::MappingSettings& cfg = bundle.mapping;
   const nbv::NbvParams& np = bundle.nbv;
   const auto gain = nbv::make_gain(params.gain, np.gain, "--gain");
   const world::WorldSpec spec = load_world_spec(params.world_file);

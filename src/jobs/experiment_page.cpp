@@ -6,7 +6,7 @@
 #include <sstream>
 
 #include "canopy/common/data_dir.h"
-#include "canopy/common/io.h"
+#include "canopy/common/atomic_file.h"
 #include "canopy/common/read_file.h"
 #include "canopy/jobs/run_report.h"
 

@@ -6,7 +6,9 @@
 #include <memory>
 
 #include "canopy/common/error.h"
-#include "canopy/common/io.h"
+#include "canopy/common/atomic_file.h"
+#include "canopy/common/output_dir.h"
+#include "canopy/common/value_text.h"
 #include "canopy/common/timer.h"
 #include "canopy/evaluation/map_metrics.h"
 #include "canopy/evaluation/view_presets.h"
@@ -14,8 +16,9 @@
 #include "canopy/jobs/world_job.h"
 #include "canopy/mapping/frame_mapping.h"
 #include "canopy/mapping/map_io.h"
-#include "canopy/mission/dataset_export.h"
-#include "canopy/mission/view_columns.h"
+#include "canopy/datasets/nerfstudio.h"
+#include "canopy/jobs/test_views.h"
+#include "canopy/records/view_columns.h"
 #include "canopy/sim/renderer.h"
 
 namespace canopy::jobs {
@@ -43,7 +46,7 @@ namespace {
 // A view's entry of metrics.json's history.
 nlohmann::json history_step(std::size_t i, const Pose& T, double ms_render, const mapping::FrameMapStep& fs,
                             const evaluation::MapMetrics& m) {
-  nlohmann::json step = mission::map_history_metrics(m);  // the view columns' map figures
+  nlohmann::json step = records::map_history_metrics(m);  // the view columns' map figures
   step.update({{"view", i}, {"pose", pose_to_json(T)}, {"ms_render", ms_render},
                {"insert", insert_stats_json(fs.insert, fs.extract)}});
   return step;
@@ -52,7 +55,7 @@ nlohmann::json history_step(std::size_t i, const Pose& T, double ms_render, cons
 }  // namespace
 
 MapJobResult map_views(const MapJobParams& p) {
-  const mission::MappingSettings& cfg = p.settings.mapping;
+  const settings::MappingSettings& cfg = p.settings.mapping;
   check_disjoint_outputs({{p.out, "--out"}, {p.export_dir, "--export"}});
   const world::WorldSpec spec = load_world_spec(p.world_file);
   const world::World world = build_world(spec);
@@ -60,10 +63,10 @@ MapJobResult map_views(const MapJobParams& p) {
   const std::vector<Pose> views = evaluation::views_from_spec(p.views, world);
   StagedDir out(p.out, "map");
   std::unique_ptr<StagedDir> export_out;
-  std::unique_ptr<mission::DatasetExport> dataset;
+  std::unique_ptr<datasets::DatasetExport> dataset;
   if (!p.export_dir.empty()) {
     export_out = std::make_unique<StagedDir>(p.export_dir, "dataset", StagedDir::Mode::kReplace, "--export");
-    dataset = std::make_unique<mission::DatasetExport>(export_out->working_dir(), spec.classes, spec.camera);
+    dataset = std::make_unique<datasets::DatasetExport>(export_out->working_dir(), spec.classes, spec.camera);
   }
 
   sim::Simulator sim(world, default_robot_config());
@@ -82,8 +85,8 @@ MapJobResult map_views(const MapJobParams& p) {
                perception::to_string(cfg.extractor.source), cfg.extractor.p_gt);
 
   // What the report replays (replay.h).
-  std::unique_ptr<mission::MapReplay> replay;
-  if (p.report && report_libraries_present()) replay = std::make_unique<mission::MapReplay>(spec.classes);
+  std::unique_ptr<records::MapReplay> replay;
+  if (p.report && report_libraries_present()) replay = std::make_unique<records::MapReplay>(spec.classes);
   else if (p.report) spdlog::warn("report.html skipped (needs Debian's libjs-three; run tools/deps.sh)");
   auto write_report = [&](const nlohmann::json& metrics) {
     if (replay) write_run_report(out.working_dir(), map_report_data(metrics, views, p.settings, world), *replay);
@@ -137,7 +140,7 @@ MapJobResult map_views(const MapJobParams& p) {
   }
   MapJobResult r;
   if (dataset) {
-    dataset->render_test_views(sim, world, mission::default_test_ring());
+    render_test_views(*dataset, sim, world, default_test_ring());
     dataset->finish({{"command", "map"}, {"world", p.world_file}, {"views", p.views}});
     export_out->commit();
     r.dataset_written = true;

@@ -7,15 +7,16 @@
 #include <sstream>
 
 #include "canopy/common/error.h"
-#include "canopy/common/io.h"
+#include "canopy/common/output_dir.h"
 #include "canopy/common/timer.h"
 #include "canopy/jobs/plots.h"
 #include "canopy/jobs/run_report.h"
 #include "canopy/jobs/world_job.h"
-#include "canopy/mission/dataset_export.h"
-#include "canopy/mission/mission_params.h"
-#include "canopy/mission/run_folder.h"
-#include "canopy/mission/video.h"
+#include "canopy/datasets/nerfstudio.h"
+#include "canopy/jobs/test_views.h"
+#include "canopy/mission/scan_views.h"
+#include "canopy/records/run_folder.h"
+#include "canopy/video/video.h"
 
 namespace canopy::jobs {
 
@@ -30,7 +31,7 @@ VideoOptions video_options(const std::string& path, const std::string& size, dou
       v.width_px > 1920 || v.height_px > 1080 || v.width_px % 2 || v.height_px % 2)
     throw InputError(names.size + ": '" + size + "' is not WxH with even sizes in [64, 1920] x [64, 1080]");
   if (!(std::isfinite(fps) && fps > 0.0 && fps <= 120.0)) throw InputError(names.fps + ": must be in (0, 120]");
-  mission::VideoWriter::validate_output_path(path, names.path);
+  video::VideoWriter::validate_output_path(path, names.path);
   return v;
 }
 
@@ -39,12 +40,12 @@ namespace {
 // The export: a staged folder and the frames written into it.
 struct Export {
   std::unique_ptr<StagedDir> dir;
-  std::unique_ptr<mission::DatasetExport> dataset;
+  std::unique_ptr<datasets::DatasetExport> dataset;
 };
 
 }  // namespace
 
-void check_stops_in_reach(const world::WorldSpec& spec, const mission::StopParams& stops, const RobotConfig& robot) {
+void check_stops_in_reach(const world::WorldSpec& spec, const settings::StopParams& stops, const RobotConfig& robot) {
   const world::WorldSpec::BaseRange r = base_range(robot, robot::RobotDescription::load_urdf(robot.urdf_path));
   const auto range = [](double lo, double hi) { return fmt::format("[{:g}, {:g}] m", lo, hi); };
   const std::vector<double> xs = mission::stop_positions(stops, spec);
@@ -70,9 +71,9 @@ void check_mission_outputs(const MissionJobParams& p) {
 }
 
 MissionJobResult run_mission_job(const world::World& world, const MissionJobParams& p,
-                                 mission::MissionCallbacks cb, const std::function<void(mission::MissionResult&)>& amend) {
+                                 mission::MissionCallbacks cb, const std::function<void(records::MissionResult&)>& amend) {
   check_mission_outputs(p);
-  const mission::Settings& settings = p.settings;
+  const settings::Settings& settings = p.settings;
   check_stops_in_reach(world.spec, settings.mission.stops);
   check_world_colours(world, settings.mapping.extractor, p.strict_colours);
   const nbv::MethodChoice& method = settings.method;
@@ -84,13 +85,13 @@ MissionJobResult run_mission_job(const world::World& world, const MissionJobPara
   Export ex;
   if (!p.export_dir.empty()) {
     ex.dir = std::make_unique<StagedDir>(p.export_dir, "dataset", StagedDir::Mode::kReplace, "--export");
-    ex.dataset = std::make_unique<mission::DatasetExport>(ex.dir->working_dir(), world.spec.classes, world.spec.camera);
+    ex.dataset = std::make_unique<datasets::DatasetExport>(ex.dir->working_dir(), world.spec.classes, world.spec.camera);
   }
 
   // The video outlives the mission; its callbacks find it (and the map inset the mission's map)
   // once both exist.
   const bool filmed = !p.video.path.empty();
-  std::unique_ptr<mission::MissionVideo> video;
+  std::unique_ptr<video::MissionVideo> video;
   const mission::Mission* running = nullptr;
   // The caller's own tick (Python's on_state) runs after the video's, at the video's period.
   if (filmed) {
@@ -101,7 +102,7 @@ MissionJobResult run_mission_job(const world::World& world, const MissionJobPara
     };
   }
   if (filmed || ex.dataset || p.on_view)  // (a callback that reads the map waits for each scan's insertion)
-    cb.on_view = [&video, &ex, &running, &p](const mission::ViewRecord& v, const LabelledFrame& f,
+    cb.on_view = [&video, &ex, &running, &p](const records::ViewRecord& v, const LabelledFrame& f,
                                             const sim::Simulator& sim) {
       if (video) video->set_wrist(f);
       if (video && running) video->set_map(running->map(), sim.base_pose());
@@ -109,10 +110,10 @@ MissionJobResult run_mission_job(const world::World& world, const MissionJobPara
       if (p.on_view && running) p.on_view(v, f, sim, running->map());
     };
   // What the report replays, recorded beside the mission (replay.h).
-  std::unique_ptr<mission::MapReplay> replay;
+  std::unique_ptr<records::MapReplay> replay;
   if (out && p.report) {
     if (report_libraries_present()) {
-      replay = std::make_unique<mission::MapReplay>(world.spec.classes);
+      replay = std::make_unique<records::MapReplay>(world.spec.classes);
       cb.replay = replay.get();
     } else {
       spdlog::warn("report.html skipped (needs Debian's libjs-three; run tools/deps.sh)");
@@ -122,7 +123,7 @@ MissionJobResult run_mission_job(const world::World& world, const MissionJobPara
   mission::Mission mission(world, settings, p.seed, cb);
   running = &mission;
   if (filmed)
-    video = std::make_unique<mission::MissionVideo>(p.video.path, p.video.width_px, p.video.height_px, p.video.fps,
+    video = std::make_unique<video::MissionVideo>(p.video.path, p.video.width_px, p.video.height_px, p.video.fps,
                                                     mission.simulator(), world.spec.classes);
   if (stop_requested && stop_requested())
     throw Interrupted("interrupted while setting up the mission; nothing was written");
@@ -130,7 +131,7 @@ MissionJobResult run_mission_job(const world::World& world, const MissionJobPara
   MissionJobResult r;
   r.result = mission.run();
   if (amend) amend(r.result);
-  mission::RunContext context;
+  records::RunContext context;
   context.seed = p.seed;
   context.world_file = p.world_file;
   context.world = &world;
@@ -145,8 +146,8 @@ MissionJobResult run_mission_job(const world::World& world, const MissionJobPara
       spdlog::error("the video {} is missing: {}", p.video.path, r.video_error);
     }
   }
-  r.summary = out ? mission::write_run_folder(out->working_dir(), r.result, settings, mission.map(), context)
-                  : mission::run_summary(r.result, settings, context);
+  r.summary = out ? records::write_run_folder(out->working_dir(), r.result, settings, mission.map(), context)
+                  : records::run_summary(r.result, settings, context);
   if (out && replay) {
     const Stopwatch watch;
     write_run_report(out->working_dir(), mission_report_data(r.result, settings, world, r.summary), *replay);
@@ -163,7 +164,7 @@ MissionJobResult run_mission_job(const world::World& world, const MissionJobPara
     }
   }
   if (ex.dataset && r.result.complete) {
-    ex.dataset->render_test_views(mission.simulator(), world, mission::default_test_ring());
+    render_test_views(*ex.dataset, mission.simulator(), world, default_test_ring());
     ex.dataset->finish({{"command", "mission"}, {"world", p.world_file}, {"method", method.name}, {"seed", p.seed}});
     ex.dir->commit();
     r.dataset_written = true;

@@ -6,7 +6,8 @@
 #include <optional>
 
 #include "canopy/common/error.h"
-#include "canopy/common/io.h"
+#include "canopy/common/atomic_file.h"
+#include "canopy/common/output_dir.h"
 #include "canopy/common/params.h"
 #include "canopy/datasets/sequence_mapping.h"
 #include "canopy/jobs/map_job.h"
@@ -25,7 +26,7 @@ double map_half_extent_m(double resolution) { return 32768.0 * resolution; }  //
 }  // namespace
 
 RecordedMapResult map_recorded(const RecordedSequence& frames, const RecordedMapParams& p) {
-  const mission::MappingSettings& cfg = p.settings.mapping;
+  const settings::MappingSettings& cfg = p.settings.mapping;
   StagedDir out(p.out, "map", StagedDir::Mode::kReplace, p.out_option);
   mapping::SemanticOcTree map(cfg.map, frames.classes);
   mapping::ScanInserter inserter(map);

@@ -5,7 +5,8 @@
 #include <filesystem>
 
 #include "canopy/common/error.h"
-#include "canopy/common/io.h"
+#include "canopy/common/atomic_file.h"
+#include "canopy/common/output_dir.h"
 #include "canopy/jobs/experiment_page.h"
 #include "canopy/jobs/plots.h"
 #include "canopy/jobs/run_report.h"

@@ -9,7 +9,7 @@
 
 #include "canopy/common/data_dir.h"
 #include "canopy/common/error.h"
-#include "canopy/common/io.h"
+#include "canopy/common/atomic_file.h"
 #include "canopy/common/png_io.h"
 #include "canopy/common/read_file.h"
 #include "canopy/jobs/world_job.h"
@@ -91,9 +91,9 @@ void set_fruit_coverage(nlohmann::json& fruits, const std::vector<evaluation::Fr
 
 }  // namespace
 
-nlohmann::json changed_settings(const mission::Settings& settings) {
+nlohmann::json changed_settings(const settings::Settings& settings) {
   std::map<std::string, std::string> defaults;
-  for (const ParamDescription& d : mission::Settings::defaults(default_robot_config()).describe()) defaults[d.key] = d.value;
+  for (const ParamDescription& d : settings::Settings::defaults(default_robot_config()).describe()) defaults[d.key] = d.value;
   nlohmann::json out = nlohmann::json::array();
   for (const ParamDescription& d : settings.describe()) {
     const auto it = defaults.find(d.key);
@@ -103,7 +103,7 @@ nlohmann::json changed_settings(const mission::Settings& settings) {
   return out;
 }
 
-RunReport mission_report_data(const mission::MissionResult& r, const mission::Settings& settings,
+RunReport mission_report_data(const records::MissionResult& r, const settings::Settings& settings,
                               const world::World& world, const nlohmann::json& summary) {
   RunReport rep;
   nlohmann::json& d = rep.data;
@@ -115,8 +115,8 @@ RunReport mission_report_data(const mission::MissionResult& r, const mission::Se
   d["target"] = world.spec.classes.target;
   nlohmann::json views = nlohmann::json::array();
   int k = 0;
-  for (const mission::ViewRecord& v : r.views) {
-    nlohmann::json j = {{"a", v.attempt}, {"stop", v.stop}, {"phase", mission::to_string(v.phase)},
+  for (const records::ViewRecord& v : r.views) {
+    nlohmann::json j = {{"a", v.attempt}, {"stop", v.stop}, {"phase", records::to_string(v.phase)},
                         {"source", v.source}, {"ok", v.success}, {"gain", r4(v.gain)},
                         {"goal", pose(v.T_goal)}, {"target", vec(v.target)}, {"sim_s", r3(v.sim_time_s)}};
     if (v.success) {
@@ -132,7 +132,7 @@ RunReport mission_report_data(const mission::MissionResult& r, const mission::Se
   }
   d["views"] = views;
   nlohmann::json stops = nlohmann::json::array();
-  for (const mission::StopRecord& s : r.stops)
+  for (const records::StopRecord& s : r.stops)
     stops.push_back({{"stop", s.stop}, {"goal", {r4(s.goal.x_m), r4(s.goal.y_m), r4(s.goal.yaw_rad)}},
                      {"reached", {r4(s.reached.x_m), r4(s.reached.y_m), r4(s.reached.yaw_rad)}},
                      {"reached_goal", s.reached_goal}, {"end", s.end}});
@@ -163,7 +163,7 @@ RunReport mission_report_data(const mission::MissionResult& r, const mission::Se
 }
 
 RunReport map_report_data(const nlohmann::json& metrics, const std::vector<Pose>& poses,
-                          const mission::Settings& settings, const world::World& world) {
+                          const settings::Settings& settings, const world::World& world) {
   RunReport rep;
   nlohmann::json& d = rep.data;
   d["kind"] = "map";
@@ -198,7 +198,7 @@ RunReport map_report_data(const nlohmann::json& metrics, const std::vector<Pose>
   return rep;
 }
 
-nlohmann::json pack_replay(const mission::MapReplay& replay, const mapping::SemanticMapParams& map,
+nlohmann::json pack_replay(const records::MapReplay& replay, const mapping::SemanticMapParams& map,
                            const ReportBounds& bounds) {
   const auto& scans = replay.scans();
   const std::size_t n_voxels = replay.voxels().size();
@@ -207,25 +207,25 @@ nlohmann::json pack_replay(const mission::MapReplay& replay, const mapping::Sema
   std::size_t total = 0, of_drawn = 0;  // changes recorded, and those of the voxels drawn
   for (const auto& s : scans) {
     total += s.size();
-    for (const mission::VoxelChange& c : s) of_drawn += c.voxel % vstep == 0;
+    for (const records::VoxelChange& c : s) of_drawn += c.voxel % vstep == 0;
   }
   // Too many changes: a state every `step` views, each the net change over its views.
   std::size_t step = 1;
   if (of_drawn > bounds.max_changes) step = (of_drawn + bounds.max_changes - 1) / bounds.max_changes;
-  std::vector<std::vector<mission::VoxelChange>> groups;
+  std::vector<std::vector<records::VoxelChange>> groups;
   std::vector<std::uint16_t> state(n_voxels, 0), before = state;
   for (std::size_t i = 0; i < scans.size(); i += step) {
     const std::size_t end = std::min(scans.size(), i + step);
     std::vector<std::uint32_t> touched;
     for (std::size_t j = i; j < end; ++j)
-      for (const mission::VoxelChange& c : scans[j]) {
+      for (const records::VoxelChange& c : scans[j]) {
         if (c.voxel % vstep) continue;
         state[c.voxel] = c.state;
         touched.push_back(c.voxel);
       }
     std::sort(touched.begin(), touched.end());
     touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
-    std::vector<mission::VoxelChange> g;
+    std::vector<records::VoxelChange> g;
     for (std::uint32_t v : touched)
       if (state[v] != before[v]) {
         g.push_back({static_cast<std::uint32_t>(v / vstep), state[v]});
@@ -246,7 +246,7 @@ nlohmann::json pack_replay(const mission::MapReplay& replay, const mapping::Sema
   for (const auto& g : groups) {
     counts.push_back(g.size());
     kept += g.size();
-    for (const mission::VoxelChange& c : g) {
+    for (const records::VoxelChange& c : g) {
       put_u32(changes, c.voxel);
       put_u16(changes, c.state);
     }
@@ -313,7 +313,7 @@ std::string report_page(const std::string& title, const std::string& scripts, co
   return html;
 }
 
-std::vector<std::string> write_run_report(const std::string& dir, RunReport report, const mission::MapReplay& replay,
+std::vector<std::string> write_run_report(const std::string& dir, RunReport report, const records::MapReplay& replay,
                                           const ReportBounds& bounds) {
   const std::string d = dir.empty() || dir.back() == '/' ? dir : dir + "/";
   const std::string scripts = report_scripts("web/report.js");

@@ -8,7 +8,8 @@
 #include <sstream>
 
 #include "canopy/common/error.h"
-#include "canopy/common/io.h"
+#include "canopy/common/atomic_file.h"
+#include "canopy/common/output_dir.h"
 #include "canopy/jobs/plots.h"
 #include "canopy/jobs/world_job.h"
 

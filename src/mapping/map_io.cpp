@@ -5,7 +5,8 @@
 #include <sstream>
 
 #include "canopy/common/error.h"
-#include "canopy/common/io.h"
+#include "canopy/common/atomic_file.h"
+#include "canopy/common/read_file.h"
 
 namespace canopy::mapping {
 

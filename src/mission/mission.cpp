@@ -159,6 +159,30 @@ MissionResult Mission::Impl::run() {
 }
 
 
+std::unique_ptr<nbv::ViewPlanner> MissionContext::make_planner(const std::string& name,
+                                                               const nbv::ViewPlannerSettings& settings) const {
+  return make_oracle_planner(name, settings, *this);
+}
+
+Eigen::AlignedBox3d stop_region(const settings::LoopParams& loop, double arm_x_m, double base_y_m) {
+  return Eigen::AlignedBox3d(
+      Vec3(arm_x_m - loop.region_half_length_m, base_y_m - loop.region_half_width_m, loop.region_min_z_m),
+      Vec3(arm_x_m + loop.region_half_length_m, base_y_m + loop.region_half_width_m, loop.region_max_z_m));
+}
+
+const char* failure_of_plan(motion::PlanStatus s) {
+  switch (s) {
+    case motion::PlanStatus::kSuccess: return "";
+    case motion::PlanStatus::kNoIk: return records::failure::kNoIk;
+    case motion::PlanStatus::kStartInCollision: return records::failure::kStartInCollision;
+    case motion::PlanStatus::kGoalInCollision: return records::failure::kGoalInCollision;
+    case motion::PlanStatus::kTimeout: return records::failure::kPlanTimeout;
+    case motion::PlanStatus::kInvalidInput: return records::failure::kInvalid;
+  }
+  return records::failure::kInvalid;
+}
+
+
 Mission::Mission(const world::World& world, const Settings& settings, std::uint64_t seed, MissionCallbacks callbacks)
     : impl_(std::make_unique<Impl>(world, settings, seed, std::move(callbacks))) {}
 Mission::~Mission() = default;
@@ -170,7 +194,6 @@ ViewRecord Mission::attempt(const nbv::PlannedView& view, ViewPhase phase) {
   return impl_->result.views.back();
 }
 std::vector<Pose> Mission::scan_views(int k, bool extra) const { return impl_->scan_views(k, extra); }
-int Mission::stop_count() const { return static_cast<int>(impl_->stops_x.size()); }
 const MissionResult& Mission::result() const { return impl_->result; }
 const mapping::SemanticOcTree& Mission::map() const { return impl_->map; }
 sim::Simulator& Mission::simulator() { return impl_->sim; }

@@ -110,7 +110,7 @@ ViewRecord Mission::Impl::attempt(const nbv::PlannedView& view, ViewPhase phase)
   rec.start_repair = plan.repaired ? plan.repair_note : "";
   if (!plan.ok()) {
     leave_collision(plan, view, rec.times);
-    return finish(failure::of_plan(plan.status), plan.message);
+    return finish(failure_of_plan(plan.status), plan.message);
   }
 
   // Control; an overlapped move is kept when the plan with the last scan is the same. Its
@@ -140,7 +140,7 @@ ViewRecord Mission::Impl::attempt(const nbv::PlannedView& view, ViewPhase phase)
       rec.start_repair = plan.repaired ? plan.repair_note : "";
       if (!plan.ok()) {
         leave_collision(plan, view, rec.times);
-        return finish(failure::of_plan(plan.status), plan.message);
+        return finish(failure_of_plan(plan.status), plan.message);
       }
       moved = move(plan, view, before, rec.times);
     }

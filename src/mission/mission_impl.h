@@ -13,6 +13,9 @@
 #include "canopy/evaluation/incremental_evaluator.h"
 #include "canopy/mapping/scan_inserter.h"
 #include "canopy/mission/mission.h"
+#include "canopy/mission/oracle/candidate_audit.h"
+#include "canopy/mission/oracle/oracle_planners.h"
+#include "canopy/mission/scan_views.h"
 #include "canopy/mission/stepping.h"
 #include "canopy/motion/arm_planner.h"
 #include "canopy/motion/collision.h"
@@ -23,6 +26,19 @@
 #include "scan_pipeline.h"
 
 namespace canopy::mission {
+
+// The records the controller fills in and the settings it reads, by their short names.
+using records::MissionResult;
+using records::StopRecord;
+using records::ViewPhase;
+using records::ViewRecord;
+using records::caption_line;
+using records::progress_line;
+using records::set_map_metrics;
+using records::zero_coverage_reason;
+namespace failure = records::failure;
+namespace phase = records::phase;
+using settings::Settings;
 
 struct Mission::Impl {
   const world::World& world;

@@ -33,7 +33,7 @@ int Mission::Impl::execute(const std::vector<nbv::PlannedView>& views, ViewPhase
 }
 
 int Mission::Impl::replace_failed(const std::vector<nbv::PlannedView>& failed, ViewPhase phase, int* attempts_left) {
-  const ScanParams& scan = settings.mission.scan;
+  const settings::ScanParams& scan = settings.mission.scan;
   const Pose T_world_base = motion::RobotModel::T_world_base(stop_pose(current_stop));
   std::vector<ScanView> pattern = scan_view_list(scan, world.spec, model.T_base_arm(), false);
   for (const ScanView& v : scan_view_list(scan, world.spec, model.T_base_arm(), true)) pattern.push_back(v);
@@ -57,7 +57,7 @@ int Mission::Impl::replace_failed(const std::vector<nbv::PlannedView>& failed, V
   for (const nbv::PlannedView& f : failed) {
     const ScanView* spec = nullptr;
     for (const ScanView& v : pattern)
-      if (same_view(T_world_base * v.T_base_camera, f.T_world_camera)) spec = &v;
+      if (nbv::same_view(T_world_base * v.T_base_camera, f.T_world_camera)) spec = &v;
     if (!spec) continue;
     req.failed = f;
     req.options.clear();
@@ -111,7 +111,7 @@ void Mission::Impl::scripted(const std::vector<Pose>& poses, ViewPhase phase) {
 }
 
 void Mission::Impl::nbv_loop(int k, int scan_views_count) {
-  const LoopParams& loop = settings.mission.loop;
+  const settings::LoopParams& loop = settings.mission.loop;
   StopRecord& s = stop_record();
   s.budget = scan_views_count + loop.views_per_stop;
   int ok = 0, attempts_left = loop.max_attempts, idle = 0;

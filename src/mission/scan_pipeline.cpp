@@ -9,7 +9,7 @@ namespace canopy::mission {
 
 ScanPipeline::ScanPipeline(mapping::SemanticOcTree& map, mapping::ScanInserter& inserter, nbv::VoxelIndex& index,
                            evaluation::IncrementalEvaluator& evaluator, motion::CollisionEnvironment& environment,
-                           MapReplay* replay)
+                           records::MapReplay* replay)
     : map_(map), inserter_(inserter), index_(index), evaluator_(evaluator), environment_(environment), replay_(replay),
       thread_([this] { run(); }) {}
 

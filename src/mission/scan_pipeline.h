@@ -24,7 +24,7 @@
 #include "canopy/evaluation/incremental_evaluator.h"
 #include "canopy/mapping/scan_inserter.h"
 #include "canopy/motion/collision.h"
-#include "canopy/mission/replay.h"
+#include "canopy/records/replay.h"
 #include "canopy/nbv/voxel_index.h"
 #include "canopy/perception/semantic_extractor.h"
 
@@ -34,7 +34,7 @@ class ScanPipeline {
  public:
   ScanPipeline(mapping::SemanticOcTree& map, mapping::ScanInserter& inserter, nbv::VoxelIndex& index,
                evaluation::IncrementalEvaluator& evaluator, motion::CollisionEnvironment& environment,
-               MapReplay* replay = nullptr);
+               records::MapReplay* replay = nullptr);
   /// Lets the other thread finish its scan and end (its errors are dropped: they were
   /// reported or are moot).
   ~ScanPipeline();
@@ -65,7 +65,7 @@ class ScanPipeline {
   nbv::VoxelIndex& index_;
   evaluation::IncrementalEvaluator& evaluator_;
   motion::CollisionEnvironment& environment_;
-  MapReplay* replay_;  // records each scan's changes after its metrics (null: none)
+  records::MapReplay* replay_;  // records each scan's changes after its metrics (null: none)
   bool unfollowed_ = false, busy_ = false;  // the caller's view
 
   enum class Stage { kIdle, kQueued, kInserted, kIndexed, kDone };

@@ -6,7 +6,7 @@
 
 #include "canopy/common/camera.h"
 #include "canopy/common/error.h"
-#include "canopy/common/io.h"
+#include "canopy/common/value_text.h"
 #include "canopy/common/view_sphere.h"
 
 namespace canopy::motion {

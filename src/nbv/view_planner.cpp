@@ -85,6 +85,10 @@ Registry& registry() {
 
 }  // namespace
 
+std::unique_ptr<ViewPlanner> PlannerContext::make_planner(const std::string&, const ViewPlannerSettings&) const {
+  return nullptr;
+}
+
 std::vector<ViewPlannerEntry> view_planner_registry() {
   Registry& r = registry();
   std::lock_guard<std::mutex> lock(r.mutex);

@@ -7,7 +7,7 @@
 #include <functional>
 
 #include "canopy/common/error.h"
-#include "canopy/common/io.h"
+#include "canopy/common/read_file.h"
 
 namespace canopy::robot {
 

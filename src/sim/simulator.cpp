@@ -9,7 +9,7 @@
 #include <stdexcept>
 
 #include "canopy/common/error.h"
-#include "canopy/common/io.h"
+#include "canopy/common/read_file.h"
 
 namespace canopy::sim {
 
@@ -219,12 +219,6 @@ ArmConfig Simulator::arm_positions() const {
   ArmConfig q{};
   for (int i = 0; i < kArmDof; ++i) q[static_cast<size_t>(i)] = data_->qpos[arm_qpos_[static_cast<size_t>(i)]];
   return q;
-}
-
-ArmConfig Simulator::arm_velocities() const {
-  ArmConfig v{};
-  for (int i = 0; i < kArmDof; ++i) v[static_cast<size_t>(i)] = data_->qvel[arm_dof_[static_cast<size_t>(i)]];
-  return v;
 }
 
 void Simulator::set_arm_targets(const ArmConfig& q) {

@@ -8,7 +8,9 @@
 #include <sstream>
 
 #include "canopy/common/error.h"
-#include "canopy/common/io.h"
+#include "canopy/common/atomic_file.h"
+#include "canopy/common/read_file.h"
+#include "canopy/common/value_text.h"
 #include "canopy/common/random.h"
 #include "canopy/world/world.h"
 

@@ -13,7 +13,10 @@
 #include <set>
 
 #include "canopy/common/error.h"
-#include "canopy/common/io.h"
+#include "canopy/common/atomic_file.h"
+#include "canopy/common/png_io.h"
+#include "canopy/common/read_file.h"
+#include "canopy/common/value_text.h"
 #include "canopy/common/yaml_reader.h"
 #include "canopy/world/plant_import.h"
 

@@ -6,10 +6,11 @@
 #include <filesystem>
 #include <memory>
 
-#include "canopy/common/io.h"
+#include "canopy/common/read_file.h"
+#include "canopy/common/value_text.h"
 #include "canopy/common/process.h"
 #include "canopy/mapping/map_io.h"
-#include "canopy/mission/settings.h"
+#include "canopy/settings/settings.h"
 #include "canopy/mapping/scan_inserter.h"
 #include "canopy/evaluation/view_presets.h"
 #include "canopy/mission/mission.h"
@@ -32,7 +33,7 @@ struct SavedMap {
     const world::World world = world::generate_world(world::WorldSpec::load(find_data_file("worlds/small.yaml")));
     sim::Simulator sim(world, default_robot_config());
     sim::Renderer renderer(sim, world.spec.camera);
-    const mission::MappingSettings cfg;
+    const settings::MappingSettings cfg;
     map = std::make_unique<mapping::SemanticOcTree>(cfg.map, world.spec.classes);
     mapping::ScanInserter inserter(*map);
     perception::SemanticExtractor extractor(cfg.extractor, world.spec.classes);
@@ -56,7 +57,7 @@ TEST(NbvCli, SavedMapGivesTheInProcessViews) {
   // In process, on the map in memory (not the file), with the shipped settings.
   const RobotConfig robot = default_robot_config();
   const motion::RobotModel model = motion::RobotModel::load(robot);
-  mission::Settings settings = mission::Settings::load(find_data_file(mission::default_settings_path()), robot);
+  settings::Settings settings = settings::Settings::load(find_data_file(settings::default_settings_path()), robot);
   settings.nbv.planner.top_k = 2;
   nbv::ViewPlannerSettings ps;
   ps.params = settings.nbv;

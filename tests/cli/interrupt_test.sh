@@ -27,16 +27,18 @@ wait_for_line() {  # wait_for_line LOG PATTERN: up to 120 s
   return 1
 }
 # interrupt NAME SIGNAL MOMENT PATTERN -- COMMAND...: runs the command in the background, sends
-# SIGNAL right after the start (MOMENT early) or once PATTERN is in its output (mid), and sets
-# $code and $log.
+# SIGNAL at its first output line (MOMENT early) or once PATTERN is in its output (mid), and
+# sets $code and $log.
 interrupt() {
   local name=$1 sig=$2 moment=$3 pattern=$4
   shift 5
   log="$tmp/$name.log"
   "$@" > "$log" 2>&1 &
   pid=$!
+  # Early: as soon as canopy has printed anything (it runs main(): a signal before that would
+  # meet the SIGINT this non-interactive shell's background jobs start with ignored).
   if [[ $moment == early ]]; then
-    sleep 0.3
+    wait_for_line "$log" "." || fail "$name: no output: $(tail -2 "$log")"
   elif ! wait_for_line "$log" "$pattern"; then
     fail "$name: '$pattern' never appeared: $(tail -2 "$log")"
   fi

@@ -22,12 +22,15 @@ ALLOWED = {
     "evaluation": {"common", "perception", "mapping", "world"},
     "nbv": {"common", "perception", "mapping"},
     "motion": {"common", "robot", "perception", "mapping", "nbv"},
+    "settings": {"common", "robot", "perception", "mapping", "evaluation", "nbv", "motion"},
+    "records": {"common", "robot", "world", "perception", "mapping", "evaluation", "nbv", "motion", "settings"},
+    "video": {"common", "robot", "world", "sim", "perception", "mapping"},
     "mission": {"common", "robot", "world", "sim", "perception", "mapping", "datasets", "evaluation", "nbv",
-                "motion"},
+                "motion", "settings", "records"},
     "experiments": {"common", "robot", "world", "sim", "perception", "mapping", "evaluation", "nbv", "motion",
-                    "mission"},
+                    "settings", "records", "mission"},
     "jobs": {"common", "robot", "world", "sim", "perception", "mapping", "datasets", "evaluation", "nbv", "motion",
-             "mission", "experiments"},
+             "settings", "records", "video", "mission", "experiments"},
 }
 INCLUDE = re.compile(r'^\s*#\s*include\s+[<"]([^>"]+)[>"]', re.M)
 problems = []

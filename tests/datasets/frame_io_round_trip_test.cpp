@@ -9,10 +9,10 @@
 
 #include "canopy/datasets/frame_io.h"
 #include "canopy/datasets/frame_sequence.h"
-#include "canopy/common/io.h"
+#include "canopy/common/png_io.h"
 #include "canopy/datasets/sequence_mapping.h"
 #include "canopy/mapping/map_io.h"
-#include "canopy/mission/settings.h"
+#include "canopy/settings/settings.h"
 #include "canopy/evaluation/view_presets.h"
 #include "canopy/sim/renderer.h"
 #include "canopy/world/world_spec.h"
@@ -103,7 +103,7 @@ const Recorded& recorded() {
   return r;
 }
 
-std::string map_in_memory(const mission::MappingSettings& cfg) {
+std::string map_in_memory(const settings::MappingSettings& cfg) {
   const Recorded& r = recorded();
   mapping::SemanticOcTree map(cfg.map, r.world.spec.classes);
   mapping::ScanInserter inserter(map);
@@ -113,7 +113,7 @@ std::string map_in_memory(const mission::MappingSettings& cfg) {
   return mapping::serialize_map(map);
 }
 
-std::string map_from_files(const std::string& folder, const mission::MappingSettings& cfg, bool label_images,
+std::string map_from_files(const std::string& folder, const settings::MappingSettings& cfg, bool label_images,
                            FrameLayout layout) {
   FrameReaderOptions o;
   o.label_images = label_images;
@@ -133,7 +133,7 @@ std::string map_from_files(const std::string& folder, const mission::MappingSett
 }  // namespace
 
 TEST(RecordedFrames, ColorSegmentedFilesMapLikeMemory) {
-  mission::MappingSettings cfg;  // colour segmentation with the default P_gt noise and seed
+  settings::MappingSettings cfg;  // colour segmentation with the default P_gt noise and seed
   ASSERT_EQ(cfg.extractor.source, perception::LabelSource::kColor);
   const std::string memory = map_in_memory(cfg);
   EXPECT_TRUE(memory == map_from_files("canopy", cfg, false, FrameLayout::kCanopy));
@@ -141,12 +141,12 @@ TEST(RecordedFrames, ColorSegmentedFilesMapLikeMemory) {
 }
 
 TEST(RecordedFrames, LabelImagesMapLikeTrueLabels) {
-  mission::MappingSettings cfg;
+  settings::MappingSettings cfg;
   cfg.extractor.source = perception::LabelSource::kTruth;
   cfg.extractor.p_gt = 1.0;  // file labels carry no instance ids, so no mask noise to compare
   const std::string memory = map_in_memory(cfg);
   EXPECT_TRUE(memory == map_from_files("canopy", cfg, true, FrameLayout::kCanopy));
   EXPECT_TRUE(memory == map_from_files("tum", cfg, true, FrameLayout::kTum));
   // And they differ from colour segmentation's map (the comparison can fail).
-  EXPECT_FALSE(memory == map_in_memory(mission::MappingSettings{}));
+  EXPECT_FALSE(memory == map_in_memory(settings::MappingSettings{}));
 }

@@ -7,7 +7,7 @@
 #include <fstream>
 
 #include "canopy/common/error.h"
-#include "canopy/common/io.h"
+#include "canopy/common/png_io.h"
 #include "canopy/common/params.h"
 #include "canopy/datasets/frame_io.h"
 #include "canopy/datasets/frame_sequence.h"

@@ -8,15 +8,15 @@
 #include <set>
 
 #include "canopy/common/error.h"
-#include "canopy/common/io.h"
+#include "canopy/common/value_text.h"
 #include "canopy/robot/robot_config.h"
 #include "canopy/experiments/ablation.h"
 #include "canopy/experiments/ablation_runner.h"
-#include "canopy/mission/settings.h"
+#include "canopy/settings/settings.h"
 #include "canopy/sim/simulator.h"
 
 namespace canopy::experiments {
-using namespace canopy::mission;
+using namespace canopy::settings;
 namespace {
 
 // The paper's matrix: every gain with our rays, OSAMCEP with the other ray sets; OSAMCEP once
@@ -89,7 +89,7 @@ class AblationJob : public testing::Test {
     delete world_;
   }
   static nlohmann::json run(AblationProtocol protocol, int views) {
-    mission::Settings s = mission::Settings::defaults(default_robot_config());
+    settings::Settings s = settings::Settings::defaults(default_robot_config());
     s.mapping.extractor.source = perception::LabelSource::kTruth;
     AblationSettings set;
     set.protocol = protocol;

@@ -14,12 +14,13 @@
 #include <set>
 
 #include "canopy/common/error.h"
-#include "canopy/common/io.h"
+#include "canopy/common/atomic_file.h"
+#include "canopy/common/read_file.h"
 #include "canopy/experiments/experiment_report.h"
 #include "canopy/world/world.h"
 
 namespace canopy::experiments {
-using namespace canopy::mission;
+using namespace canopy::settings;
 namespace {
 
 namespace fs = std::filesystem;

@@ -8,19 +8,19 @@
 
 #include "canopy/common/data_dir.h"
 #include "canopy/common/error.h"
-#include "canopy/common/io.h"
+#include "canopy/common/read_file.h"
 #include "canopy/jobs/mission_job.h"
 #include "canopy/jobs/world_job.h"
 #include "canopy/mapping/map_io.h"
-#include "canopy/mission/run_folder.h"
+#include "canopy/records/run_folder.h"
 
 namespace canopy::jobs {
 namespace {
 
 namespace fs = std::filesystem;
 
-mission::Settings quick_settings() {
-  mission::Settings s = mission::Settings::defaults(default_robot_config());
+settings::Settings quick_settings() {
+  settings::Settings s = settings::Settings::defaults(default_robot_config());
   s.mapping.extractor.source = perception::LabelSource::kTruth;
   s.mission.stops.count = 1;
   s.mission.loop.views_per_stop = 1;
@@ -46,10 +46,10 @@ TEST(MissionJob, RunFolderHoldsWhatTheMissionGivesOnItsOwn) {
   ASSERT_TRUE(r.map);
 
   mission::Mission direct(small(), p.settings, p.seed);
-  const mission::MissionResult alone = direct.run();
-  const std::string csv = mission::views_csv(alone, p.settings.method.name);
+  const records::MissionResult alone = direct.run();
+  const std::string csv = records::views_csv(alone, p.settings.method.name);
   EXPECT_EQ(read_file(out + "/views.csv"), csv);
-  EXPECT_EQ(mission::views_csv(r.result, p.settings.method.name), csv);
+  EXPECT_EQ(records::views_csv(r.result, p.settings.method.name), csv);
   EXPECT_TRUE(r.map->identical(direct.map()));
   EXPECT_TRUE(mapping::load_map(out + "/map.csm").identical(direct.map()));
   EXPECT_EQ(r.summary["seed"], 5);

@@ -8,7 +8,7 @@
 #include <filesystem>
 
 #include "canopy/common/error.h"
-#include "canopy/common/io.h"
+#include "canopy/common/read_file.h"
 #include "canopy/jobs/recorded_map_job.h"
 #include "canopy/mapping/map_io.h"
 
@@ -40,7 +40,7 @@ RecordedSequence wall(const Vec3& at, float depth_m, std::size_t count) {
 
 RecordedMapParams params(const std::string& out) {
   RecordedMapParams p;
-  p.settings = mission::Settings::defaults(default_robot_config());
+  p.settings = settings::Settings::defaults(default_robot_config());
   p.settings.mapping.extractor.source = perception::LabelSource::kTruth;
   p.settings.mapping.extractor.p_gt = 1.0;
   p.out = out;

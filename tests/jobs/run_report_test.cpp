@@ -10,7 +10,8 @@
 #include <sstream>
 
 #include "canopy/common/data_dir.h"
-#include "canopy/common/io.h"
+#include "canopy/common/atomic_file.h"
+#include "canopy/common/read_file.h"
 
 #include "canopy/mapping/voxel_key.h"
 #include "canopy/robot/robot_config.h"
@@ -47,7 +48,7 @@ std::vector<std::uint16_t> replay_packed(const nlohmann::json& j) {
   return state;
 }
 
-void three_scans(mapping::SemanticOcTree& map, mission::MapReplay& replay) {
+void three_scans(mapping::SemanticOcTree& map, records::MapReplay& replay) {
   for (int scan = 0; scan < 3; ++scan) {
     std::vector<mapping::VoxelUpdate> b;
     for (int i = 0; i < 10; ++i)
@@ -60,7 +61,7 @@ void three_scans(mapping::SemanticOcTree& map, mission::MapReplay& replay) {
 
 TEST(RunReport, PackedReplayDecodesToTheMapsState) {
   mapping::SemanticOcTree map(mapping::SemanticMapParams{}, SemanticClasses{});
-  mission::MapReplay replay(SemanticClasses{});
+  records::MapReplay replay(SemanticClasses{});
   three_scans(map, replay);
   const nlohmann::json j = pack_replay(replay, map.params(), ReportBounds{});
   EXPECT_EQ(j["step"], 1);
@@ -69,12 +70,12 @@ TEST(RunReport, PackedReplayDecodesToTheMapsState) {
   EXPECT_EQ(unbase64(j["keys_b64"].get<std::string>()).size(), 6 * replay.voxels().size());
   const std::vector<std::uint16_t> state = replay_packed(j);
   for (std::size_t i = 0; i < state.size(); ++i)
-    EXPECT_EQ(state[i], mission::drawn_state(map, map.find(replay.voxels()[i])));
+    EXPECT_EQ(state[i], records::drawn_state(map, map.find(replay.voxels()[i])));
 }
 
 TEST(RunReport, TooManyChangesKeepStatesEveryFewViewsWithANote) {
   mapping::SemanticOcTree map(mapping::SemanticMapParams{}, SemanticClasses{});
-  mission::MapReplay replay(SemanticClasses{});
+  records::MapReplay replay(SemanticClasses{});
   three_scans(map, replay);
   ReportBounds bounds;
   bounds.max_changes = replay.change_count() / 2;
@@ -84,12 +85,12 @@ TEST(RunReport, TooManyChangesKeepStatesEveryFewViewsWithANote) {
   EXPECT_TRUE(j.contains("note"));
   const std::vector<std::uint16_t> state = replay_packed(j);  // the end state is still exact
   for (std::size_t i = 0; i < state.size(); ++i)
-    EXPECT_EQ(state[i], mission::drawn_state(map, map.find(replay.voxels()[i])));
+    EXPECT_EQ(state[i], records::drawn_state(map, map.find(replay.voxels()[i])));
 }
 
 TEST(RunReport, TooManyVoxelsDrawEveryFewWithANote) {
   mapping::SemanticOcTree map(mapping::SemanticMapParams{}, SemanticClasses{});
-  mission::MapReplay replay(SemanticClasses{});
+  records::MapReplay replay(SemanticClasses{});
   three_scans(map, replay);
   ReportBounds bounds;
   bounds.max_voxels = replay.voxels().size() / 3;
@@ -100,11 +101,11 @@ TEST(RunReport, TooManyVoxelsDrawEveryFewWithANote) {
   EXPECT_NE(j["note"].get<std::string>().find("voxel drawn"), std::string::npos);
   const std::vector<std::uint16_t> state = replay_packed(j);  // drawn voxel i is recorded voxel i * m
   for (std::size_t i = 0; i < state.size(); ++i)
-    EXPECT_EQ(state[i], mission::drawn_state(map, map.find(replay.voxels()[i * m])));
+    EXPECT_EQ(state[i], records::drawn_state(map, map.find(replay.voxels()[i * m])));
 }
 
 TEST(RunReport, ChangedSettingsListsOnlyWhatDiffers) {
-  mission::Settings s = mission::Settings::defaults(default_robot_config());
+  settings::Settings s = settings::Settings::defaults(default_robot_config());
   EXPECT_TRUE(changed_settings(s).empty());
   s.set("mission.loop.views_per_stop", "3", "test");
   const nlohmann::json c = changed_settings(s);

@@ -10,7 +10,7 @@
 #include <random>
 
 #include "canopy/common/error.h"
-#include "canopy/common/io.h"
+#include "canopy/common/read_file.h"
 #include "canopy/mapping/map_io.h"
 #include "canopy/mapping/scan_inserter.h"
 #include "canopy/perception/semantic_extractor.h"

@@ -10,10 +10,14 @@
 #include <vector>
 
 #include "canopy/mission/mission.h"
-#include "canopy/mission/run_folder.h"
+#include "canopy/records/run_folder.h"
 #include "canopy/world/world_spec.h"
 
 namespace canopy::mission {
+
+// The records the mission fills in and the settings it reads, by their short names.
+using namespace canopy::records;
+using namespace canopy::settings;
 namespace {
 
 struct SmallWorld {

@@ -9,11 +9,16 @@
 #include <map>
 
 #include "canopy/mission/mission.h"
-#include "canopy/mission/run_folder.h"
+#include "canopy/mission/scan_views.h"
+#include "canopy/records/run_folder.h"
 #include "canopy/world/world_spec.h"
 #include "../evaluation/metrics_equal.h"
 
 namespace canopy::mission {
+
+// The records the mission fills in and the settings it reads, by their short names.
+using namespace canopy::records;
+using namespace canopy::settings;
 namespace {
 
 struct SmallWorld {
@@ -161,8 +166,8 @@ TEST(Mission, PredefinedReplacesFailedScriptedViews) {
     EXPECT_NEAR(axis.z(), 0.0, 1e-9);
     const Vec3 target = v.T_goal * Vec3(0, 0, s.mission.scan.distance_m);
     EXPECT_NEAR(std::abs(target.y()), w.world.spec.rows.row_offset_m, 1e-9);
-    for (const Pose& T : scripted) EXPECT_FALSE(same_view(T, v.T_goal)) << "view " << i << " repeats a scripted view";
-    for (std::size_t j = plain.views.size(); j < i; ++j) EXPECT_FALSE(same_view(r.views[j].T_goal, v.T_goal));
+    for (const Pose& T : scripted) EXPECT_FALSE(nbv::same_view(T, v.T_goal)) << "view " << i << " repeats a scripted view";
+    for (std::size_t j = plain.views.size(); j < i; ++j) EXPECT_FALSE(nbv::same_view(r.views[j].T_goal, v.T_goal));
   }
   EXPECT_EQ(r.stops[0].scripted_replaced, replaced_ok);
   EXPECT_EQ(r.stops[0].replacement_attempts, replacements);
@@ -244,7 +249,7 @@ TEST(Mission, ScanReplacementsAreThePatternsNeighboursNearestFirst) {
   EXPECT_EQ(c.size(), 9u * 9u - 1u - 2u * 9u);
   double last = 0.0;
   for (const ScanView& v : c) {
-    EXPECT_FALSE(same_view(v.T_base_camera, failed.T_base_camera));
+    EXPECT_FALSE(nbv::same_view(v.T_base_camera, failed.T_base_camera));
     EXPECT_EQ(v.lateral_m, -0.75);
     EXPECT_GT(v.azimuth_deg, -90.0);
     EXPECT_LT(v.azimuth_deg, 90.0);
@@ -261,7 +266,7 @@ TEST(Mission, ScanReplacementsAreThePatternsNeighboursNearestFirst) {
   const std::vector<ScanView> list = scan_view_list(p, spec, T_base_arm, true);
   const std::vector<Pose> poses = scan_views_in_base(p, spec, T_base_arm, true);
   ASSERT_EQ(list.size(), poses.size());
-  for (std::size_t i = 0; i < list.size(); ++i) EXPECT_TRUE(same_view(list[i].T_base_camera, poses[i]));
+  for (std::size_t i = 0; i < list.size(); ++i) EXPECT_TRUE(nbv::same_view(list[i].T_base_camera, poses[i]));
 }
 
 TEST(Mission, SameSeedSameViews) {

@@ -14,7 +14,6 @@
 
 #include "canopy/common/camera.h"
 #include "canopy/common/error.h"
-#include "canopy/common/io.h"
 #include "canopy/common/random.h"
 #include "canopy/sim/renderer.h"
 

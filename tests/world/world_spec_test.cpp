@@ -9,7 +9,7 @@
 #include <fstream>
 
 #include "canopy/common/error.h"
-#include "canopy/common/io.h"
+#include "canopy/common/read_file.h"
 #include "canopy/common/params.h"
 #include "canopy/world/world_spec.h"
 

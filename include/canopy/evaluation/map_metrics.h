@@ -109,8 +109,6 @@ struct MapMetrics {
   nlohmann::json to_json() const;
 };
 
-/// Centres of all target-class voxels (pruned blocks expanded), in leaf order.
-std::vector<Vec3> class_voxel_centers(const SemanticOcTree& map, int class_index);
 
 /// Scores `map` against `truth` (the map's target class is the fruit class): a full pass over
 /// the map and every surface point (the reference; missions use IncrementalEvaluator).

@@ -23,7 +23,7 @@
 #include <nlohmann/json.hpp>
 
 #include "canopy/common/enum_names.h"
-#include "canopy/mission/settings.h"
+#include "canopy/settings/settings.h"
 #include "canopy/sim/renderer.h"
 #include "canopy/world/world.h"
 
@@ -34,7 +34,7 @@ namespace canopy::experiments {
 struct AblationConfig {
   std::string gain, rays;
   double pgt = 1.0;
-  std::vector<mission::SettingOverride> set;  ///< Applied over the bundle, in order.
+  std::vector<settings::SettingOverride> set;  ///< Applied over the bundle, in order.
   /// The gain, then "-<value>" for OSAMCEP's proximity and "-<leaf key>=<value>" for any other
   /// setting of `set`.
   std::string label() const;
@@ -69,7 +69,7 @@ struct AblationSettings {
 
 /// The settings of a configuration's jobs: the bundle with the method (ours, the gain and
 /// rays), P_gt, the configuration's settings and the protocol's cluster threshold applied.
-mission::Settings ablation_job_settings(const mission::Settings& bundle, const AblationConfig& config,
+settings::Settings ablation_job_settings(const settings::Settings& bundle, const AblationConfig& config,
                                         const AblationSettings& settings);
 
 /// The paper protocol's initial pose of `trial` for a plant whose base is at `base`.
@@ -79,7 +79,7 @@ Pose ablation_grid_pose(const Vec3& base, int trial, const AblationSettings& set
 /// (config, trial, plant, seed, fruits, and one entry per view). `bundle` is the run's
 /// settings bundle (ablation_job_settings applies the configuration).
 nlohmann::json run_ablation_job(const AblationConfig& config, int trial, int plant, const AblationSettings& settings,
-                                const mission::Settings& bundle,
+                                const settings::Settings& bundle,
                                 const world::World& world, sim::Renderer& renderer);
 
 /// One row of the ablation's table.

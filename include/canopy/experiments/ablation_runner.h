@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "canopy/common/io.h"
+#include "canopy/common/output_dir.h"
 #include "canopy/experiments/ablation.h"
 
 namespace canopy::experiments {
@@ -63,7 +63,7 @@ YAML::Node ablation_run_record(const AblationPlan& plan);
 /// the caller commits `out`. With options.resume, finished jobs in `out` are reused when the
 /// folder's run.yaml and settings.yaml equal this run's (else InputError). Throws the first
 /// job's failure.
-AblationRunResult run_ablation(const AblationPlan& plan, const mission::Settings& bundle, const world::World& world,
+AblationRunResult run_ablation(const AblationPlan& plan, const settings::Settings& bundle, const world::World& world,
                                const StagedDir& out, const AblationRunOptions& options);
 
 }  // namespace canopy::experiments

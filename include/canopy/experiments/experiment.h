@@ -28,7 +28,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "canopy/mission/settings.h"
+#include "canopy/settings/settings.h"
 #include "canopy/world/world_spec.h"
 
 namespace canopy::experiments {
@@ -38,7 +38,7 @@ namespace canopy::experiments {
 struct ExperimentMethod {
   std::string label;             ///< Name in trial ids and plots; unique; [A-Za-z0-9-]+.
   nbv::MethodChoice choice;
-  std::vector<mission::SettingOverride> set;
+  std::vector<settings::SettingOverride> set;
 };
 
 /// One mission of an experiment.
@@ -67,7 +67,7 @@ struct Experiment {
   std::string source_file;
   std::string world_file;        ///< Resolved path of the world file.
   world::WorldSpec world;
-  mission::Settings settings;             ///< The bundle with the file's overrides (P_gt set per trial).
+  settings::Settings settings;             ///< The bundle with the file's overrides (P_gt set per trial).
   std::vector<ExperimentMethod> methods;
   std::vector<double> p_gt;
   std::vector<std::uint64_t> seeds;
@@ -92,7 +92,7 @@ struct Experiment {
   /// (procedural plants change with it; imported plants stay as placed).
   world::WorldSpec trial_world(const TrialSpec& trial) const;
   /// The settings bundle of a trial (the experiment's, with the trial's P_gt).
-  mission::Settings trial_settings(const TrialSpec& trial) const;
+  settings::Settings trial_settings(const TrialSpec& trial) const;
   /// What identifies a trial's results: its spec, the resolved world and the whole settings
   /// bundle (saved in trial.json; --resume compares it).
   nlohmann::json trial_identity(const TrialSpec& trial) const;

@@ -27,7 +27,7 @@ struct TrialResult {
   std::string message;                   ///< Why it failed.
   std::string folder;                    ///< Where it was read from.
   std::vector<double> coverage, entropy; ///< After each successful view (index v-1).
-  std::map<std::string, std::vector<double>> curves;  ///< mission::curve_column_names() the trial's views.csv has.
+  std::map<std::string, std::vector<double>> curves;  ///< records::curve_column_names() the trial's views.csv has.
   std::map<std::string, double> phase_s; ///< Wall time by mission phase.
   double wall_s = 0.0, sim_s = 0.0;
   int stops = 0, views_ok = 0, views_attempted = 0;

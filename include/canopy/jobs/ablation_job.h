@@ -8,7 +8,7 @@
 #include <string>
 
 #include "canopy/experiments/ablation_runner.h"
-#include "canopy/mission/settings.h"
+#include "canopy/settings/settings.h"
 
 namespace canopy::jobs {
 
@@ -32,6 +32,6 @@ struct AblationJobResult {
 /// Runs the ablation of `params` with the settings `bundle` and publishes the folder. A stop
 /// request keeps the finished jobs in the working folder and throws Interrupted (`--resume`
 /// continues it); InputError when the world has fewer plants than the plan.
-AblationJobResult run_ablation_job(const AblationJobParams& params, const mission::Settings& bundle);
+AblationJobResult run_ablation_job(const AblationJobParams& params, const settings::Settings& bundle);
 
 }  // namespace canopy::jobs

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "canopy/mapping/semantic_octree.h"
-#include "canopy/mission/settings.h"
+#include "canopy/settings/settings.h"
 
 namespace canopy::jobs {
 
@@ -46,6 +46,6 @@ struct BenchGainResult {
 
 /// Builds the map of `params.world_file` from its views with `bundle`'s mapping settings and
 /// times the gain of candidate views of its clusters. InputError for a map without clusters.
-BenchGainResult bench_gain(const BenchGainParams& params, const mission::Settings& bundle);
+BenchGainResult bench_gain(const BenchGainParams& params, const settings::Settings& bundle);
 
 }  // namespace canopy::jobs

@@ -11,7 +11,7 @@
 #include <string>
 
 #include "canopy/mapping/scan_inserter.h"
-#include "canopy/mission/settings.h"
+#include "canopy/settings/settings.h"
 #include "canopy/perception/semantic_extractor.h"
 
 namespace canopy::jobs {
@@ -35,7 +35,7 @@ struct MapViewStep {
 struct MapJobParams {
   std::string world_file;            ///< Loaded and checked by the world job.
   std::string views = "ring";        ///< 'ring', 'aisle' or a file of 'x y z qw qx qy qz' lines.
-  mission::Settings settings;        ///< Mapping section used; saved as settings.yaml.
+  settings::Settings settings;        ///< Mapping section used; saved as settings.yaml.
   std::string out;                   ///< Output folder.
   std::string export_dir;            ///< nerfstudio dataset folder; "" exports none.
   bool report = true;                ///< Write report.html into the folder at the end (run_report.h).

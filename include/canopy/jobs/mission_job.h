@@ -14,8 +14,8 @@
 
 #include "canopy/mapping/semantic_octree.h"
 #include "canopy/mission/mission.h"
-#include "canopy/mission/mission_params.h"
-#include "canopy/mission/settings.h"
+#include "canopy/settings/mission_params.h"
+#include "canopy/settings/settings.h"
 #include "canopy/robot/robot_config.h"
 #include "canopy/world/world.h"
 
@@ -46,7 +46,7 @@ VideoOptions video_options(const std::string& path, const std::string& size, dou
 /// What run_mission_job needs besides the world.
 struct MissionJobParams {
   std::string world_file;             ///< The world file as given (the summary names it).
-  mission::Settings settings;         ///< The bundle the mission runs with (method included).
+  settings::Settings settings;         ///< The bundle the mission runs with (method included).
   std::uint64_t seed = 1;             ///< Seeds segmentation noise, the planner's draws and OMPL.
   std::string out;                    ///< Run folder; "" writes none (the summary is still made).
   std::string out_option = "--out";   ///< The name of `out` in messages.
@@ -59,13 +59,13 @@ struct MissionJobParams {
   /// Called after every successful view (after the video's and the export's hooks) with its
   /// frame, the simulator in that state and the mission's map with the view inserted (Python's
   /// on_view: a ROS bag of the run). It changes no result.
-  std::function<void(const mission::ViewRecord&, const LabelledFrame&, const sim::Simulator&,
+  std::function<void(const records::ViewRecord&, const LabelledFrame&, const sim::Simulator&,
                      const mapping::SemanticOcTree&)> on_view;
 };
 
 /// What a mission job did.
 struct MissionJobResult {
-  mission::MissionResult result;
+  records::MissionResult result;
   nlohmann::json summary;                        ///< summary.json (written or not).
   std::string video_error;                       ///< Why the video is missing; "" when it is written (or none asked).
   std::size_t video_frames = 0;
@@ -78,7 +78,7 @@ struct MissionJobResult {
 
 /// Throws InputError (naming the setting) unless the base can stand at every stop of `stops`
 /// in `spec` (the arm over the stop's x) and at its y, within its joints' ranges (the URDF's).
-void check_stops_in_reach(const world::WorldSpec& spec, const mission::StopParams& stops,
+void check_stops_in_reach(const world::WorldSpec& spec, const settings::StopParams& stops,
                           const RobotConfig& robot = default_robot_config());
 
 /// Checks the places a mission writes before any work (InputError): --out, --export and
@@ -95,6 +95,6 @@ void check_mission_outputs(const MissionJobParams& params);
 /// nothing; a video whose encoder failed is reported in video_error, and the rest is written.
 MissionJobResult run_mission_job(const world::World& world, const MissionJobParams& params,
                                  mission::MissionCallbacks callbacks = {},
-                                 const std::function<void(mission::MissionResult&)>& amend = {});
+                                 const std::function<void(records::MissionResult&)>& amend = {});
 
 }  // namespace canopy::jobs

@@ -17,7 +17,7 @@
 #include "canopy/common/frame.h"
 #include "canopy/datasets/frame_sequence.h"
 #include "canopy/mapping/frame_mapping.h"
-#include "canopy/mission/settings.h"
+#include "canopy/settings/settings.h"
 
 namespace canopy::jobs {
 
@@ -36,7 +36,7 @@ struct RecordedSequence {
 
 /// What map_recorded needs besides the sequence.
 struct RecordedMapParams {
-  mission::Settings settings;                           ///< Mapping section used; saved as settings.yaml.
+  settings::Settings settings;                           ///< Mapping section used; saved as settings.yaml.
   std::string out;                                      ///< Output folder.
   std::string out_option = "--out";                     ///< Its name in messages.
   std::function<void(const mapping::FrameMapStep&)> on_frame;  ///< After each frame (may be null).

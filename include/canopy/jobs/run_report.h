@@ -15,8 +15,8 @@
 #include <nlohmann/json.hpp>
 
 #include "canopy/mission/mission.h"
-#include "canopy/mission/replay.h"
-#include "canopy/mission/settings.h"
+#include "canopy/records/replay.h"
+#include "canopy/settings/settings.h"
 #include "canopy/world/world.h"
 
 namespace canopy::jobs {
@@ -38,26 +38,26 @@ struct RunReport {
 
 /// A mission's report data: views (poses, phases, failures, gains, curves), stops, fruits,
 /// settings that differ from the defaults, final metrics, failures by cause, times.
-RunReport mission_report_data(const mission::MissionResult& result, const mission::Settings& settings,
+RunReport mission_report_data(const records::MissionResult& result, const settings::Settings& settings,
                               const world::World& world, const nlohmann::json& summary);
 
 /// A `canopy map` folder's report data: the views' poses and curves (metrics.json's history).
 RunReport map_report_data(const nlohmann::json& metrics, const std::vector<Pose>& views,
-                          const mission::Settings& settings, const world::World& world);
+                          const settings::Settings& settings, const world::World& world);
 
 /// The settings that differ from the defaults: [{key, value, default}].
-nlohmann::json changed_settings(const mission::Settings& settings);
+nlohmann::json changed_settings(const settings::Settings& settings);
 
 /// Writes report.html and its thumbnail sheets into `dir` (atomically, file by file) and
 /// returns the files written. Throws IoError when three.js or the page's script is missing
 /// (the message names the package or file).
-std::vector<std::string> write_run_report(const std::string& dir, RunReport report, const mission::MapReplay& replay,
+std::vector<std::string> write_run_report(const std::string& dir, RunReport report, const records::MapReplay& replay,
                                           const ReportBounds& bounds = {});
 
 /// The replay packed for the page (what write_run_report embeds): voxel keys and per-state
 /// changes in base64; beyond the bounds, every m-th voxel ("voxel_step") and map states every
 /// `step` views, with a note saying so.
-nlohmann::json pack_replay(const mission::MapReplay& replay, const mapping::SemanticMapParams& map,
+nlohmann::json pack_replay(const records::MapReplay& replay, const mapping::SemanticMapParams& map,
                            const ReportBounds& bounds);
 
 /// True when Debian's libjs-three is installed (three.js and its orbit controls).

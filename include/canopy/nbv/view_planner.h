@@ -212,12 +212,17 @@ struct MethodChoice {
   bool operator==(const MethodChoice& o) const { return name == o.name && gain == o.gain && rays == o.rays; }
 };
 
+struct ViewPlannerSettings;
+
 /// What a caller may hand a planner beyond its settings, in a type this library does not
-/// know: the mission passes its world and simulator (mission::MissionContext) so that a
-/// planner registered by the mission (an oracle that reads the ground truth, labelled so) can
-/// use them. Planners of this library never look at it.
+/// know: the mission passes its world and simulator (mission::MissionContext). Planners of
+/// this library never look at it. The oracles (builtin_view_planners' entries that read the
+/// ground truth) are declared here but built by the context: only a simulated mission, which
+/// holds the truth, can make them.
 struct PlannerContext {
   virtual ~PlannerContext() = default;
+  /// The planner `name` that only this context can build (an oracle), or nullptr.
+  virtual std::unique_ptr<ViewPlanner> make_planner(const std::string& name, const ViewPlannerSettings& settings) const;
 };
 
 /// What a planner is built from.

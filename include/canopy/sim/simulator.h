@@ -70,7 +70,6 @@ class Simulator {
   void set_robot_state(const BasePose& base, const ArmConfig& q);
   BasePose base_pose() const;
   ArmConfig arm_positions() const;
-  ArmConfig arm_velocities() const;
   /// Position-servo set points of the arm.
   void set_arm_targets(const ArmConfig& q);
   /// Differential-drive command: forward speed along the heading and yaw rate.

@@ -6,45 +6,16 @@
 
 #include "canopy/common/random.h"
 #include "canopy/mission/oracle/oracle_planners.h"
+#include "canopy/records/candidates_csv.h"
 #include "canopy/nbv/view_evaluator.h"
 
 namespace canopy::mission {
 
-namespace {
-
-// A score of the audit: a gain of the registry with the proximity test it is scored with.
-struct AuditScore {
-  std::string name;
-  const nbv::GainEntry* gain = nullptr;
-  nbv::Proximity proximity = nbv::Proximity::kPerSegmentEnd;
-  bool sets_proximity = false;
-};
-
-std::vector<AuditScore> audit_scores() {
-  std::vector<AuditScore> out;
-  for (const nbv::GainEntry& g : nbv::gain_registry()) {
-    if (!g.uses_proximity) {
-      out.push_back({g.name, &g});
-      continue;
-    }
-    for (const auto& p : nbv::kProximityNames) out.push_back({g.name + "_" + p.name, &g, p.value, true});
-  }
-  return out;
-}
-
-}  // namespace
-
-std::vector<std::string> audit_score_names() {
-  std::vector<std::string> names;
-  for (const AuditScore& s : audit_scores()) names.push_back(s.name);
-  return names;
-}
-
-CandidateAudit::CandidateAudit(const world::World& world, sim::Simulator& sim, const Settings& settings)
+CandidateAudit::CandidateAudit(const world::World& world, sim::Simulator& sim, const settings::Settings& settings)
     : world_(world), settings_(settings),
       scorer_(make_truth_scorer(sim, world.spec.camera, settings.mission.oracle)) {
   scorer_->cache_views(evaluation::target_surface_points(world.truth));
-  for (const AuditScore& s : audit_scores()) {
+  for (const records::AuditScore& s : records::audit_scores()) {
     nbv::GainParams gp = settings.nbv.gain;
     if (s.sets_proximity) gp.proximity = s.proximity;
     gains_.push_back(nbv::make_gain(s.gain->name, gp, "audit"));
@@ -70,7 +41,7 @@ void CandidateAudit::end_round(const mapping::SemanticOcTree& map, const nbv::Vo
   bool chosen_marked = false;
   for (std::size_t i = 0; i < pending_.size(); ++i) {
     const nbv::ScoredView& v = pending_[i];
-    CandidateRecord r;
+    records::CandidateRecord r;
     r.stop = stop;
     r.round = round;
     r.views_before = views_before;

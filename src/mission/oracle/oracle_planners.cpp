@@ -17,7 +17,7 @@
 namespace canopy::mission {
 
 std::unique_ptr<evaluation::TruthViewScorer> make_truth_scorer(sim::Simulator& sim, const CameraIntrinsics& camera,
-                                                               const OracleParams& params) {
+                                                               const settings::OracleParams& params) {
   const CameraIntrinsics K = evaluation::truth_render_intrinsics(camera, params.render_downsample);
   auto renderer = std::make_shared<sim::Renderer>(sim, K, sim::RenderOptions{false, 1, false});
   return std::make_unique<evaluation::TruthViewScorer>(K, params.depth_tolerance_m, [renderer](const Pose& T) {
@@ -36,12 +36,11 @@ struct TruthView {
 
 class OraclePlanner : public nbv::ViewPlanner {
  public:
-  OraclePlanner(const nbv::ViewPlannerSettings& s, bool any)
-      : ViewPlanner(s.params.views), settings_(s), any_(any), done_(s.params.views), failed_(s.params.views) {
-    context_ = dynamic_cast<const MissionContext*>(s.context.get());
-    if (!context_ || !context_->world || !context_->sim)
-      throw InputError(std::string("method ") + name() +
-                       " reads the ground truth: it runs only in a mission (canopy mission, run, experiment)");
+  OraclePlanner(const nbv::ViewPlannerSettings& s, const MissionContext* context, bool any)
+      : ViewPlanner(s.params.views), settings_(s), any_(any), context_(context), done_(s.params.views),
+        failed_(s.params.views) {
+    if (!context_->world || !context_->sim)
+      throw InputError(std::string("method ") + name() + " reads the ground truth: its mission has no world");
   }
 
   std::string name() const override { return any_ ? "oracle_any" : "oracle"; }
@@ -58,7 +57,7 @@ class OraclePlanner : public nbv::ViewPlanner {
 
   nbv::ViewBatch next(const nbv::ViewRequest& req) override {
     CANOPY_CHECK(req.map && req.index, "view request without a map");
-    const OracleParams& op = context_->oracle;
+    const settings::OracleParams& op = context_->oracle;
     if (!scorer_) {
       scorer_ = make_truth_scorer(*context_->sim, settings_.intrinsics, op);
       scorer_->cache_views(evaluation::target_surface_points(context_->world->truth));
@@ -141,7 +140,7 @@ class OraclePlanner : public nbv::ViewPlanner {
   // has uncovered points; positions the workspace holds, views not taken, the any_scored with
   // the largest frustum bound.
   std::vector<TruthView> dense_views(const nbv::ViewRequest& req, nbv::ViewBatch* batch) {
-    const OracleParams& op = context_->oracle;
+    const settings::OracleParams& op = context_->oracle;
     std::vector<int> open;
     for (const evaluation::UncoveredPoint& p : scorer_->points())
       if (open.empty() || open.back() != p.instance_id) open.push_back(p.instance_id);
@@ -201,24 +200,10 @@ class OraclePlanner : public nbv::ViewPlanner {
 
 }  // namespace
 
-void register_oracle_planners() {
-  static std::once_flag once;
-  std::call_once(once, [] {
-    nbv::register_view_planner({"oracle",
-                                "ORACLE, READS THE GROUND TRUTH: ours' candidates, workspace filter and reach test, each "
-                                "scored by the uncovered true fruit points it sees (a bound, not a method)",
-                                [](const nbv::ViewPlannerSettings& s) {
-                                  return std::unique_ptr<nbv::ViewPlanner>(new OraclePlanner(s, false));
-                                },
-                                true});
-    nbv::register_view_planner({"oracle_any",
-                                "ORACLE, READS THE GROUND TRUTH: a dense set of reachable views around every fruit of the "
-                                "stop, scored by the uncovered true fruit points they see (a bound, not a method)",
-                                [](const nbv::ViewPlannerSettings& s) {
-                                  return std::unique_ptr<nbv::ViewPlanner>(new OraclePlanner(s, true));
-                                },
-                                true});
-  });
+std::unique_ptr<nbv::ViewPlanner> make_oracle_planner(const std::string& name, const nbv::ViewPlannerSettings& s,
+                                                      const MissionContext& context) {
+  if (name != "oracle" && name != "oracle_any") return nullptr;
+  return std::make_unique<OraclePlanner>(s, &context, name == "oracle_any");
 }
 
 }  // namespace canopy::mission

@@ -2,6 +2,8 @@
 
 #include "canopy/nbv/planners/planners.h"
 
+#include "canopy/common/error.h"
+
 #include "canopy/nbv/planners/frontier/frontier.h"
 #include "canopy/nbv/planners/global/global.h"
 #include "canopy/nbv/planners/ours/ours.h"
@@ -11,9 +13,37 @@
 
 namespace canopy::nbv {
 
+namespace {
+
+// A planner that reads the ground truth: declared here, so that every front end knows its
+// name; built by the caller's context (mission::MissionContext), which holds the truth.
+ViewPlannerEntry oracle_entry(const std::string& name, const std::string& description) {
+  return {name, "ORACLE, READS THE GROUND TRUTH: " + description + " (a bound, not a method)",
+          [name](const ViewPlannerSettings& s) {
+            if (s.context)
+              if (std::unique_ptr<ViewPlanner> p = s.context->make_planner(name, s)) return p;
+            throw InputError("method " + name +
+                             " reads the ground truth: it runs only in a simulated mission (canopy mission, run, "
+                             "experiment; canopy.run_mission)");
+          },
+          true};
+}
+
+}  // namespace
+
 std::vector<ViewPlannerEntry> builtin_view_planners() {
-  return {ours::entry(), frontier::entry(), predefined::entry(), global::entry(), reveal::entry(),
-          shape::entry()};
+  return {ours::entry(),
+          frontier::entry(),
+          predefined::entry(),
+          global::entry(),
+          reveal::entry(),
+          shape::entry(),
+          oracle_entry("oracle",
+                       "ours' candidates, workspace filter and reach test, each scored by the uncovered true fruit "
+                       "points it sees"),
+          oracle_entry("oracle_any",
+                       "a dense set of reachable views around every fruit of the stop, scored by the uncovered true "
+                       "fruit points they see")};
 }
 
 }  // namespace canopy::nbv

@@ -1,0 +1,92 @@
+// A run's record for its report (replay.h).
+
+#include "canopy/records/replay.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "canopy/mapping/voxel_key.h"
+
+namespace canopy::records {
+
+std::uint16_t drawn_state(const mapping::SemanticOcTree& map, const mapping::SemanticState* s) {
+  if (!s || s->occupancy_logodds() <= 0.f) return 0;
+  const int c = std::clamp(s->most_likely_class(), 0, 63);
+  const int occ = std::clamp(static_cast<int>((s->occupancy() - 0.5) / 0.5 * 4.0), 0, 3);
+  const double top = std::max(map.unseen_entropy(), 1e-9);
+  const int ent = std::clamp(static_cast<int>(map.entropy_of(*s) / top * 8.0), 0, 7);
+  return static_cast<std::uint16_t>(0x8000 | c | occ << 6 | ent << 8);
+}
+
+MapReplay::MapReplay(SemanticClasses classes, int thumb_width_px)
+    : classes_(std::move(classes)), thumb_width_px_(std::max(8, thumb_width_px)) {}
+
+void MapReplay::record_scan(const mapping::SemanticOcTree& map, const std::vector<mapping::VoxelUpdate>& updates,
+                            const std::vector<std::uint8_t>* occupancy) {
+  constexpr std::uint8_t kEither = mapping::SemanticOcTree::kOccupiedBefore | mapping::SemanticOcTree::kOccupiedAfter;
+  if (occupancy && occupancy->size() != updates.size()) occupancy = nullptr;
+  const Stopwatch watch;
+  std::vector<VoxelChange> changes;
+  std::lock_guard<std::mutex> lock(scan_mutex_);
+  for (std::size_t i = 0; i < updates.size(); ++i) {
+    // Free before and after: not drawn either time (most of a scan's pass-throughs).
+    if (occupancy && !((*occupancy)[i] & kEither)) continue;
+    const mapping::VoxelUpdate& u = updates[i];
+    const octomap::OcTreeKey key = mapping::morton_key(u.code);
+    const std::uint16_t state = drawn_state(map, map.find(key));
+    auto it = last_.find(u.code);
+    if (it == last_.end()) {
+      if (state == 0) continue;  // never drawn: not worth an index
+      it = last_.emplace(u.code, std::make_pair(static_cast<std::uint32_t>(voxels_.size()), std::uint16_t(0))).first;
+      voxels_.push_back(key);
+    }
+    if (it->second.second == state) continue;
+    it->second.second = state;
+    changes.push_back({it->second.first, state});
+  }
+  std::sort(changes.begin(), changes.end(), [](const VoxelChange& a, const VoxelChange& b) { return a.voxel < b.voxel; });
+  scans_.push_back(std::move(changes));
+  scan_seconds_ += watch.seconds();
+}
+
+void MapReplay::record_fruits(const evaluation::MapMetrics& metrics) {
+  std::vector<double> c;
+  c.reserve(metrics.fruits.size());
+  for (const evaluation::FruitMetrics& f : metrics.fruits) c.push_back(f.coverage);
+  std::lock_guard<std::mutex> lock(scan_mutex_);
+  fruits_.push_back(std::move(c));
+}
+
+void MapReplay::record_frame(const LabelledFrame& frame) {
+  const Stopwatch watch;
+  const int w = thumb_width_px_;
+  const int src_w = std::max(1, frame.rgb.width), src_h = std::max(1, frame.rgb.height);
+  const int h = std::max(1, static_cast<int>(std::lround(double(w) * src_h / src_w)));
+  Image<Rgb8> rgb(w, h), labels(w, h);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {  // nearest pixel: labels keep their colours
+      const int sx = std::min(src_w - 1, (2 * x + 1) * src_w / (2 * w));
+      const int sy = std::min(src_h - 1, (2 * y + 1) * src_h / (2 * h));
+      if (frame.rgb.width > 0) rgb.at(x, y) = frame.rgb.at(sx, sy);
+      if (frame.class_id.width == frame.rgb.width && frame.class_id.height == frame.rgb.height && frame.rgb.width > 0)
+        labels.at(x, y) = classes_.color(frame.class_id.at(sx, sy));
+    }
+  std::lock_guard<std::mutex> lock(frame_mutex_);
+  rgb_.push_back(std::move(rgb));
+  labels_.push_back(std::move(labels));
+  frame_seconds_ += watch.seconds();
+}
+
+double MapReplay::seconds() const {
+  std::scoped_lock lock(scan_mutex_, frame_mutex_);
+  return scan_seconds_ + frame_seconds_;
+}
+
+std::size_t MapReplay::change_count() const {
+  std::lock_guard<std::mutex> lock(scan_mutex_);
+  std::size_t n = 0;
+  for (const auto& s : scans_) n += s.size();
+  return n;
+}
+
+}  // namespace canopy::records

@@ -1,0 +1,97 @@
+// The run's record for its report (mission/replay.h): what changed per scan, and thumbnails.
+
+#include "canopy/records/replay.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+
+#include "canopy/mapping/voxel_key.h"
+
+namespace canopy::records {
+namespace {
+
+constexpr int kReplayLeaf = 1, kReplayFruit = 2;  // (unity batches: names of their own)
+constexpr int kReplayPass = mapping::VoxelUpdate::kFree;
+
+std::vector<mapping::VoxelUpdate> batch(const std::vector<std::pair<octomap::OcTreeKey, int>>& voxels) {
+  std::vector<mapping::VoxelUpdate> b;
+  for (const auto& [k, label] : voxels) b.push_back({mapping::morton_code(k), static_cast<std::uint8_t>(label)});
+  std::sort(b.begin(), b.end(), [](const auto& x, const auto& y) { return x.code < y.code; });
+  return b;
+}
+
+TEST(MapReplay, DrawnStateNamesOccupancyAndClass) {
+  mapping::SemanticOcTree map(mapping::SemanticMapParams{}, SemanticClasses{});
+  EXPECT_EQ(drawn_state(map, nullptr), 0);  // unknown: not drawn
+  const octomap::OcTreeKey k(32768, 32768, 32768);
+  map.apply_sorted_updates(batch({{k, kReplayFruit}}));
+  const std::uint16_t s = drawn_state(map, map.find(k));
+  EXPECT_TRUE(s & 0x8000);
+  EXPECT_EQ(s & 63, kReplayFruit);
+  map.apply_sorted_updates(batch({{k, kReplayPass}}));  // one pass: 1.0 - 0.1 still occupied
+  EXPECT_TRUE(drawn_state(map, map.find(k)) & 0x8000);
+}
+
+TEST(MapReplay, RecordsOnlyChangesOfTheDrawnState) {
+  mapping::SemanticOcTree map(mapping::SemanticMapParams{}, SemanticClasses{});
+  MapReplay replay(SemanticClasses{});
+  const octomap::OcTreeKey a(32768, 32768, 32768), b(32769, 32768, 32768), f(32770, 32768, 32768);
+  // Scan 1: two hits and a pass-through of an unknown voxel (free, never drawn: no index).
+  auto s1 = batch({{a, kReplayLeaf}, {b, kReplayFruit}, {f, kReplayPass}});
+  map.apply_sorted_updates(s1);
+  replay.record_scan(map, s1);
+  ASSERT_EQ(replay.voxels().size(), 2u);
+  ASSERT_EQ(replay.scans().size(), 1u);
+  EXPECT_EQ(replay.scans()[0].size(), 2u);
+  // Scan 2: `a` passed through until it is free: one change to 0; `b` hit again without a
+  // change of level may or may not change; the record is the map's state either way.
+  std::vector<mapping::VoxelUpdate> s2 = batch({{a, kReplayPass}});
+  for (int i = 0; i < 20; ++i) map.apply_sorted_updates(s2);
+  replay.record_scan(map, s2);
+  ASSERT_EQ(replay.scans()[1].size(), 1u);
+  EXPECT_EQ(replay.scans()[1][0].state, 0);
+  // Replaying the changes gives the drawn state of every recorded voxel.
+  std::vector<std::uint16_t> state(replay.voxels().size(), 0);
+  for (const auto& scan : replay.scans())
+    for (const VoxelChange& c : scan) state[c.voxel] = c.state;
+  for (std::size_t i = 0; i < state.size(); ++i)
+    EXPECT_EQ(state[i], drawn_state(map, map.find(replay.voxels()[i])));
+  // With the insertion's occupancy bytes: the same changes, and a pass-through of a voxel free
+  // before and after is skipped unread.
+  {
+    mapping::SemanticOcTree m2(mapping::SemanticMapParams{}, SemanticClasses{});
+    MapReplay r2(SemanticClasses{});
+    std::vector<std::uint8_t> occ;
+    m2.apply_sorted_updates(s1, &occ);
+    r2.record_scan(m2, s1, &occ);
+    ASSERT_EQ(r2.scans()[0].size(), replay.scans()[0].size());
+    for (std::size_t i = 0; i < r2.scans()[0].size(); ++i) EXPECT_EQ(r2.scans()[0][i].state, replay.scans()[0][i].state);
+    const auto s3 = batch({{octomap::OcTreeKey(32800, 32768, 32768), kReplayPass}});
+    m2.apply_sorted_updates(s3, &occ);
+    r2.record_scan(m2, s3, &occ);
+    EXPECT_TRUE(r2.scans()[1].empty());
+    EXPECT_EQ(r2.voxels().size(), 2u);
+  }
+  // A scan that changes nothing drawn records an empty change list.
+  replay.record_scan(map, s2);
+  EXPECT_TRUE(replay.scans()[2].empty());
+  EXPECT_EQ(replay.change_count(), 3u);
+}
+
+TEST(MapReplay, ThumbnailsKeepTheAspectAndTheLabelColours) {
+  SemanticClasses classes;
+  MapReplay replay(classes, 32);
+  LabelledFrame frame;
+  frame.rgb = Image<Rgb8>(64, 48, Rgb8{10, 20, 30});
+  frame.class_id = Image<std::uint8_t>(64, 48, std::uint8_t(kReplayFruit));
+  replay.record_frame(frame);
+  ASSERT_EQ(replay.rgb().size(), 1u);
+  EXPECT_EQ(replay.rgb()[0].width, 32);
+  EXPECT_EQ(replay.rgb()[0].height, 24);
+  EXPECT_EQ(replay.rgb()[0].at(5, 5).g, 20);
+  EXPECT_EQ(replay.labels()[0].at(31, 23).r, classes.color(kReplayFruit).r);
+}
+
+}  // namespace
+}  // namespace canopy::records
