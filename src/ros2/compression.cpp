@@ -95,6 +95,29 @@ struct Decompressor::Contexts {
 Decompressor::Decompressor() : ctx_(std::make_unique<Contexts>()) {}
 Decompressor::~Decompressor() = default;
 
+void Decompressor::check_declared_size(Compression compression, std::string_view in, std::size_t out_size) {
+  const auto size_text = [](unsigned long long n) { return std::to_string(n) + " bytes"; };
+  if (compression == Compression::kZstd) {
+    const unsigned long long n = ZSTD_getFrameContentSize(in.data(), in.size());
+    if (n == ZSTD_CONTENTSIZE_ERROR) throw InputError("corrupt zstd data (its frame header does not parse)");
+    if (n == ZSTD_CONTENTSIZE_UNKNOWN) return;
+    // The first frame may not declare more than the whole; a lone frame must declare all of it.
+    const bool alone = ZSTD_findFrameCompressedSize(in.data(), in.size()) == in.size();
+    if (n > out_size || (alone && n != out_size))
+      throw InputError("a zstd frame declaring " + size_text(n) + ", not the " + size_text(out_size) + " declared");
+  } else if (compression == Compression::kLz4) {
+    // Frame header: magic 04 22 4D 18, FLG (bit 3: a content size follows BD), BD, size.
+    const auto* b = reinterpret_cast<const unsigned char*>(in.data());
+    if (in.size() >= 14 && b[0] == 0x04 && b[1] == 0x22 && b[2] == 0x4D && b[3] == 0x18 && (b[4] & 0x08) != 0) {
+      std::uint64_t n = 0;
+      std::memcpy(&n, b + 6, 8);
+      if (n > out_size)  // more frames may follow: the first may not declare more than all
+        throw InputError("an lz4 frame declaring " + size_text(n) + ", more than the " + size_text(out_size) +
+                         " declared");
+    }
+  }
+}
+
 void Decompressor::decompress(Compression compression, std::string_view in, char* out, std::size_t out_size) {
   const auto size_text = [](std::size_t n) { return std::to_string(n) + " bytes"; };
   if (compression == Compression::kNone) {

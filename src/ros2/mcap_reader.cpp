@@ -206,6 +206,7 @@ struct McapReader::Impl {
   std::uint64_t data_end = 0;    // where the Data End record starts
   std::uint32_t data_crc = 0;
   std::vector<Block> blocks;  // in file order
+  mutable Decompressor decompressor;  // one context for every chunk
 
   explicit Impl(std::string p) : path(std::move(p)), file(path) {}
 
@@ -260,7 +261,8 @@ void McapReader::Impl::open() {
 
   // Header.
   {
-    mcap::Cursor prefix(file.read(mcap::kMagicSize, mcap::kRecordPrefixSize), "Header");
+    const std::string header_prefix = file.read(mcap::kMagicSize, mcap::kRecordPrefixSize);
+    mcap::Cursor prefix(header_prefix, "Header");
     const std::uint8_t op = prefix.u8();
     const std::uint64_t length = prefix.u64();
     if (op != mcap::kHeader) fail_at(mcap::kMagicSize, "the first record is a " + mcap::opcode_name(op) + ", not the Header");
@@ -268,7 +270,8 @@ void McapReader::Impl::open() {
       fail_at(mcap::kMagicSize, "the Header record claims " + bytes_text(length));
     data_start = mcap::kMagicSize + mcap::kRecordPrefixSize + length;
     try {
-      mcap::Cursor c(file.read(mcap::kMagicSize + mcap::kRecordPrefixSize, static_cast<std::size_t>(length)), "Header");
+      const std::string header = file.read(mcap::kMagicSize + mcap::kRecordPrefixSize, static_cast<std::size_t>(length));
+      mcap::Cursor c(header, "Header");
       profile = c.string();
       library = c.string();
     } catch (const mcap::FormatError& e) {
@@ -300,7 +303,8 @@ void McapReader::Impl::open() {
   data_end = (summary_start != 0 ? summary_start : sections_end) - mcap::kDataEndRecordSize;
   if (data_end < data_start) fail_at(footer_offset, "the Footer's offsets overlap the Header");
   {
-    mcap::Cursor d(file.read(data_end, mcap::kDataEndRecordSize), "Data End");
+    const std::string data_end_record = file.read(data_end, mcap::kDataEndRecordSize);
+    mcap::Cursor d(data_end_record, "Data End");
     const std::uint8_t op = d.u8();
     const std::uint64_t length = d.u64();
     if (op != mcap::kDataEnd || length != 4)
@@ -456,9 +460,14 @@ std::string McapReader::Impl::read_chunk(std::uint64_t record_at, std::uint64_t 
     records_offset = static_cast<std::size_t>(records.data() - content.data());
     buffer = std::move(content);  // the records stay where they were read
   } else {
+    try {
+      Decompressor::check_declared_size(*compression, records, static_cast<std::size_t>(h.uncompressed_size));
+    } catch (const InputError& e) {
+      fail_at(record_at, std::string("chunk: ") + e.what());
+    }
     buffer.resize(static_cast<std::size_t>(h.uncompressed_size));
     try {
-      Decompressor().decompress(*compression, records, buffer.data(), buffer.size());
+      decompressor.decompress(*compression, records, buffer.data(), buffer.size());
     } catch (const InputError& e) {
       fail_at(record_at, std::string("chunk: ") + e.what());
     }
@@ -818,12 +827,14 @@ bool is_canopy_mcap(const std::string& path) {
   try {
     const File file(path);
     if (file.size() < kMinFileBytes) return false;
-    mcap::Cursor c(file.read(0, mcap::kMagicSize + mcap::kRecordPrefixSize), "Header");
+    const std::string head = file.read(0, mcap::kMagicSize + mcap::kRecordPrefixSize);
+    mcap::Cursor c(head, "Header");
     if (std::memcmp(c.bytes(mcap::kMagicSize).data(), mcap::kMagic, mcap::kMagicSize) != 0) return false;
     if (c.u8() != mcap::kHeader) return false;
     const std::uint64_t length = c.u64();
     if (length > kMaxHeaderBytes || length > file.size() - mcap::kMagicSize - mcap::kRecordPrefixSize) return false;
-    mcap::Cursor h(file.read(mcap::kMagicSize + mcap::kRecordPrefixSize, static_cast<std::size_t>(length)), "Header");
+    const std::string header = file.read(mcap::kMagicSize + mcap::kRecordPrefixSize, static_cast<std::size_t>(length));
+    mcap::Cursor h(header, "Header");
     h.string();  // profile
     const std::string library = h.string();
     return library.rfind("canopy", 0) == 0;

@@ -83,6 +83,7 @@ class FormatError : public std::runtime_error {
 class Cursor {
  public:
   Cursor(std::string_view content, const char* record) : data_(content), record_(record) {}
+  Cursor(std::string&& content, const char* record) = delete;  // would read a destroyed string
   std::uint8_t u8() { return fixed<std::uint8_t>(); }
   std::uint16_t u16() { return fixed<std::uint16_t>(); }
   std::uint32_t u32() { return fixed<std::uint32_t>(); }

@@ -49,6 +49,9 @@ class Decompressor {
   /// reason, without the file: the caller adds it) when the data is corrupt, ends early, or
   /// decompresses to more or fewer bytes than `out_size`.
   void decompress(Compression compression, std::string_view in, char* out, std::size_t out_size);
+  /// Throws InputError when the frame headers in `in` declare another size than `out_size` (a
+  /// check before the output is allocated; frames that declare no size pass).
+  static void check_declared_size(Compression compression, std::string_view in, std::size_t out_size);
 
  private:
   struct Contexts;
