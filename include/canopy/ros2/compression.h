@@ -22,7 +22,8 @@ std::optional<Compression> parse_compression(std::string_view name);
 /// Compresses chunks, one context kept across calls.
 class Compressor {
  public:
-  /// `level`: 0 is the library's default (zstd 3, lz4 fast); zstd takes 1..19, lz4 1..12.
+  /// `level`: 0 is the library's default (zstd 3, lz4 fast); zstd takes 1..19, lz4 1..12 (below 3
+  /// its fast mode).
   explicit Compressor(Compression compression, int level = 0);
   ~Compressor();
   Compressor(const Compressor&) = delete;
