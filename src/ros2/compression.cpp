@@ -28,23 +28,29 @@ std::optional<Compression> parse_compression(std::string_view name) {
   return std::nullopt;
 }
 
+namespace compression_detail {  // named: the contexts' members are of this type
+// Frees a library context with the library's own function.
+template <class T, auto free_context>
+struct Free {
+  void operator()(T* p) const { free_context(p); }
+};
+}  // namespace compression_detail
+using compression_detail::Free;
+
 struct Compressor::Contexts {
-  ZSTD_CCtx* zstd = nullptr;
-  LZ4F_cctx* lz4 = nullptr;
-  ~Contexts() {
-    ZSTD_freeCCtx(zstd);
-    LZ4F_freeCompressionContext(lz4);
-  }
+  std::unique_ptr<ZSTD_CCtx, Free<ZSTD_CCtx, ZSTD_freeCCtx>> zstd;
+  std::unique_ptr<LZ4F_cctx, Free<LZ4F_cctx, LZ4F_freeCompressionContext>> lz4;
 };
 
 Compressor::Compressor(Compression compression, int level)
     : compression_(compression), level_(level), ctx_(std::make_unique<Contexts>()) {
   if (compression_ == Compression::kZstd) {
-    ctx_->zstd = ZSTD_createCCtx();
+    ctx_->zstd.reset(ZSTD_createCCtx());
     CANOPY_CHECK(ctx_->zstd != nullptr, "ZSTD_createCCtx failed");
   } else if (compression_ == Compression::kLz4) {
-    CANOPY_CHECK(!LZ4F_isError(LZ4F_createCompressionContext(&ctx_->lz4, LZ4F_VERSION)),
-                 "LZ4F_createCompressionContext failed");
+    LZ4F_cctx* c = nullptr;
+    CANOPY_CHECK(!LZ4F_isError(LZ4F_createCompressionContext(&c, LZ4F_VERSION)), "LZ4F_createCompressionContext failed");
+    ctx_->lz4.reset(c);
   }
 }
 
@@ -57,7 +63,7 @@ void Compressor::compress(std::string_view in, std::string& out) {
       return;
     case Compression::kZstd: {
       out.resize(ZSTD_compressBound(in.size()));
-      const std::size_t n = ZSTD_compressCCtx(ctx_->zstd, out.data(), out.size(), in.data(), in.size(),
+      const std::size_t n = ZSTD_compressCCtx(ctx_->zstd.get(), out.data(), out.size(), in.data(), in.size(),
                                               level_ == 0 ? ZSTD_CLEVEL_DEFAULT : level_);
       CANOPY_CHECK(!ZSTD_isError(n), "zstd compression failed: " << ZSTD_getErrorName(n));
       out.resize(n);
@@ -69,13 +75,13 @@ void Compressor::compress(std::string_view in, std::string& out) {
       prefs.frameInfo.contentSize = in.size();  // lets a reader check the size before decoding
       prefs.compressionLevel = level_;
       out.resize(LZ4F_HEADER_SIZE_MAX + LZ4F_compressBound(in.size(), &prefs));
-      std::size_t pos = LZ4F_compressBegin(ctx_->lz4, out.data(), out.size(), &prefs);
+      std::size_t pos = LZ4F_compressBegin(ctx_->lz4.get(), out.data(), out.size(), &prefs);
       CANOPY_CHECK(!LZ4F_isError(pos), "lz4 frame header: " << LZ4F_getErrorName(pos));
-      const std::size_t body = LZ4F_compressUpdate(ctx_->lz4, out.data() + pos, out.size() - pos, in.data(), in.size(),
+      const std::size_t body = LZ4F_compressUpdate(ctx_->lz4.get(), out.data() + pos, out.size() - pos, in.data(), in.size(),
                                                    nullptr);
       CANOPY_CHECK(!LZ4F_isError(body), "lz4 compression failed: " << LZ4F_getErrorName(body));
       pos += body;
-      const std::size_t end = LZ4F_compressEnd(ctx_->lz4, out.data() + pos, out.size() - pos, nullptr);
+      const std::size_t end = LZ4F_compressEnd(ctx_->lz4.get(), out.data() + pos, out.size() - pos, nullptr);
       CANOPY_CHECK(!LZ4F_isError(end), "lz4 frame end: " << LZ4F_getErrorName(end));
       out.resize(pos + end);
       return;
@@ -84,12 +90,8 @@ void Compressor::compress(std::string_view in, std::string& out) {
 }
 
 struct Decompressor::Contexts {
-  ZSTD_DCtx* zstd = nullptr;
-  LZ4F_dctx* lz4 = nullptr;
-  ~Contexts() {
-    ZSTD_freeDCtx(zstd);
-    LZ4F_freeDecompressionContext(lz4);
-  }
+  std::unique_ptr<ZSTD_DCtx, Free<ZSTD_DCtx, ZSTD_freeDCtx>> zstd;
+  std::unique_ptr<LZ4F_dctx, Free<LZ4F_dctx, LZ4F_freeDecompressionContext>> lz4;
 };
 
 Decompressor::Decompressor() : ctx_(std::make_unique<Contexts>()) {}
@@ -130,11 +132,11 @@ void Decompressor::decompress(Compression compression, std::string_view in, char
   if (in.empty() && out_size == 0) return;
   if (compression == Compression::kZstd) {
     if (ctx_->zstd == nullptr) {
-      ctx_->zstd = ZSTD_createDCtx();
+      ctx_->zstd.reset(ZSTD_createDCtx());
       CANOPY_CHECK(ctx_->zstd != nullptr, "ZSTD_createDCtx failed");
     }
     // zstd's default window limit (128 MiB) bounds its own memory; the output is `out_size`.
-    const std::size_t n = ZSTD_decompressDCtx(ctx_->zstd, out, out_size, in.data(), in.size());
+    const std::size_t n = ZSTD_decompressDCtx(ctx_->zstd.get(), out, out_size, in.data(), in.size());
     if (ZSTD_isError(n)) {
       if (ZSTD_getErrorCode(n) == ZSTD_error_dstSize_tooSmall)
         throw InputError("zstd data decompresses to more than the " + size_text(out_size) + " declared");
@@ -146,16 +148,18 @@ void Decompressor::decompress(Compression compression, std::string_view in, char
   }
   // LZ4 frames (one or more, back to back).
   if (ctx_->lz4 == nullptr) {
-    CANOPY_CHECK(!LZ4F_isError(LZ4F_createDecompressionContext(&ctx_->lz4, LZ4F_VERSION)),
+    LZ4F_dctx* d = nullptr;
+    CANOPY_CHECK(!LZ4F_isError(LZ4F_createDecompressionContext(&d, LZ4F_VERSION)),
                  "LZ4F_createDecompressionContext failed");
+    ctx_->lz4.reset(d);
   }
-  LZ4F_resetDecompressionContext(ctx_->lz4);  // a previous call may have stopped inside a frame
+  LZ4F_resetDecompressionContext(ctx_->lz4.get());  // a previous call may have stopped inside a frame
   std::size_t in_pos = 0;
   std::size_t out_pos = 0;
   while (true) {
     std::size_t dst = out_size - out_pos;
     std::size_t src = in.size() - in_pos;
-    const std::size_t hint = LZ4F_decompress(ctx_->lz4, out + out_pos, &dst, in.data() + in_pos, &src, nullptr);
+    const std::size_t hint = LZ4F_decompress(ctx_->lz4.get(), out + out_pos, &dst, in.data() + in_pos, &src, nullptr);
     if (LZ4F_isError(hint)) throw InputError(std::string("corrupt lz4 data (") + LZ4F_getErrorName(hint) + ")");
     in_pos += src;
     out_pos += dst;

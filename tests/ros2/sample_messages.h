@@ -20,44 +20,39 @@ inline msg::Header sample_header(std::uint64_t stamp_ns, const std::string& fram
   return h;
 }
 
-/// An rgb8 image whose pixels depend on `seed`.
-inline msg::Image sample_rgb(std::uint32_t width, std::uint32_t height, std::uint64_t stamp_ns, int seed) {
+/// An image of `width` x `height` pixels of `bytes_per_pixel` bytes, all zero.
+inline msg::Image blank_image(std::uint32_t width, std::uint32_t height, const char* encoding,
+                              std::uint32_t bytes_per_pixel, std::uint64_t stamp_ns, const std::string& frame) {
   msg::Image m;
-  m.header = sample_header(stamp_ns, "camera_color_optical_frame");
+  m.header = sample_header(stamp_ns, frame);
   m.width = width;
   m.height = height;
-  m.encoding = "rgb8";
-  m.step = width * 3;
+  m.encoding = encoding;
+  m.step = width * bytes_per_pixel;
   m.data.resize(std::size_t(m.step) * height);
+  return m;
+}
+
+/// An rgb8 image whose pixels depend on `seed`.
+inline msg::Image sample_rgb(std::uint32_t width, std::uint32_t height, std::uint64_t stamp_ns, int seed) {
+  msg::Image m = blank_image(width, height, "rgb8", 3, stamp_ns, "camera_color_optical_frame");
   for (std::size_t i = 0; i < m.data.size(); ++i) m.data[i] = static_cast<std::uint8_t>((i * 7 + seed * 13 + i / 640) & 0xFF);
   return m;
 }
 
 /// A 32FC1 depth image in metres with NaN where there is no return (REP 118).
 inline msg::Image sample_depth32(std::uint32_t width, std::uint32_t height, std::uint64_t stamp_ns, int seed) {
-  msg::Image m;
-  m.header = sample_header(stamp_ns, "camera_color_optical_frame");
-  m.width = width;
-  m.height = height;
-  m.encoding = "32FC1";
-  m.step = width * 4;
-  std::vector<float> depth(std::size_t(width) * height);
-  for (std::size_t i = 0; i < depth.size(); ++i)
-    depth[i] = (i % 97 == 0) ? std::numeric_limits<float>::quiet_NaN() : 0.3f + 0.001f * float((i + seed) % 500);
-  m.data.resize(depth.size() * 4);
-  std::memcpy(m.data.data(), depth.data(), m.data.size());
+  msg::Image m = blank_image(width, height, "32FC1", 4, stamp_ns, "camera_color_optical_frame");
+  for (std::size_t i = 0; i < m.data.size() / 4; ++i) {
+    const float metres = (i % 97 == 0) ? std::numeric_limits<float>::quiet_NaN() : 0.3f + 0.001f * float((i + seed) % 500);
+    std::memcpy(m.data.data() + 4 * i, &metres, 4);
+  }
   return m;
 }
 
 /// A 16UC1 depth image in millimetres, 0 for no return.
 inline msg::Image sample_depth16(std::uint32_t width, std::uint32_t height, std::uint64_t stamp_ns) {
-  msg::Image m;
-  m.header = sample_header(stamp_ns, "camera_depth_optical_frame");
-  m.width = width;
-  m.height = height;
-  m.encoding = "16UC1";
-  m.step = width * 2;
-  m.data.resize(std::size_t(m.step) * height);
+  msg::Image m = blank_image(width, height, "16UC1", 2, stamp_ns, "camera_depth_optical_frame");
   for (std::size_t i = 0; i < m.data.size() / 2; ++i) {
     const std::uint16_t mm = (i % 11 == 0) ? 0 : static_cast<std::uint16_t>(300 + i % 900);
     std::memcpy(m.data.data() + 2 * i, &mm, 2);

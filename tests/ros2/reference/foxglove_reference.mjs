@@ -264,28 +264,21 @@ function messages() {
       t,
       value: { transforms: [tf(t, "world", "base_link", 0.1 * i, 0.05 * i), tf(t, "base_link", "tool0", 0.3, 0.01 * i)] },
     });
+    // A depth image: 16UC1 in millimetres (0: no return), 32FC1 in metres (NaN: no return).
+    const depth = (topic, frame, encoding, pixels) => ({
+      topic,
+      schema: "sensor_msgs/msg/Image",
+      t,
+      value: {
+        header: { stamp: stampOf(t), frame_id: frame },
+        height: H, width: W, encoding, is_bigendian: 0, step: W * pixels.BYTES_PER_ELEMENT,
+        data: new Uint8Array(pixels.buffer),
+      },
+    });
     const mm = new Uint16Array(W * H).map((_, k) => (k % 7 === 0 ? 0 : 400 + 10 * k + i));
-    out.push({
-      topic: "/camera/depth/image_rect_raw",
-      schema: "sensor_msgs/msg/Image",
-      t,
-      value: {
-        header: { stamp: stampOf(t), frame_id: "camera_depth_optical_frame" },
-        height: H, width: W, encoding: "16UC1", is_bigendian: 0, step: W * 2,
-        data: new Uint8Array(mm.buffer),
-      },
-    });
+    out.push(depth("/camera/depth/image_rect_raw", "camera_depth_optical_frame", "16UC1", mm));
     const metres = new Float32Array(W * H).map((_, k) => (k % 5 === 0 ? NaN : 0.4 + 0.01 * k + 0.001 * i));
-    out.push({
-      topic: "/camera/aligned_depth_to_color/image_raw",
-      schema: "sensor_msgs/msg/Image",
-      t,
-      value: {
-        header: { stamp: stampOf(t), frame_id: "camera_color_optical_frame" },
-        height: H, width: W, encoding: "32FC1", is_bigendian: 0, step: W * 4,
-        data: new Uint8Array(metres.buffer),
-      },
-    });
+    out.push(depth("/camera/aligned_depth_to_color/image_raw", "camera_color_optical_frame", "32FC1", metres));
     out.push({
       topic: "/camera/color/image_raw/compressed",
       schema: "sensor_msgs/msg/CompressedImage",
