@@ -7,7 +7,7 @@
 include(GNUInstallDirs)
 include(CMakePackageConfigHelpers)
 
-set(CANOPY_CORE_MODULES common robot world perception mapping datasets evaluation nbv motion settings records)
+set(CANOPY_CORE_MODULES common ros2 robot world perception mapping datasets evaluation nbv motion settings records)
 set(CANOPY_SIM_MODULES sim video mission experiments jobs)
 set(CANOPY_INSTALL_CMAKEDIR ${CMAKE_INSTALL_LIBDIR}/cmake/canopy)
 
