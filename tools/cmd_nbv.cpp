@@ -13,6 +13,7 @@
 #include "canopy/common/value_text.h"
 #include "canopy/mapping/map_io.h"
 #include "canopy/mission/mission.h"
+#include "canopy/nbv/planners/ours/ours_params.h"
 #include "canopy/motion/view_reach.h"
 #include "cli_util.h"
 #include "commands.h"
@@ -100,7 +101,7 @@ void add_nbv_command(CLI::App& app) {
     // Validate every input before doing any work.
     check_views_out(opt->out, {{opt->map, "--map"}, {opt->config, "--config"}, {opt->intrinsics, "--intrinsics"}});
     settings::Settings settings = load_settings(opt->config);
-    if (opt->k > 0) settings.nbv.planner.top_k = opt->k;
+    if (opt->k > 0) settings.nbv.planner<nbv::OursParams>().top_k = opt->k;
     const RobotConfig robot = default_robot_config();
     const motion::RobotModel model = motion::RobotModel::load(robot);
     const BasePose base = parse_base_pose(opt->base, "--base");
@@ -142,7 +143,7 @@ void add_nbv_command(CLI::App& app) {
         {"planner", "ours"},
         {"gain", ps.method.gain},
         {"rays", ps.method.rays},
-        {"k", settings.nbv.planner.top_k},
+        {"k", settings.nbv.planner<nbv::OursParams>().top_k},
         {"seed", opt->seed},
         {"region", {{"min", {req.region.min().x(), req.region.min().y(), req.region.min().z()}},
                     {"max", {req.region.max().x(), req.region.max().y(), req.region.max().z()}}}},

@@ -10,6 +10,7 @@
 
 #include "canopy/mission/mission.h"
 #include "canopy/mission/scan_views.h"
+#include "canopy/nbv/planners/predefined/predefined_params.h"
 #include "canopy/records/run_folder.h"
 #include "canopy/world/world_spec.h"
 #include "../evaluation/metrics_equal.h"
@@ -138,7 +139,7 @@ TEST(Mission, PredefinedReplacesFailedScriptedViews) {
   const SmallWorld& w = small();
   Settings s = w.settings;
   s.method.name = "predefined";
-  s.nbv.predefined.goal_test_at_planning = false;
+  s.nbv.planner<nbv::PredefinedParams>().goal_test_at_planning = false;
   s.mission.scan.replace_failed = false;
   const MissionResult plain = Mission(w.world, s, 1).run();
   s.mission.scan.replace_failed = true;
@@ -192,9 +193,9 @@ TEST(Mission, PredefinedRefusesViewsThatWouldFailBeforeTheMove) {
   const SmallWorld& w = small();
   Settings s = w.settings;
   s.method.name = "predefined";
-  ASSERT_TRUE(s.nbv.predefined.goal_test_at_planning);
+  ASSERT_TRUE(s.nbv.planner<nbv::PredefinedParams>().goal_test_at_planning);
   const MissionResult r = Mission(w.world, s, 1).run();
-  s.nbv.predefined.goal_test_at_planning = false;
+  s.nbv.planner<nbv::PredefinedParams>().goal_test_at_planning = false;
   const MissionResult attempted = Mission(w.world, s, 1).run();
   ASSERT_TRUE(r.complete);
   int refusals_before = 0;

@@ -16,7 +16,7 @@ using nbv_test::Fixture;
 
 TEST(Ours, TopKPerClusterBestFirst) {
   Fixture f;
-  f.params.planner.top_k = 3;
+  f.params.planner<OursParams>().top_k = 3;
   const auto clusters = find_clusters(f.map, f.params.cluster);
   ASSERT_EQ(clusters.size(), 2u);
   ClusterPlanner planner(f.params, f.K);
