@@ -1,11 +1,11 @@
 // Planning from a map: fruit clusters, candidate views, gains by name, the next views for a
-// base pose (as `canopy nbv`), and the robot's kinematics (canopy.Robot: IK).
+// base pose (jobs::next_views, as `canopy nbv`), and the robot's kinematics (canopy.Robot: IK).
 
 #include <pybind11/stl.h>
 
 #include "canopy/common/error.h"
 #include "canopy/common/random.h"
-#include "canopy/mission/mission.h"
+#include "canopy/jobs/next_views_job.h"
 #include "canopy/motion/view_reach.h"
 #include "canopy/nbv/candidates.h"
 #include "canopy/nbv/clusters.h"
@@ -117,18 +117,6 @@ Vec3 arm_base(const BasePose& base) {
   return motion::RobotModel::T_world_base(base) * robot_model().T_base_arm().translation();
 }
 
-Eigen::AlignedBox3d stop_region_of(const BasePose& base, const settings::Settings& s) {
-  const Vec3 arm = arm_base(base);
-  return mission::stop_region(s.mission.loop, arm.x(), arm.y());
-}
-
-ArmConfig joints_or_home(const py::object& joints) {
-  if (joints.is_none()) return robot_model().config().home;
-  const ArmConfig q = joints_from(joints, "joints");
-  if (!robot_model().within_limits(q)) throw InputError("joints: " + describe(joints) + " is outside the joint limits");
-  return q;
-}
-
 }  // namespace
 
 void bind_planning(py::module_& m) {
@@ -186,36 +174,27 @@ planner in the loop scores against the mission's index with request.gains.)");
                          const py::object& intrinsics) {
         settings::Settings s = settings_from(settings);
         choose_method(s, method, planner);
-        motion::NextViewsRequest req;
-        req.base = base_from(base, "base");
-        req.q = joints_or_home(joints);
-        req.region = stop_region_of(req.base, s);
-        req.budget = s.mission.loop.views_per_stop;
-        req.seed = seed_from(seed, "seed");
-        nbv::ViewPlannerSettings ps;
-        ps.params = s.nbv;
-        ps.intrinsics = intrinsics_from(intrinsics, CameraIntrinsics{});
-        ps.method = s.method;
-        const motion::MotionConfig motion = s.motion;
-        motion::NextViews next;
+        jobs::NextViewsJob job;
+        job.base = base_from(base, "base");
+        if (!joints.is_none()) job.joints = joints_from(joints, "joints");
+        job.seed = seed_from(seed, "seed");
+        job.intrinsics = intrinsics_from(intrinsics, CameraIntrinsics{});
+        jobs::NextViewsJobResult r;
         take_interrupt();
         {
           const PendingPlanner pending(planner, s.mapping);
           py::gil_scoped_release release;
-          const std::unique_ptr<nbv::ViewPlanner> p = nbv::make_view_planner(ps, "method");
-          next = map.read([&](const mapping::SemanticOcTree& tree) {
-            return motion::plan_next_views(tree, *p, robot_model(), motion, req);
-          });
+          r = map.read([&](const mapping::SemanticOcTree& tree) { return jobs::next_views(tree, s, robot_model(), job); });
         }
         if (take_interrupt()) {  // Ctrl-C in the planner
           PyErr_SetNone(PyExc_KeyboardInterrupt);
           throw py::error_already_set();
         }
-        py::dict out(py::arg("views") = planned_views_dict(next.ordered, next.unreachable),
-                     py::arg("method") = s.method.name, py::arg("region") = box_array(req.region),
-                     py::arg("clusters") = next.batch.clusters, py::arg("candidates") = next.batch.candidates,
-                     py::arg("filtered") = next.batch.filtered, py::arg("robot_voxels_cleared") = next.cleared_voxels,
-                     py::arg("finished") = next.batch.finished, py::arg("reason") = next.batch.reason);
+        py::dict out(py::arg("views") = planned_views_dict(r.next.ordered, r.next.unreachable),
+                     py::arg("method") = r.method.name, py::arg("region") = box_array(r.region),
+                     py::arg("clusters") = r.next.batch.clusters, py::arg("candidates") = r.next.batch.candidates,
+                     py::arg("filtered") = r.next.batch.filtered, py::arg("robot_voxels_cleared") = r.next.cleared_voxels,
+                     py::arg("finished") = r.next.batch.finished, py::arg("reason") = r.next.batch.reason);
         return out;
       }, py::arg("map"), py::arg("base"), py::arg("joints") = py::none(), py::arg("settings") = py::none(),
       py::arg("method") = py::none(), py::arg("planner") = py::none(), py::arg("seed") = 1,
@@ -258,7 +237,7 @@ within the joint limits, nearest to seed (default: home) first: (K, 6), K = 0 wh
         return vec3_array(arm_base(base_from(base, "base")));
       }, py::arg("base"), "The arm base's position in the world for base (x, y, yaw).")
       .def("stop_region", [](const motion::RobotModel&, const py::object& base, const py::object& settings) {
-        return box_array(stop_region_of(base_from(base, "base"), settings_from(settings)));
+        return box_array(jobs::stop_region_at(settings_from(settings), robot_model(), base_from(base, "base")));
       }, py::arg("base"), py::arg("settings") = py::none(),
       "The box [[min], [max]] a planner looks for targets in at this base (the settings' mission.loop).");
 }

@@ -158,6 +158,12 @@ struct ViewOutcome {
   bool start_repaired = false;    ///< The arm's start was in collision and was repaired first.
 };
 
+/// The failed-view rule: true when `outcome` puts its view among a planner's failed_views(): it
+/// failed for a cause of its own (no IK, goal in collision, no path, not reached), not for a
+/// start in collision or an unstable simulation, which say nothing about the view. The Python
+/// planner's request.failed_views applies the same rule.
+bool joins_failed_views(const ViewOutcome& outcome);
+
 /// A method that picks views. Stateful (taken views, done clusters), one per mission.
 class ViewPlanner {
  public:
