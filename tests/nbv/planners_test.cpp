@@ -4,8 +4,10 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <set>
 
+#include "canopy/common/data_dir.h"
 #include "canopy/common/error.h"
 #include "canopy/nbv/planners/planners.h"
 #include "canopy/nbv/view_planner.h"
@@ -80,4 +82,21 @@ TEST(Planners, EntriesAndTheirSections) {
   // Only ours' section has a former key (nbv.planner).
   for (const PlannerSection& s : builtin_planner_sections())
     EXPECT_EQ(s.former_key, s.key == "ours" ? "planner" : "") << s.key;
+}
+
+// A planner is its room and its line in the table: every room under src/nbv/planners/ (and its
+// headers' room) is a built-in entry of that name, and every entry that does not read the
+// ground truth has its room (the oracles' is mission/oracle/).
+TEST(Planners, EachRoomIsAnEntryAndEachEntryARoom) {
+  namespace fs = std::filesystem;
+  const fs::path root(data_dir());
+  std::set<std::string> rooms, headers, entries;
+  for (const fs::directory_entry& d : fs::directory_iterator(root / "src" / "nbv" / "planners"))
+    if (d.is_directory()) rooms.insert(d.path().filename().string());
+  for (const fs::directory_entry& d : fs::directory_iterator(root / "include" / "canopy" / "nbv" / "planners"))
+    if (d.is_directory()) headers.insert(d.path().filename().string());
+  for (const ViewPlannerEntry& e : builtin_view_planners())
+    if (!e.reads_ground_truth) entries.insert(e.name);
+  EXPECT_EQ(rooms, entries);
+  EXPECT_EQ(headers, entries);
 }
