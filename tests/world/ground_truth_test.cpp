@@ -7,22 +7,22 @@
 #include <filesystem>
 #include <fstream>
 
+#include "canopy/common/data_dir.h"
 #include "canopy/common/error.h"
 #include "canopy/world/world.h"
 
 namespace canopy::world {
 namespace {
 
-WorldSpec two_plants(std::uint64_t seed) {
-  WorldSpec s;
-  s.seed = seed;
-  s.rows.rows = 1;
-  s.rows.plants_per_row = 2;
-  return s;
+// The small world (two plants) with another seed.
+World small_world(std::uint64_t seed) {
+  WorldSpec spec = WorldSpec::load(find_data_file("worlds/small.yaml"));
+  spec.seed = seed;
+  return generate_world(spec);
 }
 
 TEST(GroundTruth, PointsLieOnFruitsWithTheRequestedDensity) {
-  const World w = generate_world(two_plants(3));
+  const World w = small_world(3);
   ASSERT_FALSE(w.truth.fruits.empty());
   for (const auto& f : w.truth.fruits) {
     const double expected = f.surface_area_m2 / (w.truth.point_spacing_m * w.truth.point_spacing_m);
@@ -34,7 +34,7 @@ TEST(GroundTruth, PointsLieOnFruitsWithTheRequestedDensity) {
 }
 
 TEST(GroundTruth, SaveLoadRoundTrip) {
-  const World w = generate_world(two_plants(4));
+  const World w = small_world(4);
   const std::string dir = testing::TempDir() + "/gt_roundtrip";
   std::filesystem::create_directories(dir);
   w.truth.save(dir);
