@@ -5,7 +5,6 @@
 #include <pybind11/stl.h>
 
 #include <cmath>
-#include <optional>
 
 #include "canopy/common/error.h"
 #include "canopy/common/output_dir.h"
@@ -14,7 +13,6 @@
 #include "canopy/mission/mission.h"
 #include "canopy/records/run_folder.h"
 #include "canopy/records/view_columns.h"
-#include "canopy/robot/robot_description.h"
 #include "objects.h"
 #include "python_planner.h"
 
@@ -76,54 +74,21 @@ py::dict views_dict(const records::MissionResult& r, const std::string& method) 
   return d;
 }
 
-// The robot's link tree as the simulator holds it (every URDF link with a frame site, each with
-// its nearest ancestor that has one; "world" is the root), for the robot state a mission hands
-// to Python's on_view and on_state.
-struct LinkTree {
-  std::vector<std::string> names, parents;
-};
-
-LinkTree link_tree(const sim::Simulator& sim) {
-  const robot::RobotDescription d = robot::RobotDescription::load_urdf(sim.robot_config().urdf_path);
-  LinkTree t;
-  std::vector<std::string> frame_of(d.links().size(), "world");  // a link's nearest ancestor with a site
-  for (std::size_t i = 0; i < d.links().size(); ++i) {
-    const std::string& name = d.links()[i].name;
-    const int parent = d.parent_link(static_cast<int>(i));
-    const std::string above = parent < 0 ? "world" : frame_of[static_cast<std::size_t>(parent)];
-    bool has_frame = name != "world";
-    if (has_frame) {
-      try {
-        (void)sim.frame_pose(name);
-      } catch (const InputError&) {  // a link the scene keeps no frame of
-        has_frame = false;
-      }
-    }
-    frame_of[i] = has_frame ? name : above;
-    if (!has_frame) continue;
-    t.names.push_back(name);
-    t.parents.push_back(above);
-  }
-  return t;
-}
-
 // The robot's state now (GIL held): simulated time, base pose, arm joints and every link's world
-// pose with its parent in the tree.
-py::dict robot_state(const sim::Simulator& sim, const LinkTree& tree) {
-  std::vector<Pose> poses;
-  for (const std::string& name : tree.names) poses.push_back(sim.frame_pose(name));
+// pose with its parent in the simulator's link tree (every URDF link with a frame; "world" is
+// the root).
+py::dict robot_state(const sim::Simulator& sim) {
+  const sim::RobotLinks links = sim.robot_links();
   const BasePose b = sim.base_pose();
   const ArmConfig q = sim.arm_positions();
   return py::dict(py::arg("time") = sim.time(), py::arg("base") = array_of(std::vector<double>{b.x_m, b.y_m, b.yaw_rad}),
                   py::arg("joints") = array_of(std::vector<double>(q.begin(), q.end())),
-                  py::arg("links") = tree.names, py::arg("parents") = tree.parents,
-                  py::arg("link_poses") = poses_array(poses), py::arg("camera") = pose_array(sim.camera_pose()),
+                  py::arg("links") = links.links, py::arg("parents") = links.parents,
+                  py::arg("link_poses") = poses_array(links.poses), py::arg("camera") = pose_array(sim.camera_pose()),
                   py::arg("camera_frame") = sim.robot_config().camera_frame);
 }
 
-}  // namespace
-
-void bind_missions(py::module_& m) {
+void bind_mission_result(py::module_& m) {
   py::class_<PyMissionResult, std::shared_ptr<PyMissionResult>>(m, "MissionResult", "What a mission did.")
       .def_property_readonly("views", [](const PyMissionResult& r) { return views_dict(r.result, r.settings.method.name); },
                              R"(One entry per attempted view, as a dict of arrays: every column of views.csv, by
@@ -156,134 +121,161 @@ NaN), plus goal_pose and reached_pose (N, 4, 4; reached NaN for failed views).)"
       }, "views.csv's text (byte-identical for a seed).")
       .def_property_readonly("complete", [](const PyMissionResult& r) { return r.result.complete; })
       .def_property_readonly("successful_views", [](const PyMissionResult& r) { return r.result.successful_views(); });
+}
 
-  m.def("run_mission",
-        [](const PyWorld& world, const py::object& settings, const py::object& method, const py::object& planner,
-           const py::object& seed_arg, const py::object& out, const py::object& video, std::pair<int, int> video_size,
-           double video_fps, const py::object& progress, const py::object& on_view, const py::object& on_state,
-           double state_period, bool report) {
-          // Validate every input before any work.
-          settings::Settings s = settings_from(settings);
-          choose_method(s, method, planner);
-          const std::uint64_t seed = seed_from(seed_arg, "seed");
-          std::string video_error;
-          if (!progress.is_none() && !PyCallable_Check(progress.ptr()))
-            throw InputError("progress: " + describe(progress) + " is not callable");
-          if (!on_view.is_none() && !PyCallable_Check(on_view.ptr()))
-            throw InputError("on_view: " + describe(on_view) + " is not callable");
-          if (!on_state.is_none() && !PyCallable_Check(on_state.ptr()))
-            throw InputError("on_state: " + describe(on_state) + " is not callable");
-          if (!(std::isfinite(state_period) && state_period >= 1e-3 && state_period <= 60.0))
-            throw InputError("state_period: " + std::to_string(state_period) +
-                             " is not a period of simulated time in [0.001, 60] s");
-          jobs::MissionJobParams job;
-          job.world_file = world.file();
-          job.seed = seed;
-          if (!video.is_none())  // the command line's checks, under the keywords' names
-            job.video = jobs::video_options(path_from(video, "video"),
-                                            std::to_string(video_size.first) + "x" + std::to_string(video_size.second),
-                                            video_fps, {"video", "video_size", "video_fps"});
-          if (!out.is_none()) {
-            job.out = path_from(out, "out");
-            job.out_option = "out";
-            StagedDir::check_writable(job.out, "mission", "out");  // before any work, as the command line
-          }
-          job.keep_map = true;
-          job.report = report;
+// Every argument of run_mission that is not the job's own, checked before any work.
+void check_callbacks(const py::object& progress, const py::object& on_view, const py::object& on_state,
+                     double state_period) {
+  if (!progress.is_none() && !PyCallable_Check(progress.ptr()))
+    throw InputError("progress: " + describe(progress) + " is not callable");
+  if (!on_view.is_none() && !PyCallable_Check(on_view.ptr()))
+    throw InputError("on_view: " + describe(on_view) + " is not callable");
+  if (!on_state.is_none() && !PyCallable_Check(on_state.ptr()))
+    throw InputError("on_state: " + describe(on_state) + " is not callable");
+  if (!(std::isfinite(state_period) && state_period >= 1e-3 && state_period <= 60.0))
+    throw InputError("state_period: " + std::to_string(state_period) +
+                     " is not a period of simulated time in [0.001, 60] s");
+}
 
-          mission::MissionCallbacks cb;
-          if (!progress.is_none())
-            cb.progress = [&progress](const std::string& message) {
-              py::gil_scoped_acquire gil;
-              call_noting_interrupt([&] { progress(message); });
-            };
-          // The robot's state for on_view and on_state (a bag of the run, canopy/bag/write.py); the link
-          // tree is read once, from the simulator's robot.
-          std::optional<LinkTree> tree;
-          const auto links_of = [&tree](const sim::Simulator& sim) -> const LinkTree& {
-            if (!tree) tree = link_tree(sim);
-            return *tree;
-          };
-          if (!on_view.is_none())
-            job.on_view = [&on_view, &links_of, map_settings = s.mapping](const records::ViewRecord& v, const LabelledFrame& f,
-                                                                     const sim::Simulator& sim,
-                                                                     const mapping::SemanticOcTree& map) {
-              const LinkTree& t = links_of(sim);
-              py::gil_scoped_acquire gil;
-              auto alive = std::make_shared<bool>(true);  // the map is lent for the call
-              struct EndLoan {
-                std::shared_ptr<bool> alive;
-                ~EndLoan() { *alive = false; }
-              } end_loan{alive};
-              py::dict d = robot_state(sim, t);
-              d["attempt"] = v.attempt;
-              d["stop"] = v.stop;
-              d["phase"] = records::to_string(v.phase);
-              d["source"] = v.source;
-              d["successful_views"] = v.successful_views;
-              d["goal"] = pose_array(v.T_goal);
-              PyFrame frame;
-              frame.name = "view " + std::to_string(v.attempt);
-              frame.frame = f;
-              d["frame"] = frame_object(std::move(frame));
-              d["map"] = PyMap::borrow(map, alive, map_settings);
-              call_noting_interrupt([&] { on_view(d); });
-            };
-          if (!on_state.is_none()) {
-            cb.video_period_s = state_period;
-            cb.video_tick = [&on_state, &links_of](sim::Simulator& sim, const std::string&) {
-              const LinkTree& t = links_of(sim);
-              py::gil_scoped_acquire gil;
-              py::dict d = robot_state(sim, t);
-              call_noting_interrupt([&] { on_state(d); });
-            };
-          }
-          // Ctrl-C: Python's signal handler only sets a flag while the mission runs without the
-          // GIL; it is polled a few times a second between simulation steps, and noted when
-          // Python code the mission called (planner, progress) raised KeyboardInterrupt.
-          take_interrupt();
-          bool interrupted = false;
-          Stopwatch since_poll;
-          cb.stop_requested = [&interrupted, &since_poll] {
-            if (take_interrupt()) interrupted = true;
-            if (interrupted || since_poll.seconds() < 0.2) return interrupted;
-            since_poll.restart();
-            py::gil_scoped_acquire gil;
-            if (PyErr_CheckSignals() != 0) {
-              PyErr_Clear();
-              interrupted = true;
-            }
-            return interrupted;
-          };
-          const auto amend = [&interrupted](records::MissionResult& r) {
-            if (take_interrupt()) interrupted = true;  // noted after the last poll (the last stop's planner)
-            if (interrupted) {
-              r.complete = false;
-              r.end_reason = "interrupted";
-            }
-          };
+// The mission job of run_mission's keywords: the command line's checks under their names.
+jobs::MissionJobParams mission_job(const PyWorld& world, std::uint64_t seed, const py::object& out,
+                                   const py::object& video, std::pair<int, int> video_size, double video_fps,
+                                   bool report) {
+  jobs::MissionJobParams job;
+  job.world_file = world.file();
+  job.seed = seed;
+  if (!video.is_none())
+    job.video = jobs::video_options(path_from(video, "video"),
+                                    std::to_string(video_size.first) + "x" + std::to_string(video_size.second),
+                                    video_fps, {"video", "video_size", "video_fps"});
+  if (!out.is_none()) {
+    job.out = path_from(out, "out");
+    job.out_option = "out";
+    StagedDir::check_writable(job.out, "mission", "out");  // before any work, as the command line
+  }
+  job.keep_map = true;
+  job.report = report;
+  return job;
+}
 
-          auto result = std::make_shared<PyMissionResult>();
-          result->settings = s;
-          job.settings = std::move(s);
-          {
-            const PendingPlanner pending(planner, job.settings.mapping);
-            py::gil_scoped_release release;
-            jobs::MissionJobResult r = jobs::run_mission_job(world.world(), job, cb, amend);
-            result->result = std::move(r.result);
-            result->summary = std::move(r.summary);
-            result->map = std::make_shared<PyMap>(std::move(*r.map), job.settings.mapping);
-            video_error = std::move(r.video_error);
-          }
-          if (interrupted) {
-            PyErr_SetString(PyExc_KeyboardInterrupt,
-                            out.is_none() ? "mission interrupted" : "mission interrupted; the results so far are in the out folder");
-            throw py::error_already_set();
-          }
-          if (!video_error.empty())
-            PyErr_WarnEx(PyExc_RuntimeWarning, ("the video " + job.video.path + " is missing: " + video_error).c_str(), 1);
-          return result;
-        },
+// Python's callbacks on the mission (they hold references to run_mission's arguments): progress
+// lines; on_view after every successful view with its frame, the lent map and the robot state;
+// on_state every state_period of simulated time (a bag of the run, canopy/bag/write.py).
+void add_callbacks(jobs::MissionJobParams* job, mission::MissionCallbacks* cb, const py::object& progress,
+                   const py::object& on_view, const py::object& on_state, double state_period,
+                   const settings::MappingSettings& map_settings) {
+  if (!progress.is_none())
+    cb->progress = [&progress](const std::string& message) {
+      py::gil_scoped_acquire gil;
+      call_noting_interrupt([&] { progress(message); });
+    };
+  if (!on_view.is_none())
+    job->on_view = [&on_view, map_settings](const records::ViewRecord& v, const LabelledFrame& f,
+                                            const sim::Simulator& sim, const mapping::SemanticOcTree& map) {
+      py::gil_scoped_acquire gil;
+      auto alive = std::make_shared<bool>(true);  // the map is lent for the call
+      struct EndLoan {
+        std::shared_ptr<bool> alive;
+        ~EndLoan() { *alive = false; }
+      } end_loan{alive};
+      py::dict d = robot_state(sim);
+      d["attempt"] = v.attempt;
+      d["stop"] = v.stop;
+      d["phase"] = records::to_string(v.phase);
+      d["source"] = v.source;
+      d["successful_views"] = v.successful_views;
+      d["goal"] = pose_array(v.T_goal);
+      PyFrame frame;
+      frame.name = "view " + std::to_string(v.attempt);
+      frame.frame = f;
+      d["frame"] = frame_object(std::move(frame));
+      d["map"] = PyMap::borrow(map, alive, map_settings);
+      call_noting_interrupt([&] { on_view(d); });
+    };
+  if (!on_state.is_none()) {
+    cb->video_period_s = state_period;
+    cb->video_tick = [&on_state](sim::Simulator& sim, const std::string&) {
+      py::gil_scoped_acquire gil;
+      py::dict d = robot_state(sim);
+      call_noting_interrupt([&] { on_state(d); });
+    };
+  }
+}
+
+// Ctrl-C: Python's signal handler only sets a flag while the mission runs without the GIL; it is
+// polled a few times a second between simulation steps, and noted when Python code the mission
+// called (planner, progress) raised KeyboardInterrupt.
+struct InterruptWatch {
+  bool interrupted = false;
+  Stopwatch since_poll;
+
+  bool poll() {
+    if (take_interrupt()) interrupted = true;
+    if (interrupted || since_poll.seconds() < 0.2) return interrupted;
+    since_poll.restart();
+    py::gil_scoped_acquire gil;
+    if (PyErr_CheckSignals() != 0) {
+      PyErr_Clear();
+      interrupted = true;
+    }
+    return interrupted;
+  }
+  void amend(records::MissionResult& r) {
+    if (take_interrupt()) interrupted = true;  // noted after the last poll (the last stop's planner)
+    if (interrupted) {
+      r.complete = false;
+      r.end_reason = "interrupted";
+    }
+  }
+};
+
+std::shared_ptr<PyMissionResult> run_mission(const PyWorld& world, const py::object& settings, const py::object& method,
+                                             const py::object& planner, const py::object& seed_arg,
+                                             const py::object& out, const py::object& video,
+                                             std::pair<int, int> video_size, double video_fps,
+                                             const py::object& progress, const py::object& on_view,
+                                             const py::object& on_state, double state_period, bool report) {
+  // Validate every input before any work.
+  settings::Settings s = settings_from(settings);
+  choose_method(s, method, planner);
+  const std::uint64_t seed = seed_from(seed_arg, "seed");
+  check_callbacks(progress, on_view, on_state, state_period);
+  jobs::MissionJobParams job = mission_job(world, seed, out, video, video_size, video_fps, report);
+  mission::MissionCallbacks cb;
+  add_callbacks(&job, &cb, progress, on_view, on_state, state_period, s.mapping);
+  take_interrupt();
+  InterruptWatch watch;
+  cb.stop_requested = [&watch] { return watch.poll(); };
+  const auto amend = [&watch](records::MissionResult& r) { watch.amend(r); };
+
+  auto result = std::make_shared<PyMissionResult>();
+  result->settings = s;
+  job.settings = std::move(s);
+  std::string video_error;
+  {
+    const PendingPlanner pending(planner, job.settings.mapping);
+    py::gil_scoped_release release;
+    jobs::MissionJobResult r = jobs::run_mission_job(world.world(), job, cb, amend);
+    result->result = std::move(r.result);
+    result->summary = std::move(r.summary);
+    result->map = std::make_shared<PyMap>(std::move(*r.map), job.settings.mapping);
+    video_error = std::move(r.video_error);
+  }
+  if (watch.interrupted) {
+    PyErr_SetString(PyExc_KeyboardInterrupt,
+                    out.is_none() ? "mission interrupted" : "mission interrupted; the results so far are in the out folder");
+    throw py::error_already_set();
+  }
+  if (!video_error.empty())
+    PyErr_WarnEx(PyExc_RuntimeWarning, ("the video " + job.video.path + " is missing: " + video_error).c_str(), 1);
+  return result;
+}
+
+}  // namespace
+
+void bind_missions(py::module_& m) {
+  bind_mission_result(m);
+  m.def("run_mission", &run_mission,
         py::arg("world"), py::arg("settings") = py::none(), py::kw_only(), py::arg("method") = py::none(),
         py::arg("planner") = py::none(), py::arg("seed") = 1, py::arg("out") = py::none(), py::arg("video") = py::none(),
         py::arg("video_size") = std::pair<int, int>(640, 480), py::arg("video_fps") = 25.0,

@@ -103,7 +103,7 @@ class PythonPlanner final : public nbv::ViewPlanner {
   std::vector<Pose> failed_views_poses() const {
     std::vector<Pose> out;
     for (const nbv::ViewOutcome& o : outcomes_)
-      if (!o.success && o.failure != "start_in_collision" && o.failure != "unstable") out.push_back(o.view.T_world_camera);
+      if (nbv::joins_failed_views(o)) out.push_back(o.view.T_world_camera);  // the library's rule
     return out;
   }
 
@@ -266,7 +266,10 @@ PendingPlanner::PendingPlanner(const py::object& planner, const settings::Mappin
 
 PendingPlanner::~PendingPlanner() { g_pending = previous_; }
 
-void bind_python_planner(py::module_& m) {
+namespace {
+
+// The registry's entry "python": the planner a run_mission or next_views call is lending.
+void register_python_planner() {
   static std::once_flag once;
   std::call_once(once, [] {
     nbv::register_view_planner(
@@ -280,8 +283,13 @@ void bind_python_planner(py::module_& m) {
            return std::make_unique<PythonPlanner>(pending->planner(), settings, pending->mapping());
          }});
   });
+}
 
-  py::class_<PyRequest, std::shared_ptr<PyRequest>>(m, "PlannerRequest", R"(What a planner is asked at a stop: the request canopy's own planners get.
+using RequestClass = py::class_<PyRequest, std::shared_ptr<PyRequest>>;
+
+// What the request holds: the map, the camera, the stop's region and budget, the views so far.
+RequestClass bind_request_state(py::module_& m) {
+  return RequestClass(m, "PlannerRequest", R"(What a planner is asked at a stop: the request canopy's own planners get.
 
 Valid only during the planner call it was made for: afterwards every attribute raises
 ValueError (the map, too). Poses are 4x4 T_world_camera (optical frame: x right, y down,
@@ -333,8 +341,12 @@ unstable), 'detail' (one line), 'reached' (the camera pose, None on failure), 's
       .def("is_taken", [](const PyRequest& r, const py::object& pose) {
         r.get();
         return r.planner->taken_views().contains(pose_from(pose, "pose"));
-      }, py::arg("pose"), "True when pose lies within nbv.views.taken_position_m / taken_angle_deg of a taken view.")
-      .def("reach", [](const PyRequest& r, const py::object& pose) -> py::object {
+      }, py::arg("pose"), "True when pose lies within nbv.views.taken_position_m / taken_angle_deg of a taken view.");
+}
+
+// What the request answers: reachability, clusters, candidates and gains with the mission's settings.
+void bind_request_queries(RequestClass& c) {
+  c.def("reach", [](const PyRequest& r, const py::object& pose) -> py::object {
         const nbv::ViewRequest& req = r.get();
         nbv::Candidate c;
         c.T_world_camera = pose_from(pose, "pose");
@@ -374,6 +386,14 @@ when unreachable, else {'pose': the moved pose (the one to return), 'joints', 's
       }, py::arg("poses"), py::arg("targets"), py::arg("gain") = py::none(), py::arg("rays") = py::none(),
       R"(Scores views against the mission's voxel index (canopy.gains without rebuilding it); gain and
 rays default to the settings' method.gain and method.rays.)");
+}
+
+}  // namespace
+
+void bind_python_planner(py::module_& m) {
+  register_python_planner();
+  RequestClass request = bind_request_state(m);
+  bind_request_queries(request);
 }
 
 }  // namespace canopy::python

@@ -54,6 +54,18 @@ Simulator::Simulator(const world::World& world, const RobotConfig& robot_config,
     load(scene_.mjcf);
   }
   bind_robot();
+  // The link tree: each link with a frame site, under its nearest ancestor that has one.
+  std::vector<std::string> frame_of(description.links().size(), "world");
+  for (std::size_t i = 0; i < description.links().size(); ++i) {
+    const std::string& name = description.links()[i].name;
+    const int parent = description.parent_link(static_cast<int>(i));
+    const std::string above = parent < 0 ? "world" : frame_of[static_cast<std::size_t>(parent)];
+    const bool has_frame = name != "world" && mj_name2id(model_.get(), mjOBJ_SITE, frame_site_name(name).c_str()) >= 0;
+    frame_of[i] = has_frame ? name : above;
+    if (!has_frame) continue;
+    link_tree_.links.push_back(name);
+    link_tree_.parents.push_back(above);
+  }
   reset_home();
 }
 
@@ -266,6 +278,12 @@ Pose Simulator::camera_pose() const {
 Pose Simulator::frame_pose(const std::string& link) const {
   const int site = require_id(mjOBJ_SITE, frame_site_name(link));
   return pose_from_mj(data_->site_xpos + 3 * site, data_->site_xmat + 9 * site);
+}
+
+RobotLinks Simulator::robot_links() const {
+  RobotLinks out = link_tree_;
+  for (const std::string& link : out.links) out.poses.push_back(frame_pose(link));
+  return out;
 }
 
 std::vector<RobotContact> Simulator::robot_contacts() const {
