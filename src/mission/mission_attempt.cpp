@@ -118,6 +118,7 @@ ViewRecord Mission::Impl::attempt(const nbv::PlannedView& view, ViewPhase phase)
     }
   }
   rec.start_repair = plan.repaired ? plan.repair_note : "";
+  rec.plan_iterations = plan.iterations;
   if (!plan.ok()) {
     leave_collision(plan, view, rec.times);
     return finish(failure_of_plan(plan.status), plan.message);
@@ -148,6 +149,7 @@ ViewRecord Mission::Impl::attempt(const nbv::PlannedView& view, ViewPhase phase)
       look.reset();
       plan = std::move(checked);
       rec.start_repair = plan.repaired ? plan.repair_note : "";
+      rec.plan_iterations = plan.iterations;
       if (!plan.ok()) {
         leave_collision(plan, view, rec.times);
         return finish(failure_of_plan(plan.status), plan.message);

@@ -28,11 +28,11 @@ std::string timing_csv(const MissionResult& r) {
                                           phase::kEvaluation};
   std::string s = "attempt";
   for (const auto& p : phases) s += "," + p + "_s";
-  s += "\n";
+  s += ",plan_iterations\n";
   for (const ViewRecord& v : r.views) {
     s += std::to_string(v.attempt);
     for (const auto& p : phases) s += "," + num(v.times.get(p));
-    s += "\n";
+    s += "," + std::to_string(v.plan_iterations) + "\n";
   }
   return s;
 }

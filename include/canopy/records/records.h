@@ -92,6 +92,9 @@ struct ViewRecord {
   double centre_error_m = 0.0, voxel_volume_error = 0.0, ellipsoid_volume_error = 0.0;  ///< NaN without a match.
   double fruit_voxel_precision = 0.0, false_fruit_volume_m3 = 0.0;
   PhaseTimes times;              ///< Wall time by phase (kept out of views.csv).
+  /// OMPL iterations of the plan that decided the attempt (motion::PlanResult::iterations;
+  /// timing.csv, kept out of views.csv).
+  int plan_iterations = 0;
 };
 
 /// One base stop.
