@@ -78,7 +78,7 @@ void run_mission(const MissionCliOptions& o, CLI::App* sub) {
   if (sub->count("--gain")) settings.set("method.gain", o.gain, "--gain");
   if (sub->count("--rays")) settings.set("method.rays", o.rays, "--rays");
   // Flags set settings by their keys: the same limits as in a settings file.
-  if (sub->count("--pgt")) settings.set("mapping.extractor.p_gt", format_number(o.pgt, "%.17g"), "--pgt");
+  if (sub->count("--pgt")) settings.set("mapping.extractor.p_gt", format_number(o.pgt, NumberFormat::kDigits17), "--pgt");
   if (!o.seg.empty()) settings.set("mapping.extractor.source", o.seg, "--seg");
   if (sub->count("--views-per-stop"))
     settings.set("mission.loop.views_per_stop", std::to_string(o.views_per_stop), "--views-per-stop");
@@ -90,7 +90,7 @@ void run_mission(const MissionCliOptions& o, CLI::App* sub) {
     } else {  // arm-base x positions
       if (v.size() > 1000) throw InputError("--stops: " + std::to_string(v.size()) + " positions, at most 1000");
       std::string list = "[";
-      for (std::size_t i = 0; i < v.size(); ++i) list += (i ? ", " : "") + format_number(v[i], "%.17g");
+      for (std::size_t i = 0; i < v.size(); ++i) list += (i ? ", " : "") + format_number(v[i], NumberFormat::kDigits17);
       settings.set("mission.stops.positions_m", list + "]", "--stops");
     }
   }

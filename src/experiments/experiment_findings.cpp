@@ -153,10 +153,8 @@ std::string runtime_md_table(const std::vector<Group>& groups) {
                   "|---|---|---|---|---|---|---|---|\n";
   for (const Group& g : groups) {
     f += "| " + pgt_text(g.p_gt) + " | " + g.method.label;
-    for (std::size_t k = 0; k < 4; ++k) {
-      const auto& phases = runtime_categories()[k].second;
-      f += " | " + pm(over(g, [&](const TrialResult& t) { return category(t, phases); }), "%.2f");
-    }
+    for (const records::PlotCategoryInfo& c : records::plot_categories())
+      if (c.paper) f += " | " + pm(over(g, [&c](const TrialResult& t) { return category(t, c); }), "%.2f");
     f += " | " + pm(over(g, paper_total), "%.2f") + " | " + pm(over(g, [](const TrialResult& t) { return t.sim_s; }), "%.1f") +
          " |\n";
   }
@@ -243,11 +241,11 @@ std::string field_section(const std::vector<Group>& groups, const std::vector<st
   // One table per report group of the column table, in its order; then the time budgets.
   std::vector<std::pair<std::string, std::vector<std::string>>> all_tables;
   std::map<std::string, const char*> formats;
-  for (const records::ViewColumn* c : records::final_figure_columns()) {
-    const std::string title = records::report_group_title(c->final.group);
+  for (const records::FieldInfo* c : records::final_figure_columns()) {
+    const std::string title = records::report_group_title(c->field.final.group);
     if (all_tables.empty() || all_tables.back().first != title) all_tables.push_back({title, {}});
-    all_tables.back().second.push_back(c->final.key);
-    formats[c->final.key] = c->final.format;
+    all_tables.back().second.push_back(c->field.final.key);
+    formats[c->field.final.key] = c->field.final.format;
   }
   std::vector<std::string> budget_keys;
   for (const std::string& k : field)

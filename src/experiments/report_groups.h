@@ -7,6 +7,7 @@
 
 #include "canopy/common/stats.h"
 #include "canopy/experiments/experiment_report.h"
+#include "canopy/records/records.h"
 
 namespace canopy::experiments::report {
 
@@ -28,8 +29,8 @@ struct Group {
 // (no noise) to low; each with its ok trials.
 std::vector<Group> groups_of(const MergedTrials& m);
 
-// The seconds a trial spent in `phases`.
-double category(const TrialResult& r, const std::vector<std::string>& phases);
+// The seconds a trial spent in a plot category's phases.
+double category(const TrialResult& r, const records::PlotCategoryInfo& category);
 // The four phases of the paper's Fig. 4 (its "total run time").
 double paper_total(const TrialResult& r);
 

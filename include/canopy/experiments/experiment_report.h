@@ -91,7 +91,4 @@ ExperimentReport make_experiment_report(const MergedTrials& merged);
 /// sections; the coverage at each time budget as sc_at_<T>s), in report order.
 std::vector<std::string> field_metric_names(const std::vector<TrialResult>& trials);
 
-/// The paper's Fig. 4 categories and the mission phases they sum.
-const std::vector<std::pair<std::string, std::vector<std::string>>>& runtime_categories();
-
 }  // namespace canopy::experiments
