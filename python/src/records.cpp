@@ -163,7 +163,7 @@ py::list fields_list(const std::vector<records::FieldInfo>& fields) {
   py::list out;
   for (const records::FieldInfo& f : fields)
     out.append(py::dict(py::arg("name") = f.name, py::arg("unit") = f.field.unit, py::arg("doc") = f.field.doc,
-                        py::arg("in_views_csv") = f.field.csv));
+                        py::arg("in_views_csv") = f.field.csv, py::arg("known_when_taken") = !f.field.metric));
   return out;
 }
 }  // namespace
@@ -174,9 +174,10 @@ void bind_records(py::module_& m) {
 legend), failed_view_colour, failure_causes, wall_phases and plot_categories (name, title, the
 wall-time phases each sums, paper: one of the paper's Fig. 4 four).)");
   m.def("view_fields", [] { return fields_list(records::view_fields()); },
-        "Every field of a view (MissionResult.views' keys, views.csv's columns first): name, unit, doc, in_views_csv.");
+        "Every field of a view (MissionResult.views' keys, views.csv's columns first): name, unit, doc, in_views_csv,\n"
+        "known_when_taken (false: a map figure, known one view later; on_view and the bags' view records lack it).");
   m.def("summary_fields", [] { return fields_list(records::summary_fields()); },
-        "Every key of summary.json (dotted paths; 'stops[].end' for a stop's): name, unit, doc.");
+        "Every key of summary.json (dotted paths; 'stops[].end' for a stop's): name, unit, doc (and the views' flags).");
 }
 
 }  // namespace canopy::python

@@ -90,8 +90,9 @@ def test_bag_holds_images_tf_map_views_and_fruits(mission_bag, world):
     with rosbag.Bag(str(tmp / "run.bag")) as b:
         topics = b.get_type_and_topic_info().topics
         n = result.successful_views
-        for key in ("rgb", "depth", "labels", "labels_color", "camera_info", "map", "views"):
+        for key in ("rgb", "depth", "labels", "labels_color", "camera_info", "map", "views", "view_record"):
             assert topics[cbag.TOPICS[key]].message_count == n, key
+        records = [json.loads(m.data) for _, m, _ in b.read_messages(topics=[cbag.TOPICS["view_record"]])]
         assert topics[cbag.TOPICS["fruits"]].message_count == 1
         assert topics["/tf"].message_count > n  # the views' and the state ticks'
         frames = set()
@@ -107,6 +108,16 @@ def test_bag_holds_images_tf_map_views_and_fruits(mission_bag, world):
     assert last_cloud.width == len(result.map.voxels("occupied")["center"])
     assert len(last_views.markers) == n
     assert {m.ns for m in last_views.markers} <= {"initial", "nbv", "predefined"}
+    # The frustums in the report's phase colours, and each view's record by the schema's names.
+    colours = {p["name"]: p["colour"] for p in canopy.vocabulary()["view_phases"]}
+    for m in last_views.markers:
+        assert "#%02x%02x%02x" % tuple(round(255 * c) for c in (m.color.r, m.color.g, m.color.b)) == colours[m.ns]
+    known = [f["name"] for f in canopy.view_fields() if f["known_when_taken"]]
+    assert list(cbag.VIEW_RECORD_FIELDS) == known
+    assert [list(r) for r in records] == [known] * n
+    ok = result.views["success"]
+    assert [r["attempt"] for r in records] == list(result.views["attempt"][ok])
+    assert np.allclose([r["goal_pose"] for r in records], result.views["goal_pose"][ok])
     # Each frame's pose from /tf is the pose the mission mapped it with.
     frames = canopy.read_bag(tmp / "run.bag", labels=cbag.TOPICS["labels"], min_range=world.camera.min_range_m,
                              max_range=world.camera.max_range_m)["frames"]
