@@ -1,6 +1,6 @@
 // canopy mission / canopy run: the closed-loop mission on the moving robot (mission::Mission),
 // and the files it leaves: views.csv, timing.csv, summary.json, settings.yaml, the final map
-// (map.csm, map.ply, map.bt), sc_entropy.png and runtime.png, report.html, and optionally a video.
+// (map.csm, map.ply, map.bt), sc_entropy.svg and runtime.svg, report.html, and optionally a video.
 // `canopy run` is the default mission (method ours) writing to results/.
 
 #include <spdlog/spdlog.h>
@@ -57,7 +57,7 @@ void add_options(CLI::App* sub, MissionCliOptions* o, bool out_required) {
   sub->add_option("--video", o->video, "Also record an H.264 MP4 of the run (chase view, wrist and map insets, caption)");
   sub->add_option("--video-size", o->video_size, "Video frame size WxH")->capture_default_str();
   sub->add_option("--video-fps", o->video_fps, "Video frames per simulated second")->capture_default_str();
-  sub->add_flag("--no-plots", o->no_plots, "Skip sc_entropy.png and runtime.png");
+  sub->add_flag("--no-plots", o->no_plots, "Skip sc_entropy.svg and runtime.svg");
   sub->add_flag("--no-report", o->no_report, "Skip report.html (the interactive 3D report, docs/report.md)");
   sub->add_flag("--strict", o->strict, kStrictColoursHelp);
   sub->add_option("--export", o->export_dir,
