@@ -12,6 +12,7 @@
 #include <fstream>
 #include <set>
 #include <sstream>
+#include <stdexcept>
 
 #include "canopy/common/csv.h"
 #include "canopy/common/error.h"
@@ -37,6 +38,7 @@ void read_mission(const fs::path& mission, TrialResult* r) {
   const records::RunFolder f = records::read_run_folder(mission.string());
   r->coverage = f.coverage;
   r->entropy = f.entropy;
+  r->phases = f.phases;
   r->curves = f.curves;
   const nlohmann::json& s = f.summary;
   for (auto it = s.at("wall_time_by_phase_s").begin(); it != s.at("wall_time_by_phase_s").end(); ++it)
@@ -331,6 +333,36 @@ std::string gain_truth_table(const std::vector<Group>& groups) {
 
 }  // namespace
 
+std::string findings_markdown(const nlohmann::json& findings) {
+  // Blocks one after the other, a blank line between them.
+  std::string md;
+  const auto row = [](const nlohmann::json& cells) {
+    std::string r = "|";
+    for (const auto& c : cells) r += " " + c.get<std::string>() + " |";
+    return r + "\n";
+  };
+  for (const nlohmann::json& b : findings) {
+    const std::string kind = b.at("kind").get<std::string>();
+    if (!md.empty()) md += "\n";
+    if (kind == "heading") {
+      md += std::string(b.at("level").get<std::size_t>(), '#') + " " + b.at("text").get<std::string>() + "\n";
+    } else if (kind == "paragraph") {
+      const std::string mark = b.value("strong", false) ? "**" : "";
+      md += mark + b.at("text").get<std::string>() + mark + "\n";
+    } else if (kind == "table") {
+      md += row(b.at("header")) + "|";
+      for (std::size_t i = 0; i < b.at("header").size(); ++i) md += "---|";
+      md += "\n";
+      for (const auto& r : b.at("rows")) md += row(r);
+    } else if (kind == "list") {
+      for (const auto& item : b.at("items")) md += "- " + item.get<std::string>() + "\n";
+    } else {
+      throw std::logic_error("findings: unknown block kind '" + kind + "'");
+    }
+  }
+  return md;
+}
+
 ExperimentReport make_experiment_report(const MergedTrials& m) {
   ExperimentReport rep;
   const std::vector<report::Group> groups = report::groups_of(m);
@@ -343,7 +375,8 @@ ExperimentReport make_experiment_report(const MergedTrials& m) {
     if (t.status == "ok") ok_trials.push_back(t);
   const std::vector<std::string> field = field_metric_names(ok_trials);
   rep.field_csv = field_csv_text(groups, field);
-  rep.findings_md = report::findings_markdown(m, groups, field);
+  rep.findings = report::findings_json(m, groups, field);
+  rep.findings_md = findings_markdown(rep.findings);
   rep.trials_json = trials_json_of(m);
   rep.gain_truth_csv = gain_truth_table(groups);
   return rep;

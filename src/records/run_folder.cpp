@@ -104,6 +104,9 @@ RunFolder read_run_folder(const std::string& dir) {
     throw InputError(views_path + ": no column '" + name + "'");
   };
   const std::size_t c_success = col("success"), c_cov = col("coverage"), c_ent = col("entropy");
+  std::size_t c_phase = header.size();  // optional
+  for (std::size_t i = 0; i < header.size(); ++i)
+    if (header[i] == "phase") c_phase = i;
   std::vector<std::pair<std::string, std::size_t>> curve_cols;  // the optional columns present
   for (const std::string& name : curve_column_names())
     for (std::size_t i = 0; i < header.size(); ++i)
@@ -127,6 +130,7 @@ RunFolder read_run_folder(const std::string& dir) {
                        fields[c_ent] + "' (need a coverage in [0, 1] and a finite entropy >= 0)");
     f.coverage.push_back(cov);
     f.entropy.push_back(ent);
+    f.phases.push_back(c_phase < fields.size() ? fields[c_phase] : std::string());
     for (const auto& [name, c] : curve_cols) {
       double x = std::numeric_limits<double>::quiet_NaN();
       if (!fields[c].empty()) {

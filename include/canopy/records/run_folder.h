@@ -71,6 +71,7 @@ nlohmann::json write_run_folder(const std::string& dir, const MissionResult& res
 struct RunFolder {
   std::string views_csv;                 ///< The file's text.
   std::vector<double> coverage, entropy; ///< After each successful view (headline rule).
+  std::vector<std::string> phases;       ///< The phase of each successful view ("" when views.csv has no phase column).
   /// The curve columns (curve_column_names(), view_columns.h) present in the file, after each successful view (NaN where a field is empty).
   std::map<std::string, std::vector<double>> curves;
   nlohmann::json summary;
