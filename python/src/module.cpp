@@ -11,6 +11,7 @@
 #include "canopy/robot/robot_config.h"
 #include "objects.h"
 #include "python_planner.h"
+#include "datasets.h"
 #include "records.h"
 
 namespace canopy::python {
@@ -112,4 +113,5 @@ PYBIND11_MODULE(_canopy, m) {
   bind_python_planner(m);
   bind_missions(m);
   bind_records(m);
+  bind_datasets(m);
 }

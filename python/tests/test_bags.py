@@ -320,6 +320,40 @@ def test_compressed_depth_and_colour_labels(tmp_path):
     assert np.allclose(f.depth, 0.75) and np.array_equal(f.labels, ids)
 
 
+def test_labels_and_stamps_follow_the_cpp_rules(tmp_path):
+    """The bag reader decodes colour labels by datasets::ClassColorTable::decode and pairs stamps
+    by datasets::nearest_timestamp (bound as canopy.decode_class_colors and canopy.nearest_stamps):
+    a stray colour is the C++ message, and the pairing equals a brute-force reference."""
+    colors = canopy.class_colors(["background", "leaf", "fruit"])
+    ids = np.zeros((H, W), np.uint8)
+    ids[2:4, 1:6] = 2
+    rgb = colors[ids]
+    assert np.array_equal(canopy.decode_class_colors(rgb, colors), ids)
+    rgb[5, 3] = (1, 2, 3)
+    with pytest.raises(ValueError, match=r"^x: colour \(1, 2, 3\) at pixel \(3, 5\) is not in the class-colour table$"):
+        canopy.decode_class_colors(rgb, colors, "x")
+    with rosbag.Bag(str(tmp_path / "s.bag"), "w") as b:
+        b.write("/tf_static", tf_msg("world", "cam", 0.0, (0.0, 0.0, 1.0)), stamp(0.5))
+        b.write("/cam/info", info(1.0), stamp(1.0))
+        b.write("/cam/depth", image(1.0, np.full((H, W), 750, np.uint16), "16UC1"), stamp(1.0))
+        b.write("/cam/labels", image(1.0, rgb, "rgb8"), stamp(1.0))
+    with pytest.raises(canopy.BagError, match=r"/cam/labels.*: colour \(1, 2, 3\) at pixel \(3, 5\) is not in the "
+                                              r"class-colour table"):
+        canopy.read_bag(tmp_path / "s.bag", rgb=None, depth="/cam/depth", camera_info="/cam/info", labels="/cam/labels")
+    # Nearest within the tolerance, the earlier of two equally near, -1 beyond it.
+    rng = np.random.default_rng(3)
+    sorted_t = np.sort(np.round(rng.uniform(0, 10, 40), 2))
+    queries = np.round(rng.uniform(-1, 11, 200), 3)
+    for max_dt in (0.0, 0.02, 0.5, np.inf):
+        got = canopy.nearest_stamps(sorted_t, queries, max_dt)
+        for q, j in zip(queries, got):
+            d = np.abs(sorted_t - q)
+            want = int(np.argmin(d)) if d.min() <= max_dt else -1  # argmin: the first (earlier) of ties
+            assert j == want, (q, max_dt)
+    with pytest.raises(ValueError, match="must not decrease"):
+        canopy.nearest_stamps([1.0, 0.5], [0.7])
+
+
 # --- what canopy writes, and where -------------------------------------------------------------
 
 def test_a_bag_never_replaces_what_canopy_did_not_write(mission_bag, world, tmp_path):

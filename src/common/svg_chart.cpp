@@ -166,7 +166,7 @@ std::string lines_panel(const Panel& p, Area a) {
       s += "<line x1=\"" + px(a.left) + "\" y1=\"" + px(a.y(m.y)) + "\" x2=\"" + px(a.right) + "\" y2=\"" + px(a.y(m.y)) +
            "\" stroke=\"" + m.colour + "\"" + dash + "/>";
     else
-      s += "<circle cx=\"" + px(a.x(m.x)) + "\" cy=\"" + px(a.y(m.y)) + "\" r=\"4\" fill=\"" + m.colour + "\"/>";
+      s += "<circle cx=\"" + px(a.x(m.x)) + "\" cy=\"" + px(a.y(m.y)) + "\" r=\"" + px(m.radius) + "\" fill=\"" + m.colour + "\"/>";
     if (!m.label.empty()) entries.emplace_back(m.label, m.colour), dashed.push_back(m.dashed);
   }
   if (p.legend) s += legend(entries, dashed, a);

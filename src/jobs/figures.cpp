@@ -3,10 +3,13 @@
 #include "canopy/jobs/figures.h"
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <set>
 
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/csv.h"
+#include "canopy/common/enum_names.h"
 #include "canopy/common/svg_chart.h"
 #include "canopy/common/value_text.h"
 #include "canopy/records/records.h"
@@ -36,6 +39,12 @@ double number(const std::map<std::string, std::string>& row, const std::string& 
   const auto it = row.find(key);
   if (it == row.end() || it->second.empty()) return std::nan("");
   return c_stod(it->second);
+}
+
+std::string hex(const Rgb8& c) {
+  char b[8];
+  std::snprintf(b, sizeof b, "#%02x%02x%02x", c.r, c.g, c.b);
+  return b;
 }
 
 std::string text_of(const nlohmann::json& j) {
@@ -184,9 +193,10 @@ Figures mission_figures(const nlohmann::json& d, const nlohmann::json& wall) {
   Panel sc{Panel::Kind::kLines, "", "", "fruit surface coverage"};
   Panel h{Panel::Kind::kLines, "", "successful views", "fruit entropy [nats]"};
   sc.y_max = 1.0;
-  sc.legend = h.legend = false;
+  h.legend = false;
   Series c{"", {}, {}, {}, {}, "#d62728"}, e{"", {}, {}, {}, {}, "#1f77b4"};
   nlohmann::json last_stop;
+  std::vector<records::ViewPhase> phases_seen;
   for (std::size_t i = 0; i < v.at("attempt").size(); ++i) {
     if (!v.at("success")[i].get<bool>()) continue;
     const double n = v.at("successful_views")[i].get<double>();
@@ -194,6 +204,14 @@ Figures mission_figures(const nlohmann::json& d, const nlohmann::json& wall) {
       for (Panel* p : {&sc, &h}) p->marks.push_back({Mark::Kind::kVertical, n - 0.5});
     last_stop = v.at("stop")[i];
     c.x.push_back(n), c.y.push_back(v.at("coverage")[i].is_number() ? v.at("coverage")[i].get<double>() : std::nan(""));
+    // Each view a dot in its phase's colour (records::view_colour: the report's and the bags' too).
+    const records::ViewPhase* phase = v.contains("phase") ? find_enum(records::kViewPhaseNames, v.at("phase")[i].get<std::string>()) : nullptr;
+    if (phase && std::isfinite(c.y.back())) {
+      const bool first = std::find(phases_seen.begin(), phases_seen.end(), *phase) == phases_seen.end();
+      if (first) phases_seen.push_back(*phase);
+      sc.marks.push_back({Mark::Kind::kPoint, n, c.y.back(), first ? records::view_phase_legend(*phase) : "",
+                          hex(records::view_colour(*phase, true)), false, 2.5});
+    }
     e.x.push_back(n), e.y.push_back(v.at("entropy")[i].is_number() ? v.at("entropy")[i].get<double>() : std::nan(""));
   }
   sc.series = {c};

@@ -24,6 +24,7 @@ nlohmann::json mission_data() {
     "summary": {"method": {"name": "ours"}, "p_gt": 1, "seed": 7, "simulated_time_s": 42},
     "views": {"attempt": [1, 2, 3, 4, 5], "success": [true, true, false, true, true],
               "successful_views": [1, 2, 2, 3, 4], "stop": [0, 0, 0, 1, 1],
+              "phase": ["initial", "initial", "nbv", "initial", "nbv"],
               "coverage": [0.1, 0.2, null, 0.3, 0.4], "entropy": [9, 8, null, 7, 6]}})");
 }
 
@@ -35,12 +36,18 @@ TEST(Figures, AMissionDrawsItsCurvesWithTheStopsMarkedAndItsRunTimeByCategory) {
   const std::string& curves = f.at("sc_entropy.svg");
   EXPECT_NE(curves.find("canopy mission (ours, P_gt 1, seed 7)"), std::string::npos);
   // The stop change (between successful views 2 and 3) marked in both panels.
-  EXPECT_EQ(count(curves, "<line x1=") - count(curves, "stroke=\"#eee\"") - 4, 2) << curves;  // minus grid and axes
+  EXPECT_EQ(count(curves, "stroke=\"#cccccc\"/>"), 2) << curves;
   // Four successful views: four points per curve (M + 3 L).
   EXPECT_EQ(count(curves, "stroke=\"#d62728\" stroke-width"), 1);
   const std::size_t p = curves.find("<path d=\"M");
   ASSERT_NE(p, std::string::npos);
   EXPECT_EQ(count(curves.substr(p, curves.find('"', p + 9) - p), "L"), 3);
+  // Each successful view a dot in its phase's colour (the report's and the bags' table), each
+  // phase named once in the legend.
+  EXPECT_EQ(count(curves, "<circle"), 4);
+  EXPECT_EQ(count(curves, "r=\"2.5\" fill=\"" + std::string("#8e44ad") + "\""), 3);  // records' initial-scan colour
+  EXPECT_EQ(count(curves, ">initial scan</text>"), 1);
+  EXPECT_EQ(count(curves, ">next-best view</text>"), 1);
   const std::string& runtime = f.at("runtime.svg");
   // NBV planning sums its phases (clustering + scoring = 1 s); every plot category is a part.
   EXPECT_NE(runtime.find("NBV planning (1.0 s)"), std::string::npos) << runtime;

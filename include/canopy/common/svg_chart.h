@@ -1,12 +1,12 @@
 #pragma once
 // canopy's one plot renderer: charts as SVG text, drawn in-process from a run's data (no
-// plotting library, no child process; docs/report.md#plots). A figure is panels side by side or
+// plotting library, no child process; docs/report.md#figures). A figure is panels side by side or
 // stacked, each a line chart (series with optional mean ± std bands, dashed or solid, vertical
-// and horizontal marks) or a bar chart (stacked or grouped bars). The same text is a file of the
-// run folder (sc_entropy.svg, fig3_entropy_coverage.svg, ...) and, in report.html, the page's
-// curves: each panel's <g class="panel"> carries its plot area and x range as data attributes
-// (data-left, data-right, data-top, data-bottom, data-xmin, data-xmax) for the page's cursor.
-// Same data, same bytes.
+// and horizontal marks, points) or a bar chart (stacked or grouped bars), written as a file of the
+// run folder (sc_entropy.svg, fig3_entropy_coverage.svg, ...; jobs/figures.h). Each line panel's
+// <g class="panel"> carries its plot area and x range as data attributes (data-left, data-right,
+// data-top, data-bottom, data-xmin, data-xmax), so a page can map a cursor to data. Same data,
+// same bytes.
 
 #include <string>
 #include <vector>
@@ -32,6 +32,7 @@ struct Mark {
   std::string label{};            ///< Legend text of a horizontal line or a point ("" for none).
   std::string colour = "#cccccc";
   bool dashed = false;
+  double radius = 4.0;            ///< A point's [px].
 };
 
 /// One panel.

@@ -3,7 +3,7 @@
 // command writes, in-process: a mission's sc_entropy.svg and runtime.svg (from its report
 // data, which report.html shows too), an experiment report's fig3_entropy_coverage.svg,
 // field_curves.svg, fig4_runtime.svg and gain_truth.svg (from its tables), the ablation's
-// gains.svg and rays.svg, and visibility.svg. One plot path (docs/report.md#plots): no
+// gains.svg and rays.svg, and visibility.svg. One plot path (docs/report.md#figures): no
 // plotting library and no script.
 
 #include <map>
