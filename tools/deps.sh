@@ -12,7 +12,7 @@ PACKAGES=(
   libnanoflann-dev libtbb-dev libpng-dev libassimp-dev libssl-dev libstb-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   ffmpeg
-  python3-matplotlib python3-yaml
+  python3-yaml
   pybind11-dev python3-dev python3-numpy python3-pytest
   python3-rosbag python3-sensor-msgs python3-geometry-msgs python3-tf2-msgs python3-visualization-msgs
   python3-pil

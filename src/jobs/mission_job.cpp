@@ -165,7 +165,9 @@ MissionJobResult run_mission_job(const world::World& world, const MissionJobPara
       spdlog::warn("the plots of {} are skipped: interrupted while saving the run", p.out);
       r.plots_interrupted = true;
     } else {
+      const Stopwatch watch;
       write_figures(out->working_dir(), mission_figures(report.data, report.wall));
+      spdlog::info("sc_entropy.svg, runtime.svg: drawn in {:.3f} s", watch.seconds());
     }
   }
   if (ex.dataset && r.result.complete) {
