@@ -15,6 +15,7 @@ namespace {
 // Panel margins [px]: the y axis' labels left, the title above, the x axis' labels below.
 constexpr double kLeft = 54.0, kRight = 12.0, kTop = 24.0, kBottom = 40.0, kBarBottom = 56.0;
 constexpr double kFigureTitle = 22.0;
+constexpr double kLegendWidth = 150.0;  // a bar chart's legend stands beside its plot area
 
 std::string px(double v) { return format_number(v, "%.1f"); }
 
@@ -93,13 +94,15 @@ std::string axes(const Panel& p, const Area& a, bool x_ticks) {
   return s;
 }
 
+// The legend's entries one below the other from the top of the plot area, starting at x (by
+// default inside the area's top right corner).
 std::string legend(const std::vector<std::pair<std::string, std::string>>& entries, const std::vector<bool>& dashed,
-                   const Area& a) {
+                   const Area& a, double x = -1.0) {
+  if (x < 0.0) x = a.right - kLegendWidth;
   if (entries.empty()) return "";
   std::string s = "<g class=\"legend\">";
   double y = a.top + 10;
   for (std::size_t i = 0; i < entries.size(); ++i, y += 13) {
-    const double x = a.right - 150;
     s += "<line x1=\"" + px(x) + "\" y1=\"" + px(y - 3.5) + "\" x2=\"" + px(x + 18) + "\" y2=\"" + px(y - 3.5) +
          "\" stroke=\"" + entries[i].second + "\" stroke-width=\"2\"" + (dashed[i] ? " stroke-dasharray=\"5,3\"" : "") + "/>";
     s += text(x + 22, y, entries[i].first);
@@ -175,6 +178,10 @@ std::string lines_panel(const Panel& p, Area a) {
 
 std::string bars_panel(const Panel& p, Area a) {
   a.bottom += kBottom - kBarBottom;
+  bool labelled_mark = false;
+  for (const Mark& m : p.marks) labelled_mark |= m.kind == Mark::Kind::kHorizontal && !m.label.empty();
+  const bool side_legend = p.legend && (!p.parts.empty() || labelled_mark);
+  if (side_legend) a.right -= kLegendWidth;
   double hi = 0.0, lo = 0.0;
   for (const auto& row : p.values) {
     double sum = 0.0;
@@ -222,7 +229,7 @@ std::string bars_panel(const Panel& p, Area a) {
          "\" stroke=\"" + m.colour + "\"" + (m.dashed ? " stroke-dasharray=\"4,3\"" : "") + "/>";
     if (!m.label.empty()) entries.emplace_back(m.label, m.colour), dashed.push_back(m.dashed);
   }
-  if (p.legend) s += legend(entries, dashed, a);
+  if (side_legend) s += legend(entries, dashed, a, a.right + 8.0);
   return s + "</g>";
 }
 

@@ -323,7 +323,7 @@ Figures visibility_figures(const VisibilitySummary& s, const std::string& world_
     for (const auto& b : s.results[i].best) line.x.push_back(b.k), line.y.push_back(100.0 * b.detectability);
     best.series.push_back(line);
   }
-  per.marks.push_back({Mark::Kind::kHorizontal, 0.0, 69.0, "Hemming et al.: best single position 69 %", "#d62728", true});
+  per.marks.push_back({Mark::Kind::kHorizontal, 0.0, 69.0, "Hemming et al., best: 69 %", "#d62728", true});
   best.marks.push_back({Mark::Kind::kPoint, 1.0, 69.0, "Hemming et al. (k = 1, 5)", "#d62728"});
   best.marks.push_back({Mark::Kind::kPoint, 5.0, 90.0, "", "#d62728"});
   Figure f{"Fruit detectability (at most " + format_number(100.0 * params.max_occlusion, "%g") +
