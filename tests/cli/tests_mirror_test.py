@@ -44,6 +44,7 @@ ALLOWED = {
     "motion/view_reach": "the reach test of a view: cmd_nbv_test.cpp and reach_job_test.cpp",
     "nbv/fruit_shapes": "shape_test.cpp (FruitShapes.FrontScanPredictsTheBackHalf)",
     "records/records": "the records' vocabularies, being given visit() by issue 46 point 1: view_columns_test.cpp, run_folder_test.cpp",
+    "ros2/mcap_records": "MCAP record framing internal to the writer and reader (a private header): mcap_writer_test.cpp and mcap_reader_test.cpp (every cut, every flipped byte, CRCs)",
     "world/plant_folder": "imported plant folders: plant_import_test.cpp and cli.import_plant",
     "world/plant_generator": "procedural plants: world_test.cpp (WorldGeneration)",
     "world/plant_scene": "assimp's reading of a model: plant_import_test.cpp and cli.textured_plant",

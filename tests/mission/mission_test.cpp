@@ -200,11 +200,11 @@ TEST(Mission, PredefinedRefusesViewsThatWouldFailBeforeTheMove) {
   ASSERT_TRUE(r.complete);
   int refusals_before = 0;
   for (const ViewRecord& v : attempted.views)
-    refusals_before += v.failure == failure::kNoIk || v.failure == failure::kGoalInCollision;
+    refusals_before += v.failure == FailureCause::kNoIk || v.failure == FailureCause::kGoalInCollision;
   ASSERT_GT(refusals_before, 0) << "no scripted view fails before the move here: nothing to refuse";
   for (const ViewRecord& v : r.views) {
-    EXPECT_NE(v.failure, failure::kNoIk) << v.message;
-    EXPECT_NE(v.failure, failure::kGoalInCollision) << v.message;
+    EXPECT_NE(v.failure, FailureCause::kNoIk) << v.message;
+    EXPECT_NE(v.failure, FailureCause::kGoalInCollision) << v.message;
   }
   EXPECT_GT(r.stops[0].refused, 0);
   EXPECT_EQ(r.successful_views(), 24);
@@ -344,10 +344,10 @@ TEST(MissionFaults, PlannerTimeoutIsCountedAndTheMissionGoesOn) {
   Mission mission(w.world, s, 1);
   const MissionResult r = mission.run();
   ASSERT_TRUE(r.complete);
-  ASSERT_TRUE(r.failures.count(failure::kPlanTimeout)) << "no planner timeout was recorded";
-  EXPECT_GT(r.failures.at(failure::kPlanTimeout), 0);
+  ASSERT_TRUE(r.failures.count(to_string(FailureCause::kPlanTimeout))) << "no planner timeout was recorded";
+  EXPECT_GT(r.failures.at(to_string(FailureCause::kPlanTimeout)), 0);
   for (const ViewRecord& v : r.views) {
-    if (v.failure == failure::kPlanTimeout) {
+    if (v.failure == FailureCause::kPlanTimeout) {
       EXPECT_NE(v.message.find("iterations"), std::string::npos);
     }
   }
@@ -363,7 +363,7 @@ TEST(MissionFaults, UnreachableInitialViewsAreSkippedAndCounted) {
   ASSERT_TRUE(r.complete);
   EXPECT_EQ(r.stops[0].initial_attempted, 12);
   EXPECT_EQ(r.stops[0].initial_ok, 0);
-  EXPECT_EQ(r.failures.at(failure::kNoIk), 12);
+  EXPECT_EQ(r.failures.at(to_string(FailureCause::kNoIk)), 12);
 }
 
 // A goal view whose camera sits inside a mapped plant voxel is refused before any motion.
@@ -393,7 +393,7 @@ TEST(MissionFaults, GoalInsideAPlantIsRefused) {
                                     v.T_world_camera = T;
                                     const ViewRecord r = mission.attempt(v, ViewPhase::kNbv);
                                     EXPECT_FALSE(r.success);
-                                    EXPECT_EQ(r.failure, failure::kGoalInCollision) << r.message;
+                                    EXPECT_EQ(r.failure, FailureCause::kGoalInCollision) << r.message;
                                     EXPECT_EQ(r.move_time_s, 0.0);  // nothing moved
                                   });
   EXPECT_EQ(tried, 3) << "no reachable occupied voxel found";
@@ -425,7 +425,7 @@ TEST(MissionFaults, ViewThroughTheBaseIsRefused) {
   v.T_world_camera = T;
   const ViewRecord r = mission.attempt(v, ViewPhase::kNbv);
   EXPECT_FALSE(r.success);
-  EXPECT_EQ(r.failure, failure::kGoalInCollision) << r.message;
+  EXPECT_EQ(r.failure, FailureCause::kGoalInCollision) << r.message;
   EXPECT_EQ(r.truth_contacts + r.self_contacts, 0);
 }
 
@@ -451,7 +451,7 @@ TEST(MissionFaults, DivergenceIsDetectedAndRestored) {
   ASSERT_EQ(injected, 1);
   ASSERT_TRUE(r.complete);
   EXPECT_EQ(r.unstable_faults, 1);
-  EXPECT_EQ(r.failures.at(failure::kUnstable), 1);
+  EXPECT_EQ(r.failures.at(to_string(FailureCause::kUnstable)), 1);
   // The failed initial view is made up for: the stop's budget (12 + 3) is met.
   EXPECT_EQ(successes(r, ViewPhase::kNbv), 4);
   EXPECT_EQ(r.successful_views(), 15);
