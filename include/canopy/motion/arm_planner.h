@@ -38,7 +38,7 @@ const char* to_string(PlanStatus status);
 struct PlannerParams {
   std::string planner = "RRTConnect";      ///< A name from planner_names().
   /// Planner iterations per request: the budget that decides, so results do not depend on load.
-  int max_iterations = 20000;
+  int max_iterations = 3000;
   double time_limit_s = 10.0;              ///< Wall-clock safety net per request.
   double motion_check_resolution_rad = 0.02;  ///< Joint-space (Euclidean) step of motion checks.
   /// Threads testing the states of one long motion (0: all cores, 1: the planning thread
