@@ -100,7 +100,7 @@ TEST(WorldJob, AnAisleNarrowerThanTheBaseIsRefused) {
   EXPECT_NO_THROW(load_world_spec("worlds/small.yaml"));
 }
 
-// The base's prismatic joints end at +-100 m (the URDF): a row past them, or a start outside
+// The base's prismatic joints end at +-250 m (the URDF): a row past them, or a start outside
 // them, is refused naming the key; a row that ends just inside them is accepted.
 TEST(WorldJob, RowsAndStartsBeyondTheBasesJointsAreRefused) {
   const std::string dir = testing::TempDir() + "/world_job_range";
