@@ -11,6 +11,7 @@
 #include "canopy/common/output_dir.h"
 #include "canopy/common/timer.h"
 #include "canopy/jobs/mission_job.h"
+#include "canopy/jobs/robot_frames.h"
 #include "canopy/mission/mission.h"
 #include "canopy/records/run_folder.h"
 #include "canopy/records/view_columns.h"
@@ -76,49 +77,24 @@ py::dict views_dict(const records::MissionResult& r, const std::string& method) 
   return d;
 }
 
-// The robot's link tree as the simulator holds it (every URDF link with a frame site, each with
-// its nearest ancestor that has one; "world" is the root), for the robot state a mission hands
-// to Python's on_view and on_state.
-struct LinkTree {
-  std::vector<std::string> names, parents;
-};
-
-LinkTree link_tree(const sim::Simulator& sim) {
-  const robot::RobotDescription d = robot::RobotDescription::load_urdf(sim.robot_config().urdf_path);
-  LinkTree t;
-  std::vector<std::string> frame_of(d.links().size(), "world");  // a link's nearest ancestor with a site
-  for (std::size_t i = 0; i < d.links().size(); ++i) {
-    const std::string& name = d.links()[i].name;
-    const int parent = d.parent_link(static_cast<int>(i));
-    const std::string above = parent < 0 ? "world" : frame_of[static_cast<std::size_t>(parent)];
-    bool has_frame = name != "world";
-    if (has_frame) {
-      try {
-        (void)sim.frame_pose(name);
-      } catch (const InputError&) {  // a link the scene keeps no frame of
-        has_frame = false;
-      }
-    }
-    frame_of[i] = has_frame ? name : above;
-    if (!has_frame) continue;
-    t.names.push_back(name);
-    t.parents.push_back(above);
-  }
-  return t;
-}
+// The robot's link tree as the simulator holds it (jobs/robot_frames.h), for the robot state a
+// mission hands to Python's on_view and on_state.
+using LinkTree = jobs::RobotFrames;
+LinkTree link_tree(const sim::Simulator& sim) { return jobs::RobotFrames::of(sim); }
 
 // The robot's state now (GIL held): simulated time, base pose, arm joints and every link's world
 // pose with its parent in the tree.
 py::dict robot_state(const sim::Simulator& sim, const LinkTree& tree) {
-  std::vector<Pose> poses;
-  for (const std::string& name : tree.names) poses.push_back(sim.frame_pose(name));
+  const std::vector<Pose> poses = tree.world_poses(sim);
   const BasePose b = sim.base_pose();
   const ArmConfig q = sim.arm_positions();
   return py::dict(py::arg("time") = sim.time(), py::arg("base") = array_of(std::vector<double>{b.x_m, b.y_m, b.yaw_rad}),
                   py::arg("joints") = array_of(std::vector<double>(q.begin(), q.end())),
                   py::arg("links") = tree.names, py::arg("parents") = tree.parents,
-                  py::arg("link_poses") = poses_array(poses), py::arg("camera") = pose_array(sim.camera_pose()),
-                  py::arg("camera_frame") = sim.robot_config().camera_frame);
+                  py::arg("link_poses") = poses_array(poses), py::arg("fixed") = tree.fixed,
+                  py::arg("camera") = pose_array(sim.camera_pose()),
+                  py::arg("camera_frame") = sim.robot_config().camera_frame,
+                  py::arg("urdf") = sim.robot_config().urdf_path);
 }
 
 }  // namespace
@@ -306,8 +282,9 @@ state below;
 on_state: called every state_period seconds of simulated time (every video frame when a video
 is recorded) with the robot state: 'time' (simulated s), 'base' (x, y, yaw), 'joints', 'links'
 and 'parents' (the URDF's links with a frame, each with its parent; the root is 'world'),
-'link_poses' (N, 4, 4 world poses), 'camera' (the wrist camera's optical pose) and
-'camera_frame' (its link's name). Neither
+'link_poses' (N, 4, 4 world poses), 'fixed' (each link's edge to its parent passes through fixed
+joints only), 'camera' (the wrist camera's optical pose), 'camera_frame' (its link's name) and
+'urdf' (the robot's URDF file). Neither
 changes the mission's results (canopy.record_bag writes a ROS bag with them). The mission runs without the GIL (a Python
 planner takes it while it plans); Ctrl-C stops it (KeyboardInterrupt, after the partial
 run folder is written).)");

@@ -149,6 +149,8 @@ nlohmann::json run_summary(const MissionResult& result, const settings::Settings
   summary["files"] = {"views.csv", "timing.csv", "fruit_shapes.csv", "settings.yaml", "map.csm", "map.ply", "map.bt"};
   if (!result.candidates.empty()) summary["files"].push_back("candidates.csv");
   if (!ctx.video.is_null()) summary["video"] = ctx.video;
+  if (ctx.started_unix_ns) summary["started_unix_ns"] = *ctx.started_unix_ns;
+  if (!ctx.recording.is_null()) summary["recording"] = ctx.recording;
   return summary;
 }
 

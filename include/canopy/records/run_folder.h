@@ -10,6 +10,7 @@
 
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -40,6 +41,9 @@ struct RunContext {
   std::string world_file;
   const world::World* world = nullptr;
   nlohmann::json video;  ///< {file, frames} or {file, error}; null without a video.
+  /// When the run started in wall-clock time [ns since 1970] (the epoch of its recordings' stamps).
+  std::optional<std::int64_t> started_unix_ns;
+  nlohmann::json recording;  ///< The MCAP recorded while it ran ({file, epoch_ns, ...}); null without one.
 };
 
 /// summary.json: summary_json and what the run was (method, seed, P_gt, labels, the world, files).
