@@ -289,9 +289,10 @@ struct McapFrames::Impl {
     for (int k = 0; k < kKinds; ++k)
       if (!topic[k].empty()) only.topics.push_back(topic[k]);
     only.topics.push_back(o.camera_info);
+    const auto present = [&](const char* t) { return all.count(t) && all.at(t).message_count.value_or(1) > 0; };
     for (const char* t : {topics::kTf, topics::kTfStatic})
-      if (all.count(t)) only.topics.push_back(t);
-    if (!all.count(topics::kTf) && !all.count(topics::kTfStatic))
+      if (present(t)) only.topics.push_back(t);
+    if (!present(topics::kTf) && !present(topics::kTfStatic))
       refuse("no /tf or /tf_static: the camera's pose cannot be known");
     std::vector<ImageHeader> headers[kKinds];
     std::vector<std::pair<std::int64_t, msg::CameraInfo>> infos;

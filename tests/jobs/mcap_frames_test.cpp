@@ -30,6 +30,7 @@ RecordedMapResult map_mcap(const std::string& path, const McapFrameOptions& o, c
   McapFrames frames(path, o);
   RecordedMapParams p;
   p.settings = test::round_trip_settings();
+  if (!o.label_images) p.settings.mapping.extractor.source = perception::LabelSource::kColor;
   p.out = out;
   return map_recorded(frames.sequence(), p);
 }
@@ -72,13 +73,15 @@ std::string write_lab(const std::string& from, const std::string& path, const La
   const auto tf = out.add_channel<msg::TFMessage>("/tf");
   const auto tf_static = out.add_channel<msg::TFMessage>("/tf_static");
   int depth_count = 0;
+  msg::Time first_depth;
   in.for_each_message([&](const ros2::McapMessage& m) {
     const std::string& t = m.channel->topic;
     if (t == "/canopy/wrist/rgb") out.write(rgb, m.log_time_ns, in.decode<msg::Image>(m));
     if (t == "/canopy/wrist/camera_info") out.write(info, m.log_time_ns, in.decode<msg::CameraInfo>(m));
     if (t == "/canopy/wrist/depth") {
       msg::Image d = in.decode<msg::Image>(m);
-      if (lab.reversed_stamp && ++depth_count == 3) d.header.stamp.sec -= 1;
+      if (++depth_count == 1) first_depth = d.header.stamp;
+      if (lab.reversed_stamp && depth_count == 3) d.header.stamp = first_depth;  // back to the first's
       if (lab.depth16) {
         msg::Image mm = d;
         mm.encoding = "16UC1";
@@ -159,9 +162,9 @@ TEST(McapFrames, RefusesInOneLineAndWritesNothing) {
   // Stamps that go back.
   LabRecording back;
   back.reversed_stamp = true;
-  EXPECT_NE(refusal(write_lab(m.mcap, dir + "/back.mcap", back), o, out)
-                .find("/camera/aligned_depth_to_color/image_raw: header stamps do not increase"),
-            std::string::npos);
+  const std::string went_back = refusal(write_lab(m.mcap, dir + "/back.mcap", back), o, out);
+  EXPECT_NE(went_back.find("/camera/aligned_depth_to_color/image_raw: header stamps do not increase"), std::string::npos)
+      << went_back;
   // A frame other than the images'; a world frame in no tree; a missing topic; a wrong type.
   const std::string lab = write_lab(m.mcap, dir + "/lab.mcap", LabRecording{});
   o.frame = "camera_link";
