@@ -12,8 +12,8 @@
 #include <sstream>
 
 #include "canopy/common/error.h"
+#include "canopy/common/timer.h"
 #include "canopy/common/value_text.h"
-#include "canopy/evaluation/map_metrics.h"
 #include "canopy/jobs/mission_job.h"
 #include "canopy/jobs/robot_frames.h"
 #include "canopy/jobs/world_job.h"
@@ -106,7 +106,8 @@ McapRecordOptions mcap_record_options(const std::string& path, const std::string
   McapRecordOptions o;
   o.path = path;
   o.option = option;
-  const std::optional<ros2::Compression> c = ros2::parse_compression(compression);
+  const std::optional<ros2::Compression> c =
+      compression == "none" ? std::optional<ros2::Compression>(ros2::Compression::kNone) : ros2::parse_compression(compression);
   if (!c) throw InputError(prefix + "compression: '" + compression + "' is not none, lz4 or zstd");
   o.compression = *c;
   if (depth == "32FC1") o.depth = DepthEncoding::k32FC1;
@@ -143,6 +144,23 @@ struct MissionMcap::Impl {
   std::int64_t epoch = 0;
   double next_state_s = 0.0;
   bool started = false;
+  double cloud_s = 0.0;
+  const records::MapReplay* replay = nullptr;
+  std::vector<std::uint64_t> view_stamps;  ///< Each successful view's stamp.
+  std::size_t fruits_written = 0;          ///< Views whose fruit markers are written.
+
+  // The fruit markers of the views before the newest (the pipeline has settled their scans
+  // before the newest began: the same messages in the same order on every run), or of all of
+  // them at the end.
+  void write_covered_fruits(bool all) {
+    if (!replay) return;
+    while (fruits_written + (all ? 0 : 1) < view_stamps.size()) {
+      const std::optional<std::vector<double>> c = replay->fruit_coverage_after(fruits_written);
+      if (!c && !all) return;
+      write_fruits(view_stamps[fruits_written], c ? &*c : nullptr);
+      ++fruits_written;
+    }
+  }
   struct DrawnView {
     records::ViewPhase phase;
     Pose T_world_camera;
@@ -359,16 +377,20 @@ void MissionMcap::view(const records::ViewRecord& view, const LabelledFrame& f, 
     for (std::size_t i = 0; i < colours.data.size(); ++i) colours.data[i] = map.classes().color(f.class_id.data[i]);
     s.out.write(s.labels_color, ns, image_of(ns, camera, colours, "rgb8", 3));
   }
+  const Stopwatch clouding;
   s.out.write(s.cloud, ns, s.map_cloud(ns, map));
+  s.cloud_s += clouding.seconds();
   s.drawn.push_back({view.phase, f.T_world_camera, K});
   s.out.write(s.views, ns, s.frustums(ns));
-  const evaluation::MapMetrics metrics = evaluation::evaluate_map(map, s.world.truth, s.settings.mapping.metrics);
-  std::vector<double> coverage;
-  for (const evaluation::FruitMetrics& m : metrics.fruits) coverage.push_back(m.coverage);
-  s.write_fruits(ns, &coverage);
+  s.view_stamps.push_back(ns);
+  s.write_covered_fruits(false);
 }
 
+void MissionMcap::follow_coverage(const records::MapReplay* replay) { impl_->replay = replay; }
+
 ros2::McapWriteStats MissionMcap::close() {
+  impl_->write_covered_fruits(true);
+  spdlog::debug("{}: map clouds {:.2f} s", impl_->options.path, impl_->cloud_s);
   impl_->out.close();
   return impl_->out.stats();
 }
@@ -427,11 +449,14 @@ ros2::McapWriteStats export_mcap(const ExportMcapParams& params) {
   job.report = false;
   // Recorded through the job's hooks (no run folder): published only when the replay is the run.
   MissionMcap recorder(mcap, world, job.settings);
+  records::MapReplay replay(world.spec.classes);  // the pipeline's per-view fruit coverage, for the markers
+  recorder.follow_coverage(&replay);
   job.on_view = [&recorder](const records::ViewRecord& v, const LabelledFrame& f, const sim::Simulator& sim,
                             const mapping::SemanticOcTree& map) { recorder.view(v, f, sim, map); };
   mission::MissionCallbacks cb;
   cb.progress = params.progress;
   cb.stop_requested = params.stop_requested;
+  cb.replay = &replay;
   cb.video_period_s = mcap.state_period_s;
   cb.video_tick = [&recorder](sim::Simulator& sim, const std::string&) { recorder.state(sim); };
   const MissionJobResult r = run_mission_job(world, job, cb);

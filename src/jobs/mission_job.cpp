@@ -131,6 +131,13 @@ MissionJobResult run_mission_job(const world::World& world, const MissionJobPara
       spdlog::warn("report.html skipped (needs Debian's libjs-three; run tools/deps.sh)");
     }
   }
+  // The recording colours fruits by the pipeline's per-view coverage, recorded beside the mission.
+  std::unique_ptr<records::MapReplay> mcap_replay;
+  if (mcap && !cb.replay) {
+    mcap_replay = std::make_unique<records::MapReplay>(world.spec.classes);
+    cb.replay = mcap_replay.get();
+  }
+  if (mcap) mcap->follow_coverage(cb.replay);
   const std::function<bool()> stop_requested = cb.stop_requested;
   mission::Mission mission(world, settings, p.seed, cb);
   running = &mission;
@@ -168,7 +175,8 @@ MissionJobResult run_mission_job(const world::World& world, const MissionJobPara
     context.recording = {{"file", p.mcap.path},
                          {"epoch_unix_ns", mcap->epoch_ns()},
                          {"messages", r.mcap.messages},
-                         {"compression", ros2::compression_name(p.mcap.compression)}};
+                         {"compression", p.mcap.compression == ros2::Compression::kNone ? "none"
+                                                                          : std::string(ros2::compression_name(p.mcap.compression))}};
   }
   r.summary = out ? records::write_run_folder(out->working_dir(), r.result, settings, mission.map(), context)
                   : records::run_summary(r.result, settings, context);

@@ -9,8 +9,8 @@
 // state_period_s of simulated time and at each view; per successful view the wrist camera's
 // rgb8 image, its depth (32FC1 metres with NaN for no return, or 16UC1 millimetres with 0:
 // REP 118), true labels (mono8 and in class colours), camera_info, the map's occupied voxels
-// (PointCloud2), the views so far as frustums by phase and the fruits by coverage
-// (MarkerArray). Stamps are an epoch (default: the run's start in wall-clock time) plus
+// (PointCloud2), the views so far as frustums by phase and the fruits by their coverage after
+// the view (MarkerArray, from the mission's own per-view metrics). Stamps are an epoch (default: the run's start in wall-clock time) plus
 // simulated time, so that a viewer needs no simulated clock.
 
 #include <cstdint>
@@ -22,6 +22,7 @@
 #include "canopy/common/frame.h"
 #include "canopy/mapping/semantic_octree.h"
 #include "canopy/records/records.h"
+#include "canopy/records/replay.h"
 #include "canopy/ros2/compression.h"
 #include "canopy/ros2/mcap_writer.h"
 #include "canopy/settings/settings.h"
@@ -90,6 +91,10 @@ class MissionMcap {
   /// After a successful view (the map holds it): its images, camera_info, /tf, map, frustums, fruits.
   void view(const records::ViewRecord& view, const LabelledFrame& frame, const sim::Simulator& sim,
             const mapping::SemanticOcTree& map);
+  /// Colours the fruits by the coverage the mission's scan pipeline records in `replay` (its
+  /// MissionCallbacks::replay): view k's markers are written once scan k's coverage is recorded,
+  /// at the next view or at close(), stamped at view k. Without it the fruits are not coloured.
+  void follow_coverage(const records::MapReplay* replay);
   /// Publishes the file; what it holds.
   ros2::McapWriteStats close();
   /// The epoch the stamps count from [ns since 1970].
