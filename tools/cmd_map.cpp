@@ -38,6 +38,23 @@ struct MapOptions {
   jobs::McapFrameOptions mcap_options;
 };
 
+// Maps a recorded sequence into --out with a line per frame (jobs::map_recorded).
+void map_sequence(const jobs::RecordedSequence& seq, const MapOptions& opt, const settings::Settings& bundle) {
+  jobs::RecordedMapParams job;
+  job.settings = bundle;
+  job.out = opt.out;
+  job.on_frame = [](const mapping::FrameMapStep& s) {
+    if (s.mapped)
+      std::fprintf(stderr, "frame %s: %zu points, insert %.1f ms\n", s.name.c_str(), s.extract.points, s.insert.ms_total);
+    else
+      std::fprintf(stderr, "frame %s: skipped (%s)\n", s.name.c_str(), s.skip_reason.c_str());
+  };
+  job.stop_requested = [] { return interrupt_requested(); };
+  const jobs::RecordedMapResult r = jobs::map_recorded(seq, job);
+  std::printf("mapped %zu frames (%zu skipped): %zu occupied voxels; wrote %s\n", r.mapped, r.skipped,
+              r.occupied_voxels, opt.out.c_str());
+}
+
 // canopy map --frames: no world, no ground truth; the map and what each frame gave
 // (jobs::map_recorded, canopy/jobs/recorded_map_job.h).
 void map_recorded(const MapOptions& opt, const settings::Settings& bundle) {
@@ -67,19 +84,7 @@ void map_recorded(const MapOptions& opt, const settings::Settings& bundle) {
                opt.pgt < 0.0 ? "no simulated mask noise (p_gt 1; --pgt adds it)"
                              : "simulated mask noise, p_gt " + format_number(bundle.mapping.extractor.p_gt, "%g"));
   for (const std::string& note : frames.notes()) spdlog::warn("{}: {}", opt.frames, note);
-  jobs::RecordedMapParams job;
-  job.settings = bundle;
-  job.out = opt.out;
-  job.on_frame = [](const mapping::FrameMapStep& s) {
-    if (s.mapped)
-      std::fprintf(stderr, "frame %s: %zu points, insert %.1f ms\n", s.name.c_str(), s.extract.points, s.insert.ms_total);
-    else
-      std::fprintf(stderr, "frame %s: skipped (%s)\n", s.name.c_str(), s.skip_reason.c_str());
-  };
-  job.stop_requested = [] { return interrupt_requested(); };
-  const jobs::RecordedMapResult r = jobs::map_recorded(seq, job);
-  std::printf("mapped %zu frames (%zu skipped): %zu occupied voxels; wrote %s\n", r.mapped, r.skipped,
-              r.occupied_voxels, opt.out.c_str());
+  map_sequence(seq, opt, bundle);
 }
 
 // canopy map --mcap: a ROS 2 recording (jobs::McapFrames, canopy/jobs/mcap_frames.h) mapped
@@ -110,19 +115,7 @@ void map_mcap(const MapOptions& opt, const settings::Settings& bundle) {
                opt.pgt < 0.0 ? "no simulated mask noise (p_gt 1; --pgt adds it)"
                              : "simulated mask noise, p_gt " + format_number(bundle.mapping.extractor.p_gt, "%g"));
   for (const std::string& note : seq.notes) spdlog::warn("{}: {}", opt.mcap, note);
-  jobs::RecordedMapParams job;
-  job.settings = bundle;
-  job.out = opt.out;
-  job.on_frame = [](const mapping::FrameMapStep& s) {
-    if (s.mapped)
-      std::fprintf(stderr, "frame %s: %zu points, insert %.1f ms\n", s.name.c_str(), s.extract.points, s.insert.ms_total);
-    else
-      std::fprintf(stderr, "frame %s: skipped (%s)\n", s.name.c_str(), s.skip_reason.c_str());
-  };
-  job.stop_requested = [] { return interrupt_requested(); };
-  const jobs::RecordedMapResult r = jobs::map_recorded(seq, job);
-  std::printf("mapped %zu frames (%zu skipped): %zu occupied voxels; wrote %s\n", r.mapped, r.skipped,
-              r.occupied_voxels, opt.out.c_str());
+  map_sequence(seq, opt, bundle);
 }
 
 }  // namespace

@@ -27,6 +27,8 @@ namespace fs = std::filesystem;
 namespace msg = ros2::msg;
 using test::recorded_mission;
 
+std::size_t small_world_fruits() { return test::small_world().truth.fruits.size(); }
+
 TEST(MissionMcap, HoldsTheRunAsItRan) {
   const test::RecordedMission& m = recorded_mission();
   ros2::McapReader in(m.mcap);
@@ -58,6 +60,7 @@ TEST(MissionMcap, HoldsTheRunAsItRan) {
     if (v.success) view_times.push_back(v.sim_time_s);
   std::size_t view = 0;
   std::uint64_t first = 0, last = 0;
+  msg::MarkerArray last_fruits;
   in.for_each_message([&](const ros2::McapMessage& x) {
     if (!first) first = x.log_time_ns;
     last = x.log_time_ns;
@@ -69,6 +72,7 @@ TEST(MissionMcap, HoldsTheRunAsItRan) {
     if (t == recording_topics::kRobotDescription) {
       EXPECT_NE(in.decode<msg::String>(x).data.find("<robot"), std::string::npos);
     }
+    if (t == recording_topics::kFruits) last_fruits = in.decode<msg::MarkerArray>(x);
     if (t == recording_topics::kDepth) {
       const msg::Image d = in.decode<msg::Image>(x);
       EXPECT_EQ(d.encoding, "32FC1");
@@ -82,6 +86,16 @@ TEST(MissionMcap, HoldsTheRunAsItRan) {
     return true;
   });
   EXPECT_EQ(view, views);
+  // The last fruit markers carry each target fruit's coverage after the last view: the run's final.
+  ASSERT_EQ(last_fruits.markers.size(), small_world_fruits());
+  std::size_t target = 0;
+  for (const msg::Marker& f : last_fruits.markers) {
+    if (f.ns != "target fruits") continue;
+    ASSERT_LT(target, m.result.final_metrics.fruits.size());
+    EXPECT_NEAR(std::stod(f.text), m.result.final_metrics.fruits[target].coverage, 5e-4) << f.id;
+    ++target;
+  }
+  EXPECT_EQ(target, m.result.final_metrics.fruits.size());
   EXPECT_GE(first, std::uint64_t(epoch));
   EXPECT_LE(last, std::uint64_t(epoch) + std::uint64_t((m.result.sim_time_s + 1.0) * 1e9));
   // The fixed links (the camera's chain on the tool) once, the joints' links on /tf; none in both.
