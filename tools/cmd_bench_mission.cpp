@@ -1,53 +1,19 @@
-// canopy bench mission: a mission's wall time per view as the greenhouse row grows.
+// canopy bench mission: a mission's wall time per view as the greenhouse row grows
+// (jobs::bench_mission), or the same mission by two builds (jobs::bench_compare). This file
+// translates the flags and prints.
 
 #include <spdlog/spdlog.h>
-#include <sys/resource.h>
 
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
-#include <sstream>
 
-#include "canopy/common/timer.h"
 #include "canopy/jobs/bench_compare.h"
-#include "canopy/mission/mission.h"
+#include "canopy/jobs/bench_mission.h"
 #include "cli_util.h"
 #include "commands.h"
 
 namespace canopy::cli {
-
-namespace {
-
-struct RowSize {
-  int plants_per_row = 0;
-  int stops = 0;
-};
-
-// "4:5,16:20" -> {(4, 5), (16, 20)}.
-std::vector<RowSize> parse_rows(const std::string& text) {
-  std::vector<RowSize> out;
-  std::stringstream in(text);
-  std::string item;
-  while (std::getline(in, item, ',')) {
-    RowSize r;
-    char colon = 0;
-    std::istringstream one(item);
-    if (!(one >> r.plants_per_row >> colon >> r.stops) || colon != ':' || !one.eof() || r.plants_per_row < 1 ||
-        r.plants_per_row > 1000 || r.stops < 1 || r.stops > 1000)
-      throw InputError("--rows: '" + item + "' is not PLANTS_PER_ROW:STOPS with both in 1..1000");
-    out.push_back(r);
-  }
-  if (out.empty() || out.size() > 8) throw InputError("--rows: give 1 to 8 sizes, e.g. 4:5,16:20");
-  return out;
-}
-
-double peak_rss_mb() {
-  rusage u{};
-  getrusage(RUSAGE_SELF, &u);
-  return double(u.ru_maxrss) / 1024.0;
-}
-
-}  // namespace
 
 void add_bench_mission(CLI::App& bench) {
   struct Options {
@@ -121,63 +87,28 @@ void add_bench_mission(CLI::App& bench) {
       if (!opt->save.empty()) std::printf("saved: %s\n", opt->save.c_str());
       return;
     }
-    const std::vector<RowSize> rows = parse_rows(opt->rows);
-    const world::WorldSpec base = jobs::load_world_spec(opt->world);
-    settings::Settings settings = load_settings(opt->config);
-    settings.set("method.name", opt->method, "--method");
-    struct Line {
-      RowSize size;
-      int plants = 0, views = 0;
-      double build_s = 0, wall_s = 0, sim_s = 0, rss_mb = 0;
-      PhaseTimes times;
-    };
-    std::vector<Line> lines;
-    for (const RowSize& r : rows) {
-      world::WorldSpec spec = base;
-      spec.rows.plants_per_row = r.plants_per_row;
-      settings::Settings s = settings;
-      s.set("mission.stops.count", std::to_string(r.stops), "--rows");
-      s.mission.stops.positions_m.clear();
-      Line line;
-      line.size = r;
-      const Stopwatch build;
-      const world::World world = jobs::build_world(spec);
-      line.build_s = build.seconds();
-      line.plants = static_cast<int>(world.plants.size());
-      spdlog::info("bench mission: {} plants ({} per row), {} stops, method {}", line.plants, r.plants_per_row, r.stops,
-                   opt->method);
-      // Progress from the mission's own lines: an on_view callback would make every move wait
-      // for the last scan (no overlapped moves), unlike `canopy mission`.
-      mission::MissionCallbacks cb;
-      cb.progress = [&](const std::string& m) {
-        int k = 0, n = 0;
-        if (m.find(": driving") != std::string::npos && std::sscanf(m.c_str(), "stop %d/%d", &k, &n) == 2 && k % 10 == 1)
-          spdlog::info("  stop {}/{}", k, n);
-      };
-      mission::Mission mission(world, s, opt->seed, cb);
-      const records::MissionResult res = mission.run();
-      line.views = res.successful_views();
-      line.wall_s = res.wall_time_s;
-      line.sim_s = res.sim_time_s;
-      line.times = res.times;
-      line.rss_mb = peak_rss_mb();
-      lines.push_back(line);
-    }
-    const auto per_view = [](const Line& l, double s) { return l.views ? s / l.views * 1000.0 : 0.0; };
+    jobs::BenchMissionParams p;
+    p.world_file = opt->world;
+    p.rows = jobs::parse_row_sizes(opt->rows, "--rows");
+    p.settings = load_settings(opt->config);
+    p.settings.set("method.name", opt->method, "--method");
+    p.seed = opt->seed;
+    p.progress = [](const std::string& line) { spdlog::info("{}", line); };
+    const std::vector<jobs::BenchMissionLine> lines = jobs::bench_mission(p);
     std::printf("bench mission: method %s, seed %u (wall times on this machine; ms per successful view)\n",
                 opt->method.c_str(), opt->seed);
     std::printf("%7s %6s %6s %9s %9s %8s %7s %10s %10s %10s %10s %10s %8s\n", "plants", "stops", "views", "world s",
                 "wall s", "ms/view", "ratio", "evaluation", "rendering", "mapping", "clustering", "control", "peak MB");
-    for (const Line& l : lines) {
-      const double ratio = per_view(l, l.wall_s) / per_view(lines.front(), lines.front().wall_s);
+    for (const jobs::BenchMissionLine& l : lines) {
+      const double ratio = l.per_view_ms(l.wall_s) / lines.front().per_view_ms(lines.front().wall_s);
       std::printf("%7d %6d %6d %9.1f %9.1f %8.1f %7.2f %10.1f %10.1f %10.1f %10.1f %10.1f %8.0f\n", l.plants,
-                  l.size.stops, l.views, l.build_s, l.wall_s, per_view(l, l.wall_s), ratio,
-                  per_view(l, l.times.get("evaluation")), per_view(l, l.times.get("rendering")),
-                  per_view(l, l.times.get("mapping")), per_view(l, l.times.get("clustering")),
-                  per_view(l, l.times.get("control")), l.rss_mb);
+                  l.size.stops, l.views, l.build_s, l.wall_s, l.per_view_ms(l.wall_s), ratio,
+                  l.per_view_ms(l.times.get("evaluation")), l.per_view_ms(l.times.get("rendering")),
+                  l.per_view_ms(l.times.get("mapping")), l.per_view_ms(l.times.get("clustering")),
+                  l.per_view_ms(l.times.get("control")), l.rss_mb);
     }
     std::printf("(phase columns: ms per view; ratio: ms/view over the first row's; peak MB: the process's peak so far)\n");
-    for (const Line& l : lines) {
+    for (const jobs::BenchMissionLine& l : lines) {
       std::printf("phases, %d plants:", l.plants);
       for (const auto& [phase, t] : l.times.totals()) std::printf(" %s %.2f s;", phase.c_str(), t);
       std::printf("\n");

@@ -1,5 +1,7 @@
 // canopy nbv: the next views from a saved map for the robot at a base pose: the file
-// interface a ROS node or a script calls on a real robot (no simulator involved).
+// interface a ROS node or a script calls on a real robot (no simulator involved). The planning
+// is jobs::next_views (jobs/next_views_job.h), as Python's canopy.next_views; this file
+// translates the flags and writes views.json.
 
 #include <spdlog/spdlog.h>
 
@@ -12,8 +14,8 @@
 #include "canopy/common/read_file.h"
 #include "canopy/common/value_text.h"
 #include "canopy/mapping/map_io.h"
-#include "canopy/mission/mission.h"
-#include "canopy/motion/view_reach.h"
+#include "canopy/jobs/next_views_job.h"
+#include "canopy/nbv/planners/ours/ours_params.h"
 #include "cli_util.h"
 #include "commands.h"
 
@@ -77,19 +79,22 @@ void add_nbv_command(CLI::App& app) {
   struct Options {
     std::string map, base, joints, out, intrinsics;
     std::string config = settings::default_settings_path();
+    std::string method = "ours";
     std::string gain, rays;  // "": the bundle's method.gain / method.rays
     int k = -1;
     std::uint64_t seed = 1;
   };
   auto opt = std::make_shared<Options>();
   CLI::App* sub = app.add_subcommand(
-      "nbv", "Next views from a saved map for the robot at a base pose (ours planner, workspace filter, IK, tour): views.json");
+      "nbv", "Next views from a saved map for the robot at a base pose (a planner, workspace filter, IK, tour): views.json");
   sub->add_option("--map", opt->map, "Semantic map (.csm, as 'canopy map' writes)")->required();
   sub->add_option("--base", opt->base, "Base pose x,y,yaw [m, m, rad]")->required();
   sub->add_option("--joints", opt->joints, "Arm joints now q1,...,q6 [rad] (tour start; default: home)");
-  sub->add_option("--gain", opt->gain, "Gain of the views (default: the bundle's method.gain, osamcep)");
-  sub->add_option("--rays", opt->rays, "Ray set (default: the bundle's method.rays, ours)");
-  sub->add_option("--k", opt->k, "Views kept per cluster (default from config, nbv.planner.top_k)")
+  sub->add_option("--method", opt->method, "View planner (canopy settings lists them; not an oracle)")
+      ->capture_default_str();
+  sub->add_option("--gain", opt->gain, "Gain of ours' views (default: the bundle's method.gain, osamcep)");
+  sub->add_option("--rays", opt->rays, "Ray set of ours (default: the bundle's method.rays, ours)");
+  sub->add_option("--k", opt->k, "Views ours keeps per cluster (default from config, nbv.ours.top_k)")
       ->check(CLI::Range(1, 100));
   sub->add_option("--intrinsics", opt->intrinsics,
                   "Camera YAML (as for 'canopy map --frames', TUM); default: the D405 of configs");
@@ -100,62 +105,52 @@ void add_nbv_command(CLI::App& app) {
     // Validate every input before doing any work.
     check_views_out(opt->out, {{opt->map, "--map"}, {opt->config, "--config"}, {opt->intrinsics, "--intrinsics"}});
     settings::Settings settings = load_settings(opt->config);
-    if (opt->k > 0) settings.nbv.planner.top_k = opt->k;
-    const RobotConfig robot = default_robot_config();
-    const motion::RobotModel model = motion::RobotModel::load(robot);
-    const BasePose base = parse_base_pose(opt->base, "--base");
-    ArmConfig q = robot.home;
+    settings.set("method.name", opt->method, "--method");
+    if (!opt->gain.empty()) settings.set("method.gain", opt->gain, "--gain");
+    if (!opt->rays.empty()) settings.set("method.rays", opt->rays, "--rays");
+    if (opt->k > 0) settings.set("nbv.ours.top_k", std::to_string(opt->k), "--k");
+    jobs::NextViewsJob job;
+    job.base = parse_base_pose(opt->base, "--base");
     if (!opt->joints.empty()) {
       const auto v = parse_numbers(opt->joints, kArmDof, "--joints");
-      std::copy(v.begin(), v.end(), q.begin());
-      if (!model.within_limits(q)) throw InputError("--joints: value '" + opt->joints + "' is outside the joint limits");
+      job.joints.emplace();
+      std::copy(v.begin(), v.end(), job.joints->begin());
+      job.joints_where = "--joints";
     }
-    nbv::ViewPlannerSettings ps;
-    ps.params = settings.nbv;
-    if (!opt->intrinsics.empty()) ps.intrinsics = datasets::RecordedCamera::load(opt->intrinsics).intrinsics;
-    ps.method = settings.method;
-    ps.method.name = "ours";
-    if (!opt->gain.empty()) ps.method.gain = opt->gain;
-    if (!opt->rays.empty()) ps.method.rays = opt->rays;
-    const std::unique_ptr<nbv::ViewPlanner> planner = nbv::make_view_planner(ps, "nbv");
+    if (!opt->intrinsics.empty()) job.intrinsics = datasets::RecordedCamera::load(opt->intrinsics).intrinsics;
+    job.seed = opt->seed;
+    const motion::RobotModel model = motion::RobotModel::load(default_robot_config());
     const mapping::SemanticOcTree map = mapping::load_map(opt->map);
-
-    motion::NextViewsRequest req;
-    req.base = base;
-    req.q = q;
-    const Vec3 arm = motion::RobotModel::T_world_base(base) * model.T_base_arm().translation();
-    req.region = mission::stop_region(settings.mission.loop, arm.x(), arm.y());
-    req.budget = settings.mission.loop.views_per_stop;
-    req.seed = opt->seed;
-    const motion::NextViews nv = motion::plan_next_views(map, *planner, model, settings.motion, req);
+    const jobs::NextViewsJobResult r = jobs::next_views(map, settings, model, job);
 
     nlohmann::json views = nlohmann::json::array();
     int order = 0;
-    for (const nbv::PlannedView& v : nv.ordered) views.push_back(view_json(v, order++, ""));
-    for (const nbv::PlannedView& v : nv.unreachable)
+    for (const nbv::PlannedView& v : r.next.ordered) views.push_back(view_json(v, order++, ""));
+    for (const nbv::PlannedView& v : r.next.unreachable)
       views.push_back(view_json(v, -1, "no IK solution within the joint limits"));
     const nlohmann::json out = {
         {"written_by", kWrittenBy},
         {"map", opt->map},
-        {"base", {base.x_m, base.y_m, base.yaw_rad}},
-        {"joints_now", q},
-        {"planner", "ours"},
-        {"gain", ps.method.gain},
-        {"rays", ps.method.rays},
-        {"k", settings.nbv.planner.top_k},
+        {"base", {job.base.x_m, job.base.y_m, job.base.yaw_rad}},
+        {"joints_now", r.joints},
+        {"planner", r.method.name},
+        {"gain", r.method.gain},
+        {"rays", r.method.rays},
+        {"k", settings.nbv.planner<nbv::OursParams>().top_k},
         {"seed", opt->seed},
-        {"region", {{"min", {req.region.min().x(), req.region.min().y(), req.region.min().z()}},
-                    {"max", {req.region.max().x(), req.region.max().y(), req.region.max().z()}}}},
-        {"clusters", nv.batch.clusters},
-        {"candidates", nv.batch.candidates},
-        {"filtered", nv.batch.filtered},
-        {"robot_voxels_cleared", nv.cleared_voxels},
-        {"finished", nv.batch.finished},
-        {"reason", nv.batch.reason},
+        {"region", {{"min", {r.region.min().x(), r.region.min().y(), r.region.min().z()}},
+                    {"max", {r.region.max().x(), r.region.max().y(), r.region.max().z()}}}},
+        {"clusters", r.next.batch.clusters},
+        {"candidates", r.next.batch.candidates},
+        {"filtered", r.next.batch.filtered},
+        {"robot_voxels_cleared", r.next.cleared_voxels},
+        {"finished", r.next.batch.finished},
+        {"reason", r.next.batch.reason},
         {"views", views}};
     write_json_atomic(opt->out, out);
-    std::printf("%zu views (%zu in tour order, %zu without IK) for %zu clusters; wrote %s\n", views.size(),
-                nv.ordered.size(), nv.unreachable.size(), nv.batch.clusters, opt->out.c_str());
+    std::printf("%zu views (%zu in tour order, %zu without IK) for %zu clusters by %s; wrote %s\n", views.size(),
+                r.next.ordered.size(), r.next.unreachable.size(), r.next.batch.clusters, r.method.name.c_str(),
+                opt->out.c_str());
   });
 }
 

@@ -1,6 +1,6 @@
 // canopy settings: every setting of a bundle with its value, what it must be and what it is
 // for, from the one visit() of each parameter struct (common/params.h). --markdown prints the
-// table docs/settings.md holds.
+// table docs/settings.md holds; --file NAME the shipped settings file configs/NAME.yaml.
 
 #include <cstdio>
 
@@ -15,6 +15,7 @@ void add_settings_command(CLI::App& app) {
     std::string config = settings::default_settings_path();
     bool markdown = false;
     bool world = false;
+    std::string file;
   };
   auto opt = std::make_shared<Options>();
   CLI::App* sub = app.add_subcommand(
@@ -22,7 +23,13 @@ void add_settings_command(CLI::App& app) {
   sub->add_option("--config", opt->config, kConfigHelp)->capture_default_str();
   sub->add_flag("--markdown", opt->markdown, "Print a Markdown table (docs/settings.md)");
   sub->add_flag("--world", opt->world, "The keys of a world file instead (docs/plants.md)");
+  sub->add_option("--file", opt->file,
+                  "Print the shipped settings file NAME as the structs write it (configs/NAME.yaml: canopy, nbv)");
   sub->callback([opt] {
+    if (!opt->file.empty()) {
+      std::fputs(settings::settings_file_text(opt->file, "--file").c_str(), stdout);
+      return;
+    }
     const std::vector<ParamDescription> rows =
         opt->world ? describe_params(world::WorldSpec{}) : load_settings(opt->config).describe();
     if (opt->markdown) {

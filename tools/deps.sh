@@ -13,7 +13,7 @@ PACKAGES=(
   libgtest-dev libgmock-dev libbenchmark-dev
   liblz4-dev libzstd-dev zlib1g-dev
   ffmpeg
-  python3-matplotlib python3-yaml
+  python3-yaml
   pybind11-dev python3-dev python3-numpy python3-pytest
   python3-rosbag python3-sensor-msgs python3-geometry-msgs python3-tf2-msgs python3-visualization-msgs
   python3-pil

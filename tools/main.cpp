@@ -15,6 +15,7 @@
 #include "canopy/common/interrupt.h"
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/value_text.h"
+#include "canopy/common/warning.h"
 #include "commands.h"
 
 namespace {
@@ -101,6 +102,7 @@ int main(int argc, char** argv) {
       [](const CLI::App*, const CLI::Error& e) { return "canopy: error: " + std::string(e.what()) + "\n"; });
   spdlog::set_pattern("[%H:%M:%S.%e] %^%l%$ %v");
   spdlog::set_default_logger(spdlog::stderr_color_mt("canopy"));
+  canopy::set_warning_handler([](const std::string& line) { spdlog::warn("{}", line); });
 
   canopy::cli::add_world_command(app);
   canopy::cli::add_render_command(app);

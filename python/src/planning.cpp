@@ -1,11 +1,11 @@
 // Planning from a map: fruit clusters, candidate views, gains by name, the next views for a
-// base pose (as `canopy nbv`), and the robot's kinematics (canopy.Robot: IK).
+// base pose (jobs::next_views, as `canopy nbv`), and the robot's kinematics (canopy.Robot: IK).
 
 #include <pybind11/stl.h>
 
 #include "canopy/common/error.h"
 #include "canopy/common/random.h"
-#include "canopy/mission/mission.h"
+#include "canopy/jobs/next_views_job.h"
 #include "canopy/motion/view_reach.h"
 #include "canopy/nbv/candidates.h"
 #include "canopy/nbv/clusters.h"
@@ -112,21 +112,73 @@ py::dict planned_views_dict(const std::vector<nbv::PlannedView>& ordered,
 
 namespace {
 
-
 Vec3 arm_base(const BasePose& base) {
   return motion::RobotModel::T_world_base(base) * robot_model().T_base_arm().translation();
 }
 
-Eigen::AlignedBox3d stop_region_of(const BasePose& base, const settings::Settings& s) {
-  const Vec3 arm = arm_base(base);
-  return mission::stop_region(s.mission.loop, arm.x(), arm.y());
+// canopy.next_views: jobs::next_views with the method chosen by name or a Python planner.
+py::dict next_views(const PyMap& map, const py::object& base, const py::object& joints, const py::object& settings,
+                    const py::object& method, const py::object& planner, const py::object& seed,
+                    const py::object& intrinsics) {
+  settings::Settings s = settings_from(settings);
+  choose_method(s, method, planner);
+  jobs::NextViewsJob job;
+  job.base = base_from(base, "base");
+  if (!joints.is_none()) job.joints = joints_from(joints, "joints");
+  job.seed = seed_from(seed, "seed");
+  job.intrinsics = intrinsics_from(intrinsics, CameraIntrinsics{});
+  jobs::NextViewsJobResult r;
+  take_interrupt();
+  {
+    const PendingPlanner pending(planner, s.mapping);
+    py::gil_scoped_release release;
+    r = map.read([&](const mapping::SemanticOcTree& tree) { return jobs::next_views(tree, s, robot_model(), job); });
+  }
+  if (take_interrupt()) {  // Ctrl-C in the planner
+    PyErr_SetNone(PyExc_KeyboardInterrupt);
+    throw py::error_already_set();
+  }
+  return py::dict(py::arg("views") = planned_views_dict(r.next.ordered, r.next.unreachable),
+                  py::arg("method") = r.method.name, py::arg("region") = box_array(r.region),
+                  py::arg("clusters") = r.next.batch.clusters, py::arg("candidates") = r.next.batch.candidates,
+                  py::arg("filtered") = r.next.batch.filtered, py::arg("robot_voxels_cleared") = r.next.cleared_voxels,
+                  py::arg("finished") = r.next.batch.finished, py::arg("reason") = r.next.batch.reason);
 }
 
-ArmConfig joints_or_home(const py::object& joints) {
-  if (joints.is_none()) return robot_model().config().home;
-  const ArmConfig q = joints_from(joints, "joints");
-  if (!robot_model().within_limits(q)) throw InputError("joints: " + describe(joints) + " is outside the joint limits");
-  return q;
+// canopy.Robot: the default robot's kinematics.
+void bind_robot(py::module_& m) {
+  py::class_<motion::RobotModel, std::shared_ptr<motion::RobotModel>>(m, "Robot",
+      "The mobile manipulator (models/robot: the URDF and robot.yaml): kinematics, IK and limits.")
+      .def(py::init([] { return shared_robot_model(); }),
+           "The default robot (loaded once, shared).")
+      .def_property_readonly("home", [](const motion::RobotModel& r) { return joints_array(r.config().home); },
+                             "Home joints [rad].")
+      .def_property_readonly("lower", [](const motion::RobotModel& r) { return joints_array(r.limits().lower); })
+      .def_property_readonly("upper", [](const motion::RobotModel& r) { return joints_array(r.limits().upper); })
+      .def("camera_pose", [](const motion::RobotModel& r, const py::object& base, const py::object& joints) {
+        return pose_array(r.camera_pose(base_from(base, "base"), joints_from(joints, "joints")));
+      }, py::arg("base"), py::arg("joints"), "4x4 T_world_camera of the wrist camera for base (x, y, yaw) and joints.")
+      .def("ik", [](const motion::RobotModel& r, const py::object& base, const py::object& pose, const py::object& seed) {
+        const motion::IkResult ik =
+            r.camera_ik(base_from(base, "base"), pose_from(pose, "pose"), seed.is_none() ? r.config().home : joints_from(seed, "seed"));
+        py::array_t<double> out({static_cast<py::ssize_t>(ik.count), static_cast<py::ssize_t>(kArmDof)});
+        for (int i = 0; i < ik.count; ++i)
+          std::copy(ik.q[static_cast<std::size_t>(i)].begin(), ik.q[static_cast<std::size_t>(i)].end(),
+                    out.mutable_data() + i * kArmDof);
+        return out;
+      }, py::arg("base"), py::arg("pose"), py::arg("seed") = py::none(),
+      R"(Every IK solution placing the camera at pose (4x4 T_world_camera) with the base at (x, y, yaw),
+within the joint limits, nearest to seed (default: home) first: (K, 6), K = 0 when unreachable.)")
+      .def("within_limits", [](const motion::RobotModel& r, const py::object& joints) {
+        return r.within_limits(joints_from(joints, "joints"));
+      }, py::arg("joints"))
+      .def("arm_base", [](const motion::RobotModel&, const py::object& base) {
+        return vec3_array(arm_base(base_from(base, "base")));
+      }, py::arg("base"), "The arm base's position in the world for base (x, y, yaw).")
+      .def("stop_region", [](const motion::RobotModel&, const py::object& base, const py::object& settings) {
+        return box_array(jobs::stop_region_at(settings_from(settings), robot_model(), base_from(base, "base")));
+      }, py::arg("base"), py::arg("settings") = py::none(),
+      "The box [[min], [max]] a planner looks for targets in at this base (the settings' mission.loop).");
 }
 
 }  // namespace
@@ -181,43 +233,7 @@ in the window', 'target not in front of the camera', 'camera inside an occupied 
 (view i gets a seed mixed from seed and i). Builds the map's voxel index for the call; a
 planner in the loop scores against the mission's index with request.gains.)");
 
-  m.def("next_views", [](const PyMap& map, const py::object& base, const py::object& joints, const py::object& settings,
-                         const py::object& method, const py::object& planner, const py::object& seed,
-                         const py::object& intrinsics) {
-        settings::Settings s = settings_from(settings);
-        choose_method(s, method, planner);
-        motion::NextViewsRequest req;
-        req.base = base_from(base, "base");
-        req.q = joints_or_home(joints);
-        req.region = stop_region_of(req.base, s);
-        req.budget = s.mission.loop.views_per_stop;
-        req.seed = seed_from(seed, "seed");
-        nbv::ViewPlannerSettings ps;
-        ps.params = s.nbv;
-        ps.intrinsics = intrinsics_from(intrinsics, CameraIntrinsics{});
-        ps.method = s.method;
-        const motion::MotionConfig motion = s.motion;
-        motion::NextViews next;
-        take_interrupt();
-        {
-          const PendingPlanner pending(planner, s.mapping);
-          py::gil_scoped_release release;
-          const std::unique_ptr<nbv::ViewPlanner> p = nbv::make_view_planner(ps, "method");
-          next = map.read([&](const mapping::SemanticOcTree& tree) {
-            return motion::plan_next_views(tree, *p, robot_model(), motion, req);
-          });
-        }
-        if (take_interrupt()) {  // Ctrl-C in the planner
-          PyErr_SetNone(PyExc_KeyboardInterrupt);
-          throw py::error_already_set();
-        }
-        py::dict out(py::arg("views") = planned_views_dict(next.ordered, next.unreachable),
-                     py::arg("method") = s.method.name, py::arg("region") = box_array(req.region),
-                     py::arg("clusters") = next.batch.clusters, py::arg("candidates") = next.batch.candidates,
-                     py::arg("filtered") = next.batch.filtered, py::arg("robot_voxels_cleared") = next.cleared_voxels,
-                     py::arg("finished") = next.batch.finished, py::arg("reason") = next.batch.reason);
-        return out;
-      }, py::arg("map"), py::arg("base"), py::arg("joints") = py::none(), py::arg("settings") = py::none(),
+  m.def("next_views", &next_views, py::arg("map"), py::arg("base"), py::arg("joints") = py::none(), py::arg("settings") = py::none(),
       py::arg("method") = py::none(), py::arg("planner") = py::none(), py::arg("seed") = 1,
       py::arg("intrinsics") = py::none(),
       R"(The next views from a map for the robot at base (x, y, yaw), as `canopy nbv`: the planner's batch
@@ -229,38 +245,8 @@ method: a planner name (default: the settings' method.name); planner: a Python p
 gain, shift_m, source, tour_index (-1: no IK), has_joints, joints (NaN without IK)), 'method',
 'region', 'clusters', 'candidates', 'filtered', 'robot_voxels_cleared', 'finished', 'reason'}.)");
 
-  py::class_<motion::RobotModel, std::shared_ptr<motion::RobotModel>>(m, "Robot",
-      "The mobile manipulator (models/robot: the URDF and robot.yaml): kinematics, IK and limits.")
-      .def(py::init([] { return shared_robot_model(); }),
-           "The default robot (loaded once, shared).")
-      .def_property_readonly("home", [](const motion::RobotModel& r) { return joints_array(r.config().home); },
-                             "Home joints [rad].")
-      .def_property_readonly("lower", [](const motion::RobotModel& r) { return joints_array(r.limits().lower); })
-      .def_property_readonly("upper", [](const motion::RobotModel& r) { return joints_array(r.limits().upper); })
-      .def("camera_pose", [](const motion::RobotModel& r, const py::object& base, const py::object& joints) {
-        return pose_array(r.camera_pose(base_from(base, "base"), joints_from(joints, "joints")));
-      }, py::arg("base"), py::arg("joints"), "4x4 T_world_camera of the wrist camera for base (x, y, yaw) and joints.")
-      .def("ik", [](const motion::RobotModel& r, const py::object& base, const py::object& pose, const py::object& seed) {
-        const motion::IkResult ik =
-            r.camera_ik(base_from(base, "base"), pose_from(pose, "pose"), seed.is_none() ? r.config().home : joints_from(seed, "seed"));
-        py::array_t<double> out({static_cast<py::ssize_t>(ik.count), static_cast<py::ssize_t>(kArmDof)});
-        for (int i = 0; i < ik.count; ++i)
-          std::copy(ik.q[static_cast<std::size_t>(i)].begin(), ik.q[static_cast<std::size_t>(i)].end(),
-                    out.mutable_data() + i * kArmDof);
-        return out;
-      }, py::arg("base"), py::arg("pose"), py::arg("seed") = py::none(),
-      R"(Every IK solution placing the camera at pose (4x4 T_world_camera) with the base at (x, y, yaw),
-within the joint limits, nearest to seed (default: home) first: (K, 6), K = 0 when unreachable.)")
-      .def("within_limits", [](const motion::RobotModel& r, const py::object& joints) {
-        return r.within_limits(joints_from(joints, "joints"));
-      }, py::arg("joints"))
-      .def("arm_base", [](const motion::RobotModel&, const py::object& base) {
-        return vec3_array(arm_base(base_from(base, "base")));
-      }, py::arg("base"), "The arm base's position in the world for base (x, y, yaw).")
-      .def("stop_region", [](const motion::RobotModel&, const py::object& base, const py::object& settings) {
-        return box_array(stop_region_of(base_from(base, "base"), settings_from(settings)));
-      }, py::arg("base"), py::arg("settings") = py::none(),
-      "The box [[min], [max]] a planner looks for targets in at this base (the settings' mission.loop).");
+
+  bind_robot(m);
 }
 
 }  // namespace canopy::python

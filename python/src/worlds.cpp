@@ -70,14 +70,11 @@ py::dict fruits_dict(const world::GroundTruth& truth) {
                   py::arg("surface_area_m2") = array_of(areas), py::arg("surface_points") = array_of(points));
 }
 
-}  // namespace
+using WorldClass = py::class_<PyWorld, std::shared_ptr<PyWorld>>;
 
-void bind_worlds(py::module_& m) {
-  py::class_<PyWorld, std::shared_ptr<PyWorld>>(m, "World", R"(A generated greenhouse world: plants, fruits and their ground truth.
-
-The simulator and renderer are made on the first render and kept (one OSMesa context per
-world); renders of one world from several threads take turns.)")
-      .def(py::init([](const py::object& path, const py::object& seed, const py::object& settings) {
+// The world's description and its ground truth.
+void bind_world_contents(WorldClass& c) {
+  c.def(py::init([](const py::object& path, const py::object& seed, const py::object& settings) {
              return std::make_shared<PyWorld>(path_from(path, "path"), seed, settings);
            }),
            py::arg("path") = "worlds/default.yaml",
@@ -130,8 +127,12 @@ center, bbox_min, bbox_max (N, 3) [m], surface_area_m2, surface_points (sample c
             ids.push_back(f.instance_id);
           }
         return py::dict(py::arg("points") = points_array(points), py::arg("instance_id") = array_of(ids));
-      }, "Every fruit's surface samples (what coverage is scored on): {'points': (M, 3), 'instance_id': (M,)}.")
-      .def("views", [](const PyWorld& w, const std::string& spec) {
+      }, "Every fruit's surface samples (what coverage is scored on): {'points': (M, 3), 'instance_id': (M,)}.");
+}
+
+// Views of the world and renders.
+void bind_world_renders(WorldClass& c) {
+  c.def("views", [](const PyWorld& w, const std::string& spec) {
         return poses_array(evaluation::views_from_spec(spec, w.world()));
       }, py::arg("spec") = "ring", R"(Camera poses around the plants, as `canopy map --views`: 'ring' (around each plant),
 'aisle' (along each row, from the aisle) or a file of 'x y z qw qx qy qz' lines: (N, 4, 4).)")
@@ -159,6 +160,17 @@ y down, z forward), robot hidden: a canopy.Frame with rgb, depth, labels and ins
       }, py::arg("base"), py::arg("joints") = py::none(),
       R"(Renders the wrist camera with the robot's base at (x, y, yaw) and the arm at joints (6 angles
 [rad], default: home), robot visible.)");
+}
+
+}  // namespace
+
+void bind_worlds(py::module_& m) {
+  WorldClass c(m, "World", R"(A generated greenhouse world: plants, fruits and their ground truth.
+
+The simulator and renderer are made on the first render and kept (one OSMesa context per
+world); renders of one world from several threads take turns.)");
+  bind_world_contents(c);
+  bind_world_renders(c);
 }
 
 }  // namespace canopy::python

@@ -8,6 +8,7 @@
 #include <filesystem>
 
 #include "canopy/common/value_text.h"
+#include "canopy/common/warning.h"
 
 namespace canopy {
 
@@ -76,6 +77,31 @@ std::string YamlIn::resolve(const std::string& path) const {
   std::filesystem::path p(path);
   if (p.is_relative() && !dir_.empty()) p = std::filesystem::path(dir_) / p;
   return p.string();
+}
+
+void YamlIn::renamed(const char* old_key, const char* key) {
+  if (!y_.has(old_key)) return;
+  if (y_.has(key))
+    throw InputError(y_.file() + ": keys '" + y_.key_path(old_key) + "' and '" + y_.key_path(key) +
+                     "' name the same settings (the former name and the current one); give '" + key + "' only");
+  warn_renamed_key(y_.file(), y_.key_path(old_key), y_.key_path(key));
+  y_.rename(old_key, key);
+}
+
+void warn_renamed_key(const std::string& where, const std::string& old_path, const std::string& new_path) {
+  warn(where + ": key '" + old_path + "' is now '" + new_path + "'; read as such (rename it: the old name will be refused)");
+}
+
+std::string YamlDoc::flow(const YAML::Node& node) {
+  YAML::Emitter e;
+  e << YAML::Flow << node;
+  return e.c_str();
+}
+
+void YamlDoc::line(const char* key, const std::string& value, const std::string& help) {
+  std::string l = std::string(static_cast<std::size_t>(indent_), ' ') + key + ":" + (value.empty() ? "" : " " + value);
+  if (!help.empty()) l += std::string(l.size() < 30 ? 30 - l.size() : 2, ' ') + "# " + help;
+  text += l + "\n";
 }
 
 nlohmann::json yaml_to_json(const YAML::Node& node) {

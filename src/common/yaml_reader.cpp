@@ -161,6 +161,14 @@ YamlReader YamlReader::child(const std::string& key) {
   return YamlReader(node_[key], file_, key_path(key));
 }
 
+bool YamlReader::rename(const std::string& old_key, const std::string& new_key) {
+  if (!has(old_key)) return false;
+  const YAML::Node value = node_[old_key];
+  node_.remove(old_key);
+  node_[new_key] = value;
+  return true;
+}
+
 void YamlReader::finish() const {
   if (!node_ || !node_.IsMap()) return;
   for (const auto& kv : node_) {

@@ -14,6 +14,7 @@
 #include "canopy/common/params.h"
 #include "canopy/common/read_file.h"
 #include "canopy/common/value_text.h"
+#include "canopy/common/value_text.h"
 #include "canopy/common/yaml_reader.h"
 #include "canopy/nbv/gains.h"
 #include "canopy/nbv/ray_sets.h"
@@ -243,10 +244,8 @@ TrialSpec TrialSpec::from_json(const nlohmann::json& j, const std::string& where
 }
 
 std::string trial_id(const std::string& label, double p_gt, std::uint64_t seed, std::optional<std::uint64_t> world_seed) {
-  char b[64];
-  c_snprintf(b, sizeof b, "_pgt%.6g", p_gt);
   const std::string world = world_seed ? "_world" + std::to_string(*world_seed) : "";
-  return label + b + world + "_seed" + std::to_string(seed);
+  return label + "_pgt" + format_number(p_gt, NumberFormat::kDigits6) + world + "_seed" + std::to_string(seed);
 }
 
 Experiment Experiment::load(const std::string& path, const RobotConfig& robot) {

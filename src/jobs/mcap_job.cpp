@@ -15,7 +15,6 @@
 #include "canopy/common/timer.h"
 #include "canopy/common/value_text.h"
 #include "canopy/jobs/mission_job.h"
-#include "canopy/jobs/robot_frames.h"
 #include "canopy/jobs/world_job.h"
 #include "canopy/records/run_folder.h"
 #include "canopy/ros2/message_schemas.h"
@@ -27,6 +26,9 @@ namespace msg = ros2::msg;
 namespace topics = recording_topics;
 
 namespace {
+
+// The root of the robot's tree in the simulator (sim::RobotLinks) and in every recording.
+constexpr const char* kRecordingWorldFrame = "world";
 
 // What rosbag2 records for a latched publisher (durability transient_local, depth 1): a player
 // republishes it so, and a late subscriber (Foxglove's 3D panel, RViz) still gets it.
@@ -140,7 +142,6 @@ struct MissionMcap::Impl {
   ros2::McapWriter out;
   std::uint16_t rgb = 0, depth = 0, labels = 0, labels_color = 0, camera_info = 0, cloud = 0, views = 0, fruits = 0,
                 tf = 0, tf_static = 0, description = 0;
-  RobotFrames frames;
   std::int64_t epoch = 0;
   double next_state_s = 0.0;
   bool started = false;
@@ -197,19 +198,19 @@ struct MissionMcap::Impl {
     return static_cast<std::uint64_t>(epoch + std::llround(sim_time_s * 1e9));
   }
 
-  // The edges of `frames` whose fixedness is `fixed`, from the world poses now.
+  // The edges of the robot's links whose fixedness is `fixed`, from the world poses now.
   msg::TFMessage edges(const sim::Simulator& sim, bool fixed, std::uint64_t ns) const {
-    const std::vector<Pose> poses = frames.world_poses(sim);
+    const sim::RobotLinks now = sim.robot_links();
     std::map<std::string, const Pose*> world_pose;
-    for (std::size_t i = 0; i < frames.names.size(); ++i) world_pose[frames.names[i]] = &poses[i];
+    for (std::size_t i = 0; i < now.links.size(); ++i) world_pose[now.links[i]] = &now.poses[i];
     msg::TFMessage m;
-    for (std::size_t i = 0; i < frames.names.size(); ++i) {
-      if (frames.fixed[i] != fixed) continue;
-      const auto parent = world_pose.find(frames.parents[i]);
-      const Pose T_parent_child = parent == world_pose.end() ? poses[i] : Pose(parent->second->inverse() * poses[i]);
+    for (std::size_t i = 0; i < now.links.size(); ++i) {
+      if (now.fixed[i] != fixed) continue;
+      const auto parent = world_pose.find(now.parents[i]);
+      const Pose T_parent_child = parent == world_pose.end() ? now.poses[i] : Pose(parent->second->inverse() * now.poses[i]);
       msg::TransformStamped t;
-      t.header = header(ns, frames.parents[i]);
-      t.child_frame_id = frames.names[i];
+      t.header = header(ns, now.parents[i]);
+      t.child_frame_id = now.links[i];
       t.transform = transform_of(T_parent_child);
       m.transforms.push_back(std::move(t));
     }
@@ -226,7 +227,7 @@ struct MissionMcap::Impl {
     std::size_t target = 0;
     for (const world::FruitTruth& f : world.truth.fruits) {
       msg::Marker m;
-      m.header = header(ns, kWorldFrame);
+      m.header = header(ns, kRecordingWorldFrame);
       m.ns = f.target ? "target fruits" : "other fruits";
       m.id = f.instance_id;
       m.type = msg::Marker::kCube;
@@ -249,7 +250,7 @@ struct MissionMcap::Impl {
 
   msg::PointCloud2 map_cloud(std::uint64_t ns, const mapping::SemanticOcTree& map) const {
     msg::PointCloud2 c;
-    c.header = header(ns, kWorldFrame);
+    c.header = header(ns, kRecordingWorldFrame);
     c.height = 1;
     using PF = msg::PointField;
     c.fields = {{"x", 0, PF::kFloat32, 1},  {"y", 4, PF::kFloat32, 1},
@@ -282,7 +283,7 @@ struct MissionMcap::Impl {
     for (std::size_t i = 0; i < drawn.size(); ++i) {
       const DrawnView& v = drawn[i];
       msg::Marker m;
-      m.header = header(ns, kWorldFrame);
+      m.header = header(ns, kRecordingWorldFrame);
       m.ns = records::to_string(v.phase);
       m.id = static_cast<std::int32_t>(i);
       m.type = msg::Marker::kLineList;
@@ -319,7 +320,6 @@ void MissionMcap::start(const sim::Simulator& sim, std::int64_t epoch_ns) {
   CANOPY_CHECK(!s.started, "MissionMcap::start twice");
   s.started = true;
   s.epoch = epoch_ns;
-  s.frames = RobotFrames::of(sim);
   const std::uint64_t ns = s.stamp(sim.time());
   msg::String urdf;
   urdf.data = read_text(sim.robot_config().urdf_path);

@@ -8,7 +8,6 @@
 
 namespace canopy::mission {
 
-using namespace phase;
 
 std::vector<nbv::PlannedView> Mission::Impl::tour(std::vector<nbv::PlannedView> views,
                                                   std::vector<nbv::PlannedView>* unreachable) {
@@ -42,7 +41,7 @@ int Mission::Impl::replace_failed(const std::vector<nbv::PlannedView>& failed, V
   req.max_attempts = scan.replace_max_attempts;
   req.attempts_left = attempts_left;
   req.reachable = [&](const nbv::PlannedView& v) {
-    ScopedPhase t(result.times, kNbvPlanning);
+    ScopedPhase t(result.times, to_string(WallPhase::kNbvPlanning));
     return motion::has_free_goal(model, &planner.goal_checker(), v, sim.base_pose(), sim.arm_positions());
   };
   req.attempt = [&](const nbv::PlannedView& v) {
@@ -62,7 +61,7 @@ int Mission::Impl::replace_failed(const std::vector<nbv::PlannedView>& failed, V
     req.failed = f;
     req.options.clear();
     {
-      ScopedPhase t(result.times, kNbvPlanning);
+      ScopedPhase t(result.times, to_string(WallPhase::kNbvPlanning));
       for (const ScanView& c : scan_replacements(scan, model.T_base_arm(), *spec)) {
         nbv::PlannedView v;
         v.T_world_camera = T_world_base * c.T_base_camera;
@@ -85,7 +84,7 @@ void Mission::Impl::record_unreachable(const std::vector<nbv::PlannedView>& view
     check_stop();
     if (attempts_left) --*attempts_left;
     ViewRecord r = open_record(v, phase);
-    record(close_record(r, failure::kNoIk, "no IK solution within the joint limits"), v);
+    record(close_record(r, FailureCause::kNoIk, "no IK solution within the joint limits"), v);
   }
 }
 
@@ -101,7 +100,7 @@ void Mission::Impl::scripted(const std::vector<Pose>& poses, ViewPhase phase) {
   std::vector<nbv::PlannedView> unreachable;
   std::vector<nbv::PlannedView> ordered;
   {
-    ScopedPhase t(result.times, kNbvPlanning);
+    ScopedPhase t(result.times, to_string(WallPhase::kNbvPlanning));
     ordered = tour(views, &unreachable);
   }
   record_unreachable(unreachable, phase);
@@ -154,12 +153,12 @@ void Mission::Impl::nbv_loop(int k, int scan_views_count) {
       next = motion::next_views(map, index, *view_planner, arm, req);
       result.times.merge(next.batch.times);
       // The planner's own phases are in batch.times; the rest (tour, bookkeeping) here.
-      result.times.add(kNbvPlanning, std::max(0.0, watch.seconds() - next.batch.times.total()));
+      result.times.add(to_string(WallPhase::kNbvPlanning), std::max(0.0, watch.seconds() - next.batch.times.total()));
     }
     check_stop();  // a stop requested while the planner ran (a Python planner's KeyboardInterrupt) wins
     const nbv::ViewBatch& batch = next.batch;
     if (audit) {
-      ScopedPhase t(result.times, kEvaluation);
+      ScopedPhase t(result.times, to_string(WallPhase::kEvaluation));
       audit->end_round(map, index, batch, k, s.rounds, ok_views_, req.seed);
     }
     const std::vector<nbv::PlannedView>& ordered = next.ordered;

@@ -21,10 +21,13 @@ bool TakenViews::contains(const Pose& T) const {
   return false;
 }
 
-void ViewPlanner::outcome(const ViewOutcome& o) {
+bool joins_failed_views(const ViewOutcome& o) {
   // A start in collision or a diverged simulation says nothing about the view itself.
-  if (o.success || o.failure == "start_in_collision" || o.failure == "unstable") return;
-  if (!failed_views_.contains(o.view.T_world_camera)) failed_views_.add(o.view.T_world_camera);
+  return !o.success && o.failure != "start_in_collision" && o.failure != "unstable";
+}
+
+void ViewPlanner::outcome(const ViewOutcome& o) {
+  if (joins_failed_views(o) && !failed_views_.contains(o.view.T_world_camera)) failed_views_.add(o.view.T_world_camera);
 }
 
 bool same_view(const Pose& a, const Pose& b) {

@@ -52,10 +52,17 @@ YAML::Node Settings::to_yaml() const { return params_to_yaml(*this); }
 std::string Settings::to_yaml_text() const { return yaml_text(to_yaml()); }
 
 void Settings::set(const std::string& key, const std::string& value, const std::string& where) {
-  const std::vector<std::string> parts = split_key(key);
+  std::vector<std::string> parts = split_key(key);
   if (parts.empty() || key.back() == '.')  // "", ".", "mission.loop."
     throw InputError(where + ": the setting's key path '" + key + "' is empty or ends with '.' (settings are named "
                      "by key paths such as mission.loop.views_per_stop)");
+  // A planner section's former name (nbv.planner, now nbv.ours) is still read, as in a file.
+  if (parts.size() >= 2 && parts[0] == "nbv")
+    for (const nbv::PlannerSection& section : nbv.planners)
+      if (!section.former_key.empty() && parts[1] == section.former_key) {
+        warn_renamed_key(where, "nbv." + section.former_key, "nbv." + section.key);
+        parts[1] = section.key;
+      }
   YAML::Node root = to_yaml();
   YAML::Node node = root;
   for (std::size_t i = 0; i < parts.size(); ++i) {
@@ -107,5 +114,36 @@ std::vector<SettingOverride> parse_overrides(const std::vector<std::string>& tex
 }
 
 std::string default_settings_path() { return "configs/canopy.yaml"; }
+
+std::vector<std::string> generated_settings_files() { return {"canopy", "nbv"}; }
+
+std::string settings_file_text(const std::string& name, const std::string& where) {
+  const std::string written_by =
+      "# Written by `canopy settings --file " + name + "` from the parameter structs' visit(); a test holds this\n"
+      "# file to it: change the structs (their defaults and help), then write it again.\n";
+  if (name == "canopy") {
+    YamlDoc method;
+    nbv::MethodChoice choice;
+    method.section("method", choice, "Which planner picks the views (canopy mission --method, --gain, --rays)");
+    return "# canopy's settings bundle: what every command's --config reads. Each section is either the\n"
+           "# component's keys inline or a component file relative to this one; a missing section keeps\n"
+           "# the defaults (which equal the files below). A run saves its bundle, every section inline, as\n"
+           "# settings.yaml; `--config that/settings.yaml` repeats the run.\n" +
+           written_by + method.text +
+           "mapping: mapping.yaml\n"
+           "nbv: nbv.yaml\n"
+           "motion: motion.yaml\n"
+           "mission: mission.yaml\n";
+  }
+  if (name == "nbv")
+    return params_yaml_doc(nbv::NbvParams{},
+                           "# Next-best-view settings (the bundle's nbv section): clustering, candidates, rays, gains,\n"
+                           "# the rules of taken views, then each view planner's own section (from its room,\n"
+                           "# nbv/planners/<name>/<name>_params.h, through its registry entry). Values are the paper's\n"
+                           "# (Table I) and docs/background/nbv_pipeline.md's.\n" +
+                               written_by);
+  throw InputError(where + ": '" + name + "' is not a generated settings file (known: " +
+                   params_detail::join(generated_settings_files()) + ")");
+}
 
 }  // namespace canopy::settings

@@ -10,6 +10,7 @@
 #include "canopy/common/value_text.h"
 #include "canopy/common/process.h"
 #include "canopy/mapping/map_io.h"
+#include "canopy/nbv/planners/ours/ours_params.h"
 #include "canopy/settings/settings.h"
 #include "canopy/mapping/scan_inserter.h"
 #include "canopy/evaluation/view_presets.h"
@@ -58,7 +59,7 @@ TEST(NbvCli, SavedMapGivesTheInProcessViews) {
   const RobotConfig robot = default_robot_config();
   const motion::RobotModel model = motion::RobotModel::load(robot);
   settings::Settings settings = settings::Settings::load(find_data_file(settings::default_settings_path()), robot);
-  settings.nbv.planner.top_k = 2;
+  settings.nbv.planner<nbv::OursParams>().top_k = 2;
   nbv::ViewPlannerSettings ps;
   ps.params = settings.nbv;
   const auto planner = nbv::make_view_planner(ps);

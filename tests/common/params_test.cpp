@@ -7,6 +7,7 @@
 #include <fstream>
 
 #include "canopy/common/params.h"
+#include "canopy/common/warning.h"
 
 using namespace canopy;
 
@@ -217,4 +218,62 @@ TEST(Params, SectionsMayBeComponentFiles) {
     EXPECT_NE(std::string(e.what()).find("bad_inner.yaml: key 'low_m': value '-3' must be > 0"), std::string::npos)
         << e.what();
   }
+}
+
+// The commented YAML of the settings files: every key once, with its help as a comment (a
+// choice's names too), and it reads back to the same struct.
+TEST(Params, YamlDocWritesEveryKeyWithItsHelpAndReadsBack) {
+  Outer o;
+  o.rate = 0.125;
+  o.inner.high_m = 0.75;
+  const std::string text = params_yaml_doc(o, "# header\n");
+  EXPECT_EQ(text.rfind("# header\nrate: 0.125", 0), 0u) << text;
+  EXPECT_NE(text.find("# A probability\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("mode: fast"), std::string::npos) << text;
+  EXPECT_NE(text.find("# An enum; one of: fast, slow\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("# A name from a list; one of: a, b\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("inner:"), std::string::npos) << text;
+  EXPECT_NE(text.find("\n  high_m: 0.75"), std::string::npos) << text;  // nested two spaces in
+  EXPECT_NE(text.find("heights_m: [0.4, 1]"), std::string::npos) << text;
+  EXPECT_NE(text.find("items: [{name: x, weight: 2}]"), std::string::npos) << text;
+  const Outer back = read(text);
+  EXPECT_TRUE(same_params(back, o));
+  EXPECT_EQ(back.inner.high_m, 0.75);
+}
+
+namespace {
+struct Renamed {
+  Inner current;
+  template <class A>
+  void visit(A& a) {
+    a.renamed("former", "current");
+    a.section("current", current, "A section that had another name");
+  }
+};
+}  // namespace
+
+// A section's former key is still read, as the current one, with one warning naming both; both
+// keys at once is an error; the former key is never written.
+TEST(Params, AFormerKeyIsReadWithAWarning) {
+  std::vector<std::string> warnings;
+  const auto previous = set_warning_handler([&](const std::string& w) { warnings.push_back(w); });
+  YamlReader y = YamlReader::load_string("former:\n  low_m: 0.2\n", "old.yaml");
+  const Renamed r = params_from_yaml<Renamed>(y);
+  EXPECT_NO_THROW(y.finish());
+  EXPECT_EQ(r.current.low_m, 0.2);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_EQ(warnings[0], "old.yaml: key 'former' is now 'current'; read as such (rename it: the old name will be refused)");
+  YamlReader now = YamlReader::load_string("current:\n  low_m: 0.3\n", "new.yaml");
+  EXPECT_EQ(params_from_yaml<Renamed>(now).current.low_m, 0.3);
+  EXPECT_EQ(warnings.size(), 1u);  // the current key warns of nothing
+  YamlReader both = YamlReader::load_string("former: {}\ncurrent: {}\n", "both.yaml");
+  try {
+    params_from_yaml<Renamed>(both);
+    ADD_FAILURE() << "both keys accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("give 'current' only"), std::string::npos) << e.what();
+  }
+  const std::string out = yaml_text(params_to_yaml(r));
+  EXPECT_EQ(out.find("former"), std::string::npos) << out;
+  set_warning_handler(previous);
 }

@@ -166,8 +166,8 @@ TEST(Frontier, TheGoalTestAtPlanningKeepsOnlyViewsThatWouldNotFailBeforeTheMove)
   auto planner = [](bool test) {
     ViewPlannerSettings s;
     s.method.name = "frontier";
-    s.params.frontier.roi_utility_threshold = -1e9;  // always the ROI views
-    s.params.frontier.goal_test_at_planning = test;
+    s.params.planner<FrontierParams>().roi_utility_threshold = -1e9;  // always the ROI views
+    s.params.planner<FrontierParams>().goal_test_at_planning = test;
     return make_view_planner(s);
   };
   const ViewBatch off = planner(false)->next(req);

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include "canopy/nbv/planners/planners.h"
 #include "canopy/nbv/planners/predefined/predefined.h"
 
 using namespace canopy;
@@ -84,7 +85,7 @@ TEST(Predefined, RefusesScriptedViewsWithoutAFreeGoalBeforeAnyMove) {
   // The authors' protocol: every scripted view is sent.
   ViewPlannerSettings s;
   s.method.name = "predefined";
-  s.params.predefined.goal_test_at_planning = false;
+  s.params.planner<PredefinedParams>().goal_test_at_planning = false;
   const auto off = make_view_planner(s);
   const ViewBatch all = off->next(req);
   EXPECT_EQ(all.views.size(), 4u);
@@ -132,9 +133,12 @@ TEST(Predefined, ReplacesAFailedViewByTheNearestReachableOneNotUsedBefore) {
   EXPECT_EQ(attempted, (std::vector<double>{0.3}));
 }
 
-// Other planners replace nothing.
+// Other planners replace nothing: every built-in one but predefined (the oracles are built by
+// a mission only).
 TEST(Predefined, OnlyPredefinedReplaces) {
-  for (const std::string name : {"ours", "frontier", "global", "reveal"}) {
+  for (const ViewPlannerEntry& e : builtin_view_planners()) {
+    if (e.name == "predefined" || e.reads_ground_truth) continue;
+    const std::string& name = e.name;
     ViewPlannerSettings s;
     s.method.name = name;
     const auto p = make_view_planner(s);

@@ -25,10 +25,10 @@ TEST(Reveal, ViewsRevealSurfaceBestFirstOneAtATime) {
   VoxelIndex index(map);
   ViewPlannerSettings s;
   s.method.name = "reveal";
-  s.params.reveal.max_views = 3;
+  s.params.planner<RevealParams>().max_views = 3;
   // The scene was scanned from two views only: let sight lines cross its unknown space (occupied
   // voxels still block them).
-  s.params.reveal.unknown_pass = 1000;
+  s.params.planner<RevealParams>().unknown_pass = 1000;
   const auto planner = make_view_planner(s);
   EXPECT_EQ(planner->name(), "reveal");
   ViewRequest req;

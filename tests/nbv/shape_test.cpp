@@ -55,7 +55,7 @@ std::vector<Scored> plan(const mapping::SemanticOcTree& map, ViewBatch* batch,
   VoxelIndex index(map);
   ViewPlannerSettings s;
   s.method.name = "shape";
-  s.params.shape.other_class = other_class;
+  s.params.planner<ShapeParams>().other_class = other_class;
   const auto planner = make_view_planner(s);
   EXPECT_EQ(planner->name(), "shape");
   ViewRequest req;
@@ -184,7 +184,7 @@ TEST(Shape, FallsBackToFrontierWhenNoPredictedSurfaceIsLeft) {
   const ViewBatch done = make_view_planner(s)->next(req);
   EXPECT_TRUE(done.finished);
   EXPECT_TRUE(done.views.empty());
-  s.params.shape.fallback = "frontier";
+  s.params.planner<ShapeParams>().fallback = "frontier";
   const ViewBatch fb = make_view_planner(s)->next(req);
   ASSERT_FALSE(fb.views.empty()) << fb.reason;
   for (const PlannedView& v : fb.views) EXPECT_TRUE(v.source == "roi" || v.source == "exploration") << v.source;

@@ -8,6 +8,12 @@
 #include <set>
 
 #include "canopy/common/error.h"
+#include "canopy/common/data_dir.h"
+#include "canopy/common/read_file.h"
+#include "canopy/common/warning.h"
+#include "canopy/nbv/planners/frontier/frontier_params.h"
+#include "canopy/nbv/planners/ours/ours_params.h"
+#include "canopy/nbv/planners/planners.h"
 #include "canopy/settings/settings.h"
 
 namespace canopy::settings {
@@ -27,7 +33,7 @@ TEST(Settings, SavedBundleLoadsBackToTheSameSettings) {
   Settings s = Settings::defaults(robot);
   s.mission.loop.views_per_stop = 7;
   s.mission.stops.positions_m = {0.1, 0.7};
-  s.nbv.frontier.max_targets = 42;
+  s.nbv.planner<nbv::FrontierParams>().max_targets = 42;
   s.motion.planner.max_iterations = 1234;
   s.mapping.extractor.p_gt = 0.55;
   const std::string text = s.to_yaml_text();
@@ -95,8 +101,10 @@ TEST(Settings, SetNamesAnySettingByItsKeyPath) {
             "key paths such as mission.loop.views_per_stop)");
   EXPECT_EQ(error("mission.loop.views_per_stop", "-2"),
             "--set mission.loop.views_per_stop=-2: key 'mission.loop.views_per_stop': value '-2' must be in [0, 10000]");
+  std::string names;
+  for (const nbv::ViewPlannerEntry& e : nbv::builtin_view_planners()) names += (names.empty() ? "" : ", ") + e.name;
   EXPECT_EQ(error("method.name", "magic"),
-            "--set method.name=magic: key 'method.name': value 'magic' must be one of: ours, frontier, predefined, global, reveal, shape, oracle, oracle_any");
+            "--set method.name=magic: key 'method.name': value 'magic' must be one of: " + names);
   EXPECT_NE(error("nbv", "3").find("must be a mapping"), std::string::npos);
   EXPECT_NE(error("nbv.gain.proximity", "[unclosed").find("is not valid YAML"), std::string::npos);
   EXPECT_EQ(parse_override("a.b=c d", "--set"), (SettingOverride{"a.b", "c d"}));
@@ -126,6 +134,41 @@ TEST(Settings, DescribeCoversEveryKeyOnce) {
     }
   }
   EXPECT_EQ(t.to_yaml_text(), s.to_yaml_text());
+}
+
+// configs/canopy.yaml and configs/nbv.yaml are what the structs write (YamlDoc): regenerate them
+// with `canopy settings --file NAME > configs/NAME.yaml`.
+TEST(Settings, ShippedFilesAreWhatTheStructsWrite) {
+  for (const std::string& name : generated_settings_files()) {
+    SCOPED_TRACE(name);
+    EXPECT_EQ(read_file(find_data_file("configs/" + name + ".yaml")), settings_file_text(name, "test"))
+        << "configs/" << name << ".yaml is out of date: canopy settings --file " << name << " > configs/" << name
+        << ".yaml";
+  }
+  EXPECT_THROW(settings_file_text("mapping", "--file"), InputError);
+  // Every view planner's name is in the bundle's comment (the registry's names, not a list by hand).
+  const std::string bundle = settings_file_text("canopy", "test");
+  for (const nbv::ViewPlannerEntry& e : nbv::builtin_view_planners())
+    EXPECT_NE(bundle.find(e.name), std::string::npos) << e.name;
+}
+
+// ours' section is nbv.ours; --set and experiment files naming nbv.planner still work, with a
+// warning, and a saved bundle says nbv.ours.
+TEST(Settings, OursFormerSectionIsSetWithAWarning) {
+  std::vector<std::string> warnings;
+  const auto previous = set_warning_handler([&](const std::string& w) { warnings.push_back(w); });
+  Settings s = Settings::defaults(default_robot_config());
+  s.set("nbv.planner.top_k", "3", "--set");
+  EXPECT_EQ(s.nbv.planner<nbv::OursParams>().top_k, 3);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_EQ(warnings[0], "--set: key 'nbv.planner' is now 'nbv.ours'; read as such (rename it: the old name will be refused)");
+  const std::string text = s.to_yaml_text();
+  EXPECT_NE(text.find("  ours:\n    top_k: 3\n"), std::string::npos) << text;
+  EXPECT_EQ(text.find("  planner:\n    top_k"), std::string::npos) << text;
+  const Settings old = Settings::load_string("nbv:\n  planner:\n    top_k: 2\n", "old.yaml", ".", default_robot_config());
+  EXPECT_EQ(old.nbv.planner<nbv::OursParams>().top_k, 2);
+  EXPECT_EQ(warnings.size(), 2u);
+  set_warning_handler(previous);
 }
 
 }  // namespace

@@ -6,7 +6,8 @@
 //  - writing YAML (YamlOut: every key, in the order visited, floats as the doubles they are)
 //    and JSON (JsonOut: numbers as the C++ types they are, for result records),
 //  - validating a struct built in code (validate_params),
-//  - equality (same_params) and the reference of every setting (describe_params).
+//  - equality (same_params), the reference of every setting (describe_params) and the
+//    commented settings files of configs/ (YamlDoc, params_yaml_doc).
 //
 // A struct's visit names each field with its limits and a line of help:
 //
@@ -18,6 +19,7 @@
 //     a.section("cluster", cluster, "Fruit clustering");
 //     a.tuple("height_m", {&min_m, &max_m}, "[min, max]", limits::positive(), "Plant height [m]");
 //     a.check(max_m >= min_m, "max_m", "must be >= min_m");   // across fields, after both
+//     a.renamed("planner", "ours");   // a section's former key, still read (a warning names it)
 //   }
 
 #include <nlohmann/json.hpp>
@@ -264,6 +266,9 @@ class YamlIn {
     }
     items = std::move(out);
   }
+  /// `old_key` is the former name of `key`: when given (and `key` is not), it is read as `key`
+  /// with a one-line deprecation warning.
+  void renamed(const char* old_key, const char* key);
   void check(bool ok, const char* key, const std::string& problem) {
     if (ok) return;
     if (y_.has(key)) y_.fail(key, problem);
@@ -361,6 +366,7 @@ class OutArchive {
     }
     node[key] = seq;
   }
+  void renamed(const char*, const char*) {}
   void check(bool, const char*, const std::string&) {}
 };
 
@@ -419,6 +425,7 @@ class Validate {
       const_cast<S&>(items[i]).visit(v);
     }
   }
+  void renamed(const char*, const char*) {}
   void check(bool ok, const char* key, const std::string& problem) {
     if (!ok) fail(key, "", problem);
   }
@@ -487,6 +494,7 @@ class Describe {
     e << YAML::Flow << o.node[key];
     add(key, e.c_str(), "a list", help);
   }
+  void renamed(const char*, const char*) {}
   void check(bool, const char*, const std::string&) {}
 
  private:
@@ -496,6 +504,64 @@ class Describe {
   }
   std::vector<ParamDescription>* out_;
   std::string path_;
+};
+
+// --- Commented YAML: the settings files ------------------------------------------------------
+
+/// Writes a struct as YAML text with each key's help as a comment (a section's beside its
+/// key): the settings files of configs/ are this archive's output, and a test holds them to it.
+class YamlDoc {
+ public:
+  explicit YamlDoc(int indent = 0) : indent_(indent) {}
+  std::string text;
+
+  template <typename T>
+  void operator()(const char* key, const T& value, const char* help) {
+    YamlOut o;
+    o(key, value, help);
+    line(key, flow(o.node[key]), help);
+  }
+  template <typename T>
+  void operator()(const char* key, const T& value, const Limits& lim, const char* help) {
+    YamlOut o;
+    o(key, value, lim, help);
+    line(key, flow(o.node[key]), help);
+  }
+  template <typename T>
+  void tuple(const char* key, std::initializer_list<T*> parts, const char* shape, const Limits& each, const char* help) {
+    YamlOut o;
+    o.tuple(key, parts, shape, each, help);
+    line(key, flow(o.node[key]), help);
+  }
+  void required(const char* key, const std::string& value, const char* help) { (*this)(key, value, help); }
+  template <typename E, std::size_t N>
+  void choice(const char* key, const E& value, const EnumName<E> (&names)[N], const char* help) {
+    line(key, enum_name(names, value), std::string(help) + "; one of: " + enum_name_list(names));
+  }
+  void one_of(const char* key, const std::string& value, const std::vector<std::string>& names, const char* help) {
+    line(key, flow(YAML::Node(value)), std::string(help) + "; one of: " + params_detail::join(names));
+  }
+  template <typename S>
+  void section(const char* key, const S& s, const char* help = "") {
+    line(key, "", help);
+    YamlDoc d(indent_ + 2);
+    const_cast<S&>(s).visit(d);
+    text += d.text;
+  }
+  template <typename S>
+  void list(const char* key, const std::vector<S>& items, const char* help) {
+    YamlOut o;
+    o.list(key, items, help);
+    line(key, flow(o.node[key]), help);
+  }
+  void renamed(const char*, const char*) {}
+  void check(bool, const char*, const std::string&) {}
+
+ private:
+  static std::string flow(const YAML::Node& node);
+  /// "<indent>key: value" and, from column 32 (or two spaces after), "# help".
+  void line(const char* key, const std::string& value, const std::string& help);
+  int indent_;
 };
 
 // --- Entry points --------------------------------------------------------------------------
@@ -549,6 +615,16 @@ void validate_params(const P& p, const std::string& where) {
   Validate v(where);
   const_cast<P&>(p).visit(v);
 }
+/// `p` as commented YAML (YamlDoc): the text of a settings file, after `header` (comment lines).
+template <typename P>
+std::string params_yaml_doc(const P& p, const std::string& header = "") {
+  YamlDoc d;
+  const_cast<P&>(p).visit(d);
+  return header + d.text;
+}
+/// The one-line warning for a key read under its former name (YamlIn::renamed, a --set of the
+/// old key path): "<where>: key '<old_path>' is now '<new_path>'; read as such (rename it)".
+void warn_renamed_key(const std::string& where, const std::string& old_path, const std::string& new_path);
 /// True when every key has the same value.
 template <typename P>
 bool same_params(const P& a, const P& b) {

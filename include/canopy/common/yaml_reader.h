@@ -49,6 +49,9 @@ class YamlReader {
   YamlReader child(const std::string& key);
   /// Throws InputError naming the first key that no get/require/child call read.
   void finish() const;
+  /// Moves the value of `old_key` to `new_key` (a key read under its former name); false when
+  /// `old_key` is absent.
+  bool rename(const std::string& old_key, const std::string& new_key);
 
   /// Throws InputError "<file>: key '<path.key>': value '<value>' <problem>".
   [[noreturn]] void fail(const std::string& key, const std::string& problem) const;

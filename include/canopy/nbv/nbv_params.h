@@ -1,23 +1,20 @@
 #pragma once
 // Parameters of the next-best-view core (paper Methods (iii), Table I; docs/background/nbv_pipeline.md)
-// and the nbv section of the settings bundle, which holds every planner's own parameters (from
-// its room, planners/<name>/<name>_params.h). Defaults equal the paper's values; configs/nbv.yaml
-// restates them.
+// and the nbv section of the settings bundle. Each built-in planner's own parameters live in its
+// room (planners/<name>/<name>_params.h) and join the section nbv.<name> through its registry
+// entry (ViewPlannerEntry::params): this file names no planner. Defaults equal the paper's
+// values; configs/nbv.yaml is what YamlDoc writes of them (a test holds it so).
 
 #include <yaml-cpp/yaml.h>
 
 #include <string>
+#include <typeinfo>
 #include <vector>
 
+#include "canopy/common/any_params.h"
+#include "canopy/common/error.h"
 #include "canopy/common/params.h"
 #include "canopy/common/view_sphere.h"
-// Each planner's own parameters live in its room; the bundle composes them here.
-#include "canopy/nbv/planners/frontier/frontier_params.h"
-#include "canopy/nbv/planners/global/global_params.h"
-#include "canopy/nbv/planners/ours/ours_params.h"
-#include "canopy/nbv/planners/predefined/predefined_params.h"
-#include "canopy/nbv/planners/reveal/reveal_params.h"
-#include "canopy/nbv/planners/shape/shape_params.h"
 
 namespace canopy::nbv {
 
@@ -115,19 +112,46 @@ struct ViewRules {
   }
 };
 
+/// A planner's own parameter section, nbv.<key>, carried by its registry entry
+/// (ViewPlannerEntry::params).
+struct PlannerSection {
+  std::string key;         ///< Its key under nbv: the planner's registry name.
+  std::string help;        ///< One line for the reference of every setting.
+  AnyParams params;        ///< Its parameter struct, holding the defaults.
+  std::string former_key;  ///< A key it had before, still read with a warning ("": none).
+};
+
+/// A registry entry's section: the struct P with P's defaults (the key is the entry's name).
+template <class P>
+PlannerSection planner_section(const std::string& help, const std::string& former_key = "") {
+  return {"", help, AnyParams(P{}), former_key};
+}
+
+/// Every built-in planner's section, from builtin_view_planners() (planners/planners.h), in
+/// the registry's order, with their defaults.
+const std::vector<PlannerSection>& builtin_planner_sections();
+
 /// All next-best-view settings (configs/nbv.yaml sections).
 struct NbvParams {
   ClusterParams cluster;
   CandidateParams candidates;
   RayParams rays;
   GainParams gain;
-  PlannerParams planner;
   ViewRules views;
-  FrontierParams frontier;
-  PredefinedParams predefined;
-  GlobalParams global;
-  RevealParams reveal;
-  ShapeParams shape;
+  /// The built-in planners' own sections (nbv.ours, nbv.frontier, ...), in the registry's order.
+  std::vector<PlannerSection> planners = builtin_planner_sections();
+
+  /// A planner's own parameters, by their type (ours: OursParams, frontier: FrontierParams, ...).
+  template <class P>
+  P& planner() {
+    for (PlannerSection& s : planners)
+      if (P* p = s.params.get<P>()) return *p;
+    throw InternalError(std::string("nbv settings: no planner section holds ") + typeid(P).name());
+  }
+  template <class P>
+  const P& planner() const {
+    return const_cast<NbvParams*>(this)->planner<P>();
+  }
 
   template <class A>
   void visit(A& a) {
@@ -135,13 +159,11 @@ struct NbvParams {
     a.section("candidates", candidates, "Candidate views on a sphere around each cluster");
     a.section("rays", rays, "Ray sets cast from a candidate view");
     a.section("gain", gain, "Information gains");
-    a.section("planner", planner, "The cluster planner");
     a.section("views", views, "Taken views and done clusters");
-    a.section("frontier", frontier, "The frontier baseline");
-    a.section("predefined", predefined, "Dense predefined scanning");
-    a.section("global", global, "The global view planner (set cover of the stop's candidates)");
-    a.section("reveal", reveal, "canopy's own planner (method reveal)");
-    a.section("shape", shape, "The shape-completion planner (method shape)");
+    for (PlannerSection& s : planners) {
+      if (!s.former_key.empty()) a.renamed(s.former_key.c_str(), s.key.c_str());
+      a.section(s.key.c_str(), s.params, s.help.c_str());
+    }
   }
   bool operator==(const NbvParams& o) const { return same_params(*this, o); }
 };

@@ -2,9 +2,9 @@
 // One interface for the methods that choose the robot's next views, chosen by name from one
 // registry (view_planner_registry), and the bookkeeping they share. Each built-in planner has
 // its room, nbv/planners/<name>/ (algorithm, parameters, registry entry), listed in one table
-// (planners/planners.h): ours, frontier, predefined, global and canopy's own reveal. Planners
-// from outside this library join through register_view_planner: the oracles of mission/oracle/
-// (they read the ground truth) and a planner written in Python.
+// (planners/planners.h): ours, frontier, predefined, global, canopy's own reveal and shape, and
+// the two oracles (declared there, built by a context that holds the ground truth). A planner
+// from outside this library joins through register_view_planner (one written in Python).
 // Planners see only the map, the robot's state and its budget (MuJoCo-free, so the same
 // planner could drive a real robot); reachability comes in as callbacks.
 
@@ -158,6 +158,12 @@ struct ViewOutcome {
   bool start_repaired = false;    ///< The arm's start was in collision and was repaired first.
 };
 
+/// The failed-view rule: true when `outcome` puts its view among a planner's failed_views(): it
+/// failed for a cause of its own (no IK, goal in collision, no path, not reached), not for a
+/// start in collision or an unstable simulation, which say nothing about the view. The Python
+/// planner's request.failed_views applies the same rule.
+bool joins_failed_views(const ViewOutcome& outcome);
+
 /// A method that picks views. Stateful (taken views, done clusters), one per mission.
 class ViewPlanner {
  public:
@@ -239,6 +245,9 @@ struct ViewPlannerEntry {
   std::string description;  ///< One line.
   std::function<std::unique_ptr<ViewPlanner>(const ViewPlannerSettings&)> make;
   bool reads_ground_truth = false;  ///< An oracle: reported as such wherever its results go.
+  /// Its own parameters, the section nbv.<name> of the settings (planner_section<P>(help)):
+  /// read for the built-in planners (builtin_planner_sections); empty: none.
+  PlannerSection params = {};
 };
 
 /// A PlannedView of a scored candidate (what the filter moved, the IK it found).

@@ -94,4 +94,12 @@ std::vector<SettingOverride> parse_overrides(const std::vector<std::string>& tex
 /// resolves it).
 std::string default_settings_path();
 
+/// The shipped settings files written from the struct defaults (YamlDoc: each key with its
+/// help): "canopy" (configs/canopy.yaml: the method inline, the other sections by file) and
+/// "nbv" (configs/nbv.yaml). A test holds configs/ to them; `canopy settings --file NAME`
+/// prints them.
+std::vector<std::string> generated_settings_files();
+/// The text of one of them; throws InputError naming `where` for another name.
+std::string settings_file_text(const std::string& name, const std::string& where);
+
 }  // namespace canopy::settings

@@ -35,6 +35,16 @@ struct SimState {
   std::vector<double> qpos, qvel, act, ctrl, qacc_warmstart, qfrc_bias;
 };
 
+/// The robot's links the scene keeps a frame of (every URDF link with a frame site), in the
+/// URDF's order, each with its nearest ancestor that has one ("world" is the root), and their
+/// world poses: the robot's state as a mission hands it to Python (on_view, on_state).
+struct RobotLinks {
+  std::vector<std::string> links;
+  std::vector<std::string> parents;  ///< parents[i]: links[i]'s, "world" or an earlier link.
+  std::vector<bool> fixed;           ///< The edge to the parent passes through fixed joints only (/tf_static).
+  std::vector<Pose> poses;           ///< T_world_link of each link (its frame site).
+};
+
 /// Owns the MuJoCo models and data of a scene. With the robot in a generated world there are
 /// two models: the stepped one holds the robot and the ground only (the plants never collide,
 /// and in MuJoCo 2.2.2 they would cost ~90 % of every step), the rendered one holds everything
@@ -93,6 +103,8 @@ class Simulator {
   Pose frame_pose(const std::string& link) const;
   /// Contacts of robot collision geoms in the current state.
   std::vector<RobotContact> robot_contacts() const;
+  /// The robot's link tree and its links' world poses now (empty without a robot).
+  RobotLinks robot_links() const;
 
  private:
   void load(const std::string& mjcf);
@@ -103,6 +115,7 @@ class Simulator {
   SceneDescription scene_;
   RobotConfig robot_config_;
   BasePose start_;
+  RobotLinks link_tree_;  // robot_links() without the poses, found once
   struct ModelDeleter {
     void operator()(mjModel* m) const { mj_deleteModel(m); }
   };

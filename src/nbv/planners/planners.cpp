@@ -1,4 +1,5 @@
-// The table of built-in view planners (planners/planners.h).
+// The table of built-in view planners (planners/planners.h), and the parameter sections their
+// entries carry (nbv_params.h: builtin_planner_sections).
 
 #include "canopy/nbv/planners/planners.h"
 
@@ -44,6 +45,19 @@ std::vector<ViewPlannerEntry> builtin_view_planners() {
           oracle_entry("oracle_any",
                        "a dense set of reachable views around every fruit of the stop, scored by the uncovered true "
                        "fruit points they see")};
+}
+
+const std::vector<PlannerSection>& builtin_planner_sections() {
+  static const std::vector<PlannerSection> sections = [] {
+    std::vector<PlannerSection> out;
+    for (ViewPlannerEntry& e : builtin_view_planners()) {
+      if (e.params.params.empty()) continue;
+      e.params.key = e.name;
+      out.push_back(std::move(e.params));
+    }
+    return out;
+  }();
+  return sections;
 }
 
 }  // namespace canopy::nbv

@@ -128,7 +128,7 @@ namespace {
 // Zaenker et al.'s ROI viewpoint planner as its current code does it (docs/background/frontier_baseline.md).
 class FrontierPlanner : public ViewPlanner {
  public:
-  explicit FrontierPlanner(const ViewPlannerSettings& s) : ViewPlanner(s.params.views), params_(s.params.frontier) {}
+  explicit FrontierPlanner(const ViewPlannerSettings& s) : ViewPlanner(s.params.views), params_(s.params.planner<FrontierParams>()) {}
   std::string name() const override { return "frontier"; }
 
   ViewBatch next(const ViewRequest& req) override {
@@ -235,7 +235,8 @@ std::unique_ptr<ViewPlanner> make_planner(const ViewPlannerSettings& s) {
 ViewPlannerEntry entry() {
   return {"frontier",
           "Zaenker et al.'s ROI / exploration frontier planner (as implemented, docs/background/frontier_baseline.md)",
-          make_planner};
+          make_planner, false,
+          planner_section<FrontierParams>("The frontier baseline (method frontier)")};
 }
 
 }  // namespace frontier

@@ -66,7 +66,7 @@ class GlobalPlanner : public ViewPlanner {
   ViewBatch next(const ViewRequest& req) override {
     CANOPY_CHECK(req.map && req.index, "view request without a map");
     const NbvParams& P = settings_.params;
-    const GlobalParams& G = P.global;
+    const GlobalParams& G = P.planner<GlobalParams>();
     ViewBatch batch;
     batch.order = BatchOrder::kTour;
     std::vector<Cluster> clusters;
@@ -184,7 +184,8 @@ ViewPlannerEntry entry() {
   return {"global",
           "global view planning: weighted set cover of the uncertain voxels near the clusters by the "
           "stop's reachable candidates, costed by arm motion, then a tour",
-          make_planner};
+          make_planner, false,
+          planner_section<GlobalParams>("The global view planner: set cover of the stop's candidates (method global)")};
 }
 
 }  // namespace canopy::nbv::global

@@ -43,6 +43,7 @@ Plan ClusterPlanner::plan(const VoxelIndex& index, const std::vector<Cluster>& c
     return plan;
   }
   ViewEvaluator eval(index, intrinsics_, params_.rays);
+  const int top_k = params_.planner<OursParams>().top_k;
   std::size_t filtered = 0;
   for (std::size_t c = 0; c < clusters.size(); ++c) {
     ClusterResult cr;
@@ -66,7 +67,7 @@ Plan ClusterPlanner::plan(const VoxelIndex& index, const std::vector<Cluster>& c
     cr.done = !(cr.best_gain > 0.0);
     if (!cr.done)
       for (const ScoredView& sv : scored) {
-        if (int(cr.top.size()) >= params_.planner.top_k || !(sv.score.gain > 0.0)) break;
+        if (int(cr.top.size()) >= top_k || !(sv.score.gain > 0.0)) break;
         cr.top.push_back(sv);
       }
     plan.views.insert(plan.views.end(), cr.top.begin(), cr.top.end());

@@ -86,7 +86,8 @@ std::unique_ptr<ViewPlanner> make_planner(const ViewPlannerSettings& settings) {
 
 ViewPlannerEntry entry() {
   return {"ours", "cluster-centric NBV: fruit clusters, candidates on a sphere, workspace filter, gain, top-k, tour",
-          make_planner};
+          make_planner, false,
+          planner_section<OursParams>("The paper's cluster planner (method ours)", "planner")};
 }
 
 }  // namespace canopy::nbv::ours

@@ -12,7 +12,7 @@ namespace {
 class PredefinedPlanner : public ViewPlanner {
  public:
   explicit PredefinedPlanner(const ViewPlannerSettings& s)
-      : ViewPlanner(s.params.views), params_(s.params.predefined) {}
+      : ViewPlanner(s.params.views), params_(s.params.planner<PredefinedParams>()) {}
   std::string name() const override { return "predefined"; }
   PlannerTraits traits() const override {
     PlannerTraits t;
@@ -94,7 +94,8 @@ std::unique_ptr<ViewPlanner> make_planner(const ViewPlannerSettings& settings) {
 ViewPlannerEntry entry() {
   return {"predefined",
           "dense predefined scanning: the scripted views of every stop, no planning",
-          make_planner};
+          make_planner, false,
+          planner_section<PredefinedParams>("Dense predefined scanning (method predefined)")};
 }
 
 }  // namespace canopy::nbv::predefined

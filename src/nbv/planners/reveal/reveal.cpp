@@ -18,7 +18,7 @@ namespace {
 class RevealPlanner : public ViewPlanner {
  public:
   explicit RevealPlanner(const ViewPlannerSettings& s)
-      : ViewPlanner(s.params.views), settings_(s), params_(s.params.reveal), failed_(s.params.views) {}
+      : ViewPlanner(s.params.views), settings_(s), params_(s.params.planner<RevealParams>()), failed_(s.params.views) {}
 
   std::string name() const override { return "reveal"; }
 
@@ -156,7 +156,8 @@ ViewPlannerEntry entry() {
   return {"reveal",
           "canopy's own: ours' clusters and reach test, one view at a time on the latest map, the gain "
           "that ranks views closest to the truth, a relative done rule (docs/experiments/)",
-          make_planner};
+          make_planner, false,
+          planner_section<RevealParams>("canopy's own planner (method reveal)")};
 }
 
 }  // namespace canopy::nbv::reveal

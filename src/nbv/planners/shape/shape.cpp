@@ -17,7 +17,7 @@ namespace {
 class ShapePlanner : public ViewPlanner {
  public:
   explicit ShapePlanner(const ViewPlannerSettings& s)
-      : ViewPlanner(s.params.views), settings_(s), params_(s.params.shape), failed_(s.params.views),
+      : ViewPlanner(s.params.views), settings_(s), params_(s.params.planner<ShapeParams>()), failed_(s.params.views),
         uvc_(params_.uvc_weight > 0.0 ? make_gain("uvc", s.params.gain) : nullptr),
         fallback_(params_.fallback == "frontier" ? frontier::make_planner(s) : nullptr) {}
 
@@ -195,7 +195,8 @@ ViewPlannerEntry entry() {
   return {"shape",
           "shape completion: every fruit cluster fitted with a spheroid, one view at a time scored by the "
           "predicted fruit surface it would newly see (docs/shape.md)",
-          make_planner};
+          make_planner, false,
+          planner_section<ShapeParams>("The shape-completion planner (method shape)")};
 }
 
 }  // namespace canopy::nbv::shape

@@ -12,6 +12,7 @@
 #include <memory>
 #include <vector>
 
+#include "canopy/nbv/planners/frontier/frontier_params.h"
 #include "canopy/nbv/view_planner.h"
 
 namespace canopy::nbv {

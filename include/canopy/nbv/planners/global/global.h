@@ -20,6 +20,7 @@
 #include <memory>
 #include <vector>
 
+#include "canopy/nbv/planners/global/global_params.h"
 #include "canopy/nbv/view_planner.h"
 
 namespace canopy::nbv::global {

@@ -16,6 +16,7 @@
 #include "canopy/nbv/candidates.h"
 #include "canopy/nbv/clusters.h"
 #include "canopy/nbv/nbv_params.h"
+#include "canopy/nbv/planners/ours/ours_params.h"
 #include "canopy/nbv/view_evaluator.h"
 
 namespace canopy::nbv {

@@ -15,6 +15,7 @@
 
 #include "canopy/nbv/clusters.h"
 #include "canopy/nbv/planners/ours/cluster_planner.h"
+#include "canopy/nbv/planners/ours/ours_params.h"
 #include "canopy/nbv/view_planner.h"
 
 namespace canopy::nbv::ours {

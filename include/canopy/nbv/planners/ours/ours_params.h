@@ -1,13 +1,14 @@
 #pragma once
-// ours' own parameters (the nbv.planner section of configs/nbv.yaml); ours also reads the
-// shared sections cluster, candidates, rays, gain and views.
+// ours' own parameters (the nbv.ours section of configs/nbv.yaml; nbv.planner before, still
+// read with a warning); ours also reads the shared sections cluster, candidates, rays, gain and
+// views.
 
 #include "canopy/common/params.h"
 
 namespace canopy::nbv {
 
-/// Cluster planner.
-struct PlannerParams {
+/// The cluster planner's own parameters.
+struct OursParams {
   int top_k = 1;
 
   template <class A>

@@ -9,6 +9,7 @@
 
 #include <memory>
 
+#include "canopy/nbv/planners/predefined/predefined_params.h"
 #include "canopy/nbv/view_planner.h"
 
 namespace canopy::nbv::predefined {

@@ -16,6 +16,7 @@
 
 #include <memory>
 
+#include "canopy/nbv/planners/reveal/reveal_params.h"
 #include "canopy/nbv/view_planner.h"
 
 namespace canopy::nbv::reveal {

@@ -17,6 +17,7 @@
 
 #include <memory>
 
+#include "canopy/nbv/planners/shape/shape_params.h"
 #include "canopy/nbv/view_planner.h"
 
 namespace canopy::nbv::shape {
