@@ -41,13 +41,10 @@ constexpr const char* kLatchedQos =
 constexpr double kFrustumDepthM = 0.1;
 constexpr double kFrustumLineM = 0.003, kNewestFrustumLineM = 0.008;
 
+// A view's frustum colour: the library's, as the report and the bags draw it.
 msg::ColorRGBA phase_colour(records::ViewPhase phase) {
-  switch (phase) {
-    case records::ViewPhase::kInitial: return {0.2f, 0.5f, 1.0f, 1.0f};
-    case records::ViewPhase::kNbv: return {1.0f, 0.55f, 0.0f, 1.0f};
-    case records::ViewPhase::kPredefined: return {0.6f, 0.6f, 0.6f, 1.0f};
-  }
-  return {1.0f, 1.0f, 1.0f, 1.0f};
+  const Rgb8 c = records::view_colour(phase, true);
+  return {c.r / 255.0f, c.g / 255.0f, c.b / 255.0f, 1.0f};
 }
 
 // A target fruit's colour by its coverage: red (unseen) through yellow to green (covered).
