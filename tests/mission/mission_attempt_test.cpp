@@ -14,12 +14,12 @@ namespace {
 using namespace canopy::records;
 
 TEST(MissionAttempt, EveryPlanStatusMapsToItsFailureCause) {
-  EXPECT_STREQ(failure_of_plan(motion::PlanStatus::kSuccess), "");
-  EXPECT_STREQ(failure_of_plan(motion::PlanStatus::kNoIk), failure::kNoIk);
-  EXPECT_STREQ(failure_of_plan(motion::PlanStatus::kStartInCollision), failure::kStartInCollision);
-  EXPECT_STREQ(failure_of_plan(motion::PlanStatus::kGoalInCollision), failure::kGoalInCollision);
-  EXPECT_STREQ(failure_of_plan(motion::PlanStatus::kTimeout), failure::kPlanTimeout);
-  EXPECT_STREQ(failure_of_plan(motion::PlanStatus::kInvalidInput), failure::kInvalid);
+  EXPECT_EQ(failure_of_plan(motion::PlanStatus::kSuccess), FailureCause::kNone);
+  EXPECT_EQ(failure_of_plan(motion::PlanStatus::kNoIk), FailureCause::kNoIk);
+  EXPECT_EQ(failure_of_plan(motion::PlanStatus::kStartInCollision), FailureCause::kStartInCollision);
+  EXPECT_EQ(failure_of_plan(motion::PlanStatus::kGoalInCollision), FailureCause::kGoalInCollision);
+  EXPECT_EQ(failure_of_plan(motion::PlanStatus::kTimeout), FailureCause::kPlanTimeout);
+  EXPECT_EQ(failure_of_plan(motion::PlanStatus::kInvalidInput), FailureCause::kInvalidInput);
 }
 
 TEST(MissionAttempt, RecordsEachAttemptWithItsCause) {
@@ -39,7 +39,7 @@ TEST(MissionAttempt, RecordsEachAttemptWithItsCause) {
   far.source = "nbv";
   const ViewRecord a = mission.attempt(far, ViewPhase::kNbv);
   EXPECT_FALSE(a.success);
-  EXPECT_EQ(a.failure, failure::kNoIk);
+  EXPECT_EQ(a.failure, FailureCause::kNoIk);
   EXPECT_EQ(a.message, "no IK solution within the joint limits");
   EXPECT_EQ(a.attempt, 0);
   EXPECT_EQ(a.phase, ViewPhase::kNbv);
@@ -49,7 +49,7 @@ TEST(MissionAttempt, RecordsEachAttemptWithItsCause) {
   EXPECT_TRUE(a.T_goal.isApprox(far.T_world_camera));
   EXPECT_EQ(a.successful_views, 0);
   EXPECT_EQ(a.move_time_s, 0.0);
-  EXPECT_EQ(mission.result().failures.at(failure::kNoIk), 1);
+  EXPECT_EQ(mission.result().failures.at(to_string(FailureCause::kNoIk)), 1);
   const ArmConfig q1 = mission.simulator().arm_positions();
   for (int i = 0; i < kArmDof; ++i) EXPECT_EQ(q1[i], q0[i]);  // nothing moved
 
@@ -57,8 +57,8 @@ TEST(MissionAttempt, RecordsEachAttemptWithItsCause) {
   nbv::PlannedView scan;
   scan.T_world_camera = mission.scan_views(0, false).front();
   const ViewRecord b = mission.attempt(scan, ViewPhase::kInitial);
-  ASSERT_TRUE(b.success) << b.failure << ": " << b.message;
-  EXPECT_TRUE(b.failure.empty());
+  ASSERT_TRUE(b.success) << to_string(b.failure) << ": " << b.message;
+  EXPECT_EQ(b.failure, FailureCause::kNone);
   EXPECT_EQ(b.attempt, 1);
   EXPECT_EQ(b.source, "initial");  // the initial scan's views say so
   EXPECT_EQ(b.successful_views, 1);

@@ -30,7 +30,7 @@ MissionResult three_attempts() {
   ViewRecord b;
   b.attempt = 1;
   b.success = false;
-  b.failure = failure::kNoIk;
+  b.failure = FailureCause::kNoIk;
   b.coverage = 0.25;
   b.entropy = 12.5;
   b.sim_time_s = 12.0;
