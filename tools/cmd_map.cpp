@@ -13,6 +13,7 @@
 #include "canopy/common/value_text.h"
 #include "canopy/datasets/frame_sequence.h"
 #include "canopy/jobs/map_job.h"
+#include "canopy/jobs/mcap_frames.h"
 #include "canopy/jobs/recorded_map_job.h"
 #include "canopy/mapping/frame_mapping.h"
 #include "cli_util.h"
@@ -33,7 +34,26 @@ struct MapOptions {
   std::string export_dir;
   bool no_report = false;
   double max_dt_s = datasets::FrameReaderOptions{}.max_time_diff_s;
+  std::string mcap;                // a ROS 2 recording instead of a world
+  jobs::McapFrameOptions mcap_options;
 };
+
+// Maps a recorded sequence into --out with a line per frame (jobs::map_recorded).
+void map_sequence(const jobs::RecordedSequence& seq, const MapOptions& opt, const settings::Settings& bundle) {
+  jobs::RecordedMapParams job;
+  job.settings = bundle;
+  job.out = opt.out;
+  job.on_frame = [](const mapping::FrameMapStep& s) {
+    if (s.mapped)
+      std::fprintf(stderr, "frame %s: %zu points, insert %.1f ms\n", s.name.c_str(), s.extract.points, s.insert.ms_total);
+    else
+      std::fprintf(stderr, "frame %s: skipped (%s)\n", s.name.c_str(), s.skip_reason.c_str());
+  };
+  job.stop_requested = [] { return interrupt_requested(); };
+  const jobs::RecordedMapResult r = jobs::map_recorded(seq, job);
+  std::printf("mapped %zu frames (%zu skipped): %zu occupied voxels; wrote %s\n", r.mapped, r.skipped,
+              r.occupied_voxels, opt.out.c_str());
+}
 
 // canopy map --frames: no world, no ground truth; the map and what each frame gave
 // (jobs::map_recorded, canopy/jobs/recorded_map_job.h).
@@ -64,19 +84,38 @@ void map_recorded(const MapOptions& opt, const settings::Settings& bundle) {
                opt.pgt < 0.0 ? "no simulated mask noise (p_gt 1; --pgt adds it)"
                              : "simulated mask noise, p_gt " + format_number(bundle.mapping.extractor.p_gt, "%g"));
   for (const std::string& note : frames.notes()) spdlog::warn("{}: {}", opt.frames, note);
-  jobs::RecordedMapParams job;
-  job.settings = bundle;
-  job.out = opt.out;
-  job.on_frame = [](const mapping::FrameMapStep& s) {
-    if (s.mapped)
-      std::fprintf(stderr, "frame %s: %zu points, insert %.1f ms\n", s.name.c_str(), s.extract.points, s.insert.ms_total);
-    else
-      std::fprintf(stderr, "frame %s: skipped (%s)\n", s.name.c_str(), s.skip_reason.c_str());
-  };
-  job.stop_requested = [] { return interrupt_requested(); };
-  const jobs::RecordedMapResult r = jobs::map_recorded(seq, job);
-  std::printf("mapped %zu frames (%zu skipped): %zu occupied voxels; wrote %s\n", r.mapped, r.skipped,
-              r.occupied_voxels, opt.out.c_str());
+  map_sequence(seq, opt, bundle);
+}
+
+// canopy map --mcap: a ROS 2 recording (jobs::McapFrames, canopy/jobs/mcap_frames.h) mapped
+// as --frames maps a folder.
+void map_mcap(const MapOptions& opt, const settings::Settings& bundle) {
+  jobs::McapFrameOptions o = opt.mcap_options;
+  o.max_dt_s = opt.max_dt_s;
+  o.label_images = bundle.mapping.extractor.source == perception::LabelSource::kTruth;
+  jobs::McapFrames recording(opt.mcap, o);
+  for (const std::string& line : recording.choices()) spdlog::info("{}: {}", opt.mcap, line);
+  const jobs::McapFrameOptions& used = recording.options();
+  jobs::RecordedSequence seq = recording.sequence();
+  seq.run["command"] = "map";
+  seq.run["mcap"] = opt.mcap;
+  seq.run["topics"]["rgb"] = used.rgb;
+  seq.run["topics"]["depth"] = used.depth;
+  seq.run["topics"]["camera_info"] = used.camera_info;
+  if (o.label_images) seq.run["topics"]["labels"] = used.labels;
+  seq.run["frame"] = used.frame;
+  seq.run["world_frame"] = used.world_frame;
+  seq.run["labels"] = o.label_images ? "label images" : "color";
+  seq.run["classes"] = seq.classes.names;
+  seq.run["max_time_diff_s"] = opt.max_dt_s;
+  seq.run["range_m"] = std::vector<double>{used.min_range_m, used.max_range_m};
+  seq.run["p_gt"] = bundle.mapping.extractor.p_gt;
+  spdlog::info("mapping {} frames of {} ({} skipped while pairing), camera frame {} in {}, labels {}: {}", seq.size,
+               opt.mcap, seq.skipped.size(), used.frame, used.world_frame, o.label_images ? "from images" : "color",
+               opt.pgt < 0.0 ? "no simulated mask noise (p_gt 1; --pgt adds it)"
+                             : "simulated mask noise, p_gt " + format_number(bundle.mapping.extractor.p_gt, "%g"));
+  for (const std::string& note : seq.notes) spdlog::warn("{}: {}", opt.mcap, note);
+  map_sequence(seq, opt, bundle);
 }
 
 }  // namespace
@@ -91,16 +130,47 @@ void add_map_command(CLI::App& app) {
                                  "Map a recorded sequence instead of a world: canopy frame folders (what 'canopy "
                                  "render' writes) or a TUM RGB-D folder (rgb.txt, depth.txt, groundtruth.txt)");
   frames->excludes(world)->excludes(views);
+  auto* mcap = sub->add_option("--mcap", opt->mcap,
+                               "Map a ROS 2 recording (MCAP, e.g. what ros2 bag record writes) instead of a world "
+                               "(docs/ros2.md)");
+  mcap->excludes(world)->excludes(views)->excludes(frames);
+  jobs::McapFrameOptions& mo = opt->mcap_options;
+  sub->add_option("--rgb", mo.rgb,
+                  "--mcap: colour image topic (default: /canopy/wrist/rgb, else the one rgb8/bgr8/rgba8/bgra8 or PNG "
+                  "topic, a /color/ or /rgb/ one among several)")
+      ->needs(mcap);
+  sub->add_option("--depth", mo.depth,
+                  "--mcap: depth image topic, registered to the colour camera (default: /canopy/wrist/depth, else the "
+                  "one 16UC1/mono16/32FC1 topic, an aligned or registered one among several)")
+      ->needs(mcap);
+  sub->add_option("--camera-info", mo.camera_info,
+                  "--mcap: CameraInfo topic (default: camera_info beside the colour topic, else the only one)")
+      ->needs(mcap);
+  sub->add_option("--labels", mo.labels, "--mcap with --seg truth: mono8 class-index topic (default: /canopy/wrist/labels)")
+      ->needs(mcap);
+  sub->add_option("--frame", mo.frame, "--mcap: the depth images' optical frame (default: their header.frame_id)")
+      ->needs(mcap);
+  sub->add_option("--world-frame", mo.world_frame,
+                  "--mcap: the map's frame (default: the root of the camera's /tf tree)")
+      ->needs(mcap);
+  sub->add_option("--min-range", mo.min_range_m, "--mcap: depths below this are invalid [m]")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber)
+      ->needs(mcap);
+  sub->add_option("--max-range", mo.max_range_m, "--mcap: depths beyond this are invalid [m]")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber)
+      ->needs(mcap);
   sub->add_option("--intrinsics", opt->intrinsics, "--frames, TUM: camera YAML (default: DIR/camera.yaml)")
       ->needs(frames);
   sub->add_option("--label-colors", opt->label_colors,
                   "--frames with --seg truth: class-colour table of the label images (YAML; default: the "
                   "classes' drawing colours)")
       ->needs(frames);
-  sub->add_option("--max-dt", opt->max_dt_s, "--frames, TUM: largest RGB-depth and depth-pose time difference [s]")
+  sub->add_option("--max-dt", opt->max_dt_s,
+                  "--frames (TUM) and --mcap: largest RGB-depth and depth-pose time difference [s]")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber)
-      ->needs(frames);
+      ->check(CLI::PositiveNumber);
   sub->add_option("--config", opt->config, kConfigHelp)->capture_default_str();
   sub->add_option("--seg", opt->seg, "Labels: color (HSV segmentation) or truth (renderer; with --frames: the label images); default from config")
       ->check(CLI::IsMember({"color", "truth"}));
@@ -112,7 +182,8 @@ void add_map_command(CLI::App& app) {
   sub->add_option("--export", opt->export_dir,
                   "Also write a NeRF / Gaussian-splatting dataset (nerfstudio layout) of the views, with held-out "
                   "ring views, into this folder")
-      ->excludes(frames);
+      ->excludes(frames)
+      ->excludes(mcap);
   sub->add_flag("--no-report", opt->no_report, "Skip report.html (the interactive 3D report, docs/report.md; world views only)");
   sub->callback([opt] {
     // Ctrl-C and SIGTERM: the views mapped so far are saved, marked incomplete.
@@ -123,7 +194,9 @@ void add_map_command(CLI::App& app) {
     // A recording's labels (or its colours' segmentation) are what they are: the bundle's p_gt
     // is the simulator's mask noise, applied to recorded frames only when --pgt asks for it.
     else if (!opt->frames.empty()) bundle.set("mapping.extractor.p_gt", "1", "--frames");
+    else if (!opt->mcap.empty()) bundle.set("mapping.extractor.p_gt", "1", "--mcap");
     if (!opt->frames.empty()) return map_recorded(*opt, bundle);
+    if (!opt->mcap.empty()) return map_mcap(*opt, bundle);
     jobs::MapJobParams job;
     job.world_file = opt->world;
     job.views = opt->views;

@@ -24,6 +24,7 @@ struct MissionCliOptions {
   std::string method = "ours", gain = "osamcep", rays = "ours";  // override the bundle's `method` when given
   std::vector<std::string> set;
   std::string seg, stops, out, video, video_size = "640x480", export_dir;
+  std::string mcap, mcap_compression = "zstd", mcap_depth = "32FC1", mcap_epoch = "run";
   double pgt = -1.0;  // < 0: the config's
   int views_per_stop = -1;
   std::uint64_t seed = 1;
@@ -63,6 +64,14 @@ void add_options(CLI::App* sub, MissionCliOptions* o, bool out_required) {
   sub->add_option("--export", o->export_dir,
                   "Also write a NeRF / Gaussian-splatting dataset (nerfstudio layout) of every successful view, "
                   "with held-out ring views, into this folder");
+  sub->add_option("--mcap", o->mcap, "Also record the run as a ROS 2 MCAP file while it runs (docs/ros2.md)");
+  sub->add_option("--mcap-compression", o->mcap_compression, "--mcap chunks: none, lz4 or zstd")->capture_default_str();
+  sub->add_option("--mcap-depth", o->mcap_depth, "--mcap depth: 32FC1 (m, NaN = no return) or 16UC1 (mm, 0)")
+      ->capture_default_str();
+  sub->add_option("--mcap-epoch", o->mcap_epoch,
+                  "--mcap stamps: epoch + simulated time; epoch 'run' (the run's start, wall clock), 'zero' or "
+                  "seconds since 1970")
+      ->capture_default_str();
 }
 
 void run_mission(const MissionCliOptions& o, CLI::App* sub) {
@@ -70,8 +79,9 @@ void run_mission(const MissionCliOptions& o, CLI::App* sub) {
   const InterruptScope interrupts;
   // Validate every input before any work.
   if (!o.video.empty()) video::VideoWriter::validate_output_path(o.video);
-  const world::WorldSpec spec = jobs::load_world_spec(o.world);
   jobs::MissionJobParams job;
+  if (!o.mcap.empty()) job.mcap = jobs::mcap_record_options(o.mcap, o.mcap_compression, o.mcap_depth, o.mcap_epoch);
+  const world::WorldSpec spec = jobs::load_world_spec(o.world);
   job.settings = load_settings(o.config);
   settings::Settings& settings = job.settings;
   if (sub->count("--method")) settings.set("method.name", o.method, "--method");

@@ -18,6 +18,8 @@ void add_import_plant_command(CLI::App& app);
 void add_run_command(CLI::App& app);
 /// `canopy mission`: the closed-loop mission with a chosen method.
 void add_mission_command(CLI::App& app);
+/// `canopy export-mcap`: a finished run folder as a ROS 2 recording (MCAP).
+void add_export_mcap_command(CLI::App& app);
 /// `canopy map`: map a world from camera views (semantic map, PLY, .bt, metrics.json).
 void add_map_command(CLI::App& app);
 /// `canopy nbv`: next views from a saved map for the robot at a base pose (views.json).

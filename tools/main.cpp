@@ -110,6 +110,7 @@ int main(int argc, char** argv) {
   canopy::cli::add_run_command(app);
   canopy::cli::add_mission_command(app);
   canopy::cli::add_map_command(app);
+  canopy::cli::add_export_mcap_command(app);
   canopy::cli::add_ablate_command(app);
   canopy::cli::add_experiment_command(app);
   canopy::cli::add_report_command(app);

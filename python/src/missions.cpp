@@ -37,8 +37,10 @@ py::dict robot_state(const sim::Simulator& sim) {
   return py::dict(py::arg("time") = sim.time(), py::arg("base") = array_of(std::vector<double>{b.x_m, b.y_m, b.yaw_rad}),
                   py::arg("joints") = array_of(std::vector<double>(q.begin(), q.end())),
                   py::arg("links") = links.links, py::arg("parents") = links.parents,
-                  py::arg("link_poses") = poses_array(links.poses), py::arg("camera") = pose_array(sim.camera_pose()),
-                  py::arg("camera_frame") = sim.robot_config().camera_frame);
+                  py::arg("link_poses") = poses_array(links.poses), py::arg("fixed") = links.fixed,
+                  py::arg("camera") = pose_array(sim.camera_pose()),
+                  py::arg("camera_frame") = sim.robot_config().camera_frame,
+                  py::arg("urdf") = sim.robot_config().urdf_path);
 }
 
 // The run's hooks into Python (GIL taken for each call): progress lines, each successful view
@@ -237,8 +239,9 @@ read-only, unusable afterwards) and the robot state below;
 on_state: called every state_period seconds of simulated time (every video frame when a video
 is recorded) with the robot state: 'time' (simulated s), 'base' (x, y, yaw), 'joints', 'links'
 and 'parents' (the URDF's links with a frame, each with its parent; the root is 'world'),
-'link_poses' (N, 4, 4 world poses), 'camera' (the wrist camera's optical pose) and
-'camera_frame' (its link's name). Neither
+'link_poses' (N, 4, 4 world poses), 'fixed' (each link's edge to its parent passes through fixed
+joints only), 'camera' (the wrist camera's optical pose), 'camera_frame' (its link's name) and
+'urdf' (the robot's URDF file). Neither
 changes the mission's results (canopy.record_bag writes a ROS bag with them). The mission runs without the GIL (a Python
 planner takes it while it plans); Ctrl-C stops it (KeyboardInterrupt, after the partial
 run folder is written).)";

@@ -85,6 +85,12 @@ def test_round_trip_gives_the_missions_map(mission_bag):
     assert (tmp / "mapped_cli" / "map.csm").read_bytes() == (tmp / "run" / "map.csm").read_bytes()
 
 
+def latched(connection_header):
+    """A latched publisher's connection (rosbag's headers have str or bytes keys)."""
+    value = connection_header.get("latching", connection_header.get(b"latching"))
+    return value in ("1", b"1")
+
+
 def test_bag_holds_images_tf_map_views_and_fruits(mission_bag, world):
     tmp, _, result = mission_bag
     with rosbag.Bag(str(tmp / "run.bag")) as b:
@@ -95,16 +101,28 @@ def test_bag_holds_images_tf_map_views_and_fruits(mission_bag, world):
         records = [json.loads(m.data) for _, m, _ in b.read_messages(topics=[cbag.TOPICS["view_record"]])]
         assert topics[cbag.TOPICS["fruits"]].message_count == 1
         assert topics["/tf"].message_count > n  # the views' and the state ticks'
-        frames = set()
+        assert topics["/tf_static"].message_count == 1 and topics["/robot_description"].message_count == 1
+        frames, fixed = set(), set()
         last_cloud = last_views = None
-        for topic, msg, _ in b.read_messages(topics=["/tf", cbag.TOPICS["map"], cbag.TOPICS["views"]]):
+        for topic, msg, _, header in b.read_messages(topics=["/tf", "/tf_static", "/robot_description",
+                                                             cbag.TOPICS["map"], cbag.TOPICS["views"]],
+                                                     return_connection_header=True):
             if topic == "/tf":
                 frames |= {t.child_frame_id for t in msg.transforms}
+            elif topic == "/tf_static":
+                fixed |= {t.child_frame_id for t in msg.transforms}
+                assert latched(header)
+            elif topic == "/robot_description":
+                assert "<robot" in msg.data and latched(header)
             elif topic == cbag.TOPICS["map"]:
                 last_cloud = msg
+                # Stamped from the run's start in wall-clock time, not from 1970.
+                assert msg.header.stamp.secs > 1_600_000_000
             else:
                 last_views = msg
-    assert {"base_link", "shoulder_link", "wrist_3_link", "tool0", "camera_optical_frame"} <= frames
+    # The joints' links move (/tf); the camera's chain on the tool is fixed (/tf_static, once).
+    assert {"base_link", "shoulder_link", "wrist_3_link"} <= frames
+    assert {"tool0", "camera_link", "camera_optical_frame"} <= fixed and not frames & fixed
     assert last_cloud.width == len(result.map.voxels("occupied")["center"])
     assert len(last_views.markers) == n
     assert {m.ns for m in last_views.markers} <= {"initial", "nbv", "predefined"}

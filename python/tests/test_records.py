@@ -51,7 +51,7 @@ def test_every_output_names_the_schemas_fields(world, tmp_path):
     sfields = canopy.summary_fields()
     summary = json.loads((tmp_path / "run" / "summary.json").read_text())
     top = summary_keys(sfields, "")
-    assert set(summary) <= top and top - set(summary) <= {"zero_coverage_reason", "video"}
+    assert set(summary) <= top and top - set(summary) <= {"zero_coverage_reason", "video", "recording"}
     assert set(summary["stops"][0]) == summary_keys(sfields, "stops[].")
     assert set(summary["motion_cost"]) == summary_keys(sfields, "motion_cost.")
     # The report's data: the views by the same names, the stops as summary.json has them, the vocabulary.

@@ -73,12 +73,33 @@ struct PngRead {
   size_t rowbytes = 0;
 };
 
+// PNG bytes in memory, read by libpng through png_set_read_fn.
+struct PngMemory {
+  std::string_view bytes;
+  std::size_t pos = 0;
+};
+
+// Reads a PNG from the open file `f` (its signature already read) or, when `f` is null, from
+// `memory`; `path` names it in errors.
+PngRead read_png_source(const std::string& path, FILE* f, PngMemory* memory);
+
 PngRead read_png_raw(const std::string& path) {
   std::unique_ptr<FILE, FileCloser> f(std::fopen(path.c_str(), "rb"));
   if (!f) throw InputError(path + ": cannot open file");
   png_byte sig[8];
   if (std::fread(sig, 1, 8, f.get()) != 8 || png_sig_cmp(sig, 0, 8) != 0)
     throw InputError(path + ": not a PNG file");
+  return read_png_source(path, f.get(), nullptr);
+}
+
+PngRead read_png_memory(std::string_view bytes, const std::string& what) {
+  if (bytes.size() < 8 || png_sig_cmp(reinterpret_cast<png_const_bytep>(bytes.data()), 0, 8) != 0)
+    throw InputError(what + ": not a PNG file");
+  PngMemory memory{bytes, 8};
+  return read_png_source(what, nullptr, &memory);
+}
+
+PngRead read_png_source(const std::string& path, FILE* f, PngMemory* memory) {
   // libpng's own handlers print to stderr; the error becomes this function's one message.
   static thread_local std::string png_message;
   png_message.clear();
@@ -100,7 +121,16 @@ PngRead read_png_raw(const std::string& path) {
     png_destroy_read_struct(&png, &info, nullptr);
     throw InputError(path + ": corrupt PNG file" + (png_message.empty() ? "" : " (" + png_message + ")"));
   }
-  png_init_io(png, f.get());
+  if (f) {
+    png_init_io(png, f);
+  } else {
+    png_set_read_fn(png, memory, [](png_structp p, png_bytep out, png_size_t n) {
+      auto* m = static_cast<PngMemory*>(png_get_io_ptr(p));
+      if (n > m->bytes.size() - m->pos) png_error(p, "the PNG data ends early");
+      std::memcpy(out, m->bytes.data() + m->pos, n);
+      m->pos += n;
+    });
+  }
   png_set_sig_bytes(png, 8);
   png_read_info(png, info);
   const png_uint_32 w = png_get_image_width(png, info), h = png_get_image_height(png, info);
@@ -154,8 +184,8 @@ void write_png_gray16(const std::string& path, const Image<std::uint16_t>& image
   });
 }
 
-Image<Rgb8> read_png_rgb(const std::string& path) {
-  PngRead raw = read_png_raw(path);
+namespace {
+Image<Rgb8> rgb_of(const PngRead& raw, const std::string& path) {
   if (raw.bit_depth != 8 || (raw.channels != 3 && raw.channels != 4))
     throw InputError(path + ": expected an 8-bit RGB or RGBA PNG");
   Image<Rgb8> img(raw.width, raw.height);
@@ -167,8 +197,7 @@ Image<Rgb8> read_png_rgb(const std::string& path) {
   return img;
 }
 
-Image<std::uint16_t> read_png_gray16(const std::string& path) {
-  PngRead raw = read_png_raw(path);
+Image<std::uint16_t> gray16_of(const PngRead& raw, const std::string& path) {
   if (raw.bit_depth != 16 || raw.channels != 1) throw InputError(path + ": expected a 16-bit grayscale PNG");
   Image<std::uint16_t> img(raw.width, raw.height);
   for (int y = 0; y < raw.height; ++y)
@@ -177,6 +206,32 @@ Image<std::uint16_t> read_png_gray16(const std::string& path) {
       img.at(x, y) = static_cast<std::uint16_t>(p[0] | (p[1] << 8));
     }
   return img;
+}
+
+}  // namespace
+
+Image<Rgb8> read_png_rgb(const std::string& path) { return rgb_of(read_png_raw(path), path); }
+Image<std::uint16_t> read_png_gray16(const std::string& path) { return gray16_of(read_png_raw(path), path); }
+Image<Rgb8> decode_png_rgb(std::string_view bytes, const std::string& what) {
+  return rgb_of(read_png_memory(bytes, what), what);
+}
+Image<std::uint16_t> decode_png_gray16(std::string_view bytes, const std::string& what) {
+  return gray16_of(read_png_memory(bytes, what), what);
+}
+
+std::optional<std::pair<int, int>> png_declared_size(std::string_view bytes) {
+  // The signature (8 bytes), then the IHDR chunk: length, "IHDR", width and height big-endian.
+  if (bytes.size() < 24 || png_sig_cmp(reinterpret_cast<png_const_bytep>(bytes.data()), 0, 8) != 0 ||
+      bytes.substr(12, 4) != "IHDR")
+    return std::nullopt;
+  const auto be32 = [&](std::size_t at) {
+    std::uint32_t v = 0;
+    for (std::size_t i = 0; i < 4; ++i) v = (v << 8) | static_cast<std::uint8_t>(bytes[at + i]);
+    return v;
+  };
+  const std::uint32_t w = be32(16), h = be32(20);
+  if (w == 0 || h == 0 || w > kMaxImageSidePx || h > kMaxImageSidePx) return std::nullopt;
+  return std::make_pair(static_cast<int>(w), static_cast<int>(h));
 }
 
 }  // namespace canopy

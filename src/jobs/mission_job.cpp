@@ -64,11 +64,15 @@ void check_stops_in_reach(const world::WorldSpec& spec, const settings::StopPara
 }
 
 void check_mission_outputs(const MissionJobParams& p) {
-  check_disjoint_outputs({{p.out, p.out_option}, {p.export_dir, "--export"}, {p.video.path, "--video"}});
+  check_disjoint_outputs({{p.out, p.out_option},
+                          {p.export_dir, "--export"},
+                          {p.video.path, "--video"},
+                          {p.mcap.path, p.mcap.option}});
   if (!p.out.empty()) StagedDir::check_writable(p.out, "mission", p.out_option);
   if (!p.out.empty()) check_output_place(p.out, p.out_option);
   if (!p.export_dir.empty()) check_output_place(p.export_dir, "--export");
   if (!p.video.path.empty()) check_output_place(p.video.path, "--video");
+  if (!p.mcap.path.empty()) check_output_place(p.mcap.path, p.mcap.option);
 }
 
 MissionJobResult run_mission_job(const world::World& world, const MissionJobParams& p,
@@ -93,21 +97,29 @@ MissionJobResult run_mission_job(const world::World& world, const MissionJobPara
   // once both exist.
   const bool filmed = !p.video.path.empty();
   std::unique_ptr<video::MissionVideo> video;
+  // The ROS 2 recording, written as the mission runs; stamps count from its start.
+  const std::int64_t started_ns = wall_clock_now_ns();
+  std::unique_ptr<MissionMcap> mcap;
+  if (!p.mcap.path.empty()) mcap = std::make_unique<MissionMcap>(p.mcap, world, settings);
   const mission::Mission* running = nullptr;
   // The caller's own tick (Python's on_state) runs after the video's, at the video's period.
-  if (filmed) {
-    cb.video_period_s = 1.0 / p.video.fps;
-    cb.video_tick = [&video, caller = std::move(cb.video_tick)](sim::Simulator& sim, const std::string& caption) {
+  if (filmed || mcap) {
+    // The recording's state ticks at the video's rate when there is one (it keeps its own period).
+    if (filmed) cb.video_period_s = 1.0 / p.video.fps;
+    else if (cb.video_period_s <= 0.0 || !cb.video_tick) cb.video_period_s = p.mcap.state_period_s;
+    cb.video_tick = [&video, &mcap, caller = std::move(cb.video_tick)](sim::Simulator& sim, const std::string& caption) {
       if (video) video->tick(sim, caption);
+      if (mcap) mcap->state(sim);
       if (caller) caller(sim, caption);
     };
   }
-  if (filmed || ex.dataset || p.on_view)  // (a callback that reads the map waits for each scan's insertion)
-    cb.on_view = [&video, &ex, &running, &p](const records::ViewRecord& v, const LabelledFrame& f,
-                                            const sim::Simulator& sim) {
+  if (filmed || ex.dataset || p.on_view || mcap)  // (a callback that reads the map waits for each scan's insertion)
+    cb.on_view = [&video, &ex, &running, &p, &mcap](const records::ViewRecord& v, const LabelledFrame& f,
+                                                   const sim::Simulator& sim) {
       if (video) video->set_wrist(f);
       if (video && running) video->set_map(running->map(), sim.base_pose());
       if (ex.dataset) ex.dataset->add_train(f);
+      if (mcap && running) mcap->view(v, f, sim, running->map());
       if (p.on_view && running) p.on_view(v, f, sim, running->map());
     };
   // What the report replays, recorded beside the mission (replay.h).
@@ -120,6 +132,13 @@ MissionJobResult run_mission_job(const world::World& world, const MissionJobPara
       spdlog::warn("report.html skipped (needs Debian's libjs-three; run tools/deps.sh)");
     }
   }
+  // The recording colours fruits by the pipeline's per-view coverage, recorded beside the mission.
+  std::unique_ptr<records::MapReplay> mcap_replay;
+  if (mcap && !cb.replay) {
+    mcap_replay = std::make_unique<records::MapReplay>(world.spec.classes);
+    cb.replay = mcap_replay.get();
+  }
+  if (mcap) mcap->follow_coverage(cb.replay);
   const std::function<bool()> stop_requested = cb.stop_requested;
   mission::Mission mission(world, settings, p.seed, cb);
   running = &mission;
@@ -128,6 +147,7 @@ MissionJobResult run_mission_job(const world::World& world, const MissionJobPara
                                                     mission.simulator(), world.spec.classes);
   if (stop_requested && stop_requested())
     throw Interrupted("interrupted while setting up the mission; nothing was written");
+  if (mcap) mcap->start(mission.simulator(), p.mcap.epoch_ns.value_or(started_ns));
 
   MissionJobResult r;
   r.result = mission.run();
@@ -137,6 +157,7 @@ MissionJobResult run_mission_job(const world::World& world, const MissionJobPara
   context.seed = p.seed;
   context.world_file = p.world_file;
   context.world = &world;
+  context.started_unix_ns = started_ns;
   if (video) {  // an encoder failure loses only the video, not the run
     if (video->writer().close()) {
       r.video_frames = video->writer().frames();
@@ -147,6 +168,17 @@ MissionJobResult run_mission_job(const world::World& world, const MissionJobPara
       context.video = {{"file", p.video.path}, {"error", r.video_error}};
       spdlog::error("the video {} is missing: {}", p.video.path, r.video_error);
     }
+  }
+  if (mcap && r.result.complete) {  // an interrupted mission leaves no recording, as no bag
+    r.mcap = mcap->close();
+    r.mcap_written = true;
+    spdlog::info("wrote {} ({} messages, {:.1f} MB; stamps from {:.3f} s since 1970)", p.mcap.path, r.mcap.messages,
+                 r.mcap.file_bytes / 1e6, mcap->epoch_ns() / 1e9);
+    context.recording = {{"file", p.mcap.path},
+                         {"epoch_unix_ns", mcap->epoch_ns()},
+                         {"messages", r.mcap.messages},
+                         {"compression", p.mcap.compression == ros2::Compression::kNone ? "none"
+                                                                          : std::string(ros2::compression_name(p.mcap.compression))}};
   }
   r.summary = out ? records::write_run_folder(out->working_dir(), r.result, settings, mission.map(), context)
                   : records::run_summary(r.result, settings, context);

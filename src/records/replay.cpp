@@ -49,6 +49,12 @@ void MapReplay::record_scan(const mapping::SemanticOcTree& map, const std::vecto
   scan_seconds_ += watch.seconds();
 }
 
+std::optional<std::vector<double>> MapReplay::fruit_coverage_after(std::size_t scan) const {
+  std::lock_guard<std::mutex> lock(scan_mutex_);
+  if (scan >= fruits_.size()) return std::nullopt;
+  return fruits_[scan];
+}
+
 void MapReplay::record_fruits(const evaluation::MapMetrics& metrics) {
   std::vector<double> c;
   c.reserve(metrics.fruits.size());

@@ -56,16 +56,23 @@ Simulator::Simulator(const world::World& world, const RobotConfig& robot_config,
   release_mjcf();
   bind_robot();
   // The link tree: each link with a frame site, under its nearest ancestor that has one.
+  // fixed_below[i]: only fixed joints between link i and frame_of[i].
   std::vector<std::string> frame_of(description.links().size(), "world");
+  std::vector<bool> fixed_below(description.links().size(), true);
   for (std::size_t i = 0; i < description.links().size(); ++i) {
     const std::string& name = description.links()[i].name;
     const int parent = description.parent_link(static_cast<int>(i));
     const std::string above = parent < 0 ? "world" : frame_of[static_cast<std::size_t>(parent)];
+    const int joint = description.links()[i].parent_joint;
+    const bool fixed = (joint < 0 || !description.joints()[static_cast<std::size_t>(joint)].movable()) &&
+                       (parent < 0 || fixed_below[static_cast<std::size_t>(parent)]);
     const bool has_frame = name != "world" && mj_name2id(model_.get(), mjOBJ_SITE, frame_site_name(name).c_str()) >= 0;
     frame_of[i] = has_frame ? name : above;
+    fixed_below[i] = has_frame || fixed;
     if (!has_frame) continue;
     link_tree_.links.push_back(name);
     link_tree_.parents.push_back(above);
+    link_tree_.fixed.push_back(fixed);
   }
   reset_home();
 }

@@ -56,7 +56,7 @@ expect_error "excludes" render --base 0,0,0 --camera-pose 0,0,1,1,0,0,0
 expect_error "--joints: value '7,0,0,0,0,0' is outside the joint limits" render --joints 7,0,0,0,0,0
 
 # Messages tell the truth.
-expect_error "unknown command 'frobnicate' for 'canopy'; the commands are: world, render, import-plant, run, mission, map, ablate, experiment, report, reach, visibility, nbv, settings, bench" frobnicate
+expect_error "unknown command 'frobnicate' for 'canopy'; the commands are: world, render, import-plant, run, mission, map, export-mcap, ablate, experiment, report, reach, visibility, nbv, settings, bench" frobnicate
 expect_error "unknown command 'frobnicate' for 'canopy bench'; the commands are: render, map, gain, motion" bench frobnicate
 expect_error "--summarize-only: no finished jobs" ablate --quick --summarize-only
 
@@ -89,6 +89,21 @@ for cmd in "map --views $tmp/one_view.txt" "ablate --quick --views 2 --no-plots"
     echo "FAIL: $cmd changed the user's folder"; failures=$((failures + 1))
   fi
 done
+
+# ROS 2 recordings (docs/ros2.md): one line naming the file, exit 2, nothing written.
+printf 'not an mcap' > "$tmp/text.mcap"
+printf '\x89MCAP0\r\n\x01\x00\x00' > "$tmp/cut.mcap"
+expect_error "$tmp/text.mcap: not an MCAP file" map --mcap "$tmp/text.mcap"
+expect_error "$tmp/cut.mcap: truncated MCAP file" map --mcap "$tmp/cut.mcap"
+expect_error "$tmp/missing.mcap" map --mcap "$tmp/missing.mcap"
+expect_error "--rgb requires --mcap" map --rgb /camera/color/image_raw
+expect_error "--mcap-compression: 'bz2' is not none, lz4 or zstd" mission --mcap "$tmp/run.mcap" --mcap-compression bz2
+expect_error "an MCAP file's name ends in .mcap" mission --mcap "$tmp/run.bag"
+expect_error "--mcap-epoch: 'soon' is not 'run'" mission --mcap "$tmp/run.mcap" --mcap-epoch soon
+msg=$("$canopy" export-mcap "$tmp" "$tmp/x.mcap" 2>&1 >/dev/null); code=$?
+if [[ $code -ne 2 || "$msg" != *"not a canopy mission run folder (no summary.json)"* || -e "$tmp/x.mcap" ]]; then
+  echo "FAIL: export-mcap of a folder that is no run ($code: $msg)"; failures=$((failures + 1))
+fi
 
 # An existing folder that canopy did not write is never replaced.
 mkdir -p "$tmp/foreign" && echo keep > "$tmp/foreign/precious.txt"

@@ -31,7 +31,7 @@ ALLOWED = {
     "experiments": {"common", "robot", "world", "sim", "perception", "mapping", "evaluation", "nbv", "motion",
                     "settings", "records", "mission"},
     "jobs": {"common", "robot", "world", "sim", "perception", "mapping", "datasets", "evaluation", "nbv", "motion",
-             "settings", "records", "video", "mission", "experiments"},
+             "settings", "records", "video", "mission", "experiments", "ros2"},
 }
 INCLUDE = re.compile(r'^\s*#\s*include\s+[<"]([^>"]+)[>"]', re.M)
 problems = []

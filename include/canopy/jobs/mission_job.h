@@ -12,6 +12,7 @@
 #include <string>
 #include <utility>
 
+#include "canopy/jobs/mcap_job.h"
 #include "canopy/mapping/semantic_octree.h"
 #include "canopy/mission/mission.h"
 #include "canopy/settings/mission_params.h"
@@ -52,6 +53,7 @@ struct MissionJobParams {
   std::string out_option = "--out";   ///< The name of `out` in messages.
   VideoOptions video;                 ///< video_options' result; path "" records none.
   std::string export_dir;             ///< nerfstudio dataset folder; "" exports none.
+  McapRecordOptions mcap;             ///< A ROS 2 recording written while it runs (mcap_job.h); path "" writes none.
   bool plots = false;                 ///< Draw sc_entropy.svg and runtime.svg into the run folder (figures.h).
   bool report = true;                 ///< Write report.html into the run folder (run_report.h).
   bool keep_map = false;              ///< Return a copy of the final map.
@@ -73,6 +75,8 @@ struct MissionJobResult {
   bool plots_interrupted = false;                ///< A signal after the mission's end: published without its plots.
   bool dataset_written = false;                  ///< The export was published (complete missions only).
   std::size_t dataset_train = 0, dataset_test = 0;  ///< Its training and held-out views.
+  bool mcap_written = false;                     ///< The MCAP was published (complete missions only).
+  ros2::McapWriteStats mcap;                     ///< What it holds.
   std::shared_ptr<mapping::SemanticOcTree> map;  ///< The final map, when keep_map.
 };
 

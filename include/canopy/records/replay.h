@@ -10,6 +10,7 @@
 
 #include <cstdint>
 #include <mutex>
+#include <optional>
 #include <unordered_map>
 #include <vector>
 
@@ -54,6 +55,9 @@ class MapReplay {
   const std::vector<std::vector<VoxelChange>>& scans() const { return scans_; }
   /// Per scan, each target fruit's coverage (empty scans when the metrics were off).
   const std::vector<std::vector<double>>& fruit_coverage() const { return fruits_; }
+  /// Scan `scan`'s fruit coverage once the pipeline has recorded it (a copy, safe while the
+  /// pipeline records the next: what a recording of the running mission reads); nullopt before.
+  std::optional<std::vector<double>> fruit_coverage_after(std::size_t scan) const;
   /// Per recorded frame, the RGB and label thumbnails.
   const std::vector<Image<Rgb8>>& rgb() const { return rgb_; }
   const std::vector<Image<Rgb8>>& labels() const { return labels_; }

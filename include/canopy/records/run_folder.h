@@ -10,6 +10,7 @@
 
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -39,6 +40,9 @@ struct RunContext {
   std::string world_file;
   const world::World* world = nullptr;
   nlohmann::json video;  ///< {file, frames} or {file, error}; null without a video.
+  /// When the run started in wall-clock time [ns since 1970] (the epoch of its recordings' stamps).
+  std::optional<std::int64_t> started_unix_ns;
+  nlohmann::json recording;  ///< The MCAP recorded while it ran ({file, epoch_ns, ...}); null without one.
 };
 
 /// summary.json: the mission's result and, with its settings and context, what the run was
@@ -174,6 +178,11 @@ void MissionSummary::visit(A& a) {
   a("files", files, F("", "the run folder's files"));
   a("video", context->video.is_null() ? std::nullopt : std::optional<nlohmann::json>(context->video),
     F("", "{file, frames} or {file, error}; absent without a video").if_present());
+  a("started_unix_ns", context->started_unix_ns,
+    F("ns", "the run's start in wall-clock time (since 1970): the epoch of its recordings' stamps").if_present());
+  a("recording", context->recording.is_null() ? std::nullopt : std::optional<nlohmann::json>(context->recording),
+    F("", "{file, epoch_unix_ns, messages, compression}: the MCAP recorded while it ran (`--mcap`); absent "
+          "without one").if_present());
 }
 
 }  // namespace canopy::records

@@ -41,6 +41,7 @@ struct SimState {
 struct RobotLinks {
   std::vector<std::string> links;
   std::vector<std::string> parents;  ///< parents[i]: links[i]'s, "world" or an earlier link.
+  std::vector<bool> fixed;           ///< The edge to the parent passes through fixed joints only (/tf_static).
   std::vector<Pose> poses;           ///< T_world_link of each link (its frame site).
 };
 

@@ -17,6 +17,8 @@ TOPICS = {
     "fruits": "/canopy/fruits",
 }
 WORLD_FRAME = "world"
+# The robot's URDF, latched (std_msgs/String), as ROS 2's robot_state_publisher and the MCAP publish it.
+ROBOT_DESCRIPTION = "/robot_description"
 # A bag canopy wrote carries one message on this topic (std_msgs/String, "written by canopy ...")
 # whose connection header holds WRITER_FIELD. Only a bag written with rosbag's Python API by
 # canopy has that field: a recording of a canopy bag played back (rosbag record) carries the

@@ -17,12 +17,13 @@ import pathlib
 import signal
 import stat
 import tempfile
+import time
 
 import numpy as np
 
 from .. import _canopy
 from .poses import inverse, matrix, quat_from_matrix
-from .ros import TOPICS, WORLD_FRAME, WRITER_FIELD, WRITER_TOPIC, BagError, ros
+from .ros import ROBOT_DESCRIPTION, TOPICS, WORLD_FRAME, WRITER_FIELD, WRITER_TOPIC, BagError, ros
 
 
 
@@ -72,8 +73,10 @@ def _write_error(path, e):
 class _RunWriter:
     """Writes a mission into an open bag from run_mission's on_view and on_state."""
 
-    def __init__(self, rosmods, bag, world, path):
+    def __init__(self, rosmods, bag, world, path, epoch_ns):
         self.ros, self.bag, self.world, self.path = rosmods, bag, world, path
+        self.epoch_ns = epoch_ns  # stamps: epoch + simulated time (the MCAP's, docs/ros2.md)
+        self.static_written = False
         self.failed = False  # a hook raised: the bag is discarded, and nothing more is written
         self.last_ns = 0
         self.classes = list(world.classes)
@@ -88,19 +91,37 @@ class _RunWriter:
         h.frame_id = frame_id
         return h
 
-    def _tf(self, state, ns, camera_pose=None):
-        """/tf of every link (its parent's frame), and of the camera so that its chain gives
-        `camera_pose` (the pose the frame was mapped with)."""
+    def _static(self, state, ns):
+        """Once: the robot's URDF latched on /robot_description and its fixed links latched on
+        /tf_static (the links whose edge to the parent passes through fixed joints only)."""
+        if self.static_written:
+            return
+        self.static_written = True
+        String = self.ros.std.String
+        with open(state["urdf"], encoding="utf-8") as f:
+            urdf = f.read()
+        self.bag.write(ROBOT_DESCRIPTION, String(data=urdf), _time(self.ros, ns),
+                       connection_header=self._latched(ROBOT_DESCRIPTION, String))
+        msg = self._edges(state, ns, fixed=True)
+        self.bag.write("/tf_static", msg, _time(self.ros, ns),
+                       connection_header=self._latched("/tf_static", type(msg)))
+
+    @staticmethod
+    def _latched(topic, kind):
+        """A latched publisher's connection header (what rosbag record keeps, and rosbag play repeats)."""
+        return {"topic": topic, "type": kind._type, "md5sum": kind._md5sum, "message_definition": kind._full_text,
+                "latching": "1"}
+
+    def _edges(self, state, ns, fixed, camera_pose=None):
+        """The edges of the robot's links to their parents whose fixedness is `fixed` (a TFMessage)."""
         world = {WORLD_FRAME: np.eye(4)}
         for name, pose in zip(state["links"], state["link_poses"]):
             world[name] = np.asarray(pose)
-        cam = state["camera_frame"]
-        if camera_pose is not None and cam in world:
-            world[cam] = np.asarray(camera_pose)
         msg = self.ros.tf2.TFMessage()
-        composed = {WORLD_FRAME: np.eye(4)}
-        for name, parent in zip(state["links"], state["parents"]):
-            T = inverse(composed[parent]) @ world[name] if name == cam else inverse(world[parent]) @ world[name]
+        for name, parent, is_fixed in zip(state["links"], state["parents"], state["fixed"]):
+            if bool(is_fixed) != fixed:
+                continue
+            T = inverse(world[parent]) @ world[name]
             q = quat_from_matrix(T[:3, :3])
             tfm = self.ros.geometry.TransformStamped()
             tfm.header = self._header(ns, parent)
@@ -109,8 +130,12 @@ class _RunWriter:
             tfm.transform.rotation.x, tfm.transform.rotation.y, tfm.transform.rotation.z, tfm.transform.rotation.w = \
                 map(float, q)
             msg.transforms.append(tfm)
-            composed[name] = composed[parent] @ matrix(T[:3, 3], q)  # as a reader composes it
-        self.bag.write("/tf", msg, _time(self.ros, ns))
+        return msg
+
+    def _tf(self, state, ns):
+        """/tf of the moving links (each in its parent's frame); the fixed ones are on /tf_static."""
+        self._static(state, ns)
+        self.bag.write("/tf", self._edges(state, ns, fixed=False), _time(self.ros, ns))
 
     def _guarded(self, write, arg):
         """Runs a hook's writing; after any failure (a full disk, Ctrl-C) nothing more is written,
@@ -146,19 +171,22 @@ class _RunWriter:
         except OSError as e:
             raise _write_error(self.path, e) from None
 
+    def _stamp(self, sim_time_s):
+        return self.epoch_ns + int(round(sim_time_s * 1e9))
+
     def _state(self, state):
-        ns = int(round(state["time"] * 1e9))
+        ns = self._stamp(state["time"])
         self.last_ns = max(self.last_ns, ns)
         self._fruits(ns)
         self._tf(state, ns)
 
     def _view(self, view):
-        ns = int(round(view["time"] * 1e9))
+        ns = self._stamp(view["time"])
         self.last_ns = max(self.last_ns, ns)
         f = view["frame"]
         cam = view["camera_frame"]
         self._fruits(ns)
-        self._tf(view, ns, camera_pose=f.pose)
+        self._tf(view, ns)
         t = _time(self.ros, ns)
         h, w = f.depth.shape
         info = self.ros.sensor.CameraInfo()
@@ -173,7 +201,9 @@ class _RunWriter:
         info.P = [K.fx_px, 0.0, cx, 0.0, 0.0, K.fy_px, cy, 0.0, 0.0, 0.0, 1.0, 0.0]
         self.bag.write(TOPICS["camera_info"], info, t)
         self.bag.write(TOPICS["rgb"], self._image(ns, cam, f.rgb, "rgb8"), t)
-        self.bag.write(TOPICS["depth"], self._image(ns, cam, np.asarray(f.depth, dtype="<f4"), "32FC1"), t)
+        depth = np.asarray(f.depth, dtype="<f4").copy()
+        depth[~(depth > 0)] = np.nan  # REP 118: no return is NaN in 32FC1
+        self.bag.write(TOPICS["depth"], self._image(ns, cam, depth, "32FC1"), t)
         if f.labels is not None:
             self.bag.write(TOPICS["labels"], self._image(ns, cam, f.labels, "mono8"), t)
             self.bag.write(TOPICS["labels_color"], self._image(ns, cam, self.colors[np.minimum(
@@ -403,28 +433,31 @@ class _PartialBag:
             self._lock_fd = None
 
 
-def _record(world, partial, settings, kind, state_period, mission):
+def _record(world, partial, settings, kind, state_period, mission, epoch_ns):
     """Runs the mission writing its bag into `partial`; returns the MissionResult."""
     rosmods = ros()
     bag = rosmods.rosbag.Bag(partial.file, "w", compression="lz4")
-    writer = _RunWriter(rosmods, bag, world, partial.path)
+    writer = _RunWriter(rosmods, bag, world, partial.path, epoch_ns)
     result = _canopy.run_mission(world, settings, on_view=writer.view, on_state=writer.state,
                                  state_period=state_period, **mission)
     writer.finish(kind)
     return result
 
 
-def record_bag(world, path, settings=None, *, state_period=0.1, **mission):
+def record_bag(world, path, settings=None, *, state_period=0.1, epoch_ns=None, **mission):
     """Runs the mission (canopy.run_mission(world, settings, **mission): method, planner, seed,
     out, video, progress) and writes it as a ROS 1 bag at `path` while it runs, published when the
     mission ends: the bag appears whole or not at all (an interrupted mission, Ctrl-C, leaves
     none; the out folder keeps what run_mission keeps). /tf carries every link of the robot every
-    state_period seconds of simulated time and at each view; header stamps are simulated time.
+    state_period seconds of simulated time and at each view (the fixed ones once on /tf_static, the
+    URDF on /robot_description); header stamps are epoch_ns (default: now, the run's start in
+    wall-clock time) plus simulated time, as in canopy's MCAP.
     `path` is refused (BagError, before the mission) inside a canopy output folder or the run's
     out, and when a file canopy did not write is there. Returns the MissionResult."""
     partial = _PartialBag(path, "path", [(mission.get("out"), "out"), (mission.get("video"), "video")])
     try:
-        result = _record(world, partial, settings, "record_bag", state_period, mission)
+        result = _record(world, partial, settings, "record_bag", state_period, mission,
+                         time.time_ns() if epoch_ns is None else int(epoch_ns))
         partial.publish()
     except BaseException as e:
         partial.discard()
@@ -432,10 +465,11 @@ def record_bag(world, path, settings=None, *, state_period=0.1, **mission):
     return result
 
 
-def export_bag(run_dir, path, *, progress=None):
+def export_bag(run_dir, path, *, progress=None, epoch_ns=None):
     """The bag of a `canopy mission` run folder: the run is replayed from its own records (its
     settings.yaml, the world's resolved spec and the seed in summary.json; a mission is the same
-    for a seed) and written as record_bag writes it. Refused (BagError, no bag written) unless the
+    for a seed) and written as record_bag writes it, stamped from epoch_ns (default: the run's start,
+    summary.json's started_unix_ns; 0 for a run of a canopy that did not record it). Refused (BagError, no bag written) unless the
     replay's views.csv equals the run's byte for byte, and where record_bag refuses the path.
     Returns the MissionResult."""
     run = pathlib.Path(os.fspath(run_dir))
@@ -458,6 +492,10 @@ def export_bag(run_dir, path, *, progress=None):
     spec = (summary.get("world") or {}).get("spec") if isinstance(summary.get("world"), dict) else None
     if spec is None or not isinstance(summary.get("seed"), int):
         raise BagError(f"{run}: summary.json lacks the world's resolved spec or the seed")
+    if epoch_ns is None:
+        epoch_ns = summary.get("started_unix_ns", 0)
+        if not isinstance(epoch_ns, int) or epoch_ns < 0:
+            raise BagError(f"{run}/summary.json: started_unix_ns is not a time in ns since 1970")
     partial = _PartialBag(path, "bag")
     try:
         if progress is not None:
@@ -468,7 +506,7 @@ def export_bag(run_dir, path, *, progress=None):
             world = _canopy.World(str(world_file))
             settings = _canopy.Settings(str(run / "settings.yaml"))
             result = _record(world, partial, settings, "export-bag", 0.1,
-                             {"seed": summary["seed"], "progress": progress})
+                             {"seed": summary["seed"], "progress": progress}, int(epoch_ns))
         recorded = (run / "views.csv").read_text()
         if result.views_csv != recorded:
             a, b = result.views_csv.splitlines(), recorded.splitlines()

@@ -6,11 +6,15 @@
 //        write what was found (every value; byte fields as length and CRC-32) as JSON
 //   node foxglove_reference.mjs write DIR                 write DIR/foxglove_{lz4,zstd,plain}.mcap
 //        with Foxglove's writer, and DIR/foxglove_expected.json: what they hold
+//   node foxglove_reference.mjs write-lab SPEC.json OUT.mcap CONVENTION   write the frames SPEC
+//        lists (raw RGB and millimetre depth files, camera poses, intrinsics) as a lab's robot
+//        records them, CONVENTION realsense, realsense-png or zed (see writeLab)
 //
 // canopy's tests (tests/ros2/mcap_reader_foxglove_test.cpp) run both and compare. Any failure
 // exits with code 1 and a line on stderr.
 
 import { open, writeFile, readFile } from "node:fs/promises";
+import { deflateSync } from "node:zlib";
 import { createRequire } from "node:module";
 import { McapIndexedReader, McapStreamReader, McapWriter } from "@mcap/core";
 import { FileHandleReadable, FileHandleWritable } from "@mcap/nodejs";
@@ -304,9 +308,9 @@ function messages() {
   return out;
 }
 
-async function writeOne(path, compression, all) {
+async function writeOne(path, compression, all, chunkSize = 600) {
   const handle = await open(path, "w");
-  const options = { writable: new FileHandleWritable(handle), chunkSize: 600 };
+  const options = { writable: new FileHandleWritable(handle), chunkSize };
   if (compression === "lz4") options.compressChunk = (data) => ({ compression: "lz4", compressedData: lz4Frame(data) });
   if (compression === "zstd") options.compressChunk = (data) => ({ compression: "zstd", compressedData: zstd.compress(data, 3) });
   if (compression === "plain") options.useChunks = false;
@@ -347,11 +351,140 @@ async function write(dir) {
   await writeFile(`${dir}/foxglove_expected.json`, JSON.stringify({ files: ["lz4", "zstd", "plain"], messages: expected }, null, 1));
 }
 
+
+// --- A lab's recording (jobs' McapFramesFoxglove test) -----------------------------------------
+// Poses as 4x4 row-major arrays; the transforms a lab's robot publishes are split out of the
+// camera's pose: map -> odom -> base_link -> tool0 on /tf at 30 Hz (a sample at each depth
+// stamp, the robot held between frames), the camera chain on /tf_static.
+const mat = (R, t) => [R[0], R[1], R[2], t[0], R[3], R[4], R[5], t[1], R[6], R[7], R[8], t[2], 0, 0, 0, 1];
+function mul(a, b) {
+  const c = new Array(16).fill(0);
+  for (let i = 0; i < 4; i++) for (let j = 0; j < 4; j++) for (let k = 0; k < 4; k++) c[4 * i + j] += a[4 * i + k] * b[4 * k + j];
+  return c;
+}
+function inv(a) {  // rigid
+  const R = [a[0], a[4], a[8], a[1], a[5], a[9], a[2], a[6], a[10]];
+  const t = [a[3], a[7], a[11]];
+  return mat(R, [-(R[0] * t[0] + R[1] * t[1] + R[2] * t[2]), -(R[3] * t[0] + R[4] * t[1] + R[5] * t[2]),
+                 -(R[6] * t[0] + R[7] * t[1] + R[8] * t[2])]);
+}
+function yawMat(yaw, t) {
+  const c = Math.cos(yaw), s = Math.sin(yaw);
+  return mat([c, -s, 0, s, c, 0, 0, 0, 1], t);
+}
+function quat(m) {  // rotation matrix to quaternion (Shepperd)
+  const [r00, r01, r02, r10, r11, r12, r20, r21, r22] = [m[0], m[1], m[2], m[4], m[5], m[6], m[8], m[9], m[10]];
+  const tr = r00 + r11 + r22;
+  let x, y, z, w;
+  if (tr > 0) {
+    const S = Math.sqrt(tr + 1) * 2; w = 0.25 * S; x = (r21 - r12) / S; y = (r02 - r20) / S; z = (r10 - r01) / S;
+  } else if (r00 > r11 && r00 > r22) {
+    const S = Math.sqrt(1 + r00 - r11 - r22) * 2; w = (r21 - r12) / S; x = 0.25 * S; y = (r01 + r10) / S; z = (r02 + r20) / S;
+  } else if (r11 > r22) {
+    const S = Math.sqrt(1 + r11 - r00 - r22) * 2; w = (r02 - r20) / S; x = (r01 + r10) / S; y = 0.25 * S; z = (r12 + r21) / S;
+  } else {
+    const S = Math.sqrt(1 + r22 - r00 - r11) * 2; w = (r10 - r01) / S; x = (r02 + r20) / S; y = (r12 + r21) / S; z = 0.25 * S;
+  }
+  return { x, y, z, w };
+}
+function pngOf(width, height, rgb) {  // 8-bit RGB, filter 0 on every row
+  const chunk = (type, data) => {
+    const body = Buffer.concat([Buffer.from(type, "ascii"), data]);
+    const len = Buffer.alloc(4); len.writeUInt32BE(data.length);
+    const crc = Buffer.alloc(4); crc.writeUInt32BE(crc32(body));
+    return Buffer.concat([len, body, crc]);
+  };
+  const ihdr = Buffer.alloc(13);
+  ihdr.writeUInt32BE(width, 0); ihdr.writeUInt32BE(height, 4); ihdr[8] = 8; ihdr[9] = 2;
+  const raw = Buffer.alloc(height * (1 + 3 * width));
+  for (let y = 0; y < height; y++) Buffer.from(rgb.buffer, rgb.byteOffset + y * 3 * width, 3 * width).copy(raw, y * (1 + 3 * width) + 1);
+  return new Uint8Array(Buffer.concat([Buffer.from("89504e470d0a1a0a", "hex"), chunk("IHDR", ihdr), chunk("IDAT", deflateSync(raw)), chunk("IEND", Buffer.alloc(0))]));
+}
+
+async function writeLab(specFile, outFile, convention) {
+  const spec = JSON.parse(await readFile(specFile, "utf8"));
+  const zed = convention === "zed";
+  const png = convention === "realsense-png";
+  const optical = zed ? "zed_left_camera_optical_frame" : "camera_color_optical_frame";
+  const link = zed ? "zed_left_camera_frame" : "camera_link";
+  const topics = zed
+    ? { rgb: "/zed/zed_node/rgb/image_rect_color", depth: "/zed/zed_node/depth/depth_registered",
+        info: "/zed/zed_node/rgb/camera_info", extra: "/zed/zed_node/left/image_rect_color" }
+    : { rgb: "/camera/color/image_raw", depth: "/camera/aligned_depth_to_color/image_raw",
+        info: "/camera/color/camera_info", extra: "/camera/depth/image_rect_raw" };
+  // The static chain: tool0 -> link 5 cm ahead, link -> optical (x right, y down, z forward).
+  const T_tool_link = mat([1, 0, 0, 0, 1, 0, 0, 0, 1], [0.05, 0, 0.02]);
+  const T_link_optical = mat([0, 0, 1, -1, 0, 0, 0, -1, 0], [0, 0, 0]);
+  const T_map_odom = yawMat(0.1, [1.5, -0.25, 0]);
+  const T_base_tool = yawMat(-0.3, [0.3, 0.1, 0.9]);
+  const T0 = BigInt(spec.start_ns);
+  const all = [];
+  const tfOf = (t, parent, child, T) => ({
+    header: { stamp: stampOf(t), frame_id: parent }, child_frame_id: child,
+    transform: { translation: { x: T[3], y: T[7], z: T[11] }, rotation: quat(T) },
+  });
+  all.push({ topic: "/tf_static", schema: "tf2_msgs/msg/TFMessage", t: T0,
+             value: { transforms: [tfOf(T0, "tool0", link, T_tool_link), tfOf(T0, link, optical, T_link_optical)] } });
+  const W = spec.width, H = spec.height;
+  for (let i = 0; i < spec.frames.length; i++) {
+    const f = spec.frames[i];
+    const tColour = T0 + BigInt(i) * 1000000000n;
+    const tDepth = tColour + 4000000n;  // depth stamped 4 ms after colour, as a RealSense's often is
+    const T_map_base = mul(mul(f.pose, inv(mul(T_tool_link, T_link_optical))), inv(T_base_tool));
+    const T_odom_base = mul(inv(T_map_odom), T_map_base);
+    for (let j = 0; j < 30; j++) {
+      const t = tDepth + BigInt(Math.round((j * 1e9) / 30));
+      all.push({ topic: "/tf", schema: "tf2_msgs/msg/TFMessage", t,
+                 value: { transforms: [tfOf(t, "map", "odom", T_map_odom), tfOf(t, "odom", "base_link", T_odom_base),
+                                       tfOf(t, "base_link", "tool0", T_base_tool)] } });
+    }
+    const rgb = new Uint8Array(await readFile(f.rgb));
+    const mm = new Uint16Array(new Uint8Array(await readFile(f.depth_mm)).buffer);
+    const header = (t) => ({ stamp: stampOf(t), frame_id: optical });
+    if (zed) {
+      const bgra = new Uint8Array(W * H * 4);
+      for (let k = 0; k < W * H; k++) {
+        bgra[4 * k] = rgb[3 * k + 2]; bgra[4 * k + 1] = rgb[3 * k + 1]; bgra[4 * k + 2] = rgb[3 * k]; bgra[4 * k + 3] = 255;
+      }
+      const colour = { header: header(tColour), height: H, width: W, encoding: "bgra8", is_bigendian: 0, step: 4 * W, data: bgra };
+      all.push({ topic: topics.rgb, schema: "sensor_msgs/msg/Image", t: tColour, value: colour });
+      all.push({ topic: topics.extra, schema: "sensor_msgs/msg/Image", t: tColour, value: colour });
+      const metres = new Float32Array(W * H).map((_, k) => (mm[k] === 0 ? NaN : mm[k] / 1000));
+      all.push({ topic: topics.depth, schema: "sensor_msgs/msg/Image", t: tDepth,
+                 value: { header: header(tDepth), height: H, width: W, encoding: "32FC1", is_bigendian: 0, step: 4 * W,
+                          data: new Uint8Array(metres.buffer) } });
+    } else {
+      if (png) {
+        all.push({ topic: topics.rgb + "/compressed", schema: "sensor_msgs/msg/CompressedImage", t: tColour,
+                   value: { header: header(tColour), format: "rgb8; png compressed bgr8", data: pngOf(W, H, rgb) } });
+      } else {
+        all.push({ topic: topics.rgb, schema: "sensor_msgs/msg/Image", t: tColour,
+                   value: { header: header(tColour), height: H, width: W, encoding: "rgb8", is_bigendian: 0, step: 3 * W, data: rgb } });
+      }
+      const depth = { header: header(tDepth), height: H, width: W, encoding: "16UC1", is_bigendian: 0, step: 2 * W,
+                      data: new Uint8Array(mm.buffer) };
+      all.push({ topic: topics.depth, schema: "sensor_msgs/msg/Image", t: tDepth, value: depth });
+      all.push({ topic: topics.extra, schema: "sensor_msgs/msg/Image", t: tDepth,
+                 value: { ...depth, header: { stamp: stampOf(tDepth), frame_id: "camera_depth_optical_frame" } } });
+    }
+    all.push({ topic: topics.info, schema: "sensor_msgs/msg/CameraInfo", t: tColour,
+               value: { header: header(tColour), height: H, width: W, distortion_model: "plumb_bob", d: [0, 0, 0, 0, 0],
+                        k: [spec.fx, 0, spec.cx, 0, spec.fy, spec.cy, 0, 0, 1], r: [1, 0, 0, 0, 1, 0, 0, 0, 1],
+                        p: [spec.fx, 0, spec.cx, 0, 0, spec.fy, spec.cy, 0, 0, 0, 1, 0], binning_x: 0, binning_y: 0,
+                        roi: { x_offset: 0, y_offset: 0, height: 0, width: 0, do_rectify: false } } });
+  }
+  // A recorder writes in arrival order: here, time order.
+  all.sort((a, b) => (a.t < b.t ? -1 : a.t > b.t ? 1 : 0));
+  await zstd.isLoaded;
+  await writeOne(outFile, "zstd", all, 1 << 20);
+}
+
 const [command, ...args] = process.argv.slice(2);
 try {
   if (command === "dump" && args.length === 2) await dump(args[0], args[1]);
   else if (command === "write" && args.length === 1) await write(args[0]);
-  else throw new Error("usage: foxglove_reference.mjs dump FILE.mcap OUT.json | write DIR");
+  else if (command === "write-lab" && args.length === 3) await writeLab(args[0], args[1], args[2]);
+  else throw new Error("usage: foxglove_reference.mjs dump FILE.mcap OUT.json | write DIR | write-lab SPEC.json OUT.mcap CONVENTION");
 } catch (e) {
   console.error(`foxglove_reference: ${e.stack ?? e}`);
   process.exit(1);
