@@ -287,6 +287,9 @@ Experiment Experiment::load_string(const std::string& text, const std::string& n
     check_world_seeds_apply(y, e.world);
   }
   e.trial_timeout_s = get_positive(y, "trial_timeout_s", e.trial_timeout_s);
+  const std::string files = y.get<std::string>("trial_files", "compact");
+  y.check(files == "compact" || files == "full", "trial_files", "must be compact or full");
+  e.compact_trials = files == "compact";
   y.finish();
   return e;
 }

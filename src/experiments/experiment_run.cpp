@@ -16,6 +16,8 @@
 #include "canopy/common/output_dir.h"
 #include "canopy/common/value_text.h"
 #include "canopy/common/process.h"
+#include "canopy/common/read_file.h"
+#include "canopy/common/zstd_bytes.h"
 #include "canopy/common/timer.h"
 #include "canopy/experiments/experiment.h"
 #include "canopy/experiments/experiment_report.h"
@@ -180,6 +182,8 @@ TrialOutcome run_trial_files(const Experiment& e, const TrialSpec& t, const fs::
     const std::string line = last_line(work / "log.txt");
     if (!line.empty()) r.message += "; last output: " + line;
   }
+  std::vector<std::string> compacted;
+  if (r.outcome == Outcome::kOk && e.compact_trials) compacted = compact_trial_files((work / "mission").string());
   nlohmann::json record = {{"trial", e.trial_identity(t)},
                            {"status", r.outcome == Outcome::kOk ? "ok" : "failed"},
                            {"message", r.message},
@@ -188,6 +192,7 @@ TrialOutcome run_trial_files(const Experiment& e, const TrialSpec& t, const fs::
                            {"shard", std::to_string(o.shard_index) + "/" + std::to_string(o.shard_count)},
                            {"runner", o.runner},
                            {"files", {"world.yaml", "settings.yaml", "log.txt", "mission/"}}};
+  if (!compacted.empty()) record["compacted"] = compacted;
   write_json_atomic((work / "trial.json").string(), record);
   if (!remove_tree(final_dir.string()))  // a failed record being replaced
     throw IoError("trial " + t.id + ": cannot replace '" + final_dir.string() + "'");
@@ -196,6 +201,34 @@ TrialOutcome run_trial_files(const Experiment& e, const TrialSpec& t, const fs::
 }
 
 }  // namespace
+
+std::vector<std::string> compact_trial_files(const std::string& mission_dir) {
+  const fs::path d(mission_dir);
+  std::vector<std::string> changed;
+  for (const char* name : {"map.csm", "report.html"}) {
+    const fs::path plain = d / name;
+    if (!fs::exists(plain)) continue;
+    const std::string bytes = read_file(plain.string());
+    const std::string frame = zstd_compress(bytes, kTrialZstdLevel);
+    // Kept only when it reads back as the very bytes (the original goes next).
+    CANOPY_CHECK(zstd_decompress(frame, plain.string()) == bytes, plain.string() << ": compressed copy differs");
+    write_file_atomic(plain.string() + ".zst", frame);
+    fs::remove(plain);
+    changed.push_back(std::string(name) + " -> " + name + ".zst");
+  }
+  for (const char* name : {"map.ply", "map.bt"})
+    if (fs::remove(d / name)) changed.push_back(std::string(name) + " removed");
+  return changed;
+}
+
+bool unpack_trial_page(const std::string& mission_dir) {
+  const fs::path page = fs::path(mission_dir) / "report.html";
+  if (fs::exists(page)) return true;
+  const fs::path packed = page.string() + ".zst";
+  if (!fs::exists(packed)) return false;
+  write_file_atomic(page.string(), zstd_decompress(read_file(packed.string()), packed.string()));
+  return true;
+}
 
 ExperimentRunSummary run_experiment(const Experiment& e, const std::string& out_dir, const ExperimentRunOptions& o) {
   CANOPY_CHECK(!o.mission_command.empty(), "run_experiment: no mission command");

@@ -8,6 +8,7 @@
 #include "canopy/common/data_dir.h"
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/read_file.h"
+#include "canopy/experiments/experiment.h"
 #include "canopy/jobs/run_report.h"
 
 namespace canopy::jobs {
@@ -62,7 +63,9 @@ nlohmann::json experiment_page_data(const experiments::MergedTrials& merged, con
     j["sc"] = sc;
     j["entropy"] = h;
     const fs::path page = fs::absolute(fs::path(t.folder) / "mission" / "report.html").lexically_normal();
-    j["link"] = fs::exists(page) ? page.lexically_relative(base).generic_string() : "";
+    // A compact trial keeps its page packed (experiments::compact_trial_files): unpacked here, when linked.
+    const bool linked = experiments::unpack_trial_page(page.parent_path().string());
+    j["link"] = linked ? page.lexically_relative(base).generic_string() : "";
     trials.push_back(j);
   }
   d["trials"] = trials;

@@ -7,6 +7,7 @@
 #include "canopy/common/error.h"
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/read_file.h"
+#include "canopy/common/zstd_bytes.h"
 
 namespace canopy::mapping {
 
@@ -228,9 +229,22 @@ SemanticOcTree deserialize_map(const std::string& bytes, const std::string& name
   return map;
 }
 
-void save_map(const SemanticOcTree& map, const std::string& path) { write_file_atomic(path, serialize_map(map)); }
+bool compressed_map_path(const std::string& path) {
+  return path.size() >= 4 && path.compare(path.size() - 4, 4, ".zst") == 0;
+}
 
-SemanticOcTree load_map(const std::string& path) { return deserialize_map(read_file(path), path); }
+std::string compress_map_bytes(const std::string& csm, int level) { return zstd_compress(csm, level); }
+
+std::string map_bytes(const std::string& bytes, const std::string& name) {
+  return is_zstd_frame(bytes) ? zstd_decompress(bytes, name) : bytes;
+}
+
+void save_map(const SemanticOcTree& map, const std::string& path) {
+  const std::string csm = serialize_map(map);
+  write_file_atomic(path, compressed_map_path(path) ? compress_map_bytes(csm) : csm);
+}
+
+SemanticOcTree load_map(const std::string& path) { return deserialize_map(map_bytes(read_file(path), path), path); }
 
 std::size_t export_ply(const SemanticOcTree& map, const std::string& path) {
   std::string body;

@@ -55,6 +55,12 @@ motion::PlanResult Mission::Impl::plan_move(const BasePose& base, const ArmConfi
   return planner.plan_to_configs(base, q0, goals, mix_seed(seed, 1000000 + std::uint64_t(current_attempt)));
 }
 
+std::optional<motion::PlanResult> Mission::Impl::straight_move(const BasePose& base, const ArmConfig& q0,
+                                                               const std::vector<ArmConfig>& goals) {
+  map_env->clear_robot_volume(model, base, q0, settings.motion.collision.environment_padding_m);
+  return planner.straight_plan(base, q0, goals, mix_seed(seed, 1000000 + std::uint64_t(current_attempt)));
+}
+
 ArmMove Mission::Impl::move(const motion::PlanResult& plan, const nbv::PlannedView& view,
                             const sim::SimState& before, PhaseTimes& times) {
   ScopedPhase phase_time(times, to_string(WallPhase::kControl));
@@ -97,16 +103,21 @@ ViewRecord Mission::Impl::attempt(const nbv::PlannedView& view, ViewPhase phase)
     ScopedPhase phase_time(rec.times, to_string(WallPhase::kMotionPlanning));
     goals = motion::view_goal_configs(model, view, base, q0);
     if (goals.empty()) return finish(FailureCause::kNoIk, "no IK solution within the joint limits");
-    overlap = may_overlap();
-    if (!overlap) scans.follow();
-    plan = plan_move(base, q0, goals);
-    if (overlap && !(plan.ok() && plan.direct)) {  // planned again with the scan
-      overlap = false;
+    // An overlapped move is only ever a straight one: without one, no search is run before the
+    // scan is in (a search's plan would be dropped and made again, and an unreachable view
+    // would use up its budget twice).
+    std::optional<motion::PlanResult> straight;
+    if (may_overlap()) straight = straight_move(base, q0, goals);
+    overlap = straight.has_value();
+    if (overlap) {
+      plan = std::move(*straight);
+    } else {
       scans.follow();
       plan = plan_move(base, q0, goals);
     }
   }
   rec.start_repair = plan.repaired ? plan.repair_note : "";
+  rec.plan_iterations = plan.iterations;
   if (!plan.ok()) {
     leave_collision(plan, view, rec.times);
     return finish(failure_of_plan(plan.status), plan.message);
@@ -137,6 +148,7 @@ ViewRecord Mission::Impl::attempt(const nbv::PlannedView& view, ViewPhase phase)
       look.reset();
       plan = std::move(checked);
       rec.start_repair = plan.repaired ? plan.repair_note : "";
+      rec.plan_iterations = plan.iterations;
       if (!plan.ok()) {
         leave_collision(plan, view, rec.times);
         return finish(failure_of_plan(plan.status), plan.message);

@@ -6,6 +6,7 @@
 #include <functional>
 #include <future>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -113,6 +114,9 @@ struct Mission::Impl {
 
   // The arm plan to one of `goals`, in the map's environment without the robot's own volume.
   motion::PlanResult plan_move(const BasePose& base, const ArmConfig& q0, const std::vector<ArmConfig>& goals);
+  // plan_move's plan when it is the straight line, without searching (an overlapped move keeps no other).
+  std::optional<motion::PlanResult> straight_move(const BasePose& base, const ArmConfig& q0,
+                                                  const std::vector<ArmConfig>& goals);
 
   // The planned move on the simulator's servos from `before`, the current state.
   ArmMove move(const motion::PlanResult& plan, const nbv::PlannedView& view, const sim::SimState& before,

@@ -331,8 +331,10 @@ std::unique_ptr<og::SimpleSetup> make_setup(const CollisionChecker& checker_ref,
 
 // Solves within `max_iterations` planner iterations: the termination condition is polled once
 // per iteration, so a seed gives the same path however loaded the machine is; the wall clock
-// limit `remaining_s` is only a safety net (`timed_out` says it ended the search).
-ob::PlannerStatus solve_within_budget(og::SimpleSetup& ss, int max_iterations, double remaining_s, bool* timed_out) {
+// limit `remaining_s` is only a safety net (`timed_out` says it ended the search). `used` gets
+// the iterations the search ran (polls answered "go on"), at most max_iterations.
+ob::PlannerStatus solve_within_budget(og::SimpleSetup& ss, int max_iterations, double remaining_s, bool* timed_out,
+                                      int* used) {
   int iterations = 0;
   const ob::PlannerTerminationCondition budget([&iterations, max_iterations] { return ++iterations > max_iterations; });
   const ob::PlannerTerminationCondition clock = ob::timedPlannerTerminationCondition(remaining_s);
@@ -341,7 +343,9 @@ ob::PlannerStatus solve_within_budget(og::SimpleSetup& ss, int max_iterations, d
     if (clock()) return *timed_out = true;
     return false;
   });
-  return ss.solve(ptc);
+  const ob::PlannerStatus status = ss.solve(ptc);
+  *used = *timed_out ? iterations - 1 : std::min(iterations, max_iterations);  // the clock's poll ran none
+  return status;
 }
 
 // The solution path's states as joint configurations.
@@ -519,8 +523,20 @@ PlanResult ArmPlanner::plan_to_camera_pose(const BasePose& base, const ArmConfig
   return r;
 }
 
-PlanResult ArmPlanner::plan_to_configs(const BasePose& base, const ArmConfig& start_in,
-                                       const std::vector<ArmConfig>& goals_in, std::uint64_t seed) const {
+PlanResult ArmPlanner::plan_to_configs(const BasePose& base, const ArmConfig& start, const std::vector<ArmConfig>& goals,
+                                       std::uint64_t seed) const {
+  return plan(base, start, goals, seed, /*search=*/true);
+}
+
+std::optional<PlanResult> ArmPlanner::straight_plan(const BasePose& base, const ArmConfig& start,
+                                                    const std::vector<ArmConfig>& goals, std::uint64_t seed) const {
+  PlanResult r = plan(base, start, goals, seed, /*search=*/false);
+  if (!r.ok()) return std::nullopt;
+  return r;
+}
+
+PlanResult ArmPlanner::plan(const BasePose& base, const ArmConfig& start_in, const std::vector<ArmConfig>& goals_in,
+                            std::uint64_t seed, bool search) const {
   const Stopwatch watch;
   PlanResult r;
   auto fail = [&](PlanStatus s, std::string msg) {
@@ -571,11 +587,13 @@ PlanResult ArmPlanner::plan_to_configs(const BasePose& base, const ArmConfig& st
       if (motion_valid(base, start, g)) return succeed({start, g}, true);
   }
 
+  if (!search) return fail(PlanStatus::kTimeout, "no straight line to a goal (search not asked for)");
   const std::unique_ptr<og::SimpleSetup> ss = make_setup(*checker_, params_, base, start, free_goals, seed);
   const double remaining = params_.time_limit_s - watch.seconds();
   if (remaining <= 0.0) return fail(PlanStatus::kTimeout, "time limit used up before planning started");
   bool timed_out = false;
-  const ob::PlannerStatus solved = solve_within_budget(*ss, params_.max_iterations, remaining, &timed_out);
+  const ob::PlannerStatus solved =
+      solve_within_budget(*ss, params_.max_iterations, remaining, &timed_out, &r.iterations);
   if (solved != ob::PlannerStatus::EXACT_SOLUTION)
     return fail(PlanStatus::kTimeout,
                 timed_out ? "no path within the " + std::to_string(params_.time_limit_s) + " s safety limit (" +

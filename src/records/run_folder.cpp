@@ -28,10 +28,12 @@ std::string timing_csv(const MissionResult& r) {
                                          WallPhase::kMapping, WallPhase::kEvaluation};
   std::vector<std::string> header = {"attempt"};
   for (const WallPhase p : phases) header.push_back(std::string(to_string(p)) + "_s");
+  header.push_back("plan_iterations");
   CsvWriter csv(header);
   for (const ViewRecord& v : r.views) {
     csv.add(v.attempt);
     for (const WallPhase p : phases) csv.add(v.times.get(to_string(p)));
+    csv.add(v.plan_iterations);
     csv.end_row();
   }
   return csv.take();

@@ -137,10 +137,10 @@ for sig in INT TERM; do
 done
 
 # --- report ---------------------------------------------------------------------------------
-# Not signalled here any more: since the figures are drawn in C++ (issue 46 point 8) a 3-trial
-# report takes about 20 ms after its first output line, so a signal sent on that line arrives
-# after the report is published. Its stop checks (jobs::write_report, before writing and before
-# publishing) need a test that does not depend on timing: an open item (closing note, 5 Dec).
+# Not signalled here: since the figures are drawn in C++ (issue 46 point 8) a 3-trial report
+# takes about 20 ms after its first output line, so a signal sent on that line arrives after
+# the report is published. Its stop checks (jobs::write_report, before writing and before
+# publishing) are tested without timing in tests/jobs/report_job_test.cpp (ReportJob.*).
 
 # --- visibility (nothing published, nothing left) ---------------------------------------------
 for sig in INT TERM; do

@@ -30,7 +30,6 @@ ALLOWED = {
     "jobs/bench_gain": "canopy bench gain: a timing benchmark over nbv/gains (gains_test.cpp holds the properties)",
     "jobs/experiment_page": "report.html of an experiment: experiment_cli_test.sh and run_report_browser_test.sh",
     "jobs/map_job": "canopy map: recorded_map_job_test.cpp and cli.frames",
-    "jobs/report_job": "canopy report: mission_cli and experiment_cli_test.sh",
     "jobs/test_views": "the held-out views of a dataset export: nerfstudio_test.cpp",
     "jobs/visibility_job": "canopy visibility: visibility_test.cpp tests the protocol it runs",
     "mapping/frame_mapping": "one frame into the map (14 lines over insertion): color_segmentation_render_test.cpp",

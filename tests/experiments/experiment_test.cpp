@@ -16,6 +16,7 @@
 #include "canopy/common/error.h"
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/read_file.h"
+#include "canopy/common/zstd_bytes.h"
 #include "canopy/experiments/experiment_report.h"
 #include "canopy/world/world.h"
 
@@ -37,6 +38,9 @@ p_gt: [1.0, 0.7]
 seeds: {first: 11, count: 2}
 trial_timeout_s: 5
 )";
+
+// The bytes a compressed file holds (what mapping::load_map reads of a .csm.zst).
+std::string mapping_bytes_of(const fs::path& file) { return zstd_decompress(read_file(file.string()), file.string()); }
 
 Experiment load(const std::string& text) { return Experiment::load_string(text, "test.yaml", ".", default_robot_config()); }
 
@@ -181,6 +185,37 @@ TEST(Experiment, RejectsBadFilesWithTheKeyNamed) {
   expect_input_error(replaced(kBase, "worlds/small.yaml", "worlds/none.yaml"), "none.yaml");
   expect_input_error(replaced(kBase, "trial_timeout_s: 5", "trial_timeout_s: .nan"), "trial_timeout_s");
   expect_input_error(replaced(kBase, "name: t\n", "name: t\nname: u\n"), "name");
+  expect_input_error(kBase + "trial_files: tiny\n", "trial_files");
+  EXPECT_TRUE(load(kBase).compact_trials);
+  EXPECT_FALSE(load(kBase + "trial_files: full\n").compact_trials);
+}
+
+// A compact trial keeps its map and report page as Zstandard frames that read back as the very
+// bytes, drops the map's exports, leaves every other file alone; its page is unpacked again,
+// byte for byte, when a report links it.
+TEST(ExperimentRun, CompactTrialFilesReadBackByteIdentical) {
+  const fs::path d = fs::path(testing::TempDir()) / "compact_trial";
+  fs::remove_all(d);
+  fs::create_directories(d);
+  std::string map, page;
+  for (int i = 0; i < 40000; ++i) map += static_cast<char>((i * 7919) % 251 * (i % 3 == 0));
+  for (int i = 0; i < 3000; ++i) page += "<p>view " + std::to_string(i) + "</p>\n";
+  write_file_atomic((d / "map.csm").string(), map);
+  write_file_atomic((d / "report.html").string(), page);
+  write_file_atomic((d / "map.ply").string(), "ply");
+  write_file_atomic((d / "map.bt").string(), "bt");
+  write_file_atomic((d / "views.csv").string(), "attempt\n0\n");
+  const std::vector<std::string> changed = compact_trial_files(d.string());
+  EXPECT_EQ(changed.size(), 4u);
+  for (const char* gone : {"map.csm", "report.html", "map.ply", "map.bt"}) EXPECT_FALSE(fs::exists(d / gone)) << gone;
+  EXPECT_EQ(read_file((d / "views.csv").string()), "attempt\n0\n");
+  EXPECT_LT(fs::file_size(d / "map.csm.zst") * 4, map.size());
+  EXPECT_EQ(mapping_bytes_of(d / "map.csm.zst"), map);
+  EXPECT_TRUE(unpack_trial_page(d.string()));
+  EXPECT_EQ(read_file((d / "report.html").string()), page);
+  EXPECT_TRUE(unpack_trial_page(d.string()));  // already there
+  EXPECT_TRUE(compact_trial_files((d / "none").string()).empty());
+  EXPECT_FALSE(unpack_trial_page((d / "none").string()));
 }
 
 // World seeds: every trial names its world seed, and its world is the world file's with that

@@ -79,15 +79,15 @@ TEST(MissionJob, StopsTheBaseCannotServeAreRefusedOrFailTheRun) {
   MissionJobParams p;
   p.settings = quick_settings();
   p.out = out;
-  p.settings.mission.stops.positions_m = {0.0, 150.0};
+  p.settings.mission.stops.positions_m = {0.0, 300.0};
   try {
     run_mission_job(small(), p);
-    FAIL() << "a stop at x = 150 m accepted";
+    FAIL() << "a stop at x = 300 m accepted";
   } catch (const InputError& e) {
-    EXPECT_EQ(std::string(e.what()).rfind("mission.stops.positions_m: stop 2 at x = 150 m", 0), 0u) << e.what();
+    EXPECT_EQ(std::string(e.what()).rfind("mission.stops.positions_m: stop 2 at x = 300 m", 0), 0u) << e.what();
   }
   p.settings.mission.stops.positions_m.clear();
-  p.settings.mission.stops.base_y_m = -120.0;
+  p.settings.mission.stops.base_y_m = -270.0;  // beyond the base_y joint (+-250 m)
   EXPECT_THROW(run_mission_job(small(), p), InputError);
   EXPECT_FALSE(fs::exists(out));
   EXPECT_FALSE(fs::exists(out + ".partial"));

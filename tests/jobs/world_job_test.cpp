@@ -100,15 +100,15 @@ TEST(WorldJob, AnAisleNarrowerThanTheBaseIsRefused) {
   EXPECT_NO_THROW(load_world_spec("worlds/small.yaml"));
 }
 
-// The base's prismatic joints end at +-100 m (the URDF): a row past them, or a start outside
+// The base's prismatic joints end at +-250 m (the URDF): a row past them, or a start outside
 // them, is refused naming the key; a row that ends just inside them is accepted.
 TEST(WorldJob, RowsAndStartsBeyondTheBasesJointsAreRefused) {
   const std::string dir = testing::TempDir() + "/world_job_range";
   fs::create_directories(dir);
   const RobotConfig robot = default_robot_config();
   const world::WorldSpec::BaseRange r = base_range(robot, robot::RobotDescription::load_urdf(robot.urdf_path));
-  EXPECT_EQ(r.x_lower_m, -100.0);
-  EXPECT_EQ(r.x_upper_m, 100.0);
+  EXPECT_EQ(r.x_lower_m, -250.0);
+  EXPECT_EQ(r.x_upper_m, 250.0);
   const auto refused = [&](const std::string& name, const std::string& text, const std::string& key) {
     std::ofstream(dir + "/" + name) << text;
     try {
@@ -118,17 +118,25 @@ TEST(WorldJob, RowsAndStartsBeyondTheBasesJointsAreRefused) {
       EXPECT_NE(std::string(e.what()).find(name + ": key '" + key + "'"), std::string::npos) << e.what();
     }
   };
-  // The issue's world: four plants from x = 99 m; the last one needs the base past 100 m.
-  refused("far_row.yaml", "name: far\nrows: {rows: 2, plants_per_row: 4, plant_spacing_m: 0.5, x_start_m: 99}\n"
-          "robot_start: [98.5, 0, 0]\n", "rows.x_start_m");
-  refused("far_start.yaml", "name: far\nrows: {rows: 2, plants_per_row: 1}\nrobot_start: [150, 0, 0]\n", "robot_start");
+  // Four plants from x = 249 m; the last one needs the base past 250 m.
+  refused("far_row.yaml", "name: far\nrows: {rows: 2, plants_per_row: 4, plant_spacing_m: 0.5, x_start_m: 249}\n"
+          "robot_start: [248.5, 0, 0]\n", "rows.x_start_m");
+  refused("far_start.yaml", "name: far\nrows: {rows: 2, plants_per_row: 1}\nrobot_start: [300, 0, 0]\n", "robot_start");
   refused("low_row.yaml", "name: far\nrows: {rows: 2, plants_per_row: 2, x_start_m: -400}\nrobot_start: [0, 0, 0]\n",
           "rows.x_start_m");
   // The last plant with the arm over it and the base just inside the joint: accepted.
-  const double last_ok = 100.0 + r.arm_x_m;
+  const double last_ok = 250.0 + r.arm_x_m;
   std::ofstream(dir + "/edge.yaml") << "name: edge\nrows: {rows: 2, plants_per_row: 2, plant_spacing_m: 0.5, x_start_m: "
                                     << last_ok - 0.5 << "}\nrobot_start: [" << last_ok - 1.5 << ", 0, 0]\n";
   EXPECT_NO_THROW(load_world_spec(dir + "/edge.yaml"));
+  // The greenhouse compartment (issue 49): two rows of 500 dense plants, 150 m, within reach;
+  // beyond the joints' old +-100 m it would be refused.
+  const world::WorldSpec house = load_world_spec("worlds/greenhouse.yaml");
+  EXPECT_EQ(house.plant_count(), 1000);
+  world::WorldSpec::BaseRange old_range = r;
+  old_range.x_lower_m = -100.0;
+  old_range.x_upper_m = 100.0;
+  EXPECT_THROW(house.check_base_range(old_range), InputError);
 }
 
 // Every material of the default world (ground, procedural plants) is labelled as its class;

@@ -82,6 +82,49 @@ TEST(MapIo, SaveLoadRoundTripIsExact) {
   EXPECT_TRUE(deserialize_map(serialize_map(empty), "empty").identical(empty));
 }
 
+// A compressed map (.csm.zst) reads back as the very same .csm bytes and the same map; the
+// `zstd` tool's own frame of the bytes loads too (load_map goes by the bytes, not the name); a
+// damaged frame, or one that hides its size, is an InputError naming the file.
+TEST(MapIo, CompressedMapsReadBackTheSameBytes) {
+  const SemanticOcTree map = sample_map();
+  const std::string csm = serialize_map(map);
+  const std::string dir = temp_dir();
+  save_map(map, dir + "/map.csm.zst");
+  const std::string packed = read_file(dir + "/map.csm.zst");
+  EXPECT_LT(packed.size() * 4, csm.size());
+  EXPECT_EQ(map_bytes(packed, "packed"), csm);
+  EXPECT_EQ(map_bytes(csm, "plain"), csm);  // plain bytes pass through
+  const SemanticOcTree back = load_map(dir + "/map.csm.zst");
+  EXPECT_TRUE(back.identical(map));
+  EXPECT_EQ(serialize_map(back), csm);
+  // Named .csm, compressed at another level: read by its bytes.
+  {
+    std::ofstream f(dir + "/other.csm", std::ios::binary);
+    const std::string fast = compress_map_bytes(csm, 1);
+    f.write(fast.data(), static_cast<std::streamsize>(fast.size()));
+  }
+  EXPECT_EQ(serialize_map(load_map(dir + "/other.csm")), csm);
+  // Damage: a cut frame, flipped bytes in its body, a frame without its size.
+  EXPECT_THROW(map_bytes(packed.substr(0, packed.size() / 2), "cut"), InputError);
+  int caught = 0;
+  for (std::size_t i = 8; i < packed.size(); i += 1 + packed.size() / 37) {
+    std::string bad = packed;
+    bad[i] = static_cast<char>(bad[i] ^ 0x5a);
+    try {  // a flip the frame does not notice is caught by the .csm checksum
+      deserialize_map(map_bytes(bad, "flipped.csm.zst"), "flipped.csm.zst");
+    } catch (const InputError& e) {
+      ++caught;
+      EXPECT_NE(std::string(e.what()).find("flipped.csm.zst"), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_GT(caught, 30);
+  std::string sizeless = packed;
+  sizeless[4] = 0;  // frame header descriptor: no content size, no checksum, no window flag
+  EXPECT_THROW(map_bytes(sizeless, "sizeless"), InputError);
+  EXPECT_TRUE(compressed_map_path("a/map.csm.zst"));
+  EXPECT_FALSE(compressed_map_path("a/map.csm"));
+}
+
 TEST(MapIo, TruncatedOrCorruptFilesThrowInputError) {
   const std::string bytes = serialize_map(sample_map());
   // Every truncation length fails cleanly (a sample of them, to stay fast).

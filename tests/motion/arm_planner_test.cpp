@@ -256,6 +256,83 @@ TEST_F(ArmPlannerTest, MotionCheckThreadsDoNotChangeThePlans) {
   EXPECT_LT(failed, 24);  // and the full one finds paths
 }
 
+// A request's recorded iterations decide its outcome under any budget: with exactly that many
+// the same path, with one fewer a timeout, with more the same path again; a straight line or a
+// goal in collision ran no iteration, a search out of budget used all of it. This is what lets
+// a budget's effect be read off recorded missions (docs/performance.md).
+TEST_F(ArmPlannerTest, RecordedIterationsDecideTheOutcomeUnderAnyBudget) {
+  Rng rng(17);
+  const ArmConfig start = model().config().home;
+  int searched = 0, multi = 0;
+  for (int g = 0; g < 40 && searched < 8; ++g) {
+    ArmConfig q;
+    for (int i = 0; i < kArmDof; ++i) q[i] = start[i] + std::remainder(rng.uniform(-M_PI, M_PI) - start[i], 2 * M_PI);
+    if (!model().within_limits(q) || checker_.in_collision(base_, q)) continue;
+    PlannerParams p;
+    p.try_direct_first = false;
+    p.simplify = false;
+    const PlanResult full = ArmPlanner(checker_, p).plan_to_configs(base_, start, {q}, 3 + g);
+    if (!full.ok()) continue;
+    ++searched;
+    ASSERT_GE(full.iterations, 1);
+    ASSERT_LE(full.iterations, p.max_iterations);
+    multi += full.iterations > 1;
+    for (const int budget : {full.iterations, full.iterations + 37}) {
+      p.max_iterations = budget;
+      const PlanResult same = ArmPlanner(checker_, p).plan_to_configs(base_, start, {q}, 3 + g);
+      ASSERT_TRUE(same.ok()) << "goal " << g << ", budget " << budget << ": " << same.message;
+      EXPECT_EQ(same.iterations, full.iterations);
+      ASSERT_EQ(same.path, full.path) << "goal " << g << ", budget " << budget;
+    }
+    if (full.iterations > 1) {
+      p.max_iterations = full.iterations - 1;
+      const PlanResult short_of = ArmPlanner(checker_, p).plan_to_configs(base_, start, {q}, 3 + g);
+      EXPECT_EQ(short_of.status, PlanStatus::kTimeout) << "goal " << g;
+      EXPECT_EQ(short_of.iterations, full.iterations - 1);
+    }
+  }
+  EXPECT_GE(searched, 4);
+  EXPECT_GE(multi, 2);  // some searches needed more than one iteration
+  PlannerParams direct;
+  const ArmConfig near = {start[0] + 0.05, start[1], start[2], start[3], start[4], start[5]};
+  const PlanResult line = ArmPlanner(checker_, direct).plan_to_configs(base_, start, {near}, 1);
+  ASSERT_TRUE(line.ok() && line.direct) << line.message;
+  EXPECT_EQ(line.iterations, 0);
+}
+
+// straight_plan gives plan_to_configs' result exactly when that is the straight line, and
+// nothing otherwise (a search, or a failure), on requests of all three kinds.
+TEST_F(ArmPlannerTest, StraightPlanIsThePlanWhenItIsTheStraightLine) {
+  Rng rng(23);
+  const ArmConfig home = model().config().home;
+  const ArmPlanner planner(checker_, PlannerParams{});
+  int straight = 0, searched = 0, failed = 0;
+  for (int g = 0; g < 60; ++g) {
+    ArmConfig start = home, q;
+    if (g % 2) {  // a nearby start, so that straight lines are common
+      for (int i = 0; i < kArmDof; ++i) start[i] = home[i] + rng.uniform(-0.4, 0.4);
+      if (!model().within_limits(start) || checker_.in_collision(base_, start)) continue;
+    }
+    const double reach = g % 3 == 0 ? 0.5 : M_PI;
+    for (int i = 0; i < kArmDof; ++i) q[i] = start[i] + rng.uniform(-reach, reach);
+    const PlanResult full = planner.plan_to_configs(base_, start, {q}, 5 + g);
+    const std::optional<PlanResult> line = planner.straight_plan(base_, start, {q}, 5 + g);
+    if (full.ok() && full.direct) {
+      ++straight;
+      ASSERT_TRUE(line.has_value()) << "goal " << g;
+      EXPECT_TRUE(line->direct);
+      EXPECT_EQ(line->path, full.path);
+      EXPECT_EQ(line->goal, full.goal);
+    } else {
+      (full.ok() ? searched : failed) += 1;
+      EXPECT_FALSE(line.has_value()) << "goal " << g << ": " << to_string(full.status);
+    }
+  }
+  EXPECT_GE(straight, 3);
+  EXPECT_GE(searched, 2);
+  EXPECT_GE(failed, 1);
+}
+
 // ---- Start states in collision are repaired (FACTS 19, MoveIt's FixStartStateCollision) ----
 
 // A state just inside a self-collision: the boundary between `free_q` and a self-colliding

@@ -7,6 +7,8 @@
 //  - PLY: occupied voxels as a binary point cloud with class colours (SemanticClasses::color),
 //    class index and occupancy; MeshLab and CloudCompare open it.
 //  - .bt: the occupancy as a standard OctoMap OcTree binary file (octovis, ROS tools).
+//  - .csm.zst: the .csm bytes in one Zstandard frame (the `zstd` tool reads it), about a
+//    twentyfifth of the size; read back, the very same .csm bytes. load_map reads both.
 
 #include <string>
 
@@ -22,9 +24,22 @@ std::string serialize_map(const SemanticOcTree& map);
 /// Parses .csm bytes; `name` names the source in errors. Throws InputError on bad data.
 SemanticOcTree deserialize_map(const std::string& bytes, const std::string& name);
 
-/// Writes `path` atomically.
+/// Zstandard level of .csm.zst files: 12 compresses a default mission's 17 MB map to about
+/// 0.7 MB in about 0.5 s (9: 0.76 MB in 0.4 s; 3: 1.0 MB in 0.2 s; 19: 0.48 MB in 13 s).
+constexpr int kMapZstdLevel = 12;
+
+/// True when `path` names a compressed map (ends in ".zst").
+bool compressed_map_path(const std::string& path);
+/// `csm` (serialize_map's bytes) in one Zstandard frame that declares its size.
+std::string compress_map_bytes(const std::string& csm, int level = kMapZstdLevel);
+/// The .csm bytes of `bytes`: decompressed when they are a Zstandard frame, else as they are.
+/// `name` names the source in errors; throws InputError on a damaged frame.
+std::string map_bytes(const std::string& bytes, const std::string& name);
+
+/// Writes `path` atomically, compressed when it ends in ".zst" (compressed_map_path).
 void save_map(const SemanticOcTree& map, const std::string& path);
-/// Reads a .csm file; throws InputError when missing, truncated or corrupt.
+/// Reads a .csm or .csm.zst file (by its bytes, not its name); throws InputError when
+/// missing, truncated or corrupt.
 SemanticOcTree load_map(const std::string& path);
 
 /// Writes the occupied voxels (p_occ > 0.5) as binary little-endian PLY; returns the count.

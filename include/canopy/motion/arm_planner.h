@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -37,7 +38,7 @@ const char* to_string(PlanStatus status);
 struct PlannerParams {
   std::string planner = "RRTConnect";      ///< A name from planner_names().
   /// Planner iterations per request: the budget that decides, so results do not depend on load.
-  int max_iterations = 20000;
+  int max_iterations = 3000;
   double time_limit_s = 10.0;              ///< Wall-clock safety net per request.
   double motion_check_resolution_rad = 0.02;  ///< Joint-space (Euclidean) step of motion checks.
   /// Threads testing the states of one long motion (0: all cores, 1: the planning thread
@@ -122,6 +123,11 @@ struct PlanResult {
   ArmConfig goal{};             ///< The goal configuration reached (on success).
   double planning_time_s = 0.0;
   bool direct = false;          ///< The straight line was valid; OMPL was not needed.
+  /// OMPL iterations this request used (0 when OMPL did not run: the straight line, or a
+  /// failure before planning; max_iterations when the budget ran out). A request with the same
+  /// seed and a budget of at least this many gives the same outcome (the budget is counted in
+  /// these iterations), so a budget's effect can be read off from recorded requests.
+  int iterations = 0;
   /// The start was in collision and was repaired: `repair` leads from it to a free state (the
   /// path's first segment on success; on failure a move of its own, see repair_trajectory).
   bool repaired = false;
@@ -153,6 +159,11 @@ class ArmPlanner {
   /// SBL, PRM; BiTRRT, LazyPRM and BITstar sample through the seeded sampler only).
   PlanResult plan_to_configs(const BasePose& base, const ArmConfig& start, const std::vector<ArmConfig>& goals,
                              std::uint64_t seed = 1) const;
+  /// plan_to_configs' result when it is the straight line to a goal (`direct`), found without
+  /// searching; nullopt when that request would search (OMPL) or fail. For a caller that keeps
+  /// only a straight plan (the mission's overlapped moves), so no search is run and dropped.
+  std::optional<PlanResult> straight_plan(const BasePose& base, const ArmConfig& start,
+                                          const std::vector<ArmConfig>& goals, std::uint64_t seed = 1) const;
   /// Plans from `start` until the camera is at T_world_camera (IK solutions as goals).
   PlanResult plan_to_camera_pose(const BasePose& base, const ArmConfig& start, const Pose& T_world_camera,
                                  std::uint64_t seed = 1) const;
@@ -176,6 +187,9 @@ class ArmPlanner {
   /// True when the straight move a -> b leaves a collision: states in collision come only
   /// first and collide in no pair the start does not; the end is free.
   bool leaves_collision(const BasePose& base, const ArmConfig& a, const ArmConfig& b) const;
+  /// plan_to_configs; with `search` false it stops where OMPL would start (status kTimeout).
+  PlanResult plan(const BasePose& base, const ArmConfig& start, const std::vector<ArmConfig>& goals,
+                  std::uint64_t seed, bool search) const;
 
   const CollisionChecker* checker_;
   std::shared_ptr<const CollisionChecker> goal_checker_;  ///< Self padding goal_self_clearance_m added (null when 0).

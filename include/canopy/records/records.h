@@ -173,6 +173,9 @@ struct ViewRecord {
   double centre_error_m = 0.0, voxel_volume_error = 0.0, ellipsoid_volume_error = 0.0;  ///< NaN without a match.
   double fruit_voxel_precision = 0.0, false_fruit_volume_m3 = 0.0;
   PhaseTimes times;              ///< Wall time by phase (timing.csv, not a field).
+  /// OMPL iterations of the plan that decided the attempt (motion::PlanResult::iterations;
+  /// timing.csv, not a field).
+  int plan_iterations = 0;
 
   /// The schema of a view: every field in views.csv's column order, then those kept out of
   /// it. `method` is the run's (the same on every row).
