@@ -79,13 +79,18 @@ TEST(MapReplay, RecordsOnlyChangesOfTheDrawnState) {
   EXPECT_EQ(replay.change_count(), 3u);
 }
 
+// A 64 x 48 frame of one colour, every pixel labelled `label`.
+LabelledFrame flat_frame(int label) {
+  LabelledFrame frame;
+  frame.rgb = Image<Rgb8>(64, 48, Rgb8{10, 20, 30});
+  frame.class_id = Image<std::uint8_t>(64, 48, static_cast<std::uint8_t>(label));
+  return frame;
+}
+
 TEST(MapReplay, ThumbnailsKeepTheAspectAndTheLabelColours) {
   SemanticClasses classes;
   MapReplay replay(classes, 32);
-  LabelledFrame frame;
-  frame.rgb = Image<Rgb8>(64, 48, Rgb8{10, 20, 30});
-  frame.class_id = Image<std::uint8_t>(64, 48, std::uint8_t(kReplayFruit));
-  replay.record_frame(frame);
+  replay.record_frame(flat_frame(kReplayFruit));
   ASSERT_EQ(replay.rgb().size(), 1u);
   EXPECT_EQ(replay.rgb()[0].width, 32);
   EXPECT_EQ(replay.rgb()[0].height, 24);
@@ -99,9 +104,7 @@ TEST(MapReplay, ThumbnailsKeepTheAspectAndTheLabelColours) {
 TEST(MapReplay, ThumbnailsTheLabelsMappedBesideTheTruth) {
   SemanticClasses classes;
   MapReplay replay(classes, 32);
-  LabelledFrame frame;
-  frame.rgb = Image<Rgb8>(64, 48, Rgb8{10, 20, 30});
-  frame.class_id = Image<std::uint8_t>(64, 48, std::uint8_t(kReplayLeaf));
+  const LabelledFrame frame = flat_frame(kReplayLeaf);
   Image<std::uint8_t> mapped(64, 48, std::uint8_t(kReplayLeaf));
   for (int y = 24; y < 48; ++y)
     for (int x = 0; x < 64; ++x) mapped.at(x, y) = kReplayFruit;  // the lower half flipped to fruit
