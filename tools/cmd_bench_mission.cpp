@@ -108,6 +108,16 @@ void add_bench_mission(CLI::App& bench) {
                   l.per_view_ms(l.times.get("control")), l.rss_mb);
     }
     std::printf("(phase columns: ms per view; ratio: ms/view over the first row's; peak MB: the process's peak so far)\n");
+    std::printf("memory, MB: the process's resident set with the world, with the mission set up (simulator, renderer,\n"
+                "truth voxels), its peak after the mission; the mission's holders at its end\n");
+    for (const jobs::BenchMissionLine& l : lines) {
+      const mission::MissionMemory& m = l.held;
+      const auto mb = [](std::size_t b) { return double(b) / (1024.0 * 1024.0); };
+      std::printf("memory, %d plants: world %.0f, set up %.0f, peak %.0f; map %.0f, nbv index %.0f, planning env %.0f, "
+                  "truth env %.0f, evaluation %.0f\n",
+                  l.plants, l.world_rss_mb, l.setup_rss_mb, l.rss_mb, mb(m.map), mb(m.nbv_index), mb(m.planning_env),
+                  mb(m.truth_env), mb(m.evaluation));
+    }
     for (const jobs::BenchMissionLine& l : lines) {
       std::printf("phases, %d plants:", l.plants);
       for (const auto& [phase, t] : l.times.totals()) std::printf(" %s %.2f s;", phase.c_str(), t);

@@ -79,6 +79,18 @@ IncrementalEvaluator::IncrementalEvaluator(const world::GroundTruth& truth, cons
 
 IncrementalEvaluator::~IncrementalEvaluator() = default;
 
+std::size_t IncrementalEvaluator::memory_bytes() const {
+  // A k-d tree of n points: its copy of them and about one index and a node's share each.
+  const auto tree = [](std::size_t n) { return n * (sizeof(Vec3) + 16); };
+  const std::size_t hashed = 8 + 2 * sizeof(void*);  // an unordered_map entry and its bucket, at least
+  std::size_t component_codes = 0;
+  for (const auto& entry : components_) component_codes += entry.second.codes.capacity() * sizeof(std::uint64_t);
+  return points_.capacity() * sizeof(Vec3) + point_fruit_.capacity() * 4 + point_covered_.capacity() +
+         centroids_.capacity() * sizeof(Vec3) + tree(points_.size()) +
+         (surface_ ? tree(points_.size()) : 0) + fruit_keys_.capacity() * 16 +
+         voxels_.size() * (8 + 1 + hashed) + component_of_.size() * (8 + 4 + hashed) + component_codes;
+}
+
 void IncrementalEvaluator::index_fruit_boxes(const SemanticOcTree& map) {
   fruit_keys_.clear();
   const double res = map.getResolution();

@@ -19,6 +19,18 @@ double peak_rss_mb() {
   return double(u.ru_maxrss) / 1024.0;
 }
 
+// The kernel's current resident set (VmRSS of /proc/self/status), 0 where it cannot be read.
+double rss_now_mb() {
+  std::FILE* f = std::fopen("/proc/self/status", "r");
+  if (!f) return 0.0;
+  char line[256];
+  double kb = 0.0;
+  while (std::fgets(line, sizeof line, f))
+    if (std::sscanf(line, "VmRSS: %lf kB", &kb) == 1) break;
+  std::fclose(f);
+  return kb / 1024.0;
+}
+
 }  // namespace
 
 std::vector<RowSize> parse_row_sizes(const std::string& text, const std::string& where) {
@@ -56,6 +68,7 @@ std::vector<BenchMissionLine> bench_mission(const BenchMissionParams& params) {
     const world::World world = build_world(spec);
     line.build_s = build.seconds();
     line.plants = static_cast<int>(world.plants.size());
+    line.world_rss_mb = rss_now_mb();
     say("bench mission: " + std::to_string(line.plants) + " plants (" + std::to_string(r.plants_per_row) +
         " per row), " + std::to_string(r.stops) + " stops, method " + s.method.name);
     // Progress from the mission's own lines: an on_view callback would make every move wait
@@ -67,7 +80,9 @@ std::vector<BenchMissionLine> bench_mission(const BenchMissionParams& params) {
         say("  stop " + std::to_string(k) + "/" + std::to_string(n));
     };
     mission::Mission mission(world, s, params.seed, cb);
+    line.setup_rss_mb = rss_now_mb();
     const records::MissionResult res = mission.run();
+    line.held = mission.memory();
     line.views = res.successful_views();
     line.wall_s = res.wall_time_s;
     line.sim_s = res.sim_time_s;

@@ -195,6 +195,16 @@ ViewRecord Mission::attempt(const nbv::PlannedView& view, ViewPhase phase) {
 std::vector<Pose> Mission::scan_views(int k, bool extra) const { return impl_->scan_views(k, extra); }
 const MissionResult& Mission::result() const { return impl_->result; }
 const mapping::SemanticOcTree& Mission::map() const { return impl_->map; }
+MissionMemory Mission::memory() const {
+  const Impl& m = *impl_;
+  MissionMemory out;
+  out.map = m.map.memoryUsage();
+  out.nbv_index = m.index.memory_bytes();
+  out.planning_env = m.map_env->memory_bytes();
+  out.truth_env = m.truth_checker.environment() ? m.truth_checker.environment()->memory_bytes() : 0;
+  out.evaluation = m.evaluator.memory_bytes();
+  return out;
+}
 sim::Simulator& Mission::simulator() { return impl_->sim; }
 const motion::RobotModel& Mission::robot() const { return impl_->model; }
 

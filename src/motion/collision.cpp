@@ -150,6 +150,10 @@ struct CollisionEnvironment::Impl {
 
 CollisionEnvironment::~CollisionEnvironment() = default;
 
+std::size_t CollisionEnvironment::memory_bytes() const {
+  return impl_->octomap->memoryUsage() + impl_->coarse.occupied.capacity();
+}
+
 std::shared_ptr<CollisionEnvironment> CollisionEnvironment::empty(double resolution_m) {
   if (!(std::isfinite(resolution_m) && resolution_m > 0.0))
     throw InputError("collision environment: resolution " + std::to_string(resolution_m) + " m must be > 0");

@@ -53,6 +53,7 @@ Simulator::Simulator(const world::World& world, const RobotConfig& robot_config,
   } else {
     load(scene_.mjcf);
   }
+  release_mjcf();
   bind_robot();
   // The link tree: each link with a frame site, under its nearest ancestor that has one.
   // fixed_below[i]: only fixed joints between link i and frame_of[i].
@@ -79,6 +80,7 @@ Simulator::Simulator(const world::World& world, const RobotConfig& robot_config,
 Simulator::Simulator(SceneDescription scene) : scene_(std::move(scene)) {
   scene_.has_robot = false;
   load(scene_.mjcf);
+  release_mjcf();
   mj_forward(model_.get(), data_.get());
 }
 
@@ -123,6 +125,8 @@ void Simulator::load(const std::string& mjcf) {
     if (id >= 0) geom_labels_[static_cast<size_t>(id)] = label;
   }
 }
+
+void Simulator::release_mjcf() { std::string().swap(scene_.mjcf); }
 
 void Simulator::load_render(const std::string& mjcf) {
   // load() into the stepped slots, then move the result over.

@@ -39,6 +39,17 @@ TEST(BenchMission, ALinePerRowSize) {
   EXPECT_GT(l.views, 0);
   EXPECT_GT(l.wall_s, 0.0);
   EXPECT_GT(l.rss_mb, 0.0);
+  // The kernel's resident sets grow from the world to the mission set up, within the peak.
+  EXPECT_GT(l.world_rss_mb, 0.0);
+  EXPECT_GE(l.setup_rss_mb, l.world_rss_mb);
+  EXPECT_LE(l.setup_rss_mb, l.rss_mb + 1.0);
+  // The mission's holders: a map and an index were built, the truth voxelised, the truth's points held.
+  EXPECT_GT(l.held.map, 0u);
+  EXPECT_GT(l.held.nbv_index, 0u);
+  EXPECT_GT(l.held.planning_env, 0u);
+  EXPECT_GT(l.held.truth_env, 0u);
+  EXPECT_GT(l.held.evaluation, 0u);
+  EXPECT_LT(double(l.held.total()) / (1024.0 * 1024.0), l.rss_mb);
   EXPECT_EQ(l.per_view_ms(l.wall_s), l.wall_s / l.views * 1000.0);
   EXPECT_GT(l.times.get("rendering"), 0.0);
   ASSERT_FALSE(progress.empty());

@@ -163,5 +163,29 @@ TEST(RobotSim, RobotLinksAreATreeOfFramedLinks) {
   EXPECT_TRUE(Simulator(empty).robot_links().links.empty());
 }
 
+// The scene's MJCF text (every plant vertex written out as numbers) is not held once compiled
+// (issue 49: a long row's was kept for the whole mission); its labels still name the rendered
+// model's geoms, and the text make_scene_mjcf gives again compiles to the same plants.
+TEST(RobotSim, TheSceneTextIsNotKeptOnceCompiled) {
+  const RobotConfig cfg = default_robot_config();
+  const world::World w = world::generate_world(tiny_world());
+  Simulator sim(w, cfg);
+  EXPECT_TRUE(sim.scene().mjcf.empty());
+  const SceneDescription again = make_scene_mjcf(w, robot::RobotDescription::load_urdf(cfg.urdf_path), cfg);
+  EXPECT_GT(again.mjcf.size(), 10000u);
+  ASSERT_EQ(sim.scene().labels.size(), again.labels.size());
+  int plant_geoms = 0;
+  for (const auto& [name, label] : again.labels) {
+    const int id = mj_name2id(sim.render_model(), mjOBJ_GEOM, name.c_str());
+    ASSERT_GE(id, 0) << name;
+    EXPECT_EQ(sim.geom_label(id).class_id, label.class_id) << name;
+    plant_geoms += name.rfind("p0_", 0) == 0;
+  }
+  EXPECT_GT(plant_geoms, 10);
+  SceneDescription bare;
+  bare.mjcf = "<mujoco><worldbody/></mujoco>";
+  EXPECT_TRUE(Simulator(bare).scene().mjcf.empty());
+}
+
 }  // namespace
 }  // namespace canopy::sim

@@ -55,6 +55,9 @@ class IncrementalEvaluator {
   /// Surface points and fruits scored again by the last update() (for benchmarks and tests).
   std::size_t last_rescored_points() const { return last_points_; }
   std::size_t last_rescored_fruits() const { return last_fruits_; }
+  /// Approximate heap use: the truth's points and their trees, the fruits' entropy keys and
+  /// the fruit voxels (`canopy bench mission`).
+  std::size_t memory_bytes() const;
 
  private:
   enum : std::uint8_t { kPaper = 1, kPrototype = 2, kOnFruit = 4 };

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "canopy/common/timer.h"
+#include "canopy/mission/mission.h"
 #include "canopy/settings/settings.h"
 
 namespace canopy::jobs {
@@ -40,6 +41,10 @@ struct BenchMissionLine {
   double build_s = 0.0;        ///< Generating the world.
   double wall_s = 0.0, sim_s = 0.0;
   double rss_mb = 0.0;         ///< The process's peak resident memory after it.
+  /// The process's resident memory (the kernel's VmRSS) with the world generated, and with the
+  /// mission set up too (its simulator, renderer and truth voxels), before it runs.
+  double world_rss_mb = 0.0, setup_rss_mb = 0.0;
+  mission::MissionMemory held;  ///< The mission's largest holders at its end.
   PhaseTimes times;
   /// `seconds` per successful view, in ms (0 without views).
   double per_view_ms(double seconds) const { return views ? seconds / views * 1000.0 : 0.0; }

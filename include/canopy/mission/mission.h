@@ -74,6 +74,17 @@ struct MissionCallbacks {
   records::MapReplay* replay = nullptr;
 };
 
+/// Approximate heap bytes of a mission's largest holders beside the world and the simulator
+/// (`canopy bench mission`; the kernel's peak is the whole process's).
+struct MissionMemory {
+  std::size_t map = 0;           ///< The semantic octree.
+  std::size_t nbv_index = 0;     ///< The next-best-view voxel index (nbv/voxel_index.h).
+  std::size_t planning_env = 0;  ///< The arm planner's collision environment (the map's occupied voxels).
+  std::size_t truth_env = 0;     ///< The true plants' voxels, for the robot's contacts.
+  std::size_t evaluation = 0;    ///< The incremental evaluator (ground-truth points, trees, fruit voxels).
+  std::size_t total() const { return map + nbv_index + planning_env + truth_env + evaluation; }
+};
+
 /// The mission controller.
 class Mission {
  public:
@@ -95,6 +106,8 @@ class Mission {
   std::vector<Pose> scan_views(int k, bool extra) const;
   const records::MissionResult& result() const;
   const mapping::SemanticOcTree& map() const;
+  /// What its largest holders use now (after run(): at the end).
+  MissionMemory memory() const;
   sim::Simulator& simulator();
   const motion::RobotModel& robot() const;
 

@@ -70,6 +70,8 @@ class CollisionEnvironment {
   /// the camera saw there (leaves brushed aside by the arm, sensor noise). Returns the count.
   std::size_t clear_robot_volume(const RobotModel& model, const BasePose& base, const ArmConfig& q, double padding_m);
   size_t voxel_count() const { return voxel_count_; }
+  /// Approximate heap use: the octree's nodes and the coarse grid (`canopy bench mission`).
+  std::size_t memory_bytes() const;
   double resolution_m() const { return resolution_m_; }
 
   struct Impl;

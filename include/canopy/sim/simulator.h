@@ -67,7 +67,9 @@ class Simulator {
   mjData* render_data() const { return render_data_ ? render_data_.get() : data_.get(); }
   /// Copies the joint positions into the rendered model and updates its kinematics.
   void sync_render();
-  /// Labels are indexed by the rendered model's geom ids.
+  /// Labels are indexed by the rendered model's geom ids. The MJCF text is not kept once
+  /// compiled (`mjcf` is empty): it writes every plant vertex out as numbers, and a long row's
+  /// would be held for the whole mission (make_scene_mjcf gives it again).
   const SceneDescription& scene() const { return scene_; }
   /// Label of MuJoCo geom `geom_id` (background when unlabelled).
   const GeomLabel& geom_label(int geom_id) const { return geom_labels_[static_cast<size_t>(geom_id)]; }
@@ -109,6 +111,8 @@ class Simulator {
  private:
   void load(const std::string& mjcf);
   void load_render(const std::string& mjcf);
+  // Frees the compiled scene's MJCF text (scene().mjcf).
+  void release_mjcf();
   void bind_robot();
   int require_id(int type, const std::string& name) const;
 
