@@ -1,7 +1,8 @@
 // canopy's experiment report (docs/report.md): the findings, every table of `canopy report`,
 // each trial's SC and entropy curves (hover: method, P_gt, world, value) with their means,
 // and each trial linked to its own report.html. Reads the JSON block #canopy-data written by
-// jobs/experiment_page.cpp; needs no network. Test hook: window.canopyReport.
+// jobs/experiment_page.cpp; needs no network and no three.js (it draws SVG only; the axes from
+// web/report_axes.js). Test hook: window.canopyReport.
 (function () {
   'use strict';
   const data = JSON.parse(document.getElementById('canopy-data').textContent);
@@ -37,8 +38,8 @@
   if ((data.missing || []).length) html += '<div class="banner">Missing trials: ' + esc(data.missing.join(', ')) + '</div>';
   if ((data.incomplete || []).length) html += '<div class="note">Ignored folders: ' + data.incomplete.map((f) => esc(f.path) + ' (' + esc(f.reason) + ')').join('; ') + '</div>';
   html += '<h2>Curves (hover a line; thick: mean of the trials)</h2><div id="legend-exp"></div>' +
-    '<svg id="exp-sc" class="curve" width="720" height="260"></svg><div id="exp-tip" class="note">&nbsp;</div>' +
-    '<svg id="exp-h" class="curve" width="720" height="260"></svg>';
+    '<svg id="exp-sc" class="curve" width="720" height="270"></svg><div id="exp-tip" class="note">&nbsp;</div>' +
+    '<svg id="exp-h" class="curve" width="720" height="270"></svg>';
   html += '<h2>Findings</h2><div class="findings" id="findings">' + findings(data.findings || []) + '</div>';
   html += '<h2>Trials</h2><div class="table-wrap"><table id="trials"><tr><th>trial</th><th>method</th><th>P_gt</th><th>world</th><th>seed</th>' +
     '<th>status</th><th>views</th><th>final SC</th><th>report</th></tr>' +
@@ -57,17 +58,16 @@
 
   function plot(id, field, title) {
     const svg = document.getElementById(id);
-    const W = 720, H = 260, L = 44, R = 10, T = 16, B = 24;
-    let n = 1, top = 1e-9;
-    for (const t of trials) { n = Math.max(n, t[field].length); for (const v of t[field]) top = Math.max(top, v); }
-    if (field === 'sc') top = 1;
+    const W = 720, H = 270, L = 52, R = 10, T = 18, B = 32;
+    let n = 1, max = 1e-9;
+    for (const t of trials) { n = Math.max(n, t[field].length); for (const v of t[field]) max = Math.max(max, v); }
+    const yTicks = canopyAxes.ticks(field === 'sc' ? 1 : max, 5), top = yTicks[yTicks.length - 1];
     const x = (i) => L + (n > 1 ? (i / (n - 1)) * (W - L - R) : 0), y = (v) => T + (1 - v / top) * (H - T - B);
     const path = (vals) => vals.map((v, i) => (i ? 'L' : 'M') + x(i).toFixed(1) + ',' + y(v).toFixed(1)).join('');
-    let s = '<text x="' + L + '" y="11">' + esc(title) + '</text>' +
-      '<line x1="' + L + '" y1="' + (H - B) + '" x2="' + (W - R) + '" y2="' + (H - B) + '" stroke="#999"/>' +
-      '<line x1="' + L + '" y1="' + T + '" x2="' + L + '" y2="' + (H - B) + '" stroke="#999"/>' +
-      '<text x="2" y="' + (T + 4) + '">' + top.toFixed(2) + '</text><text x="2" y="' + (H - B) + '">0</text>' +
-      '<text x="' + (W - R - 60) + '" y="' + (H - 6) + '">view ' + n + '</text>';
+    let s = '<text x="' + L + '" y="11">' + esc(title) + '</text>' + canopyAxes.svg({ L, R, T, B, W, H, x, y, yTicks, n });
+    // Every trial's line first, then the means over them: a mean is never hidden under a trial's
+    // line, and each mean has a white casing so that one mean shows where it crosses another.
+    const means = [];
     groups.forEach((g, gi) => {
       const colour = palette[gi % palette.length];
       g.trials.forEach((t) => {
@@ -78,8 +78,10 @@
         const vals = g.trials.filter((t) => i < t[field].length).map((t) => t[field][i]);
         if (vals.length) mean.push(vals.reduce((a, b) => a + b, 0) / vals.length);
       }
-      s += '<path d="' + path(mean) + '" fill="none" stroke="' + colour + '" stroke-width="2.5" pointer-events="none"/>';
+      means.push('<path d="' + path(mean) + '" fill="none" stroke="#fff" stroke-width="4.5" pointer-events="none"/>' +
+        '<path class="mean-line" data-group="' + esc(g.key) + '" d="' + path(mean) + '" fill="none" stroke="' + colour + '" stroke-width="2.5" pointer-events="none"/>');
     });
+    s += means.join('');
     s += '<circle class="hover-dot" r="3" fill="#000" visibility="hidden"/>';
     svg.innerHTML = s;
     const tip = document.getElementById('exp-tip'), dot = svg.querySelector('.hover-dot');

@@ -1,7 +1,8 @@
 // canopy's run report (docs/report.md): the map replayed view by view in three.js, the
-// camera of every attempted view, the true fruits by coverage, the curves and thumbnails.
-// Reads the JSON block #canopy-data written by jobs/run_report.cpp; needs no network.
-// Test hook: window.canopyReport (ready, setView, state).
+// camera of every attempted view, the true fruits by coverage, the robot at the view shown, axes
+// and a scale, the curves, the thumbnails, a table of the true fruits and the metrics.
+// Reads the JSON block #canopy-data written by jobs/run_report.cpp; needs no network; the
+// charts' axes from web/report_axes.js. Test hook: window.canopyReport (ready, setView, state).
 (function () {
   'use strict';
   const marks = { start: performance.now() };  // ms from navigation start (docs/report.md#bounds)
@@ -65,6 +66,8 @@
   for (const p of vocabulary.view_phases || []) phaseStyle[p.name] = p;
   const hexColour = (c) => parseInt(String(c || '#1f77b4').slice(1), 16);
   const nK = okViews.length;
+  const nStops = (data.stops || []).length;
+  const stopsOf = nStops ? ' of ' + nStops : '';  // stops and attempts counted from 1, as the log does
   const attemptsUpTo = [];  // attempts shown at view k: up to and including its own
   views.forEach((v, i) => { if (v.success) attemptsUpTo.push(i + 1); });
 
@@ -102,13 +105,16 @@
     '<div class="controls">colour <select id="colour"><option value="class">class</option>' +
     '<option value="occupancy">occupancy</option><option value="entropy">entropy</option></select>' +
     '<label><input id="show-frusta" type="checkbox" checked> cameras</label>' +
-    '<label><input id="show-fruits" type="checkbox" checked> true fruits</label></div>' +
+    '<label><input id="show-fruits" type="checkbox" checked> true fruits</label>' +
+    (data.robot ? '<label><input id="show-robot" type="checkbox" checked> robot</label>' : '') + '</div>' +
     '<div id="view-info"></div>' +
-    '<div class="thumbs"><div id="thumb-rgb" class="thumb" title="wrist RGB"></div>' +
-    '<div id="thumb-labels" class="thumb" title="labels"></div></div>' +
-    '<h2>Fruit surface coverage (SC)</h2><svg id="curve-sc" class="curve" width="396" height="120"></svg>' +
-    '<h2>Fruit entropy [nats]</h2><svg id="curve-h" class="curve" width="396" height="120"></svg>' +
-    '<div id="summary"></div>';
+    '<div class="thumbs"><figure><div id="thumb-rgb" class="thumb"></div><figcaption>wrist RGB</figcaption></figure>' +
+    '<figure><div id="thumb-labels" class="thumb"></div><figcaption>true labels</figcaption></figure>' +
+    '<figure id="fig-mapped"><div id="thumb-mapped" class="thumb"></div><figcaption>labels mapped' +
+    (s.p_gt !== undefined && s.p_gt < 1 ? ' (after noise, P_gt ' + fmt(s.p_gt, 2) + ')' : '') + '</figcaption></figure></div>' +
+    '<h2>Fruit surface coverage (SC)</h2><svg id="curve-sc" class="curve" width="396" height="130"></svg>' +
+    '<h2>Fruit entropy [nats]</h2><svg id="curve-h" class="curve" width="396" height="130"></svg>' +
+    '<div id="summary"></div><div id="fruits"></div>';
 
   // ---- Summary --------------------------------------------------------------------------
   (function summary() {
@@ -119,15 +125,31 @@
     const w = s.world || {};
     add('world', esc(w.name || '') + (w.file ? ' (' + esc(w.file) + ')' : '') + ', ' + esc(w.plants) + ' plants, ' + esc(w.fruits) + ' fruits');
     add('views', esc(s.views_successful) + ' successful of ' + esc(s.views_attempted) + ' attempted');
-    const value = (x) => (x && typeof x === 'object'
-      ? Object.entries(x).filter(([, v]) => typeof v !== 'object').map(([k, v]) => esc(k) + ' ' + fmt(v)).join(', ')
-      : fmt(x));
-    for (const k in s.final || {}) add(k.replace(/_/g, ' '), value(s.final[k]));
     if (s.simulated_time_s !== undefined) add('simulated time', fmt(s.simulated_time_s, 1) + ' s');
     if (wall.wall_time_s !== undefined) add('wall time', fmt(wall.wall_time_s, 2) + ' s');
     if (wall.ms_per_insertion !== undefined) add('insertion', fmt(wall.ms_per_insertion, 1) + ' ms per view');
     add('end', esc(data.end_reason || ''));
     let html = '<h2>Summary</h2><table id="summary-table">' + rows.join('') + '</table>';
+    // The final metrics, each a labelled number (a row data-metric="key", its value alone in the cell).
+    const f = s.final || {}, det = f.detection || {}, vp = f.fruit_voxel_precision || {};
+    const metrics = [
+      ['fruit_coverage', 'fruit surface coverage (SC)', f.fruit_coverage, 3, ''],
+      ['fruit_entropy', 'fruit entropy', f.fruit_entropy, 1, 'nats'],
+      ['fruits_sc50', 'share of fruits with SC ≥ 0.5', f.fruits_sc50, 3, ''],
+      ['fruits_sc80', 'share of fruits with SC ≥ 0.8', f.fruits_sc80, 3, ''],
+      ['detection_precision', 'detection precision (fruit clusters on a true fruit)', det.precision, 3, ''],
+      ['detection_recall', 'detection recall (true fruits found)', det.recall, 3, ''],
+      ['detection_f1', 'detection F1', det.f1, 3, ''],
+      ['fruits_matched', 'true fruits matched by a cluster', det.matched, 0, det.fruits !== undefined ? 'of ' + det.fruits : ''],
+      ['fruit_clusters', 'fruit clusters in the map', det.clusters, 0, ''],
+      ['centre_error', 'mean centre error of the matched fruits', typeof det.centre_error_m === 'number' ? det.centre_error_m * 1000 : undefined, 1, 'mm'],
+      ['voxel_volume_error', 'mean voxel volume error (relative)', det.voxel_volume_error, 3, ''],
+      ['ellipsoid_volume_error', 'mean ellipsoid volume error (relative)', det.ellipsoid_volume_error, 3, ''],
+      ['fruit_voxel_precision', 'fruit voxel precision (' + esc(vp.rule || 'headline') + ' rule)', vp.precision, 3, ''],
+      ['false_fruit_voxels', 'fruit voxels off every true fruit', vp.false_voxels, 0, vp.true_voxels !== undefined ? 'of ' + (vp.true_voxels + vp.false_voxels) : ''],
+    ].filter((m) => typeof m[2] === 'number');
+    html += '<h2>Final metrics</h2><table id="metrics">' + metrics.map(([key, label, v, d, unit]) =>
+      '<tr data-metric="' + key + '"><th>' + label + '</th><td class="num">' + v.toFixed(d) + '</td><td>' + unit + '</td></tr>').join('') + '</table>';
     const fails = Object.entries(s.failures || {});
     html += '<h2>Failures by cause</h2>' + (fails.length
       ? '<table id="failures"><tr><th>cause</th><th>attempts</th></tr>' + fails.map(([k, n]) => '<tr><td>' + esc(k) + '</td><td>' + n + '</td></tr>').join('') + '</table>'
@@ -136,25 +158,75 @@
     html += '<h2>Settings that differ from the defaults</h2>' + (changed.length
       ? '<table id="settings"><tr><th>key</th><th>value</th><th>default</th></tr>' + changed.map((c) => '<tr><td>' + esc(c.key) + '</td><td>' + esc(c.value) + '</td><td>' + esc(c.default) + '</td></tr>').join('') + '</table>'
       : '<p>none</p>');
-    if (wall.phases_s) html += '<h2>Wall time by phase [s]</h2><table>' + Object.entries(wall.phases_s).map(([k, v]) => '<tr><td>' + esc(k) + '</td><td>' + fmt(v, 2) + '</td></tr>').join('') + '</table>';
+    if (wall.phases_s) {
+      html += '<h2>Wall time by phase [s]</h2><table id="phases">' + Object.entries(wall.phases_s).map(([k, v]) => '<tr><td>' + esc(k) + '</td><td>' + fmt(v, 2) + '</td></tr>').join('') + '</table>';
+      const sum = Object.values(wall.phases_s).reduce((a, b) => a + b, 0);
+      if (wall.wall_time_s !== undefined && sum > wall.wall_time_s * 1.01)
+        html += '<p id="phase-note">The phases add up to ' + fmt(sum, 1) + ' s against ' + fmt(wall.wall_time_s, 1) + ' s of wall time: ' +
+          'the mission runs on two threads, and each scan\'s insertion, index and metrics (mapping, evaluation) run on the second ' +
+          'beside the next move, so their times overlap the others\'.</p>';
+    }
     document.getElementById('summary').innerHTML = html;
+  })();
+
+  // ---- The true fruits: one row each (tr data-fruit="ID"), sorted by a click on a heading ---
+  const fruitTable = (function fruitTable() {
+    const fruits = data.fruits || [];
+    const pct = (x) => (typeof x === 'number' ? (100 * x).toFixed(0) + ' %' : '–');
+    const columns = [
+      ['id', 'fruit', (f) => f.id, (f) => esc(f.id)],
+      ['plant', 'plant', (f) => f.plant, (f) => esc(f.plant)],
+      ['cov', 'SC', (f) => f.cov, (f) => fmt(f.cov)],
+      ['views', 'views that raised its SC', (f) => f.views_seen, (f) => fmt(f.views_seen, 0)],
+      ['centre', 'centre error [mm]', (f) => (typeof f.centre_error_m === 'number' ? f.centre_error_m * 1000 : undefined),
+        (f) => (typeof f.centre_error_m === 'number' ? (f.centre_error_m * 1000).toFixed(1) : '–')],
+      ['voxel_volume', 'voxel volume error', (f) => f.voxel_volume_error, (f) => pct(f.voxel_volume_error)],
+      ['ellipsoid_volume', 'ellipsoid volume error', (f) => f.ellipsoid_volume_error, (f) => pct(f.ellipsoid_volume_error)],
+      ['volume', 'true volume [cm³]', (f) => f.true_volume_m3, (f) => (typeof f.true_volume_m3 === 'number' ? (f.true_volume_m3 * 1e6).toFixed(1) : '–')],
+    ];
+    const box = document.getElementById('fruits');
+    box.innerHTML = '<h2>True fruits (' + fruits.length + '; click a heading to sort, hover a row to find the fruit)</h2>' +
+      '<div class="table-wrap"><table id="fruit-table"><thead><tr>' +
+      columns.map(([key, title]) => '<th data-sort="' + key + '">' + title + '</th>').join('') + '</tr></thead><tbody>' +
+      fruits.map((f, i) => '<tr data-fruit="' + esc(f.id) + '" data-index="' + i + '">' + columns.map((c) => '<td>' + c[3](f) + '</td>').join('') + '</tr>').join('') +
+      '</tbody></table></div>' +
+      '<p class="small">SC at the end of the run; errors of the fruit cluster matched to the fruit (– when none matched), volume errors relative to the true volume.</p>';
+    const body = box.querySelector('tbody');
+    let by = null, descending = false;
+    function sort(key) {
+      descending = by === key ? !descending : key !== 'id' && key !== 'plant';
+      by = key;
+      const get = columns.find((c) => c[0] === key)[2];
+      const rows = [...body.rows];
+      rows.sort((a, b) => {
+        const va = get(fruits[+a.dataset.index]), vb = get(fruits[+b.dataset.index]);
+        const na = typeof va !== 'number', nb = typeof vb !== 'number';
+        if (na || nb) return na - nb;  // no value: last either way
+        return descending ? vb - va : va - vb;
+      });
+      rows.forEach((r) => body.appendChild(r));
+      box.querySelectorAll('th').forEach((th) => { th.dataset.order = th.dataset.sort === key ? (descending ? 'desc' : 'asc') : ''; });
+    }
+    box.querySelectorAll('th').forEach((th) => th.addEventListener('click', () => sort(th.dataset.sort)));
+    body.addEventListener('mouseover', (ev) => { const r = ev.target.closest('tr'); if (r) highlightFruit(+r.dataset.index); });
+    body.addEventListener('mouseleave', () => highlightFruit(-1));
+    return { sort, order: () => [...body.rows].map((r) => r.dataset.fruit) };
   })();
 
   // ---- Curves ---------------------------------------------------------------------------
   function curve(svgId, values, label) {
     const svg = document.getElementById(svgId);
-    const W = 396, H = 120, L = 36, R = 6, T = 6, B = 18;
+    const W = 396, H = 130, L = 46, R = 8, T = 8, B = 30;
     const max = Math.max(1e-9, ...values.map((v) => (isFinite(v) ? v : 0)));
-    const top = label === 'SC' ? 1 : max * 1.05;
+    const yTicks = canopyAxes.ticks(label === 'SC' ? 1 : max, 4);
+    const top = yTicks[yTicks.length - 1];
     const x = (i) => L + (values.length > 1 ? (i / (values.length - 1)) * (W - L - R) : 0);
     const y = (v) => T + (1 - v / top) * (H - T - B);
     let d = '';
     values.forEach((v, i) => { d += (i ? 'L' : 'M') + x(i).toFixed(1) + ',' + y(v).toFixed(1); });
-    svg.innerHTML =
-      '<line x1="' + L + '" y1="' + (H - B) + '" x2="' + (W - R) + '" y2="' + (H - B) + '" stroke="#999"/>' +
-      '<line x1="' + L + '" y1="' + T + '" x2="' + L + '" y2="' + (H - B) + '" stroke="#999"/>' +
-      '<text x="2" y="' + (T + 8) + '">' + fmt(top, 2) + '</text><text x="2" y="' + (H - B) + '">0</text>' +
-      '<text x="' + (W - R - 40) + '" y="' + (H - 4) + '">view ' + values.length + '</text>' +
+    // The cursor's label sits inside the plot, right of the cursor (left of it near the right
+    // edge), clear of the tick labels left of the y axis.
+    svg.innerHTML = canopyAxes.svg({ L, R, T, B, W, H, x, y, yTicks, n: values.length }) +
       '<path d="' + d + '" fill="none" stroke="#1f77b4" stroke-width="1.5"/>' +
       '<line class="cursor" x1="0" y1="' + T + '" x2="0" y2="' + (H - B) + '" stroke="#d62728"/>' +
       '<text class="cursor-label" x="0" y="' + (T + 10) + '"></text>';
@@ -168,14 +240,36 @@
   const curves = [curve('curve-sc', okViews.map((v) => v.coverage), 'SC'), curve('curve-h', okViews.map((v) => v.entropy), 'H')];
 
   // ---- 3D scene ---------------------------------------------------------------------------
-  let renderer = null, scene, camera, controls, points, fruitMeshes = [], frusta = null, pickPoints, targetLine;
+  let renderer = null, scene, camera, controls, points, fruitMeshes = [], frusta = null, pickPoints, targetLine, robot = null, highlighted = -1;
+  const labels3d = [];  // the axes' and the scale's text, by name
   // Class colours of the label images; black (background) drawn dark grey to show on white.
   const classColours = (data.classes || []).map((c) => (c.color[0] + c.color[1] + c.color[2] === 0
     ? new THREE.Color(0.33, 0.33, 0.33) : new THREE.Color(c.color[0] / 255, c.color[1] / 255, c.color[2] / 255)));
-  const ramp = (t) => new THREE.Color().setHSL((1 - t) * 0.66, 0.9, 0.45);  // blue (low) to red (high)
+  // Occupancy and entropy: saturated green from light (low) to dark (high), apart from the true
+  // fruits' blue, amber and grey (a hue ramp through orange once hid the partly seen fruits).
+  const ramp = (t) => new THREE.Color().setHSL(0.33, 1.0, 0.75 - 0.55 * t);
   const phaseColour = (phase) => hexColour((phaseStyle[phase] || {}).colour);
   const failedColour = hexColour(vocabulary.failed_view_colour);
-  const fruitColour = (c) => (c >= 0.8 ? 0x2b8cff : c > 0.05 ? 0xffb000 : 0x777777);
+  const fruitColours = { seen: 0x2b8cff, partly: 0xffb000, unseen: 0x777777, highlighted: 0xff00cc };
+  const fruitColour = (c) => (c >= 0.8 ? fruitColours.seen : c > 0.05 ? fruitColours.partly : fruitColours.unseen);
+  const at = (object, x, y, z) => { object.position.set(x, y, z); return object; };
+  // A text label in the scene, `height_m` high, always facing the viewer.
+  function textSprite(name, text, colour, height_m) {
+    const c = document.createElement('canvas'), g = c.getContext('2d');
+    g.font = '28px sans-serif';
+    c.width = Math.ceil(g.measureText(text).width) + 8;
+    c.height = 36;
+    g.font = '28px sans-serif';
+    g.fillStyle = colour;
+    g.textBaseline = 'middle';
+    g.fillText(text, 4, 18);
+    const sprite = new THREE.Sprite(new THREE.SpriteMaterial({ map: new THREE.CanvasTexture(c), depthTest: false }));
+    sprite.scale.set((height_m * c.width) / c.height, height_m, 1);
+    sprite.name = name;
+    sprite.userData.text = text;
+    labels3d.push(sprite);
+    return sprite;
+  }
 
   function setupScene() {
     try {
@@ -253,6 +347,45 @@
     const grid = new THREE.GridHelper(10, 20, 0xdddddd, 0xeeeeee);
     grid.rotation.x = Math.PI / 2;
     scene.add(grid);
+    // The world frame's axes (x red, y green, z blue, 0.5 m) and the grid's metres along x and y
+    // at the scene's near edges, as RViz draws its fixed frame.
+    const axes = new THREE.AxesHelper(0.5);
+    axes.name = 'axes';
+    scene.add(axes);
+    scene.add(at(textSprite('axis-x', 'x', '#d00000', 0.06), 0.56, 0, 0));
+    scene.add(at(textSprite('axis-y', 'y', '#00a000', 0.06), 0, 0.56, 0));
+    scene.add(at(textSprite('axis-z', 'z', '#0000d0', 0.06), 0, 0, 0.56));
+    if (!box.isEmpty()) {
+      const y0 = Math.floor(box.min.y * 2) / 2 - 0.25, x0 = Math.floor(box.min.x * 2) / 2 - 0.25;
+      for (let m = Math.floor(box.min.x); m <= Math.ceil(box.max.x); ++m)
+        scene.add(at(textSprite('scale-x' + m, (m ? 'x ' + m + ' m' : '0'), '#666', 0.07), m, y0, 0));
+      for (let m = Math.floor(box.min.y); m <= Math.ceil(box.max.y); ++m)
+        if (m) scene.add(at(textSprite('scale-y' + m, 'y ' + m + ' m', '#666', 0.07), x0, m, 0));
+    }
+    // The robot at the view shown: its links' frames joined parent to child, the base a box.
+    if (data.robot && (data.robot.links || []).length && (data.robot.poses || []).length) {
+      const R = data.robot;
+      robot = new THREE.Group();
+      robot.name = 'robot';
+      const material = new THREE.MeshBasicMaterial({ color: 0x4a5a70 });
+      robot.userData.joints = R.links.map(() => {
+        const m = new THREE.Mesh(new THREE.SphereGeometry(0.022, 10, 6), material);
+        robot.add(m);
+        return m;
+      });
+      robot.userData.bones = R.links.map((l, i) => {
+        const parent = R.links.indexOf(R.parents[i]);
+        if (parent < 0) return null;
+        const m = new THREE.Mesh(new THREE.CylinderGeometry(0.016, 0.016, 1, 8), material);
+        m.userData.parent = parent;
+        robot.add(m);
+        return m;
+      });
+      const base = new THREE.Mesh(new THREE.BoxGeometry(0.5, 0.4, 0.3), new THREE.MeshBasicMaterial({ color: 0x8090a0, transparent: true, opacity: 0.35 }));
+      robot.userData.base = base;
+      robot.add(base);
+      scene.add(robot);
+    }
     targetLine = new THREE.Line(new THREE.BufferGeometry().setFromPoints([new THREE.Vector3(), new THREE.Vector3()]), new THREE.LineBasicMaterial({ color: 0x000000 }));
     targetLine.visible = false;
     scene.add(targetLine);
@@ -263,6 +396,11 @@
     controls.target.copy(centre);
     controls.addEventListener('change', draw);
     controls.update();
+    controls.saveState();  // what the reset button returns to
+    const hint = el('div', { id: 'orbit-hint' }, 'drag: orbit · right-drag or shift-drag: pan · wheel: zoom ' +
+      '<button id="reset-view" title="back to the first view of the scene">reset view</button>');
+    view3d.appendChild(hint);
+    document.getElementById('reset-view').addEventListener('click', () => { controls.reset(); draw(); });
     renderer.domElement.addEventListener('mousemove', hover);
     window.addEventListener('resize', resize);
     marks.objects = performance.now();
@@ -303,7 +441,7 @@
     targetLine.visible = false;
     if (hit) {
       const v = views[hit.index];
-      text = 'attempt ' + v.attempt + ', stop ' + v.stop + ', ' + v.phase + ' (' + v.source + ')\n' +
+      text = 'attempt ' + (v.attempt + 1) + ', stop ' + (v.stop + 1) + stopsOf + ', ' + v.phase + ' (' + v.source + ')\n' +
         (v.success ? 'view ' + (v.k + 1) + ': SC ' + fmt(v.coverage) + ', entropy ' + fmt(v.entropy, 1) : 'failed: ' + v.failure + (v.message ? '\n' + v.message : '')) +
         '\ngain ' + fmt(v.gain, 4) + (v.cluster >= 0 ? ', cluster ' + v.cluster : '');
       if (v.target && (v.target[0] || v.target[1] || v.target[2])) {
@@ -313,7 +451,7 @@
       }
     } else {
       const f = ray.intersectObjects(fruitMeshes)[0];
-      if (f) text = 'fruit ' + f.object.userData.id + ' (plant ' + f.object.userData.plant + '): coverage ' + fmt(fruitCoverage(f.object.userData, fruitIndex(f.object)));
+      if (f) text = 'fruit ' + f.object.userData.id + ' (plant ' + f.object.userData.plant + '): SC ' + fmt(fruitCoverage(f.object.userData, fruitIndex(f.object)));
     }
     tip.style.display = text ? 'block' : 'none';
     tip.textContent = text;
@@ -322,6 +460,12 @@
     draw();
   }
   const fruitIndex = (m) => fruitMeshes.indexOf(m);
+  // A fruit picked in the table, drawn magenta (-1: none).
+  function highlightFruit(i) {
+    highlighted = i;
+    fruitMeshes.forEach((m, j) => m.material.color.setHex(j === i ? fruitColours.highlighted : fruitColour(fruitCoverage(m.userData, j))));
+    draw();
+  }
   function fruitCoverage(f, i) {
     const fc = map.fruit_coverage || [];
     const g = Math.floor(current / (map.step || 1));
@@ -373,13 +517,13 @@
       pickPoints.geometry.setDrawRange(0, shown);
     }
     fruitMeshes.forEach((m, i) => {
-      m.material.color.setHex(fruitColour(fruitCoverage(m.userData, i)));
+      m.material.color.setHex(i === highlighted ? fruitColours.highlighted : fruitColour(fruitCoverage(m.userData, i)));
       m.visible = document.getElementById('show-fruits').checked;
     });
     const v = okViews[current];
     document.getElementById('view-count').textContent = nK ? 'view ' + (current + 1) + ' / ' + nK : 'no successful view';
     document.getElementById('view-info').innerHTML = v
-      ? 'stop ' + v.stop + ', ' + esc(v.phase) + ' (' + esc(v.source) + '), attempt ' + v.attempt + '; SC ' + fmt(v.coverage) + ', entropy ' + fmt(v.entropy, 1) +
+      ? 'stop ' + (v.stop + 1) + stopsOf + ', ' + esc(v.phase) + ' (' + esc(v.source) + '), attempt ' + (v.attempt + 1) + '; SC ' + fmt(v.coverage) + ', entropy ' + fmt(v.entropy, 1) +
         '; ' + shown + ' attempts shown, ' + drawnVoxels + ' voxels'
       : '';
     for (const c of curves) {
@@ -388,16 +532,41 @@
       line.setAttribute('x1', cx.toFixed(1));
       line.setAttribute('x2', cx.toFixed(1));
       const lab = c.svg.querySelector('.cursor-label');
-      const right = cx > 396 - 60;  // near the right edge: the label goes left of the cursor
+      const right = cx > 396 - 70;  // near the right edge: the label goes left of the cursor
       lab.setAttribute('x', (right ? cx - 3 : cx + 3).toFixed(1));
       lab.setAttribute('text-anchor', right ? 'end' : 'start');
       lab.textContent = c.values.length ? fmt(c.values[current]) : '';
     }
     thumb('thumb-rgb', 'rgb');
     thumb('thumb-labels', 'labels');
+    thumb('thumb-mapped', 'mapped');
+    document.getElementById('fig-mapped').style.display = (thumbs.mapped || []).length ? '' : 'none';
+    poseRobot();
     document.body.dataset.view = String(current);
     document.body.dataset.shownAttempts = String(shown);
     draw();
+  }
+  // The robot's links as recorded at successful view `current` (data.robot.poses[k]: x y z qw qx
+  // qy qz per link, in the order of data.robot.links).
+  function poseRobot() {
+    if (!robot) return;
+    const p = data.robot.poses[Math.min(current, data.robot.poses.length - 1)] || [];
+    const at = (i) => new THREE.Vector3(p[7 * i], p[7 * i + 1], p[7 * i + 2]);
+    robot.userData.joints.forEach((m, i) => m.position.copy(at(i)));
+    const up = new THREE.Vector3(0, 1, 0);
+    robot.userData.bones.forEach((m, i) => {
+      if (!m) return;
+      const a = at(m.userData.parent), b = at(i), d = b.clone().sub(a), len = d.length();
+      m.visible = len > 1e-4;
+      if (!m.visible) return;
+      m.position.copy(a).add(b).multiplyScalar(0.5);
+      m.scale.set(1, len, 1);
+      m.quaternion.setFromUnitVectors(up, d.normalize());
+    });
+    const base = robot.userData.base;  // under the first link (the base's), turned with it
+    base.position.set(p[0], p[1], 0.15);
+    base.quaternion.set(p[4], p[5], p[6], p[3]);
+    robot.visible = document.getElementById('show-robot').checked;
   }
   function thumb(id, kind) {
     const e = document.getElementById(id);
@@ -414,12 +583,15 @@
   function updateLegend() {
     let html = '';
     if (mode === 'class') html = (data.classes || []).map((c, i) => '<span class="sw" style="background:#' + classColours[i].getHexString() + '"></span>' + esc(c.name)).join('');
-    else html = mode + ': <span class="sw" style="background:#1f3fd6"></span>low<span class="sw" style="background:#d61f1f"></span>high';
+    else html = mode + ': <span class="sw" style="background:#' + ramp(0).getHexString() + '"></span>low<span class="sw" style="background:#' +
+      ramp(0.5).getHexString() + '"></span><span class="sw" style="background:#' + ramp(1).getHexString() + '"></span>high';
     const shown = new Set(views.map((v) => v.phase));
     html += '<br>cameras: ' + (vocabulary.view_phases || []).filter((p) => shown.has(p.name))
       .map((p) => '<span class="sw" style="background:' + esc(p.colour) + '"></span>' + esc(p.legend)).join('') +
       '<span class="sw" style="background:' + esc(vocabulary.failed_view_colour) + '"></span>failed' +
-      '<br>true fruits: <span class="sw" style="background:#2b8cff"></span>seen (SC ≥ 0.8)<span class="sw" style="background:#ffb000"></span>partly<span class="sw" style="background:#777"></span>unseen';
+      '<br>true fruits: <span class="sw" style="background:#2b8cff"></span>seen (SC ≥ 0.8)<span class="sw" style="background:#ffb000"></span>partly<span class="sw" style="background:#777"></span>unseen' +
+      (robot ? '<br>robot: <span class="sw" style="background:#4a5a70"></span>at the view shown' : '') +
+      '<br><span id="scale-note">grid: 0.5 m squares; axes x red, y green, z blue, 0.5 m long</span>';
     legend.innerHTML = html;
   }
 
@@ -429,6 +601,7 @@
   document.getElementById('colour').addEventListener('change', (e) => { mode = e.target.value; applied = 0; state.fill(0); updateLegend(); setView(current); });
   document.getElementById('show-frusta').addEventListener('change', () => setView(current));
   document.getElementById('show-fruits').addEventListener('change', () => setView(current));
+  if (data.robot) document.getElementById('show-robot').addEventListener('change', () => setView(current));
   document.getElementById('play').addEventListener('click', () => {
     const b = document.getElementById('play');
     if (timer) { clearInterval(timer); timer = null; b.textContent = '▶ play'; return; }
@@ -452,7 +625,19 @@
     marks,
     state: () => ({ view: current, shownAttempts: nK ? attemptsUpTo[current] : views.length, drawnVoxels,
                     cursor: +document.querySelector('#curve-sc .cursor').getAttribute('x1'), webgl: !!renderer,
-                    complete: !!data.complete }),
+                    complete: !!data.complete,
+                    camera: camera ? camera.position.toArray() : null,
+                    // The robot's drawn link origins, in the order of data.robot.links.
+                    robot: robot && robot.visible ? robot.userData.joints.map((m) => m.position.toArray()) : null,
+                    labels3d: labels3d.map((l) => ({ name: l.name, text: l.userData.text, at: l.position.toArray() })),
+                    axes: !!(scene && scene.getObjectByName('axes')) }),
+    // Colours of the occupancy and entropy levels and of the true fruits' states, as RGB 0-255.
+    colours: () => {
+      const rgb = (c) => [Math.round(c.r * 255), Math.round(c.g * 255), Math.round(c.b * 255)];
+      return { entropy: [0, 1, 2, 3, 4, 5, 6, 7].map((l) => rgb(ramp(l / 7))), occupancy: [0, 1, 2, 3].map((l) => rgb(ramp(l / 3))),
+               fruits: Object.fromEntries(Object.entries(fruitColours).map(([k, v]) => [k, rgb(new THREE.Color(v))])) };
+    },
+    fruitTable,
   };
   window.canopyReport = hook;
   const ready = () => {

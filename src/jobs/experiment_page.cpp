@@ -78,7 +78,7 @@ nlohmann::json experiment_page_data(const experiments::MergedTrials& merged, con
 
 void write_experiment_page(const std::string& working_dir, const std::string& report_dir,
                            const experiments::MergedTrials& merged, const experiments::ExperimentReport& rep) {
-  const std::string scripts = report_scripts("web/experiment_report.js");
+  const std::string scripts = report_scripts("web/experiment_report.js", /*three_js=*/false);  // SVG only
   const std::string css = read_file(find_data_file("web/report.css"));
   const std::string d = working_dir.empty() || working_dir.back() == '/' ? working_dir : working_dir + "/";
   write_file_atomic(d + "report.html", report_page("canopy experiment report", scripts,

@@ -85,6 +85,24 @@ void set_fruit_coverage(nlohmann::json& fruits, const std::vector<evaluation::Fr
   for (std::size_t i = 0; i < fruits.size() && i < m.size(); ++i) fruits[i]["cov"] = r3(m[i].coverage);
 }
 
+// The final metrics' fruit detection without its matches, and each match's errors on its fruit
+// (`detection` as summary.json's final.detection and canopy map's metrics write it).
+nlohmann::json detection_summary(const nlohmann::json& detection, nlohmann::json& fruits) {
+  if (!detection.is_object()) return nlohmann::json();
+  std::map<int, std::size_t> by_id;
+  for (std::size_t i = 0; i < fruits.size(); ++i) by_id[fruits[i].value("id", -1)] = i;
+  for (const nlohmann::json& m : detection.value("matches", nlohmann::json::array())) {
+    const auto it = by_id.find(m.value("instance_id", -1));
+    if (it == by_id.end()) continue;
+    nlohmann::json& f = fruits[it->second];
+    for (const char* key : {"centre_error_m", "voxel_volume_error", "ellipsoid_volume_error", "true_volume_m3"})
+      if (m.contains(key) && m[key].is_number()) f[key] = std::round(m[key].get<double>() * 1e6) / 1e6;
+  }
+  nlohmann::json out = detection;
+  out.erase("matches");
+  return out;
+}
+
 }  // namespace
 
 nlohmann::json changed_settings(const settings::Settings& settings) {
@@ -127,7 +145,8 @@ RunReport mission_report_data(const records::MissionResult& r, const settings::S
                              {"fruit_entropy", r4(r.final_metrics.total_entropy)},
                              {"fruits_sc50", fin.value("fruits_sc50", nlohmann::json())},
                              {"fruits_sc80", fin.value("fruits_sc80", nlohmann::json())},
-                             {"fruit_voxel_precision", fin.value("fruit_voxel_precision", nlohmann::json())}}},
+                             {"fruit_voxel_precision", fin.value("fruit_voxel_precision", nlohmann::json())},
+                             {"detection", detection_summary(fin.value("detection", nlohmann::json()), d["fruits"])}}},
                   {"views_attempted", summary.value("views_attempted", nlohmann::json())},
                   {"views_successful", summary.value("views_successful", nlohmann::json())},
                   {"failures", summary.value("failures", nlohmann::json::object())},
@@ -176,7 +195,11 @@ RunReport map_report_data(const nlohmann::json& metrics, const std::vector<Pose>
                   {"world", {{"name", world.spec.name}, {"plants", world.plants.size()}, {"fruits", world.truth.fruits.size()}}},
                   {"settings_changed", changed_settings(settings)},
                   {"final", {{"fruit_coverage", r4(metrics.value("coverage", 0.0))},
-                             {"fruit_entropy", r4(metrics.value("total_entropy", 0.0))}}},
+                             {"fruit_entropy", r4(metrics.value("total_entropy", 0.0))},
+                             {"fruits_sc50", metrics.value("fruits_sc50", nlohmann::json())},
+                             {"fruits_sc80", metrics.value("fruits_sc80", nlohmann::json())},
+                             {"fruit_voxel_precision", metrics.value("fruit_voxel_precision", nlohmann::json())},
+                             {"detection", detection_summary(metrics.value("detection", nlohmann::json()), d["fruits"])}}},
                   {"views_attempted", views.size()},
                   {"views_successful", views.size()},
                   {"failures", nlohmann::json::object()}};
@@ -263,14 +286,16 @@ bool report_libraries_present() {
   return std::filesystem::exists(kThreeJs) && std::filesystem::exists(kOrbitJs);
 }
 
-std::string report_scripts(const std::string& page_script) {
+std::string report_scripts(const std::string& page_script, bool three_js) {
   std::string s;
   for (const std::string& path : {std::string(kThreeJs), std::string(kOrbitJs)}) {
+    if (!three_js) break;
     if (!std::filesystem::exists(path))
       throw IoError("report.html needs three.js from Debian's libjs-three (" + path + " is missing; run tools/deps.sh)");
     s += "<script>" + read_file(path) + "</script>\n";
   }
-  s += "<script>" + read_file(find_data_file(page_script)) + "</script>\n";
+  for (const std::string& script : {std::string("web/report_axes.js"), page_script})
+    s += "<script>" + read_file(find_data_file(script)) + "</script>\n";
   return s;
 }
 
@@ -312,7 +337,16 @@ std::vector<std::string> write_run_report(const std::string& dir, RunReport repo
   for (std::size_t i = 0; i < rgb.size(); i += step) kept.push_back(i);
   const int per_sheet = std::max(1, bounds.thumbs_per_sheet), cols = 10;
   nlohmann::json thumbs = {{"step", step}, {"per_sheet", per_sheet}, {"cols", cols}, {"rgb", nlohmann::json::array()},
-                           {"labels", nlohmann::json::array()}};
+                           {"labels", nlohmann::json::array()}, {"mapped", nlohmann::json::array()}};
+  // The labels mapped (after noise) beside the true ones, when every frame has them.
+  const bool mapped = !replay.mapped_labels().empty() && replay.mapped_labels().size() == rgb.size();
+  struct Kind {
+    const std::vector<Image<Rgb8>>* images;
+    const char* prefix;
+    const char* key;
+  };
+  std::vector<Kind> kinds = {{&rgb, "report_rgb_", "rgb"}, {&replay.labels(), "report_labels_", "labels"}};
+  if (mapped) kinds.push_back({&replay.mapped_labels(), "report_mapped_", "mapped"});
   if (!kept.empty()) {
     const int w = rgb[0].width, h = rgb[0].height;
     thumbs["w"] = w;
@@ -320,8 +354,8 @@ std::vector<std::string> write_run_report(const std::string& dir, RunReport repo
     for (std::size_t s = 0; s * std::size_t(per_sheet) < kept.size(); ++s) {
       const std::size_t first = s * std::size_t(per_sheet), n = std::min(kept.size() - first, std::size_t(per_sheet));
       const int rows = int((n + cols - 1) / cols);
-      for (int kind = 0; kind < 2; ++kind) {
-        const auto& src = kind == 0 ? rgb : replay.labels();
+      for (const Kind& kind : kinds) {
+        const auto& src = *kind.images;
         Image<Rgb8> sheet(w * std::min<int>(cols, int(n)), h * rows);
         for (std::size_t t = 0; t < n; ++t) {
           const Image<Rgb8>& im = src[kept[first + t]];
@@ -329,14 +363,44 @@ std::vector<std::string> write_run_report(const std::string& dir, RunReport repo
           for (int y = 0; y < h && y < im.height; ++y)
             for (int x = 0; x < w && x < im.width; ++x) sheet.at(x0 + x, y0 + y) = im.at(x, y);
         }
-        const std::string name = std::string(kind == 0 ? "report_rgb_" : "report_labels_") + std::to_string(s) + ".png";
+        const std::string name = kind.prefix + std::to_string(s) + ".png";
         write_png(d + name, sheet);
-        thumbs[kind == 0 ? "rgb" : "labels"].push_back(name);
+        thumbs[kind.key].push_back(name);
         files.push_back(name);
       }
     }
   }
   report.data["thumbs"] = thumbs;
+  // The robot at each successful view: link names, parents, and per view x y z qw qx qy qz of
+  // each link in the world.
+  if (!replay.robot_links().empty() && replay.robot_poses().size() == rgb.size()) {
+    nlohmann::json poses = nlohmann::json::array();
+    for (const std::vector<Pose>& at : replay.robot_poses()) {
+      nlohmann::json row = nlohmann::json::array();
+      for (const Pose& T : at) {
+        const Quat q(T.linear());
+        for (double v : {T.translation().x(), T.translation().y(), T.translation().z(), q.w(), q.x(), q.y(), q.z()})
+          row.push_back(r4(v));
+      }
+      poses.push_back(row);
+    }
+    report.data["robot"] = {{"links", replay.robot_links()}, {"parents", replay.robot_parents()}, {"poses", poses}};
+  }
+  // Each fruit's count of views that raised its coverage (by more than 0.001).
+  if (report.data.contains("fruits")) {
+    const auto& cov = replay.fruit_coverage();
+    nlohmann::json& fruits = report.data["fruits"];
+    for (std::size_t i = 0; i < fruits.size(); ++i) {
+      int seen = 0;
+      double before = 0.0;
+      for (const std::vector<double>& c : cov) {
+        if (i >= c.size()) continue;
+        if (c[i] > before + 1e-3) ++seen;
+        before = c[i];
+      }
+      if (!cov.empty() && !cov.front().empty()) fruits[i]["views_seen"] = seen;
+    }
+  }
   mapping::SemanticMapParams map_params;
   map_params.resolution_m = report.data.value("resolution_m", map_params.resolution_m);
   report.data["map"] = pack_replay(replay, map_params, bounds);

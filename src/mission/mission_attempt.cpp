@@ -85,7 +85,7 @@ Mission::Impl::Look Mission::Impl::take_look(PhaseTimes& times) {
     look.frame = renderer.render_wrist_camera();
   }
   ScopedPhase phase_time(times, to_string(WallPhase::kMapping));
-  look.cloud = extractor.extract(look.frame);
+  look.cloud = extractor.extract(look.frame, &look.mapped_labels);
   return look;
 }
 
@@ -184,7 +184,11 @@ ViewRecord Mission::Impl::attempt(const nbv::PlannedView& view, ViewPhase phase)
   {
     ScopedPhase phase_time(rec.times, to_string(WallPhase::kMapping));
     settle();  // the last scan's mapping ends before the map changes
-    if (callbacks.replay) callbacks.replay->record_frame(frame);
+    if (callbacks.replay) {
+      callbacks.replay->record_frame(frame, &look->mapped_labels);
+      const sim::RobotLinks robot = sim.robot_links();
+      callbacks.replay->record_robot(robot.links, robot.parents, robot.poses);
+    }
     scans.start(std::move(look->cloud), settings.mission.record.metrics_every_view);
     background_view_ = result.views.size();  // the row this record will take
   }

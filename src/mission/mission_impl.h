@@ -136,6 +136,7 @@ struct Mission::Impl {
   struct Look {
     LabelledFrame frame;
     perception::LabelledCloud cloud;
+    Image<std::uint8_t> mapped_labels;  // the cloud's pixel labels (after noise), for the report
   };
   Look take_look(PhaseTimes& times);
   ViewRecord attempt(const nbv::PlannedView& view, ViewPhase phase);

@@ -32,7 +32,7 @@ Image<std::uint8_t> SemanticExtractor::label(const LabelledFrame& frame, Extract
   return labels;
 }
 
-LabelledCloud SemanticExtractor::extract(const LabelledFrame& frame) {
+LabelledCloud SemanticExtractor::extract(const LabelledFrame& frame, Image<std::uint8_t>* labels_out) {
   ExtractStats stats;
   Image<std::uint8_t> labels = label(frame, &stats);
   LabelledCloud cloud;
@@ -54,6 +54,7 @@ LabelledCloud SemanticExtractor::extract(const LabelledFrame& frame) {
   cloud.stats.target_points = static_cast<std::size_t>(std::count(cloud.labels.begin(), cloud.labels.end(), target));
   cloud.stats.true_target_pixels =
       static_cast<std::size_t>(std::count(frame.class_id.data.begin(), frame.class_id.data.end(), target));
+  if (labels_out) *labels_out = std::move(labels);
   return cloud;
 }
 

@@ -63,24 +63,39 @@ void MapReplay::record_fruits(const evaluation::MapMetrics& metrics) {
   fruits_.push_back(std::move(c));
 }
 
-void MapReplay::record_frame(const LabelledFrame& frame) {
+void MapReplay::record_frame(const LabelledFrame& frame, const Image<std::uint8_t>* mapped_labels) {
   const Stopwatch watch;
   const int w = thumb_width_px_;
   const int src_w = std::max(1, frame.rgb.width), src_h = std::max(1, frame.rgb.height);
   const int h = std::max(1, static_cast<int>(std::lround(double(w) * src_h / src_w)));
-  Image<Rgb8> rgb(w, h), labels(w, h);
+  const auto same_size = [&](const Image<std::uint8_t>& im) {
+    return frame.rgb.width > 0 && im.width == frame.rgb.width && im.height == frame.rgb.height;
+  };
+  const bool mapped = mapped_labels && same_size(*mapped_labels);
+  Image<Rgb8> rgb(w, h), labels(w, h), mapped_thumb(mapped ? w : 0, mapped ? h : 0);
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {  // nearest pixel: labels keep their colours
       const int sx = std::min(src_w - 1, (2 * x + 1) * src_w / (2 * w));
       const int sy = std::min(src_h - 1, (2 * y + 1) * src_h / (2 * h));
       if (frame.rgb.width > 0) rgb.at(x, y) = frame.rgb.at(sx, sy);
-      if (frame.class_id.width == frame.rgb.width && frame.class_id.height == frame.rgb.height && frame.rgb.width > 0)
-        labels.at(x, y) = classes_.color(frame.class_id.at(sx, sy));
+      if (same_size(frame.class_id)) labels.at(x, y) = classes_.color(frame.class_id.at(sx, sy));
+      if (mapped) mapped_thumb.at(x, y) = classes_.color(mapped_labels->at(sx, sy));
     }
   std::lock_guard<std::mutex> lock(frame_mutex_);
   rgb_.push_back(std::move(rgb));
   labels_.push_back(std::move(labels));
+  if (mapped) mapped_.push_back(std::move(mapped_thumb));
   frame_seconds_ += watch.seconds();
+}
+
+void MapReplay::record_robot(const std::vector<std::string>& links, const std::vector<std::string>& parents,
+                             const std::vector<Pose>& T_world_link) {
+  std::lock_guard<std::mutex> lock(frame_mutex_);
+  if (robot_links_.empty()) {
+    robot_links_ = links;
+    robot_parents_ = parents;
+  }
+  robot_poses_.push_back(T_world_link);
 }
 
 double MapReplay::seconds() const {

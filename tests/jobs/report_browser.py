@@ -7,15 +7,18 @@ run_report_browser_test.sh and, with --screenshot, to make the README's picture.
 
   report_browser.py [--window WxH] [--screenshot OUT.png] KIND REPORT.html [KIND REPORT.html ...]
 
-KIND is run (a complete mission or map), incomplete (an interrupted one: the page must say
-so), experiment, or poisoned (a page whose data strings hold "<!--<script>": it must open and
-show them as text); the screenshot is of the first run page.
+KIND is run (a complete mission or map), mission (a complete mission: also the robot, the
+labels mapped and the table and metrics against summary.json beside the page), incomplete (an
+interrupted one: the page must say so), experiment, or poisoned (a page whose data strings hold
+"<!--<script>": it must open and show them as text); the screenshot is of the first run page.
+--shots DIR also writes the pictures of docs/report.md into DIR.
 
 Exit 0 when every check passes; otherwise one line per failure and exit 1.
 """
 import base64
 import json
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -151,7 +154,137 @@ def count_colours(b, png, colours, tol=40):
     return b.evaluate(js)
 
 
-def check_run(b, path, incomplete, shot):
+def rects_overlap(a, b):
+    return a[0] < b[0] + b[2] and b[0] < a[0] + a[2] and a[1] < b[1] + b[3] and b[1] < a[1] + a[3]
+
+
+def check_readable(b, views):
+    """What a user of RViz looks for (issue 48 point 5), on any run page: axes and a scale in
+    the 3D view, the orbit hint and a reset that works, labelled ticks on both axes of the
+    curves with the cursor's label clear of them, stops and attempts from 1, every metric a
+    labelled number, entropy colours apart from the fruits', the note on the phases' times."""
+    fails = []
+    st = json.loads(b.evaluate("JSON.stringify(canopyReport.state())"))
+    names = {l["name"]: l for l in st["labels3d"]}
+    if not st["axes"] or not all(f"axis-{a}" in names for a in "xyz"):
+        fails.append(f"no axes triad with x, y, z labels in the 3D view: {sorted(names)}")
+    scale = [l for n, l in names.items() if n.startswith("scale-")]
+    if len(scale) < 2 or not all(l["text"] == "0" or l["text"].endswith(" m") for l in scale):
+        fails.append(f"the grid has no labelled scale in metres: {[l['text'] for l in scale]}")
+    legend = b.evaluate("document.getElementById('legend').textContent")
+    if "grid: 0.5 m" not in legend:
+        fails.append(f"the legend does not give the grid's size: '{legend}'")
+    hint = b.evaluate("(document.getElementById('orbit-hint') || {}).textContent || ''")
+    if not all(w in hint for w in ("orbit", "pan", "zoom")):
+        fails.append(f"no orbit hint: '{hint}'")
+    home = st["camera"]
+    b.evaluate("""(() => { const c = document.querySelector('#view3d canvas');
+      for (let i = 0; i < 5; ++i) c.dispatchEvent(new WheelEvent('wheel', { deltaY: -120, clientX: 300, clientY: 300, bubbles: true })); })()""")
+    zoomed = json.loads(b.evaluate("JSON.stringify(canopyReport.state())"))["camera"]
+    b.evaluate("document.getElementById('reset-view').click()")
+    back = json.loads(b.evaluate("JSON.stringify(canopyReport.state())"))["camera"]
+    if max(abs(p - q) for p, q in zip(zoomed, home)) < 1e-3:
+        fails.append("the wheel did not move the camera (the reset test needs it moved)")
+    if max(abs(p - q) for p, q in zip(back, home)) > 1e-6:
+        fails.append(f"reset view did not bring the camera back: {back} vs {home}")
+    # Curves: ticks with numbers on both axes, increasing; the cursor's label clear of them.
+    for svg in ("curve-sc", "curve-h"):
+        for axis in ("x", "y"):
+            t = b.evaluate(f"[...document.querySelectorAll('#{svg} text.tick-{axis}')].map(e => e.textContent)")
+            vals = [float(v) for v in t]
+            want = 2 if axis == "x" and views < 5 else 3
+            if views > 1 and (len(vals) < want or vals != sorted(vals)):
+                fails.append(f"#{svg}: {axis} ticks {t}")
+        for k in sorted({0, views // 2, max(0, views - 1)}):
+            b.evaluate(f"canopyReport.setView({k})")
+            hit = b.evaluate(f"""(() => {{ const box = (e) => {{ const r = e.getBoundingClientRect(); return [r.x, r.y, r.width, r.height]; }};
+              const c = box(document.querySelector('#{svg} .cursor-label'));
+              return [...document.querySelectorAll('#{svg} text.tick-x, #{svg} text.tick-y')].filter(e => {{ const t = box(e);
+                return c[0] < t[0] + t[2] && t[0] < c[0] + c[2] && c[1] < t[1] + t[3] && t[1] < c[1] + c[3]; }}).map(e => e.textContent); }})()""")
+            if hit:
+                fails.append(f"#{svg} at view {k + 1}: the cursor's label overlaps the ticks {hit}")
+    # Stops and attempts from 1, as the log counts them.
+    b.evaluate("canopyReport.setView(0)")
+    info = b.evaluate("document.getElementById('view-info').textContent")
+    stops = b.evaluate("(JSON.parse(document.getElementById('canopy-data').textContent).stops || []).length")
+    if views and stops:
+        m = re.match(r"stop (\d+) of (\d+), .*attempt (\d+);", info)
+        if not m or m.group(1) != "1" or int(m.group(2)) != stops or int(m.group(3)) < 1:
+            fails.append(f"the first view's stop and attempt are not counted from 1: '{info}'")
+    # Every metric a labelled number.
+    rows = b.evaluate("[...document.querySelectorAll('#metrics tr')].map(r => [r.dataset.metric, r.cells[0].textContent, r.cells[1].textContent])")
+    bad = [r for r in rows if not r[1] or not re.fullmatch(r"-?\d+(\.\d+)?", r[2])]
+    if not rows or bad:
+        fails.append(f"metrics not each a labelled number: {bad or 'none shown'}")
+    # Occupancy and entropy colours apart from the true fruits' colours.
+    col = b.evaluate("canopyReport.colours()")
+    for level in col["entropy"] + col["occupancy"]:
+        for name, f in col["fruits"].items():
+            if sum(abs(a - c) for a, c in zip(level, f)) < 150:
+                fails.append(f"entropy/occupancy colour {level} is close to the {name} fruits' {f}")
+    if len({tuple(c) for c in col["entropy"]}) != 8:
+        fails.append(f"the 8 entropy levels do not have 8 colours: {col['entropy']}")
+    wall = json.loads(b.evaluate("document.getElementById('canopy-wall').textContent"))
+    if "phases_s" in wall and sum(wall["phases_s"].values()) > 1.01 * wall.get("wall_time_s", 1e9):
+        note = b.evaluate("(document.getElementById('phase-note') || {}).textContent || ''")
+        if "two threads" not in note:
+            fails.append("the phases add up to more than the wall time and nothing says why")
+    b.evaluate(f"canopyReport.setView({max(0, views - 1)})")
+    return fails
+
+
+def check_mission(b, path):
+    """A complete mission's page against its summary.json: one fruit row per true fruit,
+    sortable; detection F1, precision and recall as in the summary; the robot drawn at each view
+    with a link at the camera; the labels mapped beside the true labels."""
+    fails = []
+    summary = json.load(open(os.path.join(os.path.dirname(path), "summary.json")))
+    fin = summary["final"]
+    data = json.loads(b.evaluate("document.getElementById('canopy-data').textContent"))
+    rows = b.evaluate("[...document.querySelectorAll('#fruit-table tr[data-fruit]')].map(r => r.dataset.fruit)")
+    if len(rows) != fin["target_fruits"] or len(set(rows)) != len(rows):
+        fails.append(f"{len(rows)} fruit rows ({len(set(rows))} distinct) for {fin['target_fruits']} true fruits")
+    matched = sum(1 for f in data["fruits"] if "centre_error_m" in f)
+    if matched != fin["detection"]["matched"]:
+        fails.append(f"{matched} fruits with errors in the table, the summary matched {fin['detection']['matched']}")
+    cov = {str(f["id"]): f["cov"] for f in data["fruits"]}
+    for order, name in ((lambda v: v == sorted(v, reverse=True), "descending"), (lambda v: v == sorted(v), "ascending")):
+        b.evaluate("document.querySelector('#fruit-table th[data-sort=cov]').click()")
+        got = [cov[i] for i in b.evaluate("canopyReport.fruitTable.order()")]
+        if not order(got):
+            fails.append(f"a click on SC did not sort the fruits {name}: {got[:8]}...")
+    seen = b.evaluate("[...document.querySelectorAll('#fruit-table tr[data-fruit]')].map(r => r.cells[3].textContent)")
+    if not any(v not in ("0", "–") for v in seen):
+        fails.append(f"no fruit has views that raised its SC: {seen[:8]}")
+    for key in ("precision", "recall", "f1"):
+        shown = b.evaluate(f"(document.querySelector('#metrics tr[data-metric=detection_{key}] td') || {{}}).textContent")
+        if shown != f"{fin['detection'][key]:.3f}":
+            fails.append(f"detection {key}: the page shows {shown}, summary.json {fin['detection'][key]}")
+    # The robot: a link within 2 cm of the camera pose of each view it is shown at, and moving.
+    robot = data.get("robot")
+    if not robot:
+        fails.append("the page has no robot")
+    else:
+        views = data["views"]
+        ok = [i for i, s in enumerate(views["success"]) if s]
+        at = []
+        for k in sorted({0, len(ok) // 2, len(ok) - 1}):
+            b.evaluate(f"canopyReport.setView({k})")
+            joints = json.loads(b.evaluate("JSON.stringify(canopyReport.state().robot)"))
+            cam = [views[c][ok[k]] for c in ("reached_x", "reached_y", "reached_z")]
+            d = min(sum((a - c) ** 2 for a, c in zip(j, cam)) ** 0.5 for j in joints)
+            if len(joints) != len(robot["links"]) or d > 0.02:
+                fails.append(f"view {k + 1}: the robot's nearest link is {d:.3f} m from the camera ({len(joints)} links drawn)")
+            at.append(joints)
+        if len(at) > 1 and at[0] == at[-1]:
+            fails.append("the robot does not move between the first and the last view")
+    mapped = b.evaluate("getComputedStyle(document.getElementById('thumb-mapped')).backgroundImage")
+    if "report_mapped_0.png" not in mapped or b.evaluate("document.getElementById('fig-mapped').style.display") == "none":
+        fails.append(f"no thumbnail of the labels mapped: '{mapped}'")
+    return fails
+
+
+def check_run(b, path, incomplete, shot, mission=False, shots=None):
     fails = []
     load_s = b.open(path)
     last = b.evaluate("JSON.stringify(canopyReport.state())")
@@ -185,6 +318,16 @@ def check_run(b, path, incomplete, shot):
         fails.append("the report of an interrupted run does not say it is incomplete")
     if not incomplete and banner:
         fails.append("a complete run's report says: " + banner)
+    fails += check_readable(b, views)
+    if mission:
+        fails += check_mission(b, path)
+    if shots:
+        b.evaluate(f"canopyReport.setView({max(0, views // 4)})")
+        with open(os.path.join(shots, "report_readable.png"), "wb") as f:
+            f.write(b.screenshot())
+        b.evaluate("window.scrollTo(0, 0); document.getElementById('fruits').scrollIntoView()")
+        with open(os.path.join(shots, "report_fruits.png"), "wb") as f:
+            f.write(b.screenshot("#side"))
     fails += b.errors()
     ready_ms = b.evaluate("canopyReport.readyMs")
     marks = b.evaluate("canopyReport.marks")
@@ -194,7 +337,7 @@ def check_run(b, path, incomplete, shot):
     return fails
 
 
-def check_experiment(b, path):
+def check_experiment(b, path, shots=None):
     fails = []
     load_s = b.open(path)
     links = b.evaluate("canopyReport.links")
@@ -215,6 +358,23 @@ def check_experiment(b, path):
     })()""")
     if trials and not all(w in tip for w in ("P_gt", "world", "SC ")):
         fails.append(f"hovering a curve did not name its method, P_gt, world and value: '{tip}'")
+    if b.evaluate("typeof THREE") != "undefined":
+        fails.append("the experiment page carries three.js but draws SVG only")
+    size = os.path.getsize(path)
+    if size > 400_000:
+        fails.append(f"the experiment page is {size} bytes")
+    for svg in ("exp-sc", "exp-h"):
+        order = b.evaluate(f"[...document.querySelectorAll('#{svg} path')].map(p => p.classList.contains('trial-line') ? 't' : p.classList.contains('mean-line') ? 'm' : '')")
+        seq = "".join(order)
+        if "m" not in seq or "t" in seq[seq.index("m"):]:
+            fails.append(f"#{svg}: a mean line is drawn under a trial's line ({seq})")
+        for axis in ("x", "y"):
+            t = b.evaluate(f"[...document.querySelectorAll('#{svg} text.tick-{axis}')].map(e => e.textContent)")
+            if len(t) < 2 or [float(v) for v in t] != sorted(float(v) for v in t):
+                fails.append(f"#{svg}: {axis} ticks {t}")
+    if shots:
+        with open(os.path.join(shots, "report_experiment.png"), "wb") as f:
+            f.write(b.screenshot("#exp-sc"))
     hrefs = b.evaluate("[...document.querySelectorAll('a.trial-link')].map(a => a.href)")
     if links and hrefs:
         b.open(hrefs[0][len("file://"):])  # the first trial's own report opens
@@ -246,16 +406,20 @@ def check_poisoned(b, path):
 
 def main(argv):
     args = argv[1:]
-    shot, size = None, (1280, 800)
+    shot, size, shots = None, (1280, 800), None
     if "--window" in args:  # WxH of the browser window
         i = args.index("--window")
         size = tuple(int(x) for x in args[i + 1].split("x"))
+        del args[i:i + 2]
+    if "--shots" in args:  # the pictures of docs/report.md
+        i = args.index("--shots")
+        shots = args[i + 1]
         del args[i:i + 2]
     if "--screenshot" in args:
         i = args.index("--screenshot")
         shot = args[i + 1]
         del args[i:i + 2]
-    if not args or len(args) % 2 or any(k not in ("run", "incomplete", "experiment", "poisoned") for k in args[::2]):
+    if not args or len(args) % 2 or any(k not in ("run", "mission", "incomplete", "experiment", "poisoned") for k in args[::2]):
         print(__doc__)
         return 2
     b = Browser(*size)  # one browser for every page
@@ -263,11 +427,11 @@ def main(argv):
     try:
         for kind, path in zip(args[::2], args[1::2]):
             if kind == "experiment":
-                got = check_experiment(b, path)
+                got = check_experiment(b, path, shots)
             elif kind == "poisoned":
                 got = check_poisoned(b, path)
             else:
-                got = check_run(b, path, kind == "incomplete", shot)
+                got = check_run(b, path, kind == "incomplete", shot, kind == "mission", shots if kind == "mission" else None)
                 shot = None
             fails += [f"{path}: {f}" for f in got]
             b.events.clear()

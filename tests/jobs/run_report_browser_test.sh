@@ -2,9 +2,12 @@
 # report.html in a real browser (Debian's headless chromium, tests/jobs/report_browser.py):
 # a small mission's report opens from file:// without a console error, its 3D view is not
 # blank (leaf and fruit colours in a screenshot of the canvas), the slider changes the cameras
-# drawn, the map and the curve cursor; an interrupted mission's report says it is incomplete;
+# drawn, the map and the curve cursor; what RViz users look for (axes, scale, robot, orbit hint
+# and reset, ticks, a fruit table, labelled metrics, 1-based stops, the labels mapped beside the
+# truth, entropy colours apart from the fruits'); an interrupted mission's report says it is incomplete;
 # equal seeds give the same report bytes (but for the wall-time line) and thumbnails; an
-# experiment report's links to its trials' reports resolve; canopy map's report opens too;
+# experiment report's links to its trials' reports resolve, and it goes without three.js with
+# its means over the trials' lines and ticks on both axes; canopy map's report opens too;
 # --no-report writes none; both pages open with "<!--<script>" in every user string of their
 # data. One browser opens every page.
 set -euo pipefail
@@ -33,6 +36,10 @@ for f in "$dir"/a/report*; do
   fi
 done
 [[ $(grep -c '^<script id="canopy-wall"' "$dir/a/report.html") -eq 1 ]] || { echo "no wall-time line"; exit 1; }
+# The labels mapped (colour segmentation, P_gt 0.7) are thumbnailed beside the true ones, and differ.
+[[ -s "$dir/a/report_mapped_0.png" ]] || { echo "no thumbnails of the labels mapped"; exit 1; }
+! cmp -s "$dir/a/report_mapped_0.png" "$dir/a/report_labels_0.png" ||
+  { echo "the labels mapped are the true labels at P_gt 0.7"; exit 1; }
 
 # Ctrl-C after the first views: the report says the run is incomplete.
 "$canopy" mission --world worlds/small.yaml --views-per-stop 12 --no-plots --out "$dir/int" 2> "$dir/int.log" &
@@ -79,6 +86,6 @@ poison "$dir/exp/report/report.html" "$dir/exp/report/poisoned.html" experiment_
 # canopy map's report, of three views.
 "$canopy" map --world worlds/small.yaml --views tests/jobs/report_map_views.txt --out "$dir/map" > /dev/null 2>> "$dir/log.txt"
 
-$browser run "$dir/a/report.html" incomplete "$dir/int/report.html" run "$dir/map/report.html" \
+$browser ${REPORT_SHOTS:+--shots "$REPORT_SHOTS"} mission "$dir/a/report.html" incomplete "$dir/int/report.html" run "$dir/map/report.html" \
   experiment "$dir/exp/report/report.html" poisoned "$dir/a/poisoned.html" poisoned "$dir/exp/report/poisoned.html"
 echo "report browser test: ok"

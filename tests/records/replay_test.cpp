@@ -79,18 +79,56 @@ TEST(MapReplay, RecordsOnlyChangesOfTheDrawnState) {
   EXPECT_EQ(replay.change_count(), 3u);
 }
 
+// A 64 x 48 frame of one colour, every pixel labelled `label`.
+LabelledFrame flat_frame(int label) {
+  LabelledFrame frame;
+  frame.rgb = Image<Rgb8>(64, 48, Rgb8{10, 20, 30});
+  frame.class_id = Image<std::uint8_t>(64, 48, static_cast<std::uint8_t>(label));
+  return frame;
+}
+
 TEST(MapReplay, ThumbnailsKeepTheAspectAndTheLabelColours) {
   SemanticClasses classes;
   MapReplay replay(classes, 32);
-  LabelledFrame frame;
-  frame.rgb = Image<Rgb8>(64, 48, Rgb8{10, 20, 30});
-  frame.class_id = Image<std::uint8_t>(64, 48, std::uint8_t(kReplayFruit));
-  replay.record_frame(frame);
+  replay.record_frame(flat_frame(kReplayFruit));
   ASSERT_EQ(replay.rgb().size(), 1u);
   EXPECT_EQ(replay.rgb()[0].width, 32);
   EXPECT_EQ(replay.rgb()[0].height, 24);
   EXPECT_EQ(replay.rgb()[0].at(5, 5).g, 20);
   EXPECT_EQ(replay.labels()[0].at(31, 23).r, classes.color(kReplayFruit).r);
+  EXPECT_TRUE(replay.mapped_labels().empty());  // none given
+}
+
+// The labels mapped (after noise) get their own thumbnail beside the true ones; a label image of
+// another size is not thumbnailed (it would be read out of bounds).
+TEST(MapReplay, ThumbnailsTheLabelsMappedBesideTheTruth) {
+  SemanticClasses classes;
+  MapReplay replay(classes, 32);
+  const LabelledFrame frame = flat_frame(kReplayLeaf);
+  Image<std::uint8_t> mapped(64, 48, std::uint8_t(kReplayLeaf));
+  for (int y = 24; y < 48; ++y)
+    for (int x = 0; x < 64; ++x) mapped.at(x, y) = kReplayFruit;  // the lower half flipped to fruit
+  replay.record_frame(frame, &mapped);
+  ASSERT_EQ(replay.mapped_labels().size(), 1u);
+  EXPECT_EQ(replay.mapped_labels()[0].at(3, 3).g, classes.color(kReplayLeaf).g);
+  EXPECT_EQ(replay.mapped_labels()[0].at(3, 20).r, classes.color(kReplayFruit).r);
+  EXPECT_EQ(replay.labels()[0].at(3, 20).r, classes.color(kReplayLeaf).r);  // the truth unchanged
+  const Image<std::uint8_t> smaller(32, 24, std::uint8_t(kReplayFruit));
+  replay.record_frame(frame, &smaller);
+  EXPECT_EQ(replay.mapped_labels().size(), 1u);
+  EXPECT_EQ(replay.rgb().size(), 2u);
+}
+
+// The robot's links: names and parents once, poses per view.
+TEST(MapReplay, RecordsTheRobotsLinksPerView) {
+  MapReplay replay(SemanticClasses{});
+  const std::vector<std::string> links = {"base_link", "tool0"}, parents = {"world", "base_link"};
+  replay.record_robot(links, parents, {Pose::Identity(), Pose(Eigen::Translation3d(0, 0, 1))});
+  replay.record_robot({"other"}, {"world"}, {Pose::Identity(), Pose(Eigen::Translation3d(0, 0, 2))});
+  EXPECT_EQ(replay.robot_links(), links);
+  EXPECT_EQ(replay.robot_parents(), parents);
+  ASSERT_EQ(replay.robot_poses().size(), 2u);
+  EXPECT_DOUBLE_EQ(replay.robot_poses()[1][1].translation().z(), 2.0);
 }
 
 }  // namespace

@@ -63,9 +63,10 @@ nlohmann::json pack_replay(const records::MapReplay& replay, const mapping::Sema
 /// True when Debian's libjs-three is installed (three.js and its orbit controls).
 bool report_libraries_present();
 
-/// The inlined libraries and page script, HTML-escaped for a <script> element; throws IoError
-/// naming what is missing.
-std::string report_scripts(const std::string& page_script);
+/// The inlined scripts of a page: three.js and its orbit controls (with `three_js`; a page that
+/// draws SVG only goes without their 0.85 MB), the charts' axes (web/report_axes.js) and the
+/// page script. Throws IoError naming what is missing.
+std::string report_scripts(const std::string& page_script, bool three_js = true);
 
 /// The page around a data block: `title`, the scripts, the JSON data and the wall line.
 std::string report_page(const std::string& title, const std::string& scripts, const nlohmann::json& data,

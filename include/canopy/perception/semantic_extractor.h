@@ -69,8 +69,9 @@ class SemanticExtractor {
 
   /// Pixel labels for `frame` after segmentation and noise (stats->masks*, bad_label).
   Image<std::uint8_t> label(const LabelledFrame& frame, ExtractStats* stats);
-  /// The labelled cloud of `frame` (world frame, origin = camera position).
-  LabelledCloud extract(const LabelledFrame& frame);
+  /// The labelled cloud of `frame` (world frame, origin = camera position). With `labels_out`,
+  /// also the pixel labels the cloud was made of (label()'s; the same draws of the noise).
+  LabelledCloud extract(const LabelledFrame& frame, Image<std::uint8_t>* labels_out = nullptr);
 
   const ExtractorParams& params() const { return params_; }
   /// The noise generator's state. A caller that discards a cloud puts the state from before it

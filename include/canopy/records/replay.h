@@ -1,8 +1,9 @@
 #pragma once
 // What a run records so that its report (jobs/run_report.h) can replay it without running it
 // again: after each successful view, the voxels whose drawn state changed (occupied or not,
-// most likely class, occupancy and entropy in a few levels), each fruit's coverage, and a
-// thumbnail of the wrist RGB and of its labels.
+// most likely class, occupancy and entropy in a few levels), each fruit's coverage, a
+// thumbnail of the wrist RGB, of its true labels and of the labels mapped (after noise), and
+// the robot's link poses at the view.
 //
 // The mission feeds it from its scan pipeline's thread (record_scan, record_fruits) and from
 // its own (record_frame); `canopy map` from its loop. Scans are recorded in the order they
@@ -11,6 +12,7 @@
 #include <cstdint>
 #include <mutex>
 #include <optional>
+#include <string>
 #include <unordered_map>
 #include <vector>
 
@@ -46,8 +48,13 @@ class MapReplay {
                    const std::vector<std::uint8_t>* occupancy = nullptr);
   /// The coverage of each target fruit after the last scan (under the metrics' rule).
   void record_fruits(const evaluation::MapMetrics& metrics);
-  /// The frame of the next successful view (its thumbnails).
-  void record_frame(const LabelledFrame& frame);
+  /// The frame of the next successful view (its thumbnails) and, when given, the labels that
+  /// were mapped from it (the extractor's, after segmentation and noise; the frame's size).
+  void record_frame(const LabelledFrame& frame, const Image<std::uint8_t>* mapped_labels = nullptr);
+  /// The robot's links at the next successful view: their names and parents (taken from the
+  /// first call) and their world poses.
+  void record_robot(const std::vector<std::string>& links, const std::vector<std::string>& parents,
+                    const std::vector<Pose>& T_world_link);
 
   /// Voxel keys in the order they were first drawn.
   const std::vector<octomap::OcTreeKey>& voxels() const { return voxels_; }
@@ -61,6 +68,12 @@ class MapReplay {
   /// Per recorded frame, the RGB and label thumbnails.
   const std::vector<Image<Rgb8>>& rgb() const { return rgb_; }
   const std::vector<Image<Rgb8>>& labels() const { return labels_; }
+  /// Per recorded frame, the thumbnail of the labels mapped (empty when none were given).
+  const std::vector<Image<Rgb8>>& mapped_labels() const { return mapped_; }
+  /// The robot's links, their parents, and per recorded view their world poses (empty without).
+  const std::vector<std::string>& robot_links() const { return robot_links_; }
+  const std::vector<std::string>& robot_parents() const { return robot_parents_; }
+  const std::vector<std::vector<Pose>>& robot_poses() const { return robot_poses_; }
   const SemanticClasses& classes() const { return classes_; }
   /// Number of changes over all scans.
   std::size_t change_count() const;
@@ -74,7 +87,9 @@ class MapReplay {
   std::unordered_map<std::uint64_t, std::pair<std::uint32_t, std::uint16_t>> last_;  // code -> voxel, state
   std::vector<std::vector<VoxelChange>> scans_;
   std::vector<std::vector<double>> fruits_;
-  std::vector<Image<Rgb8>> rgb_, labels_;
+  std::vector<Image<Rgb8>> rgb_, labels_, mapped_;
+  std::vector<std::string> robot_links_, robot_parents_;
+  std::vector<std::vector<Pose>> robot_poses_;
   double scan_seconds_ = 0.0, frame_seconds_ = 0.0;
   // Scans come from the pipeline's thread, frames from the mission's: one lock each, so that
   // neither waits for the other.
