@@ -184,14 +184,26 @@ FruitDetection detect_fruits(std::vector<FruitCluster> clusters, const world::Gr
   return d;
 }
 
-TrueFruitSurface::TrueFruitSurface(const world::GroundTruth& truth, double resolution_m) : resolution_m_(resolution_m) {
+namespace {
+// The squared distance within which a voxel centre lies on a true fruit: half a voxel
+// diagonal plus the sample spacing.
+double on_fruit_reach2(double resolution_m, double point_spacing_m) {
+  const double reach = 0.5 * std::sqrt(3.0) * resolution_m + point_spacing_m;
+  return reach * reach;
+}
+}  // namespace
+
+TrueFruitSurface::TrueFruitSurface(const world::GroundTruth& truth, double resolution_m)
+    : resolution_m_(resolution_m), reach2_(on_fruit_reach2(resolution_m, truth.point_spacing_m)) {
   std::vector<Vec3> samples;
   for (const world::FruitTruth& f : truth.fruits)
     if (f.target) samples.insert(samples.end(), f.surface_points.begin(), f.surface_points.end());
-  tree_ = std::make_unique<PointKdTree>(std::move(samples));
-  const double reach = 0.5 * std::sqrt(3.0) * resolution_m + truth.point_spacing_m;
-  reach2_ = reach * reach;
+  owned_ = std::make_unique<PointKdTree>(std::move(samples));
+  tree_ = owned_.get();
 }
+
+TrueFruitSurface::TrueFruitSurface(const PointKdTree& target_points, double point_spacing_m, double resolution_m)
+    : tree_(&target_points), resolution_m_(resolution_m), reach2_(on_fruit_reach2(resolution_m, point_spacing_m)) {}
 
 TrueFruitSurface::~TrueFruitSurface() = default;
 

@@ -55,6 +55,7 @@ constexpr double kSlack = 1e-9;
 
 IncrementalEvaluator::IncrementalEvaluator(const world::GroundTruth& truth, const MetricsParams& params)
     : truth_(truth), params_(params) {
+  std::vector<Vec3> points;  // every target surface point, fruit by fruit: the tree keeps them
   for (const world::FruitTruth& f : truth.fruits) {
     if (!f.target) {
       ++metrics_.non_target_fruits;
@@ -64,7 +65,7 @@ IncrementalEvaluator::IncrementalEvaluator(const world::GroundTruth& truth, cons
     fruits_.push_back(&f);
     centroids_.push_back(surface_centroid(f));
     for (const Vec3& p : f.surface_points) {
-      points_.push_back(p);
+      points.push_back(p);
       point_fruit_.push_back(index);
     }
     FruitMetrics fm;
@@ -73,9 +74,11 @@ IncrementalEvaluator::IncrementalEvaluator(const world::GroundTruth& truth, cons
     fm.points = f.surface_points.size();
     metrics_.fruits.push_back(fm);
   }
-  point_covered_.assign(points_.size(), 0);
-  point_tree_ = std::make_unique<PointKdTree>(points_);
+  point_covered_.assign(points.size(), 0);
+  point_tree_ = std::make_unique<PointKdTree>(std::move(points));
 }
+
+const std::vector<Vec3>& IncrementalEvaluator::points() const { return point_tree_->points(); }
 
 IncrementalEvaluator::~IncrementalEvaluator() = default;
 
@@ -85,9 +88,8 @@ std::size_t IncrementalEvaluator::memory_bytes() const {
   const std::size_t hashed = 8 + 2 * sizeof(void*);  // an unordered_map entry and its bucket, at least
   std::size_t component_codes = 0;
   for (const auto& entry : components_) component_codes += entry.second.codes.capacity() * sizeof(std::uint64_t);
-  return points_.capacity() * sizeof(Vec3) + point_fruit_.capacity() * 4 + point_covered_.capacity() +
-         centroids_.capacity() * sizeof(Vec3) + tree(points_.size()) +
-         (surface_ ? tree(points_.size()) : 0) + fruit_keys_.capacity() * 16 +
+  return point_fruit_.capacity() * 4 + point_covered_.capacity() + centroids_.capacity() * sizeof(Vec3) +
+         tree(points().size()) + fruit_keys_.capacity() * 16 +
          voxels_.size() * (8 + 1 + hashed) + component_of_.size() * (8 + 4 + hashed) + component_codes;
 }
 
@@ -151,7 +153,7 @@ std::uint8_t IncrementalEvaluator::covered_flags(const SemanticOcTree& map, cons
 }
 
 void IncrementalEvaluator::rescore_point(const SemanticOcTree& map, std::size_t i) {
-  const std::uint8_t now = covered_flags(map, points_[i]);
+  const std::uint8_t now = covered_flags(map, points()[i]);
   const std::uint8_t old = point_covered_[i];
   if (now == old) return;
   FruitMetrics& fm = metrics_.fruits[point_fruit_[i]];
@@ -163,7 +165,7 @@ void IncrementalEvaluator::rescore_point(const SemanticOcTree& map, std::size_t 
 void IncrementalEvaluator::score_all(const SemanticOcTree& map) {
   map_ = &map;
   resolution_ = map.getResolution();
-  surface_ = std::make_unique<TrueFruitSurface>(truth_, resolution_);
+  surface_ = std::make_unique<TrueFruitSurface>(*point_tree_, truth_.point_spacing_m, resolution_);
   index_fruit_boxes(map);
   voxels_.clear();
   paper_voxels_ = prototype_voxels_ = paper_on_fruit_ = prototype_on_fruit_ = 0;
@@ -179,10 +181,10 @@ void IncrementalEvaluator::score_all(const SemanticOcTree& map) {
                          });
   for (FruitMetrics& fm : metrics_.fruits) fm.paper.covered = fm.prototype.covered = 0;
   std::fill(point_covered_.begin(), point_covered_.end(), 0);
-  for (std::size_t i = 0; i < points_.size(); ++i) rescore_point(map, i);
+  for (std::size_t i = 0; i < points().size(); ++i) rescore_point(map, i);
   for (std::size_t i = 0; i < fruits_.size(); ++i)
     score_fruit_entropy(map, *fruits_[i], centroids_[i], params_, &metrics_.fruits[i]);
-  last_points_ = points_.size();
+  last_points_ = points().size();
   last_fruits_ = fruits_.size();
 }
 

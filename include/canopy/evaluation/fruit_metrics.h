@@ -119,6 +119,9 @@ FruitDetection detect_fruits(std::vector<FruitCluster> clusters, const world::Gr
 class TrueFruitSurface {
  public:
   TrueFruitSurface(const world::GroundTruth& truth, double resolution_m);
+  /// The same test on a KD-tree of the target fruits' surface samples that the caller already
+  /// holds (the incremental evaluator's; kept by reference, it must outlive this): no copy.
+  TrueFruitSurface(const PointKdTree& target_points, double point_spacing_m, double resolution_m);
   ~TrueFruitSurface();
   TrueFruitSurface(const TrueFruitSurface&) = delete;
   TrueFruitSurface& operator=(const TrueFruitSurface&) = delete;
@@ -126,7 +129,8 @@ class TrueFruitSurface {
   double resolution_m() const { return resolution_m_; }
 
  private:
-  std::unique_ptr<PointKdTree> tree_;
+  std::unique_ptr<PointKdTree> owned_;  ///< Built by the first constructor.
+  const PointKdTree* tree_ = nullptr;
   double resolution_m_ = 0.0;
   double reach2_ = 0.0;
 };

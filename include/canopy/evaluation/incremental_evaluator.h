@@ -68,6 +68,7 @@ class IncrementalEvaluator {
   std::uint8_t covered_flags(const SemanticOcTree& map, const Vec3& p) const;
   void rescore_point(const SemanticOcTree& map, std::size_t i);
   void finish(const SemanticOcTree& map);
+  const std::vector<Vec3>& points() const;
   void update_components(const SemanticOcTree& map);
 
   /// A connected component (26-neighbourhood) of the rule's fruit voxels.
@@ -85,9 +86,10 @@ class IncrementalEvaluator {
 
   std::vector<const world::FruitTruth*> fruits_;  ///< Target fruits, in truth order.
   std::vector<Vec3> centroids_;
-  std::vector<Vec3> points_;                      ///< All target surface points, fruit by fruit.
-  std::vector<std::uint32_t> point_fruit_;        ///< Index into fruits_ of each point.
+  std::vector<std::uint32_t> point_fruit_;        ///< Index into fruits_ of each point (point_tree_'s).
   std::vector<std::uint8_t> point_covered_;       ///< kPaper | kPrototype.
+  /// All target surface points, fruit by fruit (points()), held once: the coverage's
+  /// neighbours and surface_'s on-fruit test both search this tree.
   std::unique_ptr<PointKdTree> point_tree_;
   std::unique_ptr<TrueFruitSurface> surface_;
   /// (Morton code, fruit) for every voxel key in a fruit's entropy boxes, sorted.
