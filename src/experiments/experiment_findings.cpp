@@ -63,12 +63,25 @@ std::vector<double> p_gts_of(const std::vector<Group>& groups) {
 }
 
 // Section 1's figures at equal view counts: a method that ends with fewer successful views is
-// compared where every method has taken as many (trials with fewer views have no figure there).
-std::string equal_views_table(const std::vector<Group>& groups, const std::vector<double>& pgts) {
+// compared where every method has taken as many (trials with fewer views have no figure there);
+// beside them the SC reached by each simulated time budget (`field`'s sc_at_ keys), the robot's
+// own time, which a method cannot save by ending its stops early.
+std::string equal_views_table(const std::vector<Group>& groups, const std::vector<double>& pgts,
+                              const std::vector<std::string>& field) {
   const std::vector<int> counts = {30, 60, 90};
+  std::vector<std::string> budgets;
+  for (const std::string& k : field)
+    if (k.rfind("sc_at_", 0) == 0) budgets.push_back(k);
   std::string f = "\nThe same at equal view counts: fruit SC after the 30th, 60th and 90th successful view (trials "
-                  "that ended before it have no figure there: n says how many had one).\n\n";
-  f += "| P_gt | method | successful views | SC after 30 | after 60 | after 90 | final |\n|---|---|---|---|---|---|---|\n";
+                  "that ended before it have no figure there: n says how many had one)";
+  f += budgets.empty() ? std::string(".\n\n")
+                       : ", and at equal simulated time: the SC reached by each time budget of the robot's own time "
+                         "(mission.record.time_budgets_s; a trial that ended before it counts its final SC).\n\n";
+  f += "| P_gt | method | successful views | SC after 30 | after 60 | after 90 | final |";
+  for (const std::string& k : budgets) f += " SC by " + k.substr(6, k.size() - 7) + " s |";
+  f += "\n|---|---|---|---|---|---|---|";
+  for (std::size_t i = 0; i < budgets.size(); ++i) f += "---|";
+  f += "\n";
   for (double p : pgts)
     for (const Group& g : groups) {
       if (pgt_text(g.p_gt) != pgt_text(p)) continue;
@@ -80,13 +93,16 @@ std::string equal_views_table(const std::vector<Group>& groups, const std::vecto
           if (static_cast<int>(t->coverage.size()) >= n) v.push_back(t->coverage[static_cast<std::size_t>(n - 1)]);
         f += " | " + pm(stat(v));
       }
-      f += " | " + pm(over(g, final_sc)) + " |\n";
+      f += " | " + pm(over(g, final_sc)) + " |";
+      for (const std::string& k : budgets) f += " " + pm(field_stat(g, k)) + " |";
+      f += "\n";
     }
   return f;
 }
 
 // Section 1: active mapping vs predefined scanning, fruit SC at the end.
-std::string coverage_section(const std::vector<Group>& groups, const std::vector<double>& pgts) {
+std::string coverage_section(const std::vector<Group>& groups, const std::vector<double>& pgts,
+                             const std::vector<std::string>& field) {
   std::string f = "## 1. Active mapping vs predefined scanning: fruit SC at the end\n\n";
   f += "Paper: both active methods end with about " + pct(kPaperClaims.active_sc_gain_pct) +
        " more fruit surface coverage than predefined scanning.\n\n";
@@ -116,7 +132,7 @@ std::string coverage_section(const std::vector<Group>& groups, const std::vector
            " (" + num(100.0 * d, "%+.1f") + " points)" + resolution(a, b) + ".\n";
     }
   }
-  return f + equal_views_table(groups, pgts);
+  return f + equal_views_table(groups, pgts, field);
 }
 
 // Section 2: SC lost to segmentation noise, each method at each noisy P_gt against the cleanest.
@@ -287,7 +303,7 @@ std::string findings_markdown(const MergedTrials& m, const std::vector<Group>& g
   std::size_t ok = 0, failed = 0;
   for (const TrialResult& t : m.trials) (t.status == "ok" ? ok : failed)++;
   const std::vector<double> pgts = p_gts_of(groups);
-  return findings_intro(m, ok, failed) + coverage_section(groups, pgts) + noise_section(groups, pgts) +
+  return findings_intro(m, ok, failed) + coverage_section(groups, pgts, field) + noise_section(groups, pgts) +
          runtime_section(groups, pgts) + views_section(groups) + field_section(groups, field) +
          problems_section(m, failed);
 }

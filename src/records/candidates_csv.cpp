@@ -3,12 +3,14 @@
 #include "canopy/records/candidates_csv.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
 
 #include "canopy/common/error.h"
 #include "canopy/common/value_text.h"
+#include "canopy/nbv/view_features.h"
 
 namespace canopy::records {
 
@@ -44,6 +46,7 @@ std::vector<std::string> audit_score_names() {
 std::string candidates_csv(const std::vector<CandidateRecord>& records) {
   std::string s = "stop,round,views_before,cluster,x,y,z,qw,qx,qy,qz,chosen,planner_gain,frustum,truth";
   for (const std::string& n : audit_score_names()) s += "," + n;
+  for (const std::string& n : nbv::view_feature_names()) s += ",f:" + n;
   s += "\n";
   char b[64];
   auto num = [&](double x) {
@@ -58,6 +61,12 @@ std::string candidates_csv(const std::vector<CandidateRecord>& records) {
          num(q.x()) + "," + num(q.y()) + "," + num(q.z()) + "," + (r.chosen ? "1" : "0") + "," + num(r.planner_gain) +
          "," + std::to_string(r.frustum) + "," + std::to_string(r.truth);
     for (const double x : r.scores) s += "," + num(x);
+    for (std::size_t i = 0; i < nbv::view_feature_names().size(); ++i) {
+      // Features are floats: 9 significant digits give them back exactly.
+      c_snprintf(b, sizeof b, "%.9g", i < r.features.size() ? double(r.features[i]) : std::nan(""));
+      s += ",";
+      s += b;
+    }
     s += "\n";
   }
   return s;

@@ -67,6 +67,8 @@ nlohmann::json summary_json(const MissionResult& r) {
                      {"scripted_replaced", s.scripted_replaced},
                      {"replacement_attempts", s.replacement_attempts},
                      {"refused", s.refused},
+                     {"guarded", s.guarded},
+                     {"exploration_rounds", s.exploration_rounds},
                      {"rounds", s.rounds},
                      {"failures", s.failures},
                      {"end_reason", s.end_reason},
@@ -77,13 +79,17 @@ nlohmann::json summary_json(const MissionResult& r) {
                      {"sim_time_s", s.sim_time_s}});
   }
   j["stops"] = stops;
-  int replaced = 0, replacement_attempts = 0, refused = 0;
+  int replaced = 0, replacement_attempts = 0, refused = 0, guarded = 0, exploration_rounds = 0;
   for (const StopRecord& s : r.stops) {
     replaced += s.scripted_replaced;
     replacement_attempts += s.replacement_attempts;
     refused += s.refused;
+    guarded += s.guarded;
+    exploration_rounds += s.exploration_rounds;
   }
   j["refused"] = refused;
+  j["guarded"] = guarded;
+  j["exploration_rounds"] = exploration_rounds;
   int repairs = 0;
   for (const StopRecord& s : r.stops) repairs += s.start_repairs;
   j["start_repairs"] = repairs;

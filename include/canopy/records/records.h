@@ -54,6 +54,7 @@ struct CandidateRecord {
   std::size_t frustum = 0;     ///< Uncovered truth points in its frustum.
   std::size_t truth = 0;       ///< Uncovered truth points it sees (the oracle's score).
   std::vector<double> scores;  ///< audit_score_names() order.
+  std::vector<float> features; ///< nbv::view_feature_names() order (a learned scorer's input).
 };
 
 /// One attempted view.
@@ -111,6 +112,11 @@ struct StopRecord {
   /// Scripted views the planner refused before any move (no collision-free IK goal at this
   /// base, nbv.predefined.goal_test_at_planning) and handed on to be replaced; not attempts.
   int refused = 0;
+  /// Views a planner offered again after they had failed at this stop for a cause of their own
+  /// (nbv::joins_failed_views): dropped by the mission before any move; not attempts.
+  int guarded = 0;
+  /// Rounds planned by mission.loop.exploration because the method had nothing to attempt.
+  int exploration_rounds = 0;
   int rounds = 0;
   std::map<std::string, int> failures;
   std::string end_reason;        ///< Why the stop's loop ended (one line).
