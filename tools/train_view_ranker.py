@@ -12,7 +12,8 @@ Only tuning worlds train: a trial whose world seed is 1000 or more (the evaluati
 refused, one line and exit 2. --evaluate RUN... ranks a model against the truth on other runs
 (the evaluation worlds allowed there) beside every hand-made gain, as canopy report's
 gain_truth table does: per round Spearman's rho, the top view being the truth's best (top-1) or
-in its best five (top-5), the truth rank of the top view, and its share of the round's best truth.
+in its best five (top-5), the truth rank of the top view, the score's rank of the truth's best
+view, and the top view's share of the round's best truth; means over rounds.
 """
 import argparse
 import csv
@@ -127,7 +128,7 @@ class Agreement:
 
     def __init__(self):
         self.rounds = self.correlated = self.top1 = self.top5 = self.share_rounds = 0
-        self.rho = self.rank = self.share = 0.0
+        self.rho = self.rank = self.share = self.best_rank = 0.0
 
     def add(self, score, truth):
         self.rounds += 1
@@ -140,6 +141,10 @@ class Agreement:
         self.top1 += rank == 1
         self.top5 += rank <= 5
         self.rank += rank
+        # The truth's best view (the first of them) in the score's order: 1 + views scored above it
+        # + half the others scored alike (a score that ties everything ranks it in the middle).
+        b = score[int(np.argmax(truth))]
+        self.best_rank += 1 + int(np.sum(score > b)) + 0.5 * (int(np.sum(score == b)) - 1)
         best = truth.max()
         if best > 0:
             self.share += truth[choice] / best
@@ -148,7 +153,7 @@ class Agreement:
     def row(self):
         n = max(self.rounds, 1)
         return (self.rounds, self.rho / max(self.correlated, 1), self.top1 / n, self.top5 / n, self.rank / n,
-                self.share / max(self.share_rounds, 1))
+                self.share / max(self.share_rounds, 1), self.best_rank / n)
 
 
 def relevance(truth):
@@ -188,8 +193,8 @@ def ranking_table(rounds, names, scores_names, title, with_model):
     for j, n in enumerate(names):
         cols.append((n, lambda r, j=j: np.nan_to_num(r["X"][:, j], nan=-1e30)))
     out = [f"### {title}", "",
-           "| P_gt | score | rounds | Spearman ρ | top-1 | top-5 | truth rank of its top view | truth share |",
-           "|---|---|---|---|---|---|---|---|"]
+           "| P_gt | score | rounds | Spearman ρ | top-1 | top-5 | truth rank of its top view | its rank of the truth's best | truth share |",
+           "|---|---|---|---|---|---|---|---|---|"]
     for pgt in sorted({r["p_gt"] for r in rounds}, reverse=True):
         rs = [r for r in rounds if r["p_gt"] == pgt]
         rows = []
@@ -199,8 +204,9 @@ def ranking_table(rounds, names, scores_names, title, with_model):
                 a.add(f(r), r["truth"])
             rows.append((label, a.row()))
         keep = rows[:2 if with_model else 1] + sorted(rows[2 if with_model else 1:], key=lambda x: -x[1][1])
-        for label, (n, rho, t1, t5, rank, share) in keep:
-            out.append(f"| {pgt:g} | {label} | {n} | {rho:.2f} | {100 * t1:.0f} % | {100 * t5:.0f} % | {rank:.1f} | {share:.2f} |")
+        for label, (n, rho, t1, t5, rank, share, best_rank) in keep:
+            out.append(f"| {pgt:g} | {label} | {n} | {rho:.2f} | {100 * t1:.0f} % | {100 * t5:.0f} % | {rank:.1f} | "
+                       f"{best_rank:.1f} | {share:.2f} |")
     return "\n".join(out) + "\n"
 
 
@@ -212,10 +218,10 @@ def main():
     ap.add_argument("--holdout", type=int, nargs="*", default=[],
                     help="tuning world seeds kept out of training and ranked instead (model selection)")
     ap.add_argument("--objective", default="rank:pairwise")
-    ap.add_argument("--trees", type=int, default=150)
-    ap.add_argument("--depth", type=int, default=5)
+    ap.add_argument("--trees", type=int, default=100)
+    ap.add_argument("--depth", type=int, default=4)
     ap.add_argument("--eta", type=float, default=0.1)
-    ap.add_argument("--threads", type=int, default=2)
+    ap.add_argument("--threads", type=int, default=1, help="1: the same model, byte for byte, from the same data")
     ap.add_argument("--table", help="write the ranking tables (markdown) here")
     args = ap.parse_args()
 

@@ -79,7 +79,7 @@ TEST(ViewPlanner, BuiltInPlannersComeFromTheirRoomsInTheTablesOrder) {
     try {
       table[i].make(s);
       ADD_FAILURE() << table[i].name << " built without a mission";
-    } catch (const InputError& e) {
+    } catch (const canopy::InputError& e) {
       EXPECT_NE(std::string(e.what()).find("reads the ground truth"), std::string::npos) << e.what();
     }
   }
