@@ -7,7 +7,7 @@
 include(GNUInstallDirs)
 include(CMakePackageConfigHelpers)
 
-set(CANOPY_CORE_MODULES common robot world perception mapping datasets evaluation nbv motion settings records)
+set(CANOPY_CORE_MODULES common ros2 robot world perception mapping datasets evaluation nbv motion settings records)
 set(CANOPY_SIM_MODULES sim video mission experiments jobs)
 set(CANOPY_INSTALL_CMAKEDIR ${CMAKE_INSTALL_LIBDIR}/cmake/canopy)
 
@@ -43,9 +43,6 @@ install(DIRECTORY ${PROJECT_SOURCE_DIR}/include/canopy DESTINATION ${CMAKE_INSTA
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/models ${PROJECT_SOURCE_DIR}/configs ${PROJECT_SOURCE_DIR}/worlds
                   ${PROJECT_SOURCE_DIR}/web
         DESTINATION ${CMAKE_INSTALL_DATADIR}/canopy)
-install(FILES ${PROJECT_SOURCE_DIR}/tools/plot_mission.py ${PROJECT_SOURCE_DIR}/tools/plot_ablation.py
-              ${PROJECT_SOURCE_DIR}/tools/plot_visibility.py
-        DESTINATION ${CMAKE_INSTALL_DATADIR}/canopy/tools)
 if(TARGET canopy_cli)
   install(TARGETS canopy_cli RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 endif()

@@ -98,7 +98,7 @@ void add_ablate_command(CLI::App& app) {
   sub->add_flag("--quick", opt->quick, "Small run: 1 plant, 6 views, 1 trial, osamcep+rs, ours+sparse, P_gt 1");
   sub->add_flag("--resume", opt->resume, "Reuse finished jobs found in --out");
   sub->add_flag("--summarize-only", opt->summarize_only, "Run no job: summarize the finished ones in --out");
-  sub->add_flag("--no-plots", opt->no_plots, "Skip the PNG plots");
+  sub->add_flag("--no-plots", opt->no_plots, "Skip gains.svg and rays.svg");
   sub->add_option("--out", opt->out, "Output folder")->required();
   sub->callback([opt, sub] {
     const InterruptScope interrupts;  // Ctrl-C / SIGTERM: no new job starts, finished ones are kept
@@ -168,7 +168,7 @@ void add_ablate_command(CLI::App& app) {
     job.plots = !o.no_plots;
     job.on_summary = [&o](const experiments::AblationRunResult& r) { print_table(r.rows, o.views); };
     const jobs::AblationJobResult r = jobs::run_ablation_job(job, bundle);
-    std::printf("ablation done in %.0f s; wrote %s (summary.csv, table.csv, trials/, jobs/, *.png)\n", r.run.seconds,
+    std::printf("ablation done in %.0f s; wrote %s (summary.csv, table.csv, trials/, jobs/, gains.svg, rays.svg)\n", r.run.seconds,
                 o.out.c_str());
     if (!r.zero_coverage.empty()) std::printf("%s\n", r.zero_coverage.c_str());
   });

@@ -119,7 +119,7 @@ void add_map_command(CLI::App& app) {
     const InterruptScope interrupts;
     settings::Settings bundle = load_settings(opt->config);
     if (!opt->seg.empty()) bundle.set("mapping.extractor.source", opt->seg, "--seg");
-    if (opt->pgt >= 0.0) bundle.set("mapping.extractor.p_gt", format_number(opt->pgt, "%.17g"), "--pgt");
+    if (opt->pgt >= 0.0) bundle.set("mapping.extractor.p_gt", format_number(opt->pgt, NumberFormat::kDigits17), "--pgt");
     // A recording's labels (or its colours' segmentation) are what they are: the bundle's p_gt
     // is the simulator's mask noise, applied to recorded frames only when --pgt asks for it.
     else if (!opt->frames.empty()) bundle.set("mapping.extractor.p_gt", "1", "--frames");

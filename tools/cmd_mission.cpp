@@ -1,6 +1,6 @@
 // canopy mission / canopy run: the closed-loop mission on the moving robot (mission::Mission),
 // and the files it leaves: views.csv, timing.csv, summary.json, settings.yaml, the final map
-// (map.csm, map.ply, map.bt), sc_entropy.png and runtime.png, report.html, and optionally a video.
+// (map.csm, map.ply, map.bt), sc_entropy.svg and runtime.svg, report.html, and optionally a video.
 // `canopy run` is the default mission (method ours) writing to results/.
 
 #include <spdlog/spdlog.h>
@@ -57,7 +57,7 @@ void add_options(CLI::App* sub, MissionCliOptions* o, bool out_required) {
   sub->add_option("--video", o->video, "Also record an H.264 MP4 of the run (chase view, wrist and map insets, caption)");
   sub->add_option("--video-size", o->video_size, "Video frame size WxH")->capture_default_str();
   sub->add_option("--video-fps", o->video_fps, "Video frames per simulated second")->capture_default_str();
-  sub->add_flag("--no-plots", o->no_plots, "Skip sc_entropy.png and runtime.png");
+  sub->add_flag("--no-plots", o->no_plots, "Skip sc_entropy.svg and runtime.svg");
   sub->add_flag("--no-report", o->no_report, "Skip report.html (the interactive 3D report, docs/report.md)");
   sub->add_flag("--strict", o->strict, kStrictColoursHelp);
   sub->add_option("--export", o->export_dir,
@@ -78,7 +78,7 @@ void run_mission(const MissionCliOptions& o, CLI::App* sub) {
   if (sub->count("--gain")) settings.set("method.gain", o.gain, "--gain");
   if (sub->count("--rays")) settings.set("method.rays", o.rays, "--rays");
   // Flags set settings by their keys: the same limits as in a settings file.
-  if (sub->count("--pgt")) settings.set("mapping.extractor.p_gt", format_number(o.pgt, "%.17g"), "--pgt");
+  if (sub->count("--pgt")) settings.set("mapping.extractor.p_gt", format_number(o.pgt, NumberFormat::kDigits17), "--pgt");
   if (!o.seg.empty()) settings.set("mapping.extractor.source", o.seg, "--seg");
   if (sub->count("--views-per-stop"))
     settings.set("mission.loop.views_per_stop", std::to_string(o.views_per_stop), "--views-per-stop");
@@ -90,7 +90,7 @@ void run_mission(const MissionCliOptions& o, CLI::App* sub) {
     } else {  // arm-base x positions
       if (v.size() > 1000) throw InputError("--stops: " + std::to_string(v.size()) + " positions, at most 1000");
       std::string list = "[";
-      for (std::size_t i = 0; i < v.size(); ++i) list += (i ? ", " : "") + format_number(v[i], "%.17g");
+      for (std::size_t i = 0; i < v.size(); ++i) list += (i ? ", " : "") + format_number(v[i], NumberFormat::kDigits17);
       settings.set("mission.stops.positions_m", list + "]", "--stops");
     }
   }

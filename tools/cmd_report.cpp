@@ -1,5 +1,5 @@
 // canopy report: merges experiment folders (shards, machines) and writes report/: curves.csv,
-// runtime.csv, trials.json, findings.md and the Fig. 3 / Fig. 4 plots (tools/plot_experiment.py).
+// runtime.csv, trials.json, findings.md and the Fig. 3 / Fig. 4 figures (SVG, jobs/figures.h).
 // The work is jobs::write_report (canopy/jobs/report_job.h); merging and aggregation live in
 // canopy/experiments/experiment_report.h.
 
@@ -20,7 +20,7 @@ void add_report_command(CLI::App& app) {
   CLI::App* sub = app.add_subcommand("report", "Merge experiment folders and write the report (curves, run time, findings, report.html, plots)");
   sub->add_option("dirs", o->job.dirs, "Experiment folders (canopy experiment --out)")->required();
   sub->add_option("--out", o->job.out, "Report folder (default: <first folder>/report)");
-  sub->add_flag("--no-plots", o->no_plots, "Skip the PNG plots");
+  sub->add_flag("--no-plots", o->no_plots, "Skip the SVG figures");
   sub->callback([o] {
     o->job.plots = !o->no_plots;
     const InterruptScope interrupts;  // Ctrl-C / SIGTERM: nothing is published and nothing left behind

@@ -37,7 +37,7 @@ void add_visibility_command(CLI::App& app) {
       ->capture_default_str();
   sub->add_option("--points", opt->points, "Ground-truth surface points per fruit (evenly subsampled)")
       ->capture_default_str();
-  sub->add_flag("--no-plot", opt->no_plot, "Skip visibility.png");
+  sub->add_flag("--no-plot", opt->no_plot, "Skip visibility.svg");
   sub->callback([opt] {
     jobs::VisibilityJobParams p;
     p.world_file = opt->world;

@@ -11,8 +11,9 @@ PACKAGES=(
   libyaml-cpp-dev libcli11-dev libspdlog-dev libfmt-dev nlohmann-json3-dev
   libnanoflann-dev libtbb-dev libpng-dev libassimp-dev libssl-dev libstb-dev
   libgtest-dev libgmock-dev libbenchmark-dev
+  liblz4-dev libzstd-dev zlib1g-dev
   ffmpeg
-  python3-matplotlib python3-yaml
+  python3-yaml
   pybind11-dev python3-dev python3-numpy python3-pytest
   python3-rosbag python3-sensor-msgs python3-geometry-msgs python3-tf2-msgs python3-visualization-msgs
   python3-pil
@@ -21,6 +22,13 @@ PACKAGES=(
   libjs-three
   chromium
 )
+
+# Node and npm run Foxglove's MCAP libraries, the reference the ros2 tests check canopy's
+# recordings against (tests/ros2/reference). A Node that brings its own npm (NodeSource's nodejs
+# provides and conflicts with Debian's npm package) is taken as it is.
+if ! command -v node >/dev/null || ! command -v npm >/dev/null; then
+  PACKAGES+=(nodejs npm)
+fi
 
 missing=()
 for p in "${PACKAGES[@]}"; do

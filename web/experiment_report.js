@@ -18,32 +18,18 @@
     groups[groupOf[key]].trials.push(t);
   }
 
-  // findings.md as HTML: headings, tables, bullets, paragraphs, `code` (all it uses).
-  function markdown(md) {
-    const inline = (t) => esc(t).replace(/`([^`]+)`/g, '<code>$1</code>').replace(/\*\*([^*]+)\*\*/g, '<b>$1</b>');
-    const out = [], lines = md.split('\n');
-    for (let i = 0; i < lines.length;) {
-      const l = lines[i];
-      if (/^#{1,6} /.test(l)) {
-        const n = Math.min(6, l.indexOf(' ') + 2);
-        out.push('<h' + n + '>' + inline(l.replace(/^#+ /, '')) + '</h' + n + '>');
-        ++i;
-      } else if (l.startsWith('|')) {
-        const rows = [];
-        for (; i < lines.length && lines[i].startsWith('|'); ++i)
-          if (!/^\|[-| :]+\|?$/.test(lines[i])) rows.push(lines[i].replace(/^\||\|$/g, '').split('|'));
-        out.push('<table>' + rows.map((r, k) => '<tr>' + r.map((c) => (k ? '<td>' : '<th>') + inline(c.trim()) + (k ? '</td>' : '</th>')).join('') + '</tr>').join('') + '</table>');
-      } else if (/^\s*[-*] /.test(l)) {
-        const items = [];
-        for (; i < lines.length && /^\s*[-*] /.test(lines[i]); ++i) items.push('<li>' + inline(lines[i].replace(/^\s*[-*] /, '')) + '</li>');
-        out.push('<ul>' + items.join('') + '</ul>');
-      } else if (l.trim()) {
-        const para = [];
-        for (; i < lines.length && lines[i].trim() && !/^(#|\||\s*[-*] )/.test(lines[i]); ++i) para.push(lines[i]);
-        out.push('<p>' + inline(para.join(' ')) + '</p>');
-      } else ++i;
-    }
-    return out.join('\n');
+  // The findings as HTML, from their blocks (ExperimentReport::findings: heading, paragraph, table, list).
+  function findings(blocks) {
+    return blocks.map((b) => {
+      if (b.kind === 'heading') { const n = Math.min(6, b.level + 2); return '<h' + n + '>' + esc(b.text) + '</h' + n + '>'; }
+      if (b.kind === 'paragraph') return '<p>' + (b.strong ? '<b>' + esc(b.text) + '</b>' : esc(b.text)) + '</p>';
+      if (b.kind === 'table') {
+        return '<table><tr>' + b.header.map((c) => '<th>' + esc(c) + '</th>').join('') + '</tr>' +
+          b.rows.map((r) => '<tr>' + r.map((c) => '<td>' + esc(c) + '</td>').join('') + '</tr>').join('') + '</table>';
+      }
+      if (b.kind === 'list') return '<ul>' + b.items.map((i) => '<li>' + esc(i) + '</li>').join('') + '</ul>';
+      return '';
+    }).join('\n');
   }
 
   let html = '<header><h1>canopy experiment report</h1><span class="sub">' + esc((data.names || []).join(', ')) + ' · ' +
@@ -53,7 +39,7 @@
   html += '<h2>Curves (hover a line; thick: mean of the trials)</h2><div id="legend-exp"></div>' +
     '<svg id="exp-sc" class="curve" width="720" height="260"></svg><div id="exp-tip" class="note">&nbsp;</div>' +
     '<svg id="exp-h" class="curve" width="720" height="260"></svg>';
-  html += '<h2>Findings</h2><div class="findings" id="findings">' + markdown(data.findings_md || '') + '</div>';
+  html += '<h2>Findings</h2><div class="findings" id="findings">' + findings(data.findings || []) + '</div>';
   html += '<h2>Trials</h2><div class="table-wrap"><table id="trials"><tr><th>trial</th><th>method</th><th>P_gt</th><th>world</th><th>seed</th>' +
     '<th>status</th><th>views</th><th>final SC</th><th>report</th></tr>' +
     trials.map((t) => '<tr><td>' + esc(t.id) + '</td><td>' + esc(t.label) + '</td><td>' + t.p_gt + '</td><td>' + esc(t.world) + '</td><td>' + t.seed +

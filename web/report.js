@@ -51,11 +51,22 @@
   }
 
   // ---- Views: successful index k, attempts up to it --------------------------------------
-  const views = data.views || [];
-  const okViews = views.filter((v) => v.ok);
+  // data.views holds each field of the views' schema (records::ViewRecord::visit) by its name,
+  // one value per attempted view; here one object per view with the same names.
+  const viewColumns = data.views || {};
+  const views = [];
+  for (const name of Object.keys(viewColumns))
+    viewColumns[name].forEach((value, i) => { (views[i] = views[i] || {})[name] = value; });
+  const okViews = views.filter((v) => v.success);
+  okViews.forEach((v, k) => { v.k = k; });
+  // The vocabularies (records::vocabulary_json): phase colours and legend words.
+  const vocabulary = data.vocabulary || {};
+  const phaseStyle = {};
+  for (const p of vocabulary.view_phases || []) phaseStyle[p.name] = p;
+  const hexColour = (c) => parseInt(String(c || '#1f77b4').slice(1), 16);
   const nK = okViews.length;
   const attemptsUpTo = [];  // attempts shown at view k: up to and including its own
-  views.forEach((v, i) => { if (v.ok) attemptsUpTo.push(i + 1); });
+  views.forEach((v, i) => { if (v.success) attemptsUpTo.push(i + 1); });
 
   // ---- Page ---------------------------------------------------------------------------
   const s = data.summary || {};
@@ -154,7 +165,7 @@
     });
     return { svg, x, y, values };
   }
-  const curves = [curve('curve-sc', okViews.map((v) => v.sc), 'SC'), curve('curve-h', okViews.map((v) => v.h), 'H')];
+  const curves = [curve('curve-sc', okViews.map((v) => v.coverage), 'SC'), curve('curve-h', okViews.map((v) => v.entropy), 'H')];
 
   // ---- 3D scene ---------------------------------------------------------------------------
   let renderer = null, scene, camera, controls, points, fruitMeshes = [], frusta = null, pickPoints, targetLine;
@@ -162,8 +173,8 @@
   const classColours = (data.classes || []).map((c) => (c.color[0] + c.color[1] + c.color[2] === 0
     ? new THREE.Color(0.33, 0.33, 0.33) : new THREE.Color(c.color[0] / 255, c.color[1] / 255, c.color[2] / 255)));
   const ramp = (t) => new THREE.Color().setHSL((1 - t) * 0.66, 0.9, 0.45);  // blue (low) to red (high)
-  const phaseColour = { initial: 0x8e44ad, nbv: 0x1f77b4, predefined: 0x17becf, view: 0x1f77b4 };
-  const failedColour = 0xe377c2;
+  const phaseColour = (phase) => hexColour((phaseStyle[phase] || {}).colour);
+  const failedColour = hexColour(vocabulary.failed_view_colour);
   const fruitColour = (c) => (c >= 0.8 ? 0x2b8cff : c > 0.05 ? 0xffb000 : 0x777777);
 
   function setupScene() {
@@ -207,13 +218,13 @@
     const fv = new Float32Array(Math.max(1, views.length) * 48), fc = new Float32Array(Math.max(1, views.length) * 48);
     const corner = new THREE.Vector3(), q = new THREE.Quaternion();
     views.forEach((v, i) => {
-      const p = v.goal.p;
-      q.set(v.goal.q[1], v.goal.q[2], v.goal.q[3], v.goal.q[0]);
+      const p = v.goal_pose.position, w = v.goal_pose.quaternion_wxyz;
+      q.set(w[1], w[2], w[3], w[0]);
       const s = 0.04, h = 0.03;
       const corners = [[-s, -h, 0.06], [s, -h, 0.06], [s, h, 0.06], [-s, h, 0.06]];
       const local = [];
       for (let c = 0; c < 4; ++c) local.push([0, 0, 0], corners[c], corners[c], corners[(c + 1) % 4]);
-      const colour = new THREE.Color(v.ok ? phaseColour[v.phase] || 0x1f77b4 : failedColour);
+      const colour = new THREE.Color(v.success ? phaseColour(v.phase) : failedColour);
       local.forEach((l, j) => {
         corner.set(l[0], l[1], l[2]).applyQuaternion(q);
         fv[48 * i + 3 * j] = p[0] + corner.x; fv[48 * i + 3 * j + 1] = p[1] + corner.y; fv[48 * i + 3 * j + 2] = p[2] + corner.z;
@@ -292,12 +303,12 @@
     targetLine.visible = false;
     if (hit) {
       const v = views[hit.index];
-      text = 'attempt ' + v.a + ', stop ' + v.stop + ', ' + v.phase + ' (' + v.source + ')\n' +
-        (v.ok ? 'view ' + (v.k + 1) + ': SC ' + fmt(v.sc) + ', entropy ' + fmt(v.h, 1) : 'failed: ' + v.failure + (v.message ? '\n' + v.message : '')) +
-        '\ngain ' + fmt(v.gain, 4) + (v.cluster !== undefined ? ', cluster ' + v.cluster : '');
+      text = 'attempt ' + v.attempt + ', stop ' + v.stop + ', ' + v.phase + ' (' + v.source + ')\n' +
+        (v.success ? 'view ' + (v.k + 1) + ': SC ' + fmt(v.coverage) + ', entropy ' + fmt(v.entropy, 1) : 'failed: ' + v.failure + (v.message ? '\n' + v.message : '')) +
+        '\ngain ' + fmt(v.gain, 4) + (v.cluster >= 0 ? ', cluster ' + v.cluster : '');
       if (v.target && (v.target[0] || v.target[1] || v.target[2])) {
         text += '\ntarget ' + v.target.map((t) => t.toFixed(3)).join(', ');
-        targetLine.geometry.setFromPoints([new THREE.Vector3(...v.goal.p), new THREE.Vector3(...v.target)]);
+        targetLine.geometry.setFromPoints([new THREE.Vector3(...v.goal_pose.position), new THREE.Vector3(...v.target)]);
         targetLine.visible = true;
       }
     } else {
@@ -368,7 +379,7 @@
     const v = okViews[current];
     document.getElementById('view-count').textContent = nK ? 'view ' + (current + 1) + ' / ' + nK : 'no successful view';
     document.getElementById('view-info').innerHTML = v
-      ? 'stop ' + v.stop + ', ' + esc(v.phase) + ' (' + esc(v.source) + '), attempt ' + v.a + '; SC ' + fmt(v.sc) + ', entropy ' + fmt(v.h, 1) +
+      ? 'stop ' + v.stop + ', ' + esc(v.phase) + ' (' + esc(v.source) + '), attempt ' + v.attempt + '; SC ' + fmt(v.coverage) + ', entropy ' + fmt(v.entropy, 1) +
         '; ' + shown + ' attempts shown, ' + drawnVoxels + ' voxels'
       : '';
     for (const c of curves) {
@@ -404,8 +415,10 @@
     let html = '';
     if (mode === 'class') html = (data.classes || []).map((c, i) => '<span class="sw" style="background:#' + classColours[i].getHexString() + '"></span>' + esc(c.name)).join('');
     else html = mode + ': <span class="sw" style="background:#1f3fd6"></span>low<span class="sw" style="background:#d61f1f"></span>high';
-    html += '<br>cameras: <span class="sw" style="background:#8e44ad"></span>initial scan<span class="sw" style="background:#1f77b4"></span>next-best view' +
-      '<span class="sw" style="background:#17becf"></span>predefined<span class="sw" style="background:#e377c2"></span>failed' +
+    const shown = new Set(views.map((v) => v.phase));
+    html += '<br>cameras: ' + (vocabulary.view_phases || []).filter((p) => shown.has(p.name))
+      .map((p) => '<span class="sw" style="background:' + esc(p.colour) + '"></span>' + esc(p.legend)).join('') +
+      '<span class="sw" style="background:' + esc(vocabulary.failed_view_colour) + '"></span>failed' +
       '<br>true fruits: <span class="sw" style="background:#2b8cff"></span>seen (SC ≥ 0.8)<span class="sw" style="background:#ffb000"></span>partly<span class="sw" style="background:#777"></span>unseen';
     legend.innerHTML = html;
   }

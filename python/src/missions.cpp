@@ -13,10 +13,9 @@
 #include "canopy/jobs/mission_job.h"
 #include "canopy/mission/mission.h"
 #include "canopy/records/run_folder.h"
-#include "canopy/records/view_columns.h"
-#include "canopy/robot/robot_description.h"
 #include "objects.h"
 #include "python_planner.h"
+#include "records.h"
 
 namespace canopy::python {
 
@@ -29,109 +28,171 @@ struct PyMissionResult {
   std::shared_ptr<PyMap> map;
 };
 
-// One entry per attempted view: every column of views.csv (records::view_columns(), empty
-// fields as NaN), plus the goal and reached poses as 4x4 matrices.
-py::dict views_dict(const records::MissionResult& r, const std::string& method) {
-  py::dict d;
-  for (const records::ViewColumn& c : records::view_columns()) {
-    std::vector<records::ColumnValue> values;
-    for (const records::ViewRecord& v : r.views) values.push_back(c.get(v, method));
-    switch (c.type) {
-      case records::ColumnType::kInt: {
-        std::vector<int> a;
-        for (const auto& x : values) a.push_back(static_cast<int>(std::get<long long>(x)));
-        d[c.name] = array_of(a);
-        break;
-      }
-      case records::ColumnType::kFlag: {
-        std::vector<bool> a;
-        for (const auto& x : values) a.push_back(std::get<long long>(x) != 0);
-        d[c.name] = array_of(a);
-        break;
-      }
-      case records::ColumnType::kReal: {
-        std::vector<double> a;
-        for (const auto& x : values) a.push_back(std::holds_alternative<double>(x) ? std::get<double>(x) : std::nan(""));
-        d[c.name] = array_of(a);
-        break;
-      }
-      case records::ColumnType::kText: {
-        std::vector<std::string> a;
-        for (const auto& x : values) a.push_back(std::get<std::string>(x));
-        d[c.name] = strings_array(a);
-        break;
-      }
-    }
-  }
-  std::vector<Pose> goal, reached;
-  for (const records::ViewRecord& v : r.views) {
-    goal.push_back(v.T_goal);
-    reached.push_back(v.T_reached);
-  }
-  py::array_t<double> reached_array = poses_array(reached);
-  for (std::size_t i = 0; i < r.views.size(); ++i)  // no frame, no pose
-    if (!r.views[i].success) std::fill_n(reached_array.mutable_data() + 16 * i, 16, std::nan(""));
-  d["goal_pose"] = poses_array(goal);
-  d["reached_pose"] = reached_array;
-  return d;
-}
-
-// The robot's link tree as the simulator holds it (every URDF link with a frame site, each with
-// its nearest ancestor that has one; "world" is the root), for the robot state a mission hands
-// to Python's on_view and on_state.
-struct LinkTree {
-  std::vector<std::string> names, parents;
-};
-
-LinkTree link_tree(const sim::Simulator& sim) {
-  const robot::RobotDescription d = robot::RobotDescription::load_urdf(sim.robot_config().urdf_path);
-  LinkTree t;
-  std::vector<std::string> frame_of(d.links().size(), "world");  // a link's nearest ancestor with a site
-  for (std::size_t i = 0; i < d.links().size(); ++i) {
-    const std::string& name = d.links()[i].name;
-    const int parent = d.parent_link(static_cast<int>(i));
-    const std::string above = parent < 0 ? "world" : frame_of[static_cast<std::size_t>(parent)];
-    bool has_frame = name != "world";
-    if (has_frame) {
-      try {
-        (void)sim.frame_pose(name);
-      } catch (const InputError&) {  // a link the scene keeps no frame of
-        has_frame = false;
-      }
-    }
-    frame_of[i] = has_frame ? name : above;
-    if (!has_frame) continue;
-    t.names.push_back(name);
-    t.parents.push_back(above);
-  }
-  return t;
-}
-
 // The robot's state now (GIL held): simulated time, base pose, arm joints and every link's world
-// pose with its parent in the tree.
-py::dict robot_state(const sim::Simulator& sim, const LinkTree& tree) {
-  std::vector<Pose> poses;
-  for (const std::string& name : tree.names) poses.push_back(sim.frame_pose(name));
+// pose with its parent in the simulator's link tree (every URDF link with a frame; "world" is
+// the root).
+py::dict robot_state(const sim::Simulator& sim) {
+  const sim::RobotLinks links = sim.robot_links();
   const BasePose b = sim.base_pose();
   const ArmConfig q = sim.arm_positions();
   return py::dict(py::arg("time") = sim.time(), py::arg("base") = array_of(std::vector<double>{b.x_m, b.y_m, b.yaw_rad}),
                   py::arg("joints") = array_of(std::vector<double>(q.begin(), q.end())),
-                  py::arg("links") = tree.names, py::arg("parents") = tree.parents,
-                  py::arg("link_poses") = poses_array(poses), py::arg("camera") = pose_array(sim.camera_pose()),
+                  py::arg("links") = links.links, py::arg("parents") = links.parents,
+                  py::arg("link_poses") = poses_array(links.poses), py::arg("camera") = pose_array(sim.camera_pose()),
                   py::arg("camera_frame") = sim.robot_config().camera_frame);
 }
 
-}  // namespace
+// The run's hooks into Python (GIL taken for each call): progress lines, each successful view
+// (its record's fields known then, by the schema's names, the frame, the map lent for the call
+// and the robot's state) and the robot's state every state_period.
+struct Hooks {
+  py::object progress, on_view, on_state;
+  double state_period = 0.1;
 
-void bind_missions(py::module_& m) {
+  void check() const {
+    for (const auto& [hook, name] : {std::pair{&progress, "progress"}, {&on_view, "on_view"}, {&on_state, "on_state"}})
+      if (!hook->is_none() && !PyCallable_Check(hook->ptr()))
+        throw InputError(std::string(name) + ": " + describe(*hook) + " is not callable");
+    if (!(std::isfinite(state_period) && state_period >= 1e-3 && state_period <= 60.0))
+      throw InputError("state_period: " + std::to_string(state_period) + " is not a period of simulated time in [0.001, 60] s");
+  }
+  void wire(mission::MissionCallbacks& cb, jobs::MissionJobParams& job, const settings::Settings& s) {
+    if (!progress.is_none())
+      cb.progress = [this](const std::string& message) {
+        py::gil_scoped_acquire gil;
+        call_noting_interrupt([&] { progress(message); });
+      };
+    if (!on_view.is_none())
+      job.on_view = [this, map_settings = s.mapping, method = s.method.name](
+                        const records::ViewRecord& v, const LabelledFrame& f, const sim::Simulator& sim,
+                        const mapping::SemanticOcTree& map) {
+        py::gil_scoped_acquire gil;
+        auto alive = std::make_shared<bool>(true);  // the map is lent for the call
+        struct EndLoan {
+          std::shared_ptr<bool> alive;
+          ~EndLoan() { *alive = false; }
+        } end_loan{alive};
+        py::dict d = robot_state(sim);
+        for (const auto& [key, value] : view_dict(v, method)) d[key] = value;
+        PyFrame frame;
+        frame.name = "view " + std::to_string(v.attempt);
+        frame.frame = f;
+        d["frame"] = frame_object(std::move(frame));
+        d["map"] = PyMap::borrow(map, alive, map_settings);
+        call_noting_interrupt([&] { on_view(d); });
+      };
+    if (!on_state.is_none()) {
+      cb.video_period_s = state_period;
+      cb.video_tick = [this](sim::Simulator& sim, const std::string&) {
+        py::gil_scoped_acquire gil;
+        py::dict d = robot_state(sim);
+        call_noting_interrupt([&] { on_state(d); });
+      };
+    }
+  }
+};
+
+// Ctrl-C: Python's signal handler only sets a flag while the mission runs without the GIL; it
+// is polled a few times a second between simulation steps, and noted when Python code the
+// mission called (planner, progress) raised KeyboardInterrupt.
+struct InterruptPoll {
+  bool interrupted = false;
+  Stopwatch since_poll;
+
+  std::function<bool()> stop_requested() {
+    take_interrupt();
+    return [this] {
+      if (take_interrupt()) interrupted = true;
+      if (interrupted || since_poll.seconds() < 0.2) return interrupted;
+      since_poll.restart();
+      py::gil_scoped_acquire gil;
+      if (PyErr_CheckSignals() != 0) {
+        PyErr_Clear();
+        interrupted = true;
+      }
+      return interrupted;
+    };
+  }
+  // Marks the result interrupted when a Ctrl-C came after the last poll (the last stop's planner).
+  std::function<void(records::MissionResult&)> amend() {
+    return [this](records::MissionResult& r) {
+      if (take_interrupt()) interrupted = true;
+      if (interrupted) {
+        r.complete = false;
+        r.end_reason = "interrupted";
+      }
+    };
+  }
+};
+
+// The job's parameters from run_mission's arguments (every one checked before any work).
+jobs::MissionJobParams job_params(const PyWorld& world, const py::object& seed, const py::object& out,
+                                  const py::object& video, std::pair<int, int> video_size, double video_fps, bool report) {
+  jobs::MissionJobParams job;
+  job.world_file = world.file();
+  job.seed = seed_from(seed, "seed");
+  if (!video.is_none())  // the command line's checks, under the keywords' names
+    job.video = jobs::video_options(path_from(video, "video"),
+                                    std::to_string(video_size.first) + "x" + std::to_string(video_size.second), video_fps,
+                                    {"video", "video_size", "video_fps"});
+  if (!out.is_none()) {
+    job.out = path_from(out, "out");
+    job.out_option = "out";
+    StagedDir::check_writable(job.out, "mission", "out");  // before any work, as the command line
+  }
+  job.keep_map = true;
+  job.report = report;
+  return job;
+}
+
+std::shared_ptr<PyMissionResult> run_mission(const PyWorld& world, const py::object& settings, const py::object& method,
+                                             const py::object& planner, const py::object& seed, const py::object& out,
+                                             const py::object& video, std::pair<int, int> video_size, double video_fps,
+                                             const py::object& progress, const py::object& on_view,
+                                             const py::object& on_state, double state_period, bool report) {
+  settings::Settings s = settings_from(settings);
+  choose_method(s, method, planner);
+  Hooks hooks{progress, on_view, on_state, state_period};
+  hooks.check();
+  jobs::MissionJobParams job = job_params(world, seed, out, video, video_size, video_fps, report);
+  mission::MissionCallbacks cb;
+  hooks.wire(cb, job, s);
+  InterruptPoll poll;
+  cb.stop_requested = poll.stop_requested();
+  auto result = std::make_shared<PyMissionResult>();
+  result->settings = s;
+  job.settings = std::move(s);
+  std::string video_error;
+  {
+    const PendingPlanner pending(planner, job.settings.mapping);
+    py::gil_scoped_release release;
+    jobs::MissionJobResult r = jobs::run_mission_job(world.world(), job, cb, poll.amend());
+    result->result = std::move(r.result);
+    result->summary = std::move(r.summary);
+    result->map = std::make_shared<PyMap>(std::move(*r.map), job.settings.mapping);
+    video_error = std::move(r.video_error);
+  }
+  if (poll.interrupted) {
+    PyErr_SetString(PyExc_KeyboardInterrupt,
+                    out.is_none() ? "mission interrupted" : "mission interrupted; the results so far are in the out folder");
+    throw py::error_already_set();
+  }
+  if (!video_error.empty())
+    PyErr_WarnEx(PyExc_RuntimeWarning, ("the video " + job.video.path + " is missing: " + video_error).c_str(), 1);
+  return result;
+}
+
+void bind_mission_result(py::module_& m) {
   py::class_<PyMissionResult, std::shared_ptr<PyMissionResult>>(m, "MissionResult", "What a mission did.")
-      .def_property_readonly("views", [](const PyMissionResult& r) { return views_dict(r.result, r.settings.method.name); },
-                             R"(One entry per attempted view, as a dict of arrays: every column of views.csv, by
-its name (attempt, stop, method, phase, source, success, failure, the goal and reached
-position and orientation, the pose errors, gain, cluster, coverage and entropy under each
-rule, times, contacts, motion cost and the field's metrics: docs/metrics.md lists them;
-empty fields, such as a failed view's reached pose or an error without a matched fruit, are
-NaN), plus goal_pose and reached_pose (N, 4, 4; reached NaN for failed views).)")
+      .def_property_readonly("views", [](const PyMissionResult& r) { return views_dict(r.result.views, r.settings.method.name); },
+                             R"(One entry per attempted view, as a dict of arrays, one per field of the views' schema
+(canopy.view_fields(); the same names as views.csv and the report): every column of views.csv
+(attempt, stop, method, phase, source, success, failure, the goal and reached position and
+orientation, the pose errors, gain, cluster, coverage and entropy under each rule, times,
+contacts, motion cost and the field's metrics: docs/metrics.md lists them; empty fields, such
+as a failed view's reached pose or an error without a matched fruit, are NaN), then goal_pose
+and reached_pose (N, 4, 4; reached NaN for failed views), target (N, 3), message,
+start_repair, target_points and true_target_pixels.)")
       .def("sc_curve", [](const PyMissionResult& r) {
         std::vector<int> views;
         std::vector<double> coverage, entropy;
@@ -156,140 +217,9 @@ NaN), plus goal_pose and reached_pose (N, 4, 4; reached NaN for failed views).)"
       }, "views.csv's text (byte-identical for a seed).")
       .def_property_readonly("complete", [](const PyMissionResult& r) { return r.result.complete; })
       .def_property_readonly("successful_views", [](const PyMissionResult& r) { return r.result.successful_views(); });
+}
 
-  m.def("run_mission",
-        [](const PyWorld& world, const py::object& settings, const py::object& method, const py::object& planner,
-           const py::object& seed_arg, const py::object& out, const py::object& video, std::pair<int, int> video_size,
-           double video_fps, const py::object& progress, const py::object& on_view, const py::object& on_state,
-           double state_period, bool report) {
-          // Validate every input before any work.
-          settings::Settings s = settings_from(settings);
-          choose_method(s, method, planner);
-          const std::uint64_t seed = seed_from(seed_arg, "seed");
-          std::string video_error;
-          if (!progress.is_none() && !PyCallable_Check(progress.ptr()))
-            throw InputError("progress: " + describe(progress) + " is not callable");
-          if (!on_view.is_none() && !PyCallable_Check(on_view.ptr()))
-            throw InputError("on_view: " + describe(on_view) + " is not callable");
-          if (!on_state.is_none() && !PyCallable_Check(on_state.ptr()))
-            throw InputError("on_state: " + describe(on_state) + " is not callable");
-          if (!(std::isfinite(state_period) && state_period >= 1e-3 && state_period <= 60.0))
-            throw InputError("state_period: " + std::to_string(state_period) +
-                             " is not a period of simulated time in [0.001, 60] s");
-          jobs::MissionJobParams job;
-          job.world_file = world.file();
-          job.seed = seed;
-          if (!video.is_none())  // the command line's checks, under the keywords' names
-            job.video = jobs::video_options(path_from(video, "video"),
-                                            std::to_string(video_size.first) + "x" + std::to_string(video_size.second),
-                                            video_fps, {"video", "video_size", "video_fps"});
-          if (!out.is_none()) {
-            job.out = path_from(out, "out");
-            job.out_option = "out";
-            StagedDir::check_writable(job.out, "mission", "out");  // before any work, as the command line
-          }
-          job.keep_map = true;
-          job.report = report;
-
-          mission::MissionCallbacks cb;
-          if (!progress.is_none())
-            cb.progress = [&progress](const std::string& message) {
-              py::gil_scoped_acquire gil;
-              call_noting_interrupt([&] { progress(message); });
-            };
-          // The robot's state for on_view and on_state (a bag of the run, canopy/bag/write.py); the link
-          // tree is read once, from the simulator's robot.
-          std::optional<LinkTree> tree;
-          const auto links_of = [&tree](const sim::Simulator& sim) -> const LinkTree& {
-            if (!tree) tree = link_tree(sim);
-            return *tree;
-          };
-          if (!on_view.is_none())
-            job.on_view = [&on_view, &links_of, map_settings = s.mapping](const records::ViewRecord& v, const LabelledFrame& f,
-                                                                     const sim::Simulator& sim,
-                                                                     const mapping::SemanticOcTree& map) {
-              const LinkTree& t = links_of(sim);
-              py::gil_scoped_acquire gil;
-              auto alive = std::make_shared<bool>(true);  // the map is lent for the call
-              struct EndLoan {
-                std::shared_ptr<bool> alive;
-                ~EndLoan() { *alive = false; }
-              } end_loan{alive};
-              py::dict d = robot_state(sim, t);
-              d["attempt"] = v.attempt;
-              d["stop"] = v.stop;
-              d["phase"] = records::to_string(v.phase);
-              d["source"] = v.source;
-              d["successful_views"] = v.successful_views;
-              d["goal"] = pose_array(v.T_goal);
-              PyFrame frame;
-              frame.name = "view " + std::to_string(v.attempt);
-              frame.frame = f;
-              d["frame"] = frame_object(std::move(frame));
-              d["map"] = PyMap::borrow(map, alive, map_settings);
-              call_noting_interrupt([&] { on_view(d); });
-            };
-          if (!on_state.is_none()) {
-            cb.video_period_s = state_period;
-            cb.video_tick = [&on_state, &links_of](sim::Simulator& sim, const std::string&) {
-              const LinkTree& t = links_of(sim);
-              py::gil_scoped_acquire gil;
-              py::dict d = robot_state(sim, t);
-              call_noting_interrupt([&] { on_state(d); });
-            };
-          }
-          // Ctrl-C: Python's signal handler only sets a flag while the mission runs without the
-          // GIL; it is polled a few times a second between simulation steps, and noted when
-          // Python code the mission called (planner, progress) raised KeyboardInterrupt.
-          take_interrupt();
-          bool interrupted = false;
-          Stopwatch since_poll;
-          cb.stop_requested = [&interrupted, &since_poll] {
-            if (take_interrupt()) interrupted = true;
-            if (interrupted || since_poll.seconds() < 0.2) return interrupted;
-            since_poll.restart();
-            py::gil_scoped_acquire gil;
-            if (PyErr_CheckSignals() != 0) {
-              PyErr_Clear();
-              interrupted = true;
-            }
-            return interrupted;
-          };
-          const auto amend = [&interrupted](records::MissionResult& r) {
-            if (take_interrupt()) interrupted = true;  // noted after the last poll (the last stop's planner)
-            if (interrupted) {
-              r.complete = false;
-              r.end_reason = "interrupted";
-            }
-          };
-
-          auto result = std::make_shared<PyMissionResult>();
-          result->settings = s;
-          job.settings = std::move(s);
-          {
-            const PendingPlanner pending(planner, job.settings.mapping);
-            py::gil_scoped_release release;
-            jobs::MissionJobResult r = jobs::run_mission_job(world.world(), job, cb, amend);
-            result->result = std::move(r.result);
-            result->summary = std::move(r.summary);
-            result->map = std::make_shared<PyMap>(std::move(*r.map), job.settings.mapping);
-            video_error = std::move(r.video_error);
-          }
-          if (interrupted) {
-            PyErr_SetString(PyExc_KeyboardInterrupt,
-                            out.is_none() ? "mission interrupted" : "mission interrupted; the results so far are in the out folder");
-            throw py::error_already_set();
-          }
-          if (!video_error.empty())
-            PyErr_WarnEx(PyExc_RuntimeWarning, ("the video " + job.video.path + " is missing: " + video_error).c_str(), 1);
-          return result;
-        },
-        py::arg("world"), py::arg("settings") = py::none(), py::kw_only(), py::arg("method") = py::none(),
-        py::arg("planner") = py::none(), py::arg("seed") = 1, py::arg("out") = py::none(), py::arg("video") = py::none(),
-        py::arg("video_size") = std::pair<int, int>(640, 480), py::arg("video_fps") = 25.0,
-        py::arg("progress") = py::none(), py::arg("on_view") = py::none(), py::arg("on_state") = py::none(),
-        py::arg("state_period") = 0.1, py::arg("report") = true,
-        R"(Runs the closed-loop mission on a canopy.World and returns a canopy.MissionResult.
+constexpr const char* kRunMissionDoc = R"(Runs the closed-loop mission on a canopy.World and returns a canopy.MissionResult.
 
 settings: canopy.Settings or a bundle file (default: configs/canopy.yaml); method: a planner
 of planner_names() (default: the settings' method.name); planner: a Python planner instead (a
@@ -299,10 +229,12 @@ the run folder `canopy mission --out` writes (views.csv, timing.csv, summary.jso
 settings.yaml, map.csm, map.ply, map.bt, and report.html unless report=False, as --no-report);
 video: also record an MP4 (video_size, video_fps);
 progress: called with each progress line; on_view: called after every successful view with a
-dict: 'frame' (the canopy.Frame the mission mapped: rgb, depth, true labels, instances, pose),
-'map' (the mission's map with the view inserted, lent for the call: read-only, unusable
-afterwards), 'attempt', 'stop', 'phase', 'source', 'successful_views', 'goal' and the robot
-state below;
+dict: the view's fields known when it is taken, by the schema's names (MissionResult.views'
+keys but for the map figures, which come one view later: 'attempt', 'stop', 'method',
+'phase', 'source', 'success', 'goal_pose', 'reached_pose', 'target', 'successful_views',
+'sim_time_s', ...), 'frame' (the canopy.Frame the mission mapped: rgb, depth, true labels,
+instances, pose), 'map' (the mission's map with the view inserted, lent for the call:
+read-only, unusable afterwards) and the robot state below;
 on_state: called every state_period seconds of simulated time (every video frame when a video
 is recorded) with the robot state: 'time' (simulated s), 'base' (x, y, yaw), 'joints', 'links'
 and 'parents' (the URDF's links with a frame, each with its parent; the root is 'world'),
@@ -310,7 +242,17 @@ and 'parents' (the URDF's links with a frame, each with its parent; the root is 
 'camera_frame' (its link's name). Neither
 changes the mission's results (canopy.record_bag writes a ROS bag with them). The mission runs without the GIL (a Python
 planner takes it while it plans); Ctrl-C stops it (KeyboardInterrupt, after the partial
-run folder is written).)");
+run folder is written).)";
+
+}  // namespace
+
+void bind_missions(py::module_& m) {
+  bind_mission_result(m);
+  m.def("run_mission", &run_mission, py::arg("world"), py::arg("settings") = py::none(), py::kw_only(),
+        py::arg("method") = py::none(), py::arg("planner") = py::none(), py::arg("seed") = 1, py::arg("out") = py::none(),
+        py::arg("video") = py::none(), py::arg("video_size") = std::pair<int, int>(640, 480), py::arg("video_fps") = 25.0,
+        py::arg("progress") = py::none(), py::arg("on_view") = py::none(), py::arg("on_state") = py::none(),
+        py::arg("state_period") = 0.1, py::arg("report") = true, kRunMissionDoc);
 }
 
 }  // namespace canopy::python

@@ -11,6 +11,8 @@
 #include "canopy/robot/robot_config.h"
 #include "objects.h"
 #include "python_planner.h"
+#include "datasets.h"
+#include "records.h"
 
 namespace canopy::python {
 
@@ -110,4 +112,6 @@ PYBIND11_MODULE(_canopy, m) {
   bind_planning(m);
   bind_python_planner(m);
   bind_missions(m);
+  bind_records(m);
+  bind_datasets(m);
 }

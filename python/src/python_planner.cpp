@@ -103,14 +103,16 @@ class PythonPlanner final : public nbv::ViewPlanner {
   std::vector<Pose> failed_views_poses() const {
     std::vector<Pose> out;
     for (const nbv::ViewOutcome& o : outcomes_)
-      if (!o.success && o.failure != "start_in_collision" && o.failure != "unstable") out.push_back(o.view.T_world_camera);
+      if (nbv::joins_failed_views(o)) out.push_back(o.view.T_world_camera);  // the library's rule
     return out;
   }
 
   // One outcome as Python sees it (PlannerRequest.outcomes, the planner's outcome(...)).
   static py::dict outcome_dict(const nbv::ViewOutcome& o) {
+    // The fields a view's record has are named as its schema names them (records::ViewRecord::visit);
+    // detail and start_repaired are the outcome's own.
     py::dict d;
-    d["pose"] = pose_array(o.view.T_world_camera);
+    d["goal_pose"] = pose_array(o.view.T_world_camera);
     d["target"] = vec3_array(o.view.target);
     d["source"] = o.view.source;
     d["gain"] = o.view.gain;
@@ -118,7 +120,7 @@ class PythonPlanner final : public nbv::ViewPlanner {
     d["success"] = o.success;
     d["failure"] = o.failure;
     d["detail"] = o.detail;
-    d["reached"] = o.success ? py::object(pose_array(o.T_reached)) : py::object(py::none());
+    d["reached_pose"] = o.success ? py::object(pose_array(o.T_reached)) : py::object(py::none());
     d["stop"] = o.stop;
     d["attempt"] = o.attempt;
     d["phase"] = o.phase;
@@ -266,7 +268,10 @@ PendingPlanner::PendingPlanner(const py::object& planner, const settings::Mappin
 
 PendingPlanner::~PendingPlanner() { g_pending = previous_; }
 
-void bind_python_planner(py::module_& m) {
+namespace {
+
+// The registry entry `python`: the planner= of the call being made (PendingPlanner).
+void register_python_planner() {
   static std::once_flag once;
   std::call_once(once, [] {
     nbv::register_view_planner(
@@ -280,12 +285,11 @@ void bind_python_planner(py::module_& m) {
            return std::make_unique<PythonPlanner>(pending->planner(), settings, pending->mapping());
          }});
   });
+}
 
-  py::class_<PyRequest, std::shared_ptr<PyRequest>>(m, "PlannerRequest", R"(What a planner is asked at a stop: the request canopy's own planners get.
-
-Valid only during the planner call it was made for: afterwards every attribute raises
-ValueError (the map, too). Poses are 4x4 T_world_camera (optical frame: x right, y down,
-z forward).)")
+// canopy.PlannerRequest's state: the request's map, poses, budget and what was attempted.
+void bind_request_state(py::class_<PyRequest, std::shared_ptr<PyRequest>>& cls) {
+  cls
       .def_property_readonly("map", [](const PyRequest& r) {
         r.get();
         return r.map;
@@ -312,9 +316,9 @@ z forward).)")
         for (const nbv::ViewOutcome& o : r.planner->outcomes()) out.append(PythonPlanner::outcome_dict(o));
         return out;
       }, R"(Every view attempted so far in the mission, oldest first, successes and failures: dicts with
-'pose' (the goal), 'target', 'source', 'gain', 'cluster', 'success', 'failure' ('' on success,
+'goal_pose', 'target', 'source', 'gain', 'cluster', 'success', 'failure' ('' on success,
 else no_ik, start_in_collision, goal_in_collision, plan_timeout, invalid_input, not_reached,
-unstable), 'detail' (one line), 'reached' (the camera pose, None on failure), 'stop', 'attempt',
+unstable), 'detail' (one line), 'reached_pose' (the camera pose, None on failure), 'stop', 'attempt',
 'phase' and 'start_repaired'.)")
       .def_property_readonly("failed", [](const PyRequest& r) {
         r.get();
@@ -333,7 +337,12 @@ unstable), 'detail' (one line), 'reached' (the camera pose, None on failure), 's
       .def("is_taken", [](const PyRequest& r, const py::object& pose) {
         r.get();
         return r.planner->taken_views().contains(pose_from(pose, "pose"));
-      }, py::arg("pose"), "True when pose lies within nbv.views.taken_position_m / taken_angle_deg of a taken view.")
+      }, py::arg("pose"), "True when pose lies within nbv.views.taken_position_m / taken_angle_deg of a taken view.");
+}
+
+// canopy.PlannerRequest's tools: the reach check, the workspace, clusters, candidates and gains.
+void bind_request_tools(py::class_<PyRequest, std::shared_ptr<PyRequest>>& cls) {
+  cls
       .def("reach", [](const PyRequest& r, const py::object& pose) -> py::object {
         const nbv::ViewRequest& req = r.get();
         nbv::Candidate c;
@@ -374,6 +383,19 @@ when unreachable, else {'pose': the moved pose (the one to return), 'joints', 's
       }, py::arg("poses"), py::arg("targets"), py::arg("gain") = py::none(), py::arg("rays") = py::none(),
       R"(Scores views against the mission's voxel index (canopy.gains without rebuilding it); gain and
 rays default to the settings' method.gain and method.rays.)");
+}
+
+}  // namespace
+
+void bind_python_planner(py::module_& m) {
+  register_python_planner();
+  py::class_<PyRequest, std::shared_ptr<PyRequest>> cls(m, "PlannerRequest", R"(What a planner is asked at a stop: the request canopy's own planners get.
+
+Valid only during the planner call it was made for: afterwards every attribute raises
+ValueError (the map, too). Poses are 4x4 T_world_camera (optical frame: x right, y down,
+z forward).)");
+  bind_request_state(cls);
+  bind_request_tools(cls);
 }
 
 }  // namespace canopy::python

@@ -90,8 +90,9 @@ def test_bag_holds_images_tf_map_views_and_fruits(mission_bag, world):
     with rosbag.Bag(str(tmp / "run.bag")) as b:
         topics = b.get_type_and_topic_info().topics
         n = result.successful_views
-        for key in ("rgb", "depth", "labels", "labels_color", "camera_info", "map", "views"):
+        for key in ("rgb", "depth", "labels", "labels_color", "camera_info", "map", "views", "view_record"):
             assert topics[cbag.TOPICS[key]].message_count == n, key
+        records = [json.loads(m.data) for _, m, _ in b.read_messages(topics=[cbag.TOPICS["view_record"]])]
         assert topics[cbag.TOPICS["fruits"]].message_count == 1
         assert topics["/tf"].message_count > n  # the views' and the state ticks'
         frames = set()
@@ -107,6 +108,16 @@ def test_bag_holds_images_tf_map_views_and_fruits(mission_bag, world):
     assert last_cloud.width == len(result.map.voxels("occupied")["center"])
     assert len(last_views.markers) == n
     assert {m.ns for m in last_views.markers} <= {"initial", "nbv", "predefined"}
+    # The frustums in the report's phase colours, and each view's record by the schema's names.
+    colours = {p["name"]: p["colour"] for p in canopy.vocabulary()["view_phases"]}
+    for m in last_views.markers:
+        assert "#%02x%02x%02x" % tuple(round(255 * c) for c in (m.color.r, m.color.g, m.color.b)) == colours[m.ns]
+    known = [f["name"] for f in canopy.view_fields() if f["known_when_taken"]]
+    assert list(cbag.VIEW_RECORD_FIELDS) == known
+    assert [list(r) for r in records] == [known] * n
+    ok = result.views["success"]
+    assert [r["attempt"] for r in records] == list(result.views["attempt"][ok])
+    assert np.allclose([r["goal_pose"] for r in records], result.views["goal_pose"][ok])
     # Each frame's pose from /tf is the pose the mission mapped it with.
     frames = canopy.read_bag(tmp / "run.bag", labels=cbag.TOPICS["labels"], min_range=world.camera.min_range_m,
                              max_range=world.camera.max_range_m)["frames"]
@@ -307,6 +318,40 @@ def test_compressed_depth_and_colour_labels(tmp_path):
                         labels="/cam/labels")
     (f,) = r["frames"]
     assert np.allclose(f.depth, 0.75) and np.array_equal(f.labels, ids)
+
+
+def test_labels_and_stamps_follow_the_cpp_rules(tmp_path):
+    """The bag reader decodes colour labels by datasets::ClassColorTable::decode and pairs stamps
+    by datasets::nearest_timestamp (bound as canopy.decode_class_colors and canopy.nearest_stamps):
+    a stray colour is the C++ message, and the pairing equals a brute-force reference."""
+    colors = canopy.class_colors(["background", "leaf", "fruit"])
+    ids = np.zeros((H, W), np.uint8)
+    ids[2:4, 1:6] = 2
+    rgb = colors[ids]
+    assert np.array_equal(canopy.decode_class_colors(rgb, colors), ids)
+    rgb[5, 3] = (1, 2, 3)
+    with pytest.raises(ValueError, match=r"^x: colour \(1, 2, 3\) at pixel \(3, 5\) is not in the class-colour table$"):
+        canopy.decode_class_colors(rgb, colors, "x")
+    with rosbag.Bag(str(tmp_path / "s.bag"), "w") as b:
+        b.write("/tf_static", tf_msg("world", "cam", 0.0, (0.0, 0.0, 1.0)), stamp(0.5))
+        b.write("/cam/info", info(1.0), stamp(1.0))
+        b.write("/cam/depth", image(1.0, np.full((H, W), 750, np.uint16), "16UC1"), stamp(1.0))
+        b.write("/cam/labels", image(1.0, rgb, "rgb8"), stamp(1.0))
+    with pytest.raises(canopy.BagError, match=r"/cam/labels.*: colour \(1, 2, 3\) at pixel \(3, 5\) is not in the "
+                                              r"class-colour table"):
+        canopy.read_bag(tmp_path / "s.bag", rgb=None, depth="/cam/depth", camera_info="/cam/info", labels="/cam/labels")
+    # Nearest within the tolerance, the earlier of two equally near, -1 beyond it.
+    rng = np.random.default_rng(3)
+    sorted_t = np.unique(np.round(rng.uniform(0, 10, 40), 2))  # a topic's stamps increase (the reader checks)
+    queries = np.round(rng.uniform(-1, 11, 200), 3)
+    for max_dt in (0.0, 0.02, 0.5, np.inf):
+        got = canopy.nearest_stamps(sorted_t, queries, max_dt)
+        for q, j in zip(queries, got):
+            d = np.abs(sorted_t - q)
+            want = int(np.argmin(d)) if d.min() <= max_dt else -1  # argmin: the first (earlier) of ties
+            assert j == want, (q, max_dt)
+    with pytest.raises(ValueError, match="must not decrease"):
+        canopy.nearest_stamps([1.0, 0.5], [0.7])
 
 
 # --- what canopy writes, and where -------------------------------------------------------------

@@ -48,9 +48,11 @@ def test_builtin_method_equals_the_cli_mission(world, cli, tmp_path):
     assert list(curve["views"]) == list(range(1, int(ok.sum()) + 1))
     assert np.all(np.isnan(views["reached_pose"][~ok])) and not np.any(np.isnan(views["reached_pose"][ok]))
     assert result.stops[0]["nbv_successful"] == int(np.sum(ok & (views["phase"] == "nbv")))
-    # Every column of views.csv, by name, with its values; plus the two poses.
+    # Every column of views.csv, by name, with its values; then the fields kept out of it
+    # (canopy.view_fields(): the poses, the target, the message, ...).
     header = result.views_csv.splitlines()[0].split(",")
-    assert set(views) == set(header) | {"goal_pose", "reached_pose"}
+    assert list(views) == [f["name"] for f in canopy.view_fields()]
+    assert set(views) - set(header) == {f["name"] for f in canopy.view_fields() if not f["in_views_csv"]}
     rows = [line.split(",") for line in result.views_csv.splitlines()[1:]]
     for i, name in enumerate(header):
         assert len(views[name]) == len(rows)
@@ -122,10 +124,10 @@ def test_the_planner_learns_every_outcome(world):
     assert len(told) == len(result.views["attempt"]) == 13
     assert [o["success"] for o in told] == list(result.views["success"])
     assert all(o["success"] == (o["failure"] == "") for o in told)
-    assert all(o["phase"] == "initial" and o["reached"].shape == (4, 4) for o in told[:12] if o["success"])
+    assert all(o["phase"] == "initial" and o["reached_pose"].shape == (4, 4) for o in told[:12] if o["success"])
     last = told[-1]
-    assert last["failure"] == "no_ik" and last["detail"] and last["reached"] is None and last["phase"] == "nbv"
-    assert np.allclose(last["pose"], far) and last["stop"] == 0 and last["attempt"] == 12
+    assert last["failure"] == "no_ik" and last["detail"] and last["reached_pose"] is None and last["phase"] == "nbv"
+    assert np.allclose(last["goal_pose"], far) and last["stop"] == 0 and last["attempt"] == 12
     outcomes, failed, is_failed = seen[1]
     assert [o["attempt"] for o in outcomes] == list(range(13)) and outcomes[-1]["failure"] == "no_ik"
     assert failed.shape[1:] == (4, 4) and np.allclose(failed[-1], far) and is_failed

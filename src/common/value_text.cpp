@@ -3,6 +3,7 @@
 #include <locale.h>
 
 #include <cerrno>
+#include <charconv>
 #include <cstdarg>
 #include <cmath>
 #include <cstdio>
@@ -53,6 +54,26 @@ double c_stod(const std::string& text, std::size_t* used) {
   if (errno == 0) errno = saved;
   if (used) *used = static_cast<std::size_t>(end - begin);
   return v;
+}
+
+std::string format_number(double x, NumberFormat format) {
+  switch (format) {
+    case NumberFormat::kDigits6: return format_number(x, "%.6g");
+    case NumberFormat::kDigits9: return format_number(x, "%.9g");
+    case NumberFormat::kDigits17: return format_number(x, "%.17g");
+    case NumberFormat::kShortest: {  // the buffer grows instead of truncating
+      std::string text(24, '\0');
+      for (;;) {
+        const auto [end, ec] = std::to_chars(text.data(), text.data() + text.size(), x);
+        if (ec == std::errc()) {
+          text.resize(static_cast<std::size_t>(end - text.data()));
+          return text;
+        }
+        text.resize(2 * text.size());
+      }
+    }
+  }
+  return format_number(x, "%.17g");
 }
 
 std::string format_number(double x, const char* printf_format) {
@@ -124,15 +145,6 @@ Pose pose_from_json(const nlohmann::json& j) {
   const auto& q = j.at("quaternion_wxyz");
   return make_pose(Vec3(p.at(0).get<double>(), p.at(1).get<double>(), p.at(2).get<double>()),
                    Quat(q.at(0).get<double>(), q.at(1).get<double>(), q.at(2).get<double>(), q.at(3).get<double>()));
-}
-
-std::vector<std::string> split_csv_line(const std::string& line) {
-  std::vector<std::string> out;
-  std::stringstream ss(line);
-  std::string item;
-  while (std::getline(ss, item, ',')) out.push_back(item);
-  if (!line.empty() && line.back() == ',') out.emplace_back();
-  return out;
 }
 
 }  // namespace canopy

@@ -6,13 +6,13 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
-#include <cstdio>
 #include <limits>
 #include <tuple>
 #include <unordered_map>
 
 #include <Eigen/Eigenvalues>
 
+#include "canopy/common/csv.h"
 #include "canopy/common/point_kdtree.h"
 #include "canopy/mapping/voxel_key.h"
 
@@ -247,31 +247,26 @@ nlohmann::json FruitDetection::to_json() const {
 }
 
 std::string fruit_shapes_csv(const FruitDetection& d) {
-  std::string s =
-      "instance_id,voxels,true_x,true_y,true_z,true_volume_m3,"
-      "centroid_x,centroid_y,centroid_z,centroid_error_m,voxel_volume_m3,voxel_volume_error,"
-      "ellipsoid_volume_m3,ellipsoid_volume_error,"
-      "shape_ok,shape_x,shape_y,shape_z,shape_centre_error_m,shape_a_m,shape_c_m,shape_volume_m3,"
-      "shape_volume_error,shape_rms_m\n";
-  auto num = [](double x) {
-    if (!std::isfinite(x)) return std::string();
-    char b[32];
-    std::snprintf(b, sizeof b, "%.6g", x);
-    return std::string(b);
+  CsvWriter csv({"instance_id", "voxels", "true_x", "true_y", "true_z", "true_volume_m3", "centroid_x", "centroid_y",
+                 "centroid_z", "centroid_error_m", "voxel_volume_m3", "voxel_volume_error", "ellipsoid_volume_m3",
+                 "ellipsoid_volume_error", "shape_ok", "shape_x", "shape_y", "shape_z", "shape_centre_error_m",
+                 "shape_a_m", "shape_c_m", "shape_volume_m3", "shape_volume_error", "shape_rms_m"});
+  const auto reals = [&csv](std::initializer_list<double> values) {
+    for (const double x : values) csv.add_finite(x, NumberFormat::kDigits6);
   };
   for (const FruitMatch& m : d.matches) {
     const FruitCluster& c = d.clusters[static_cast<std::size_t>(m.cluster)];
     const mapping::FruitShape& f = c.shape;
-    s += std::to_string(m.instance_id) + "," + std::to_string(c.voxels) + "," + num(m.true_centre.x()) + "," +
-         num(m.true_centre.y()) + "," + num(m.true_centre.z()) + "," + num(m.true_volume_m3) + "," +
-         num(c.centroid.x()) + "," + num(c.centroid.y()) + "," + num(c.centroid.z()) + "," + num(m.centre_error_m) +
-         "," + num(c.voxel_volume_m3) + "," + num(m.voxel_volume_error) + "," + num(c.ellipsoid_volume_m3) + "," +
-         num(m.ellipsoid_volume_error) + "," + (f.ok ? "1" : "0") + "," + num(f.centre.x()) + "," +
-         num(f.centre.y()) + "," + num(f.centre.z()) + "," + num(m.shape_centre_error_m) + "," +
-         num(f.semi_axes.x()) + "," + num(f.semi_axes.z()) + "," + num(f.volume_m3()) + "," +
-         num(m.shape_volume_error) + "," + num(f.rms_m) + "\n";
+    csv.add(m.instance_id).add(c.voxels);
+    reals({m.true_centre.x(), m.true_centre.y(), m.true_centre.z(), m.true_volume_m3, c.centroid.x(), c.centroid.y(),
+           c.centroid.z(), m.centre_error_m, c.voxel_volume_m3, m.voxel_volume_error, c.ellipsoid_volume_m3,
+           m.ellipsoid_volume_error});
+    csv.add_flag(f.ok);
+    reals({f.centre.x(), f.centre.y(), f.centre.z(), m.shape_centre_error_m, f.semi_axes.x(), f.semi_axes.z(),
+           f.volume_m3(), m.shape_volume_error, f.rms_m});
+    csv.end_row();
   }
-  return s;
+  return csv.take();
 }
 
 }  // namespace canopy::evaluation

@@ -8,6 +8,7 @@
 
 #include "canopy/common/error.h"
 #include "canopy/common/atomic_file.h"
+#include "canopy/common/csv.h"
 #include "canopy/common/value_text.h"
 #include "canopy/common/random.h"
 #include "canopy/common/stats.h"
@@ -195,11 +196,12 @@ std::vector<AblationRow> summarize_ablation(const std::string& out, const std::v
                                             int plants, int views, const std::vector<nlohmann::json>& results,
                                             const std::vector<AblationJobId>& jobs, double target_coverage) {
   std::vector<AblationRow> rows;
-  std::string csv = "config,gain,rays,p_gt,view,trials,coverage_mean,coverage_std,entropy_mean,entropy_std\n";
-  std::string table =
-      "config,gain,rays,p_gt,trials,views_to_target_mean_curve,views_to_target_per_plant_mean,"
-      "plant_runs_reaching_target,plant_runs,raycast_ms_per_view_mean,final_coverage_mean,final_entropy_mean\n";
-  auto num = [](double x) { return format_number(x, "%.17g"); };
+  CsvWriter csv({"config", "gain", "rays", "p_gt", "view", "trials", "coverage_mean", "coverage_std", "entropy_mean",
+                 "entropy_std"});
+  CsvWriter table({"config", "gain", "rays", "p_gt", "trials", "views_to_target_mean_curve",
+                   "views_to_target_per_plant_mean", "plant_runs_reaching_target", "plant_runs",
+                   "raycast_ms_per_view_mean", "final_coverage_mean", "final_entropy_mean"});
+  constexpr NumberFormat k17 = NumberFormat::kDigits17;
   for (std::size_t c = 0; c < configs.size(); ++c) {
     std::map<int, std::map<int, const nlohmann::json*>> by_trial;  // [trial][plant]
     for (std::size_t j = 0; j < jobs.size(); ++j)
@@ -235,9 +237,8 @@ std::vector<AblationRow> summarize_ablation(const std::string& out, const std::v
       const SampleStats& cov = cov_curve[std::size_t(v)];
       const SampleStats& ent = ent_curve[std::size_t(v)];
       mean_cov_curve[std::size_t(v)] = cov.mean;
-      csv += configs[c].id() + "," + configs[c].label() + "," + configs[c].rays + "," + num(configs[c].pgt) + "," +
-             std::to_string(v + 1) + "," + std::to_string(complete.size()) + "," + num(cov.mean) + "," +
-             num(cov.std) + "," + num(ent.mean) + "," + num(ent.std) + "\n";
+      csv.add(configs[c].id()).add(configs[c].label()).add(configs[c].rays).add(configs[c].pgt, k17).add(v + 1)
+          .add(complete.size()).add(cov.mean, k17).add(cov.std, k17).add(ent.mean, k17).add(ent.std, k17).end_row();
     }
     for (std::size_t t = 0; t < complete.size(); ++t) {
       final_cov.push_back(cov_trials[t].back());
@@ -270,15 +271,13 @@ std::vector<AblationRow> summarize_ablation(const std::string& out, const std::v
     row.raycast_ms_per_view = mean(ray_ms);
     row.final_coverage = mean(final_cov);
     row.final_entropy = mean(final_ent);
-    table += configs[c].id() + "," + configs[c].label() + "," + configs[c].rays + "," + num(configs[c].pgt) + "," +
-             std::to_string(row.trials) + "," + std::to_string(row.views_to_target_curve) + "," +
-             num(row.views_to_target_per_plant) + "," + std::to_string(row.runs_reaching) + "," +
-             std::to_string(row.runs) + "," + num(row.raycast_ms_per_view) + "," + num(row.final_coverage) + "," +
-             num(row.final_entropy) + "\n";
+    table.add(configs[c].id()).add(configs[c].label()).add(configs[c].rays).add(configs[c].pgt, k17).add(row.trials)
+        .add(row.views_to_target_curve).add(row.views_to_target_per_plant, k17).add(row.runs_reaching).add(row.runs)
+        .add(row.raycast_ms_per_view, k17).add(row.final_coverage, k17).add(row.final_entropy, k17).end_row();
     rows.push_back(row);
   }
-  write_file_atomic(out + "/summary.csv", csv);
-  write_file_atomic(out + "/table.csv", table);
+  write_file_atomic(out + "/summary.csv", csv.str());
+  write_file_atomic(out + "/table.csv", table.str());
   return rows;
 }
 

@@ -11,7 +11,9 @@
 #include <set>
 
 #include "canopy/common/error.h"
+#include "canopy/common/params.h"
 #include "canopy/common/read_file.h"
+#include "canopy/common/value_text.h"
 #include "canopy/common/value_text.h"
 #include "canopy/common/yaml_reader.h"
 #include "canopy/nbv/gains.h"
@@ -51,29 +53,40 @@ bool valid_label(const std::string& s, const std::string& extra = "-") {
   });
 }
 
+// One entry of `methods`, its keys stated once: the planner and its gain and ray set, checked
+// against the same name lists the settings' `method` section checks them against.
+struct MethodEntry {
+  std::string method, label;
+  nbv::MethodChoice choice;
+
+  template <class A>
+  void visit(A& a) {
+    a.required("method", method, "View planner (a name of the planner registry)");
+    const std::vector<std::string> planners = nbv::view_planner_names();
+    a.check(std::find(planners.begin(), planners.end(), method) != planners.end(), "method",
+            "is not a view planner (" + names_text(planners) + ")");
+    a.one_of("gain", choice.gain, nbv::gain_names(), "Information gain (ours)");
+    a.one_of("rays", choice.rays, nbv::ray_set_names(), "Ray set (ours)");
+    a("label", label, "Name in trial ids and plots; default: the method (ours: with its gain and rays when not the defaults)");
+  }
+
+  static std::string names_text(const std::vector<std::string>& names) {
+    std::string s;
+    for (const auto& n : names) s += (s.empty() ? "" : ", ") + n;
+    return s;
+  }
+};
+
 std::vector<ExperimentMethod> read_methods(YamlReader& y) {
   y.check(y.has("methods"), "methods", "is missing (a list of {label, method, gain, rays})");
   const YAML::Node list = y.require<YAML::Node>("methods");
   y.check(list.IsSequence() && list.size() > 0, "methods", "must be a non-empty list");
   std::vector<ExperimentMethod> out;
   std::set<std::string> labels;
-  const std::vector<std::string> planners = nbv::view_planner_names(), gains = nbv::gain_names();
   for (std::size_t i = 0; i < list.size(); ++i) {
     YamlReader m(list[i], y.file(), "methods[" + std::to_string(i) + "]");
     ExperimentMethod e;
-    nbv::MethodChoice& c = e.choice;
-    c.name = m.require<std::string>("method");
-    m.check(std::find(planners.begin(), planners.end(), c.name) != planners.end(), "method",
-            "is not a view planner (" + [&] {
-              std::string s;
-              for (const auto& n : planners) s += (s.empty() ? "" : ", ") + n;
-              return s;
-            }() + ")");
-    c.gain = m.get<std::string>("gain", c.gain);
-    m.check(std::find(gains.begin(), gains.end(), c.gain) != gains.end(), "gain", "is not a gain");
-    c.rays = m.get<std::string>("rays", c.rays);
-    nbv::ray_set(c.rays, y.file() + ": " + m.key_path("rays"));
-    if (m.has("set")) {
+    if (m.has("set")) {  // settings by their key paths: values of any kind, read as YAML text
       const YAML::Node set = m.require<YAML::Node>("set");
       m.check(set.IsMap(), "set", "must be a mapping of setting keys to values (e.g. nbv.gain.proximity: per_voxel)");
       for (const auto& kv : set) {
@@ -82,11 +95,18 @@ std::vector<ExperimentMethod> read_methods(YamlReader& y) {
         e.set.emplace_back(kv.first.as<std::string>(), v.c_str());
       }
     }
+    MethodEntry entry;
+    YamlIn in(m);
+    entry.visit(in);
+    m.finish();
+    e.choice = entry.choice;
+    e.choice.name = entry.method;
+    const nbv::MethodChoice& c = e.choice;
     const bool defaults = c.gain == "osamcep" && c.rays == "ours";
-    e.label = m.get<std::string>("label", defaults || c.name != "ours" ? c.name : c.name + "-" + c.gain + "-" + c.rays);
+    e.label = !entry.label.empty() ? entry.label
+                                   : defaults || c.name != "ours" ? c.name : c.name + "-" + c.gain + "-" + c.rays;
     m.check(valid_label(e.label), "label", "must be 1-40 letters, digits or '-'");
     m.check(labels.insert(e.label).second, "label", "is used by two methods");
-    m.finish();
     out.push_back(e);
   }
   return out;
@@ -224,10 +244,8 @@ TrialSpec TrialSpec::from_json(const nlohmann::json& j, const std::string& where
 }
 
 std::string trial_id(const std::string& label, double p_gt, std::uint64_t seed, std::optional<std::uint64_t> world_seed) {
-  char b[64];
-  c_snprintf(b, sizeof b, "_pgt%.6g", p_gt);
   const std::string world = world_seed ? "_world" + std::to_string(*world_seed) : "";
-  return label + b + world + "_seed" + std::to_string(seed);
+  return label + "_pgt" + format_number(p_gt, NumberFormat::kDigits6) + world + "_seed" + std::to_string(seed);
 }
 
 Experiment Experiment::load(const std::string& path, const RobotConfig& robot) {

@@ -12,7 +12,9 @@
 #include <fstream>
 #include <set>
 #include <sstream>
+#include <stdexcept>
 
+#include "canopy/common/csv.h"
 #include "canopy/common/error.h"
 #include "canopy/common/read_file.h"
 #include "canopy/common/value_text.h"
@@ -36,6 +38,7 @@ void read_mission(const fs::path& mission, TrialResult* r) {
   const records::RunFolder f = records::read_run_folder(mission.string());
   r->coverage = f.coverage;
   r->entropy = f.entropy;
+  r->phases = f.phases;
   r->curves = f.curves;
   const nlohmann::json& s = f.summary;
   for (auto it = s.at("wall_time_by_phase_s").begin(); it != s.at("wall_time_by_phase_s").end(); ++it)
@@ -56,18 +59,18 @@ void read_mission(const fs::path& mission, TrialResult* r) {
     return j.is_object() && j.contains(k) ? j.at(k) : none;
   };
   // Each per-view column's figure at the end, where the column table says summary.json holds it.
-  for (const records::ViewColumn* c : records::final_figure_columns()) {
+  for (const records::FieldInfo* c : records::final_figure_columns()) {
     const nlohmann::json* v = &s;
-    std::stringstream path(c->final.path);
+    std::stringstream path(c->field.final.path);
     for (std::string k; std::getline(path, k, '/');) v = &at(*v, k);
-    take(c->final.key, *v);
-    if (c->final.scale != 1.0 && r->field.count(c->final.key)) r->field[c->final.key] *= c->final.scale;
+    take(c->field.final.key, *v);
+    if (c->field.final.scale != 1.0 && r->field.count(c->field.final.key)) r->field[c->field.final.key] *= c->field.final.scale;
   }
   const nlohmann::json& cat = at(at(s, "motion_cost"), "coverage_at_time");
   if (cat.is_array())
     for (const nlohmann::json& e : cat)
       if (e.is_object() && e.contains("time_s") && e.contains("coverage"))
-        take("sc_at_" + format_number(e.at("time_s").get<double>(), "%.6g") + "s", e.at("coverage"));
+        take("sc_at_" + format_number(e.at("time_s").get<double>(), NumberFormat::kDigits6) + "s", e.at("coverage"));
 }
 
 }  // namespace
@@ -121,7 +124,7 @@ TrialResult read_trial(const std::string& dir) {
 
 std::vector<std::string> field_metric_names(const std::vector<TrialResult>& trials) {
   std::vector<std::string> names;
-  for (const records::ViewColumn* c : records::final_figure_columns()) names.push_back(c->final.key);
+  for (const records::FieldInfo* c : records::final_figure_columns()) names.push_back(c->field.final.key);
   std::vector<std::pair<double, std::string>> budgets;
   for (const TrialResult& t : trials)
     for (const auto& [k, v] : t.field)
@@ -132,18 +135,6 @@ std::vector<std::string> field_metric_names(const std::vector<TrialResult>& tria
   std::sort(budgets.begin(), budgets.end());
   for (const auto& b : budgets) names.push_back(b.second);
   return names;
-}
-
-const std::vector<std::pair<std::string, std::vector<std::string>>>& runtime_categories() {
-  static const std::vector<std::pair<std::string, std::vector<std::string>>> c = {
-      {"mapping", {"mapping"}},
-      {"nbv_planning", {"clustering", "candidates", "filtering", "scoring", "nbv_planning"}},
-      {"motion_planning", {"motion_planning"}},
-      {"control", {"control"}},
-      {"rendering", {"rendering"}},
-      {"evaluation", {"evaluation"}},
-  };
-  return c;
 }
 
 MergedTrials merge_experiment_folders(const std::vector<std::string>& dirs) {
@@ -227,7 +218,7 @@ using namespace report;
 
 // curves.csv: only trials that reached view v count at v (the `trials` column).
 std::string curves_csv_text(const std::vector<Group>& groups) {
-  std::string c = "method,label,p_gt,view,trials,sc_mean,sc_std,entropy_mean,entropy_std\n";
+  CsvWriter c({"method", "label", "p_gt", "view", "trials", "sc_mean", "sc_std", "entropy_mean", "entropy_std"});
   for (const Group& g : groups) {
     std::vector<std::vector<double>> sc, h;
     for (const TrialResult* r : g.trials) {
@@ -235,20 +226,16 @@ std::string curves_csv_text(const std::vector<Group>& groups) {
       h.push_back(r->entropy);
     }
     const std::vector<SampleStats> sc_curve = curve_stats(sc), h_curve = curve_stats(h);
-    for (std::size_t v = 0; v < sc_curve.size(); ++v) {
-      const Stat& a = sc_curve[v];
-      const Stat& b = h_curve[v];
-      c += g.method.choice.name + "," + g.method.label + "," + pgt_text(g.p_gt) + "," + std::to_string(v + 1) + "," +
-           std::to_string(a.n) + "," + num(a.mean, "%.9g") + "," + num(a.std, "%.9g") + "," + num(b.mean, "%.9g") + "," +
-           num(b.std, "%.9g") + "\n";
-    }
+    for (std::size_t v = 0; v < sc_curve.size(); ++v)
+      c.add(g.method.choice.name).add(g.method.label).add(pgt_text(g.p_gt)).add(v + 1).add(sc_curve[v].n)
+          .add(sc_curve[v].mean).add(sc_curve[v].std).add(h_curve[v].mean).add(h_curve[v].std).end_row();
   }
-  return c;
+  return c.take();
 }
 
 // field_curves.csv: the field's per-view metrics, the same way (trials having the column).
 std::string field_curves_csv_text(const std::vector<Group>& groups) {
-  std::string fcv = "method,label,p_gt,metric,view,trials,mean,std\n";
+  CsvWriter fcv({"method", "label", "p_gt", "metric", "view", "trials", "mean", "std"});
   for (const Group& g : groups)
     for (const std::string& metric : records::curve_column_names()) {
       std::vector<std::vector<double>> runs;
@@ -259,50 +246,59 @@ std::string field_curves_csv_text(const std::vector<Group>& groups) {
       if (runs.empty()) continue;
       const std::vector<SampleStats> curve = curve_stats(runs);
       for (std::size_t v = 0; v < curve.size(); ++v)
-        fcv += g.method.choice.name + "," + g.method.label + "," + pgt_text(g.p_gt) + "," + metric + "," +
-               std::to_string(v + 1) + "," + std::to_string(curve[v].n) + "," + num(curve[v].mean, "%.9g") + "," +
-               num(curve[v].std, "%.9g") + "\n";
+        fcv.add(g.method.choice.name).add(g.method.label).add(pgt_text(g.p_gt)).add(metric).add(v + 1)
+            .add(curve[v].n).add(curve[v].mean).add(curve[v].std).end_row();
     }
-  return fcv;
+  return fcv.take();
 }
 
 // runtime.csv: per group, mean and std of each category and the totals.
 std::string runtime_csv_text(const std::vector<Group>& groups) {
-  std::string r = "method,label,p_gt,trials";
-  for (const auto& [cat, phases] : runtime_categories()) r += "," + cat + "_s_mean," + cat + "_s_std";
-  r += ",paper_total_s_mean,paper_total_s_std,wall_s_mean,wall_s_std,simulated_s_mean,simulated_s_std,"
-       "views_ok_mean,views_attempted_mean,final_sc_mean,final_sc_std\n";
+  std::vector<std::string> header = {"method", "label", "p_gt", "trials"};
+  for (const records::PlotCategoryInfo& c : records::plot_categories()) {
+    header.push_back(std::string(to_string(c.category)) + "_s_mean");
+    header.push_back(std::string(to_string(c.category)) + "_s_std");
+  }
+  for (const char* k : {"paper_total_s_mean", "paper_total_s_std", "wall_s_mean", "wall_s_std", "simulated_s_mean",
+                        "simulated_s_std", "views_ok_mean", "views_attempted_mean", "final_sc_mean", "final_sc_std"})
+    header.push_back(k);
+  CsvWriter r(header);
+  constexpr NumberFormat k6 = NumberFormat::kDigits6;
   for (const Group& g : groups) {
-    r += g.method.choice.name + "," + g.method.label + "," + pgt_text(g.p_gt) + "," + std::to_string(g.trials.size());
-    for (const auto& [cat, phases] : runtime_categories()) {
-      const Stat s = over(g, [&, &ph = phases](const TrialResult& t) { return category(t, ph); });
-      r += "," + num(s.mean) + "," + num(s.std);
+    r.add(g.method.choice.name).add(g.method.label).add(pgt_text(g.p_gt)).add(g.trials.size());
+    for (const records::PlotCategoryInfo& c : records::plot_categories()) {
+      const Stat s = over(g, [&c](const TrialResult& t) { return category(t, c); });
+      r.add(s.mean, k6).add(s.std, k6);
     }
     const Stat tot = over(g, paper_total), wall = over(g, [](const TrialResult& t) { return t.wall_s; }),
                sim = over(g, [](const TrialResult& t) { return t.sim_s; }),
                vok = over(g, [](const TrialResult& t) { return double(t.views_ok); }),
                vat = over(g, [](const TrialResult& t) { return double(t.views_attempted); }),
                sc = over(g, [](const TrialResult& t) { return t.coverage.empty() ? 0.0 : t.coverage.back(); });
-    r += "," + num(tot.mean) + "," + num(tot.std) + "," + num(wall.mean) + "," + num(wall.std) + "," + num(sim.mean) +
-         "," + num(sim.std) + "," + num(vok.mean) + "," + num(vat.mean) + "," + num(sc.mean) + "," + num(sc.std) + "\n";
+    for (const double x : {tot.mean, tot.std, wall.mean, wall.std, sim.mean, sim.std, vok.mean, vat.mean, sc.mean, sc.std})
+      r.add(x, k6);
+    r.end_row();
   }
-  return r;
+  return r.take();
 }
 
 // field.csv: every field metric's mean, std and n per group.
 std::string field_csv_text(const std::vector<Group>& groups, const std::vector<std::string>& field) {
-  std::string fc = "method,label,p_gt,trials";
-  for (const std::string& k : field) fc += "," + k + "_mean," + k + "_std," + k + "_n";
-  fc += "\n";
+  std::vector<std::string> header = {"method", "label", "p_gt", "trials"};
+  for (const std::string& k : field)
+    for (const char* part : {"_mean", "_std", "_n"}) header.push_back(k + part);
+  CsvWriter fc(header);
   for (const Group& g : groups) {
-    fc += g.method.choice.name + "," + g.method.label + "," + pgt_text(g.p_gt) + "," + std::to_string(g.trials.size());
+    fc.add(g.method.choice.name).add(g.method.label).add(pgt_text(g.p_gt)).add(g.trials.size());
     for (const std::string& k : field) {
       const Stat s = field_stat(g, k);
-      fc += "," + (s.n ? num(s.mean) : "") + "," + (s.n ? num(s.std) : "") + "," + std::to_string(s.n);
+      if (s.n) fc.add(s.mean, NumberFormat::kDigits6).add(s.std, NumberFormat::kDigits6);
+      else fc.add_empty().add_empty();
+      fc.add(s.n);
     }
-    fc += "\n";
+    fc.end_row();
   }
-  return fc;
+  return fc.take();
 }
 
 // trials.json: every trial's status and folder, the missing trials and the folders ignored.
@@ -337,6 +333,36 @@ std::string gain_truth_table(const std::vector<Group>& groups) {
 
 }  // namespace
 
+std::string findings_markdown(const nlohmann::json& findings) {
+  // Blocks one after the other, a blank line between them.
+  std::string md;
+  const auto row = [](const nlohmann::json& cells) {
+    std::string r = "|";
+    for (const auto& c : cells) r += " " + c.get<std::string>() + " |";
+    return r + "\n";
+  };
+  for (const nlohmann::json& b : findings) {
+    const std::string kind = b.at("kind").get<std::string>();
+    if (!md.empty()) md += "\n";
+    if (kind == "heading") {
+      md += std::string(b.at("level").get<std::size_t>(), '#') + " " + b.at("text").get<std::string>() + "\n";
+    } else if (kind == "paragraph") {
+      const std::string mark = b.value("strong", false) ? "**" : "";
+      md += mark + b.at("text").get<std::string>() + mark + "\n";
+    } else if (kind == "table") {
+      md += row(b.at("header")) + "|";
+      for (std::size_t i = 0; i < b.at("header").size(); ++i) md += "---|";
+      md += "\n";
+      for (const auto& r : b.at("rows")) md += row(r);
+    } else if (kind == "list") {
+      for (const auto& item : b.at("items")) md += "- " + item.get<std::string>() + "\n";
+    } else {
+      throw std::logic_error("findings: unknown block kind '" + kind + "'");
+    }
+  }
+  return md;
+}
+
 ExperimentReport make_experiment_report(const MergedTrials& m) {
   ExperimentReport rep;
   const std::vector<report::Group> groups = report::groups_of(m);
@@ -349,7 +375,8 @@ ExperimentReport make_experiment_report(const MergedTrials& m) {
     if (t.status == "ok") ok_trials.push_back(t);
   const std::vector<std::string> field = field_metric_names(ok_trials);
   rep.field_csv = field_csv_text(groups, field);
-  rep.findings_md = report::findings_markdown(m, groups, field);
+  rep.findings = report::findings_json(m, groups, field);
+  rep.findings_md = findings_markdown(rep.findings);
   rep.trials_json = trials_json_of(m);
   rep.gain_truth_csv = gain_truth_table(groups);
   return rep;

@@ -42,10 +42,10 @@ std::vector<Group> groups_of(const MergedTrials& m) {
   return out;
 }
 
-double category(const TrialResult& r, const std::vector<std::string>& phases) {
+double category(const TrialResult& r, const records::PlotCategoryInfo& category) {
   double s = 0.0;
-  for (const auto& p : phases) {
-    const auto it = r.phase_s.find(p);
+  for (const records::WallPhase p : category.phases) {
+    const auto it = r.phase_s.find(to_string(p));
     if (it != r.phase_s.end()) s += it->second;
   }
   return s;
@@ -54,11 +54,12 @@ double category(const TrialResult& r, const std::vector<std::string>& phases) {
 // The four phases of the paper's Fig. 4 (its "total run time").
 double paper_total(const TrialResult& r) {
   double s = 0.0;
-  for (std::size_t c = 0; c < 4; ++c) s += category(r, runtime_categories()[c].second);
+  for (const records::PlotCategoryInfo& c : records::plot_categories())
+    if (c.paper) s += category(r, c);
   return s;
 }
 
-std::string pgt_text(double p) { return num(p, "%.6g"); }
+std::string pgt_text(double p) { return format_number(p, NumberFormat::kDigits6); }
 
 // Difference of two group means with its standard error; relative to `base`.
 std::string diff_text(const Stat& a, const Stat& base, double scale, const char* unit) {

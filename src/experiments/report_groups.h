@@ -5,8 +5,11 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "canopy/common/stats.h"
 #include "canopy/experiments/experiment_report.h"
+#include "canopy/records/records.h"
 
 namespace canopy::experiments::report {
 
@@ -28,8 +31,8 @@ struct Group {
 // (no noise) to low; each with its ok trials.
 std::vector<Group> groups_of(const MergedTrials& m);
 
-// The seconds a trial spent in `phases`.
-double category(const TrialResult& r, const std::vector<std::string>& phases);
+// The seconds a trial spent in a plot category's phases.
+double category(const TrialResult& r, const records::PlotCategoryInfo& category);
 // The four phases of the paper's Fig. 4 (its "total run time").
 double paper_total(const TrialResult& r);
 
@@ -50,8 +53,36 @@ double final_sc(const TrialResult& t);
 // A field metric over a group's trials that have it (finite).
 Stat field_stat(const Group& g, const std::string& k);
 
-// findings.md: the experiment held against the paper's findings, section by section.
-std::string findings_markdown(const MergedTrials& m, const std::vector<Group>& groups,
-                              const std::vector<std::string>& field);
+// The view counts the findings compare methods at (the 30th, 60th and 90th successful view).
+inline const std::vector<int> kEqualViewCounts = {30, 60, 90};
+
+// One P_gt's methods on the worlds every method completed (an ok trial each; what
+// tools/goal_check.py computed): fruit SC after each of kEqualViewCounts (a trial that ended
+// before keeps its last figure) and at the end, over those worlds.
+struct MatchedWorlds {
+  std::vector<std::string> worlds;  // world seeds ("file": the world file's own seed)
+  struct Method {
+    std::string label;
+    bool reads_truth = false;       // an oracle
+    std::vector<Stat> sc;           // after 30, 60, 90 views, final
+    Stat views;                     // successful views
+  };
+  std::vector<Method> methods;      // in the groups' order
+  // Per method other than the baselines (frontier, global) and the oracles: its SC against the
+  // better baseline at each count and, with an oracle, after 60 views against half the way to it.
+  std::vector<std::string> checks;
+};
+MatchedWorlds matched_worlds(const std::vector<Group>& groups, double p_gt);
+
+// The fruit SC a group's successful views added per view, in thousandths, by phase: the initial
+// scans and the views after them (what tools/sc_per_view.py computed); over the trials.
+struct PerViewGain {
+  Stat initial, later;
+};
+PerViewGain sc_per_view(const Group& g);
+
+// The findings (the experiment held against the paper's findings, section by section) as
+// blocks: experiment_report.h's ExperimentReport::findings.
+nlohmann::json findings_json(const MergedTrials& m, const std::vector<Group>& groups, const std::vector<std::string>& field);
 
 }  // namespace canopy::experiments::report

@@ -2,7 +2,8 @@
 
 #include "canopy/common/error.h"
 #include "canopy/common/output_dir.h"
-#include "canopy/jobs/plots.h"
+#include "canopy/common/read_file.h"
+#include "canopy/jobs/figures.h"
 #include "canopy/jobs/world_job.h"
 #include "canopy/mission/mission.h"
 
@@ -55,7 +56,7 @@ AblationJobResult run_ablation_job(const AblationJobParams& params, const settin
   if (params.on_summary) params.on_summary(r.run);
   if (params.plots) {
     try {
-      draw_plots("tools/plot_ablation.py", out.working_dir(), params.out);
+      write_figures(out.working_dir(), ablation_figures(read_file(out.path("summary.csv"))));
     } catch (...) {
       out.keep();  // the finished jobs stay for --resume
       throw;

@@ -42,7 +42,7 @@ nlohmann::json experiment_page_data(const experiments::MergedTrials& merged, con
   nlohmann::json d;
   d["kind"] = "experiment";
   d["names"] = merged.names;
-  d["findings_md"] = rep.findings_md;
+  d["findings"] = rep.findings;
   nlohmann::json tables = nlohmann::json::array();
   tables.push_back(csv_table("curves.csv", rep.curves_csv));
   tables.push_back(csv_table("runtime.csv", rep.runtime_csv));

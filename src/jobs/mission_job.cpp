@@ -9,7 +9,8 @@
 #include "canopy/common/error.h"
 #include "canopy/common/output_dir.h"
 #include "canopy/common/timer.h"
-#include "canopy/jobs/plots.h"
+#include "canopy/common/interrupt.h"
+#include "canopy/jobs/figures.h"
 #include "canopy/jobs/run_report.h"
 #include "canopy/jobs/world_job.h"
 #include "canopy/datasets/nerfstudio.h"
@@ -130,6 +131,7 @@ MissionJobResult run_mission_job(const world::World& world, const MissionJobPara
 
   MissionJobResult r;
   r.result = mission.run();
+  const int signals_at_end = interrupt_count();  // a later signal skips the plots (docs/commands.md)
   if (amend) amend(r.result);
   records::RunContext context;
   context.seed = p.seed;
@@ -148,19 +150,24 @@ MissionJobResult run_mission_job(const world::World& world, const MissionJobPara
   }
   r.summary = out ? records::write_run_folder(out->working_dir(), r.result, settings, mission.map(), context)
                   : records::run_summary(r.result, settings, context);
+  // The report's data: report.html shows it, and the plots are drawn from it.
+  RunReport report;
+  if (out && (replay || p.plots)) report = mission_report_data(r.result, settings, world, r.summary);
   if (out && replay) {
     const Stopwatch watch;
-    write_run_report(out->working_dir(), mission_report_data(r.result, settings, world, r.summary), *replay);
+    write_run_report(out->working_dir(), report, *replay);
     r.report_written = true;
     spdlog::info("report.html: {} voxel changes over {} views, recorded in {:.2f} s beside the mission, written in {:.2f} s",
                  replay->change_count(), replay->scans().size(), replay->seconds(), watch.seconds());
   }
   if (out && p.plots) {
-    try {
-      draw_plots("tools/plot_mission.py", out->working_dir(), p.out);
-    } catch (const Interrupted&) {  // a signal while drawing: the run is published without its plots
-      spdlog::warn("the plots of {} are skipped: interrupted while drawing them", p.out);
+    if (interrupt_count() > signals_at_end) {  // a signal while the run was being saved: published without its plots
+      spdlog::warn("the plots of {} are skipped: interrupted while saving the run", p.out);
       r.plots_interrupted = true;
+    } else {
+      const Stopwatch watch;
+      write_figures(out->working_dir(), mission_figures(report.data, report.wall));
+      spdlog::info("sc_entropy.svg, runtime.svg: drawn in {:.3f} s", watch.seconds());
     }
   }
   if (ex.dataset && r.result.complete) {

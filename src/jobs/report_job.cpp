@@ -8,7 +8,7 @@
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/output_dir.h"
 #include "canopy/jobs/experiment_page.h"
-#include "canopy/jobs/plots.h"
+#include "canopy/jobs/figures.h"
 #include "canopy/jobs/run_report.h"
 
 namespace canopy::jobs {
@@ -34,7 +34,7 @@ ReportJobResult write_report(const ReportJobParams& params) {
   if (!rep.gain_truth_csv.empty()) write_file_atomic(out.path("gain_truth.csv"), rep.gain_truth_csv);
   if (params.page && report_libraries_present()) write_experiment_page(out.working_dir(), r.out, r.merged, rep);
   else if (params.page) spdlog::warn("report.html skipped (needs Debian's libjs-three; run tools/deps.sh)");
-  if (params.plots) draw_plots("tools/plot_experiment.py", out.working_dir(), r.out);
+  if (params.plots) write_figures(out.working_dir(), experiment_figures(rep));
   check_stop();
   out.commit();
   for (const auto& t : r.merged.trials) r.ok += t.status == "ok";

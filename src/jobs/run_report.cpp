@@ -13,6 +13,7 @@
 #include "canopy/common/png_io.h"
 #include "canopy/common/read_file.h"
 #include "canopy/jobs/world_job.h"
+#include "canopy/records/view_columns.h"
 
 namespace canopy::jobs {
 
@@ -27,11 +28,6 @@ double r4(double x) { return std::isfinite(x) ? std::round(x * 1e4) / 1e4 : 0.0;
 double r3(double x) { return std::isfinite(x) ? std::round(x * 1e3) / 1e3 : 0.0; }
 
 nlohmann::json vec(const Vec3& v) { return {r4(v.x()), r4(v.y()), r4(v.z())}; }
-
-nlohmann::json pose(const Pose& T) {
-  const Eigen::Quaterniond q(T.rotation());
-  return {{"p", vec(T.translation())}, {"q", {r4(q.w()), r4(q.x()), r4(q.y()), r4(q.z())}}};
-}
 
 std::string base64(const std::string& bytes) {
   static const char* t = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
@@ -108,35 +104,14 @@ RunReport mission_report_data(const records::MissionResult& r, const settings::S
   RunReport rep;
   nlohmann::json& d = rep.data;
   d["kind"] = "mission";
+  d["vocabulary"] = records::vocabulary_json();
   d["resolution_m"] = settings.mapping.map.resolution_m;
   d["complete"] = r.complete;
   d["end_reason"] = r.end_reason;
   d["classes"] = classes_json(world.spec.classes);
   d["target"] = world.spec.classes.target;
-  nlohmann::json views = nlohmann::json::array();
-  int k = 0;
-  for (const records::ViewRecord& v : r.views) {
-    nlohmann::json j = {{"a", v.attempt}, {"stop", v.stop}, {"phase", records::to_string(v.phase)},
-                        {"source", v.source}, {"ok", v.success}, {"gain", r4(v.gain)},
-                        {"goal", pose(v.T_goal)}, {"target", vec(v.target)}, {"sim_s", r3(v.sim_time_s)}};
-    if (v.success) {
-      j["k"] = k++;
-      j["sc"] = r4(v.coverage);
-      j["h"] = r4(v.entropy);
-    } else {
-      j["failure"] = v.failure;
-      j["message"] = v.message;
-    }
-    if (v.cluster >= 0) j["cluster"] = v.cluster;
-    views.push_back(j);
-  }
-  d["views"] = views;
-  nlohmann::json stops = nlohmann::json::array();
-  for (const records::StopRecord& s : r.stops)
-    stops.push_back({{"stop", s.stop}, {"goal", {r4(s.goal.x_m), r4(s.goal.y_m), r4(s.goal.yaw_rad)}},
-                     {"reached", {r4(s.reached.x_m), r4(s.reached.y_m), r4(s.reached.yaw_rad)}},
-                     {"reached_goal", s.reached_goal}, {"end", s.end}});
-  d["stops"] = stops;
+  d["views"] = records::views_json(r.views, settings.method.name);
+  d["stops"] = summary.value("stops", nlohmann::json::array());
   d["fruits"] = fruits_json(world);
   set_fruit_coverage(d["fruits"], r.final_metrics.fruits);
   const nlohmann::json& fin = summary.value("final", nlohmann::json::object());
@@ -153,9 +128,9 @@ RunReport mission_report_data(const records::MissionResult& r, const settings::S
                              {"fruits_sc50", fin.value("fruits_sc50", nlohmann::json())},
                              {"fruits_sc80", fin.value("fruits_sc80", nlohmann::json())},
                              {"fruit_voxel_precision", fin.value("fruit_voxel_precision", nlohmann::json())}}},
-                  {"views_attempted", r.views.size()},
-                  {"views_successful", r.successful_views()},
-                  {"failures", r.failures},
+                  {"views_attempted", summary.value("views_attempted", nlohmann::json())},
+                  {"views_successful", summary.value("views_successful", nlohmann::json())},
+                  {"failures", summary.value("failures", nlohmann::json::object())},
                   {"simulated_time_s", r3(r.sim_time_s)}};
   rep.wall = {{"wall_time_s", r3(r.wall_time_s)}};
   for (const auto& [phase, s] : r.times.totals()) rep.wall["phases_s"][phase] = r3(s);
@@ -167,18 +142,29 @@ RunReport map_report_data(const nlohmann::json& metrics, const std::vector<Pose>
   RunReport rep;
   nlohmann::json& d = rep.data;
   d["kind"] = "map";
+  d["vocabulary"] = records::vocabulary_json();
   d["resolution_m"] = settings.mapping.map.resolution_m;
   d["complete"] = metrics.value("complete", false);
   d["end_reason"] = d["complete"].get<bool>() ? "all views mapped" : "interrupted";
   d["classes"] = classes_json(world.spec.classes);
   d["target"] = world.spec.classes.target;
+  // Each mapped view as a record of the views' schema: a free-camera view, reached where it was
+  // asked, with the map's figures of its history entry.
   const nlohmann::json history = metrics.value("history", nlohmann::json::array());
-  nlohmann::json views = nlohmann::json::array();
-  for (std::size_t i = 0; i < history.size() && i < poses.size(); ++i)
-    views.push_back({{"a", i}, {"stop", 0}, {"phase", "view"}, {"source", "free camera"}, {"ok", true}, {"k", i},
-                     {"gain", 0}, {"goal", pose(poses[i])}, {"sc", r4(history[i].value("coverage", 0.0))},
-                     {"h", r4(history[i].value("total_entropy", 0.0))}});
-  d["views"] = views;
+  std::vector<records::ViewRecord> views;
+  for (std::size_t i = 0; i < history.size() && i < poses.size(); ++i) {
+    records::ViewRecord v;
+    v.attempt = static_cast<int>(i);
+    v.phase = records::ViewPhase::kMapView;
+    v.source = "free camera";
+    v.success = true;
+    v.T_goal = v.T_reached = poses[i];
+    v.target = poses[i].translation();
+    v.successful_views = static_cast<int>(i) + 1;
+    records::read_map_history(history[i], &v);
+    views.push_back(v);
+  }
+  d["views"] = records::views_json(views, "map");
   d["stops"] = nlohmann::json::array();
   d["fruits"] = fruits_json(world);
   if (metrics.contains("fruits"))

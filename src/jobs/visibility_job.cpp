@@ -10,7 +10,7 @@
 #include "canopy/common/error.h"
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/output_dir.h"
-#include "canopy/jobs/plots.h"
+#include "canopy/jobs/figures.h"
 #include "canopy/jobs/world_job.h"
 
 namespace canopy::jobs {
@@ -182,7 +182,7 @@ VisibilitySummary run_visibility(const VisibilityJobParams& params) {
   write_json_atomic(out.path("visibility.json"), j);
   YAML::Node run = run_record("visibility", first_spec);
   write_file_atomic(out.path("run.yaml"), YAML::Dump(run) + "\n");
-  if (params.plot) draw_plots("tools/plot_visibility.py", out.working_dir(), params.out_dir);
+  if (params.plot) write_figures(out.working_dir(), visibility_figures(summary, first_spec.name));
   check_stop("before publishing");
   out.commit();
   return summary;

@@ -9,7 +9,6 @@
 
 namespace canopy::mission {
 
-using namespace phase;
 
 Mission::Impl::Impl(const world::World& w, const Settings& s, std::uint64_t mission_seed, MissionCallbacks cb)
     : world(w), settings(s), seed(mission_seed), callbacks(std::move(cb)), sim(w, default_robot_config()),
@@ -87,7 +86,7 @@ bool Mission::Impl::drive_to_stop(int k) {
     ++result.unstable_faults;
     progress(std::string("drive: ") + e.what() + "; restored the last good state");
   }
-  result.times.add(kControl, watch.seconds());
+  result.times.add(to_string(WallPhase::kControl), watch.seconds());
   rec.reached = sim.base_pose();
   result.base_travel_m += std::hypot(rec.reached.x_m - start.x_m, rec.reached.y_m - start.y_m);
   // A base that touched the true plants on the way failed its stop, wherever it ended.
@@ -177,16 +176,16 @@ Eigen::AlignedBox3d stop_region(const settings::LoopParams& loop, double arm_x_m
       Vec3(arm_x_m + loop.region_half_length_m, base_y_m + loop.region_half_width_m, loop.region_max_z_m));
 }
 
-const char* failure_of_plan(motion::PlanStatus s) {
+FailureCause failure_of_plan(motion::PlanStatus s) {
   switch (s) {
-    case motion::PlanStatus::kSuccess: return "";
-    case motion::PlanStatus::kNoIk: return records::failure::kNoIk;
-    case motion::PlanStatus::kStartInCollision: return records::failure::kStartInCollision;
-    case motion::PlanStatus::kGoalInCollision: return records::failure::kGoalInCollision;
-    case motion::PlanStatus::kTimeout: return records::failure::kPlanTimeout;
-    case motion::PlanStatus::kInvalidInput: return records::failure::kInvalid;
+    case motion::PlanStatus::kSuccess: return FailureCause::kNone;
+    case motion::PlanStatus::kNoIk: return FailureCause::kNoIk;
+    case motion::PlanStatus::kStartInCollision: return FailureCause::kStartInCollision;
+    case motion::PlanStatus::kGoalInCollision: return FailureCause::kGoalInCollision;
+    case motion::PlanStatus::kTimeout: return FailureCause::kPlanTimeout;
+    case motion::PlanStatus::kInvalidInput: return FailureCause::kInvalidInput;
   }
-  return records::failure::kInvalid;
+  return FailureCause::kInvalidInput;
 }
 
 

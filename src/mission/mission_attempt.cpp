@@ -6,7 +6,6 @@
 
 namespace canopy::mission {
 
-using namespace phase;
 
 ViewRecord Mission::Impl::open_record(const nbv::PlannedView& view, ViewPhase phase) const {
   ViewRecord rec;
@@ -21,15 +20,15 @@ ViewRecord Mission::Impl::open_record(const nbv::PlannedView& view, ViewPhase ph
   return rec;
 }
 
-ViewRecord& Mission::Impl::close_record(ViewRecord& rec, const std::string& cause, const std::string& message) {
+ViewRecord& Mission::Impl::close_record(ViewRecord& rec, FailureCause cause, const std::string& message) {
   rec.failure = cause;
   rec.message = message;
-  rec.success = cause.empty();
+  rec.success = cause == FailureCause::kNone;
   rec.successful_views = ok_views_ + rec.success;
   rec.sim_time_s = sim.time();
   rec.base_travel_m = result.base_travel_m;
   set_map_metrics(last_metrics, &rec);
-  if (!rec.success) ++result.failures[cause];
+  if (!rec.success) ++result.failures[to_string(cause)];
   result.times.merge(rec.times);
   ++current_attempt;
   return rec;
@@ -58,7 +57,7 @@ motion::PlanResult Mission::Impl::plan_move(const BasePose& base, const ArmConfi
 
 ArmMove Mission::Impl::move(const motion::PlanResult& plan, const nbv::PlannedView& view,
                             const sim::SimState& before, PhaseTimes& times) {
-  ScopedPhase phase_time(times, kControl);
+  ScopedPhase phase_time(times, to_string(WallPhase::kControl));
   return move_arm(stepper, model, plan.trajectory, view.T_world_camera, settings.motion.execution, &truth_checker,
                   before);
 }
@@ -76,10 +75,10 @@ void Mission::Impl::leave_collision(const motion::PlanResult& plan, const nbv::P
 Mission::Impl::Look Mission::Impl::take_look(PhaseTimes& times) {
   Look look;
   {
-    ScopedPhase phase_time(times, kRendering);
+    ScopedPhase phase_time(times, to_string(WallPhase::kRendering));
     look.frame = renderer.render_wrist_camera();
   }
-  ScopedPhase phase_time(times, kMapping);
+  ScopedPhase phase_time(times, to_string(WallPhase::kMapping));
   look.cloud = extractor.extract(look.frame);
   return look;
 }
@@ -88,16 +87,16 @@ ViewRecord Mission::Impl::attempt(const nbv::PlannedView& view, ViewPhase phase)
   ViewRecord rec = open_record(view, phase);
   const BasePose base = sim.base_pose();
   const ArmConfig q0 = sim.arm_positions();
-  auto finish = [&](const std::string& cause, const std::string& message) { return close_record(rec, cause, message); };
+  auto finish = [&](FailureCause cause, const std::string& message) { return close_record(rec, cause, message); };
 
   // Motion planning: IK, then OMPL against the map.
   motion::PlanResult plan;
   std::vector<ArmConfig> goals;
   bool overlap = false;
   {
-    ScopedPhase phase_time(rec.times, kMotionPlanning);
+    ScopedPhase phase_time(rec.times, to_string(WallPhase::kMotionPlanning));
     goals = motion::view_goal_configs(model, view, base, q0);
-    if (goals.empty()) return finish(failure::kNoIk, "no IK solution within the joint limits");
+    if (goals.empty()) return finish(FailureCause::kNoIk, "no IK solution within the joint limits");
     overlap = may_overlap();
     if (!overlap) scans.follow();
     plan = plan_move(base, q0, goals);
@@ -124,7 +123,7 @@ ViewRecord Mission::Impl::attempt(const nbv::PlannedView& view, ViewPhase phase)
     if (moved.diverged.empty() && moved.report.success) look = take_look(rec.times);
     motion::PlanResult checked;
     {
-      ScopedPhase phase_time(rec.times, kMotionPlanning);
+      ScopedPhase phase_time(rec.times, to_string(WallPhase::kMotionPlanning));
       scans.follow();
       checked = plan_move(base, q0, goals);
     }
@@ -153,7 +152,7 @@ ViewRecord Mission::Impl::attempt(const nbv::PlannedView& view, ViewPhase phase)
     ++result.unstable_faults;
     progress(std::string("view ") + std::to_string(current_attempt) + ": " + moved.diverged +
              "; restored the state before the move");
-    return finish(failure::kUnstable, moved.diverged);
+    return finish(FailureCause::kUnstable, moved.diverged);
   }
   const motion::MoveReport& report = moved.report;
   rec.move_time_s = report.duration_s;
@@ -161,7 +160,7 @@ ViewRecord Mission::Impl::attempt(const nbv::PlannedView& view, ViewPhase phase)
   rec.self_contacts = report.self_contact_steps;
   rec.position_error_m = report.position_error_m;
   rec.angle_error_rad = report.angle_error_rad;
-  if (!report.success) return finish(failure::kNotReached, report.message);
+  if (!report.success) return finish(FailureCause::kNotReached, report.message);
 
   if (!look) look = take_look(rec.times);
   const LabelledFrame& frame = look->frame;
@@ -171,14 +170,14 @@ ViewRecord Mission::Impl::attempt(const nbv::PlannedView& view, ViewPhase phase)
   // The insertion, the NBV index and the metrics on the second core beside the next move
   // (scan_pipeline.h), the planner's environment before it plans.
   {
-    ScopedPhase phase_time(rec.times, kMapping);
+    ScopedPhase phase_time(rec.times, to_string(WallPhase::kMapping));
     settle();  // the last scan's mapping ends before the map changes
     if (callbacks.replay) callbacks.replay->record_frame(frame);
     scans.start(std::move(look->cloud), settings.mission.record.metrics_every_view);
     background_view_ = result.views.size();  // the row this record will take
   }
   for_each_planner([&](nbv::ViewPlanner& p) { p.taken(frame.T_world_camera); });
-  close_record(rec, "", "camera within tolerance");
+  close_record(rec, FailureCause::kNone, "camera within tolerance");
   if (callbacks.on_view) {
     scans.follow();  // the callback may read the map
     callbacks.on_view(rec, frame, sim);
@@ -197,7 +196,7 @@ void Mission::Impl::record(const ViewRecord& v, const nbv::PlannedView& view) {
   nbv::ViewOutcome o;
   o.view = view;
   o.success = v.success;
-  o.failure = v.failure;
+  o.failure = to_string(v.failure);
   o.detail = v.start_repair.empty() ? v.message : v.message + " (start repaired: " + v.start_repair + ")";
   o.T_reached = v.T_reached;
   o.stop = v.stop;

@@ -36,8 +36,8 @@ using records::caption_line;
 using records::progress_line;
 using records::set_map_metrics;
 using records::zero_coverage_reason;
-namespace failure = records::failure;
-namespace phase = records::phase;
+using records::FailureCause;
+using records::WallPhase;
 using settings::Settings;
 
 struct Mission::Impl {
@@ -103,7 +103,7 @@ struct Mission::Impl {
   ViewRecord open_record(const nbv::PlannedView& view, ViewPhase phase) const;
 
   // Ends an attempt: its outcome ("" = success), the figures after it, the counters.
-  ViewRecord& close_record(ViewRecord& rec, const std::string& cause, const std::string& message);
+  ViewRecord& close_record(ViewRecord& rec, FailureCause cause, const std::string& message);
 
   // Waits for the last scan's mapping (scan_pipeline.h) and completes the records that waited
   // for its metrics.

@@ -8,7 +8,6 @@
 
 namespace canopy::mission {
 
-using namespace phase;
 
 std::vector<nbv::PlannedView> Mission::Impl::tour(std::vector<nbv::PlannedView> views,
                                                   std::vector<nbv::PlannedView>* unreachable) {
@@ -43,7 +42,7 @@ int Mission::Impl::replace_failed(const std::vector<nbv::PlannedView>& failed, V
   req.attempts_left = attempts_left;
   bool cleared = false;
   req.reachable = [&](const nbv::PlannedView& v) {
-    ScopedPhase t(result.times, kNbvPlanning);
+    ScopedPhase t(result.times, to_string(WallPhase::kNbvPlanning));
     if (!cleared) clear_robot_volume();  // the arm has not moved since: once is enough
     cleared = true;
     return motion::has_free_goal(model, &planner.goal_checker(), v, sim.base_pose(), sim.arm_positions());
@@ -65,7 +64,7 @@ int Mission::Impl::replace_failed(const std::vector<nbv::PlannedView>& failed, V
     req.failed = f;
     req.options.clear();
     {
-      ScopedPhase t(result.times, kNbvPlanning);
+      ScopedPhase t(result.times, to_string(WallPhase::kNbvPlanning));
       for (const ScanView& c : scan_replacements(scan, model.T_base_arm(), *spec)) {
         nbv::PlannedView v;
         v.T_world_camera = T_world_base * c.T_base_camera;
@@ -88,7 +87,7 @@ void Mission::Impl::record_unreachable(const std::vector<nbv::PlannedView>& view
     check_stop();
     if (attempts_left) --*attempts_left;
     ViewRecord r = open_record(v, phase);
-    record(close_record(r, failure::kNoIk, "no IK solution within the joint limits"), v);
+    record(close_record(r, FailureCause::kNoIk, "no IK solution within the joint limits"), v);
   }
 }
 
@@ -104,7 +103,7 @@ void Mission::Impl::scripted(const std::vector<Pose>& poses, ViewPhase phase) {
   std::vector<nbv::PlannedView> unreachable;
   std::vector<nbv::PlannedView> ordered;
   {
-    ScopedPhase t(result.times, kNbvPlanning);
+    ScopedPhase t(result.times, to_string(WallPhase::kNbvPlanning));
     ordered = tour(views, &unreachable);
   }
   record_unreachable(unreachable, phase);
@@ -133,7 +132,7 @@ void Mission::Impl::nbv_loop(int k, int scan_views_count) {
     motion::NextViews next = motion::next_views(map, index, p, arm, req);
     result.times.merge(next.batch.times);
     // The planner's own phases are in batch.times; the rest (tour, bookkeeping) here.
-    result.times.add(kNbvPlanning, std::max(0.0, watch.seconds() - next.batch.times.total()));
+    result.times.add(to_string(WallPhase::kNbvPlanning), std::max(0.0, watch.seconds() - next.batch.times.total()));
     s.guarded += static_cast<int>(next.guarded);
     return next;
   };
@@ -159,14 +158,14 @@ void Mission::Impl::nbv_loop(int k, int scan_views_count) {
     req.max_views = static_cast<std::size_t>(attempts_left);
     {
       // Every use of the collision environment at planning sees it without the robot's volume.
-      ScopedPhase t(result.times, kNbvPlanning);
+      ScopedPhase t(result.times, to_string(WallPhase::kNbvPlanning));
       clear_robot_volume();
     }
     const std::uint64_t round_seed = mix_seed(seed, 5000 + std::uint64_t(k) * 1000 + std::uint64_t(s.rounds));
     motion::NextViews next = plan_round(*view_planner, round_seed, true);
     check_stop();  // a stop requested while the planner ran (a Python planner's KeyboardInterrupt) wins
     if (audit) {
-      ScopedPhase t(result.times, kEvaluation);
+      ScopedPhase t(result.times, to_string(WallPhase::kEvaluation));
       audit->end_round(map, index, next.batch, k, s.rounds, ok_views_, round_seed, req.region, *req.T_world_camera);
     }
     ++s.rounds;

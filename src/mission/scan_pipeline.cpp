@@ -70,11 +70,11 @@ void ScanPipeline::run() {
       changed_.notify_all();
     };
     const std::uint64_t revision = map_.revision();
-    step(phase::kMapping, Stage::kInserted, &insert_error_, [&] { inserter_.insert(cloud_); });
-    step(phase::kMapping, Stage::kIndexed, &index_error_,
+    step(to_string(WallPhase::kMapping), Stage::kInserted, &insert_error_, [&] { inserter_.insert(cloud_); });
+    step(to_string(WallPhase::kMapping), Stage::kIndexed, &index_error_,
          [&] { index_.apply_updates(map_, revision, inserter_.last_updates()); });
     // No metrics and no replay: nothing to do.
-    step(metrics ? phase::kEvaluation : replay_ ? phase::kMapping : nullptr, Stage::kDone, &error_, [&] {
+    step(metrics ? to_string(WallPhase::kEvaluation) : replay_ ? to_string(WallPhase::kMapping) : nullptr, Stage::kDone, &error_, [&] {
       if (metrics) evaluator_.update(map_, inserter_.last_updates());
       if (replay_) replay_->record_scan(map_, inserter_.last_updates(), &inserter_.last_occupancy());
       if (replay_ && metrics) replay_->record_fruits(evaluator_.metrics());

@@ -4,10 +4,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <fstream>
 #include <sstream>
 
+#include "canopy/common/csv.h"
 #include "canopy/common/error.h"
 #include "canopy/common/value_text.h"
 #include "canopy/nbv/view_features.h"
@@ -44,32 +44,26 @@ std::vector<std::string> audit_score_names() {
 }
 
 std::string candidates_csv(const std::vector<CandidateRecord>& records) {
-  std::string s = "stop,round,views_before,cluster,x,y,z,qw,qx,qy,qz,chosen,planner_gain,frustum,truth";
-  for (const std::string& n : audit_score_names()) s += "," + n;
-  for (const std::string& n : nbv::view_feature_names()) s += ",f:" + n;
-  s += "\n";
-  char b[64];
-  auto num = [&](double x) {
-    c_snprintf(b, sizeof b, "%.17g", x);
-    return std::string(b);
-  };
+  std::vector<std::string> header = {"stop",  "round", "views_before", "cluster", "x",
+                                     "y",     "z",     "qw",           "qx",      "qy",
+                                     "qz",    "chosen", "planner_gain", "frustum", "truth"};
+  for (const std::string& n : audit_score_names()) header.push_back(n);
+  for (const std::string& n : nbv::view_feature_names()) header.push_back("f:" + n);
+  CsvWriter csv(header);
+  constexpr NumberFormat k17 = NumberFormat::kDigits17;
   for (const CandidateRecord& r : records) {
     const Vec3 t = r.T_world_camera.translation();
     const Eigen::Quaterniond q(r.T_world_camera.linear());
-    s += std::to_string(r.stop) + "," + std::to_string(r.round) + "," + std::to_string(r.views_before) + "," +
-         std::to_string(r.cluster) + "," + num(t.x()) + "," + num(t.y()) + "," + num(t.z()) + "," + num(q.w()) + "," +
-         num(q.x()) + "," + num(q.y()) + "," + num(q.z()) + "," + (r.chosen ? "1" : "0") + "," + num(r.planner_gain) +
-         "," + std::to_string(r.frustum) + "," + std::to_string(r.truth);
-    for (const double x : r.scores) s += "," + num(x);
-    for (std::size_t i = 0; i < nbv::view_feature_names().size(); ++i) {
-      // Features are floats: 9 significant digits give them back exactly.
-      c_snprintf(b, sizeof b, "%.9g", i < r.features.size() ? double(r.features[i]) : std::nan(""));
-      s += ",";
-      s += b;
-    }
-    s += "\n";
+    csv.add(r.stop).add(r.round).add(r.views_before).add(r.cluster);
+    for (const double x : {t.x(), t.y(), t.z(), q.w(), q.x(), q.y(), q.z()}) csv.add(x, k17);
+    csv.add_flag(r.chosen).add(r.planner_gain, k17).add(r.frustum).add(r.truth);
+    for (const double x : r.scores) csv.add(x, k17);
+    // Features are floats: 9 significant digits give them back exactly (NaN: missing).
+    for (std::size_t i = 0; i < nbv::view_feature_names().size(); ++i)
+      csv.add(i < r.features.size() ? double(r.features[i]) : std::nan(""), NumberFormat::kDigits9);
+    csv.end_row();
   }
-  return s;
+  return csv.take();
 }
 
 std::vector<GainTruthRow> gain_truth(const std::vector<std::string>& files) {
@@ -122,15 +116,14 @@ std::vector<GainTruthRow> gain_truth(const std::vector<std::string>& files) {
 }
 
 std::string gain_truth_csv(const std::vector<GainTruthRow>& rows) {
-  std::string s = "score,rounds,spearman,top1,top5,mean_oracle_rank,truth_share\n";
-  char b[256];
+  CsvWriter csv({"score", "rounds", "spearman", "top1", "top5", "mean_oracle_rank", "truth_share"});
   for (const GainTruthRow& r : rows) {
     const evaluation::RankAgreement& a = r.agreement;
-    c_snprintf(b, sizeof b, "%s,%zu,%.4f,%.4f,%.4f,%.3f,%.4f\n", r.score.c_str(), a.rounds, a.mean_spearman(),
-                  a.top1_rate(), a.top5_rate(), a.mean_rank(), a.mean_truth_share());
-    s += b;
+    csv.add(r.score).add(a.rounds).add(format_number(a.mean_spearman(), "%.4f")).add(format_number(a.top1_rate(), "%.4f"))
+        .add(format_number(a.top5_rate(), "%.4f")).add(format_number(a.mean_rank(), "%.3f"))
+        .add(format_number(a.mean_truth_share(), "%.4f")).end_row();
   }
-  return s;
+  return csv.take();
 }
 
 }  // namespace canopy::records

@@ -10,13 +10,73 @@
 
 namespace canopy::records {
 
-const char* to_string(ViewPhase p) {
-  switch (p) {
-    case ViewPhase::kInitial: return "initial";
-    case ViewPhase::kNbv: return "nbv";
-    case ViewPhase::kPredefined: return "predefined";
+const char* to_string(ViewPhase phase) { return enum_name(kViewPhaseNames, phase); }
+const char* to_string(FailureCause cause) { return enum_name(kFailureCauseNames, cause); }
+const char* to_string(WallPhase phase) { return enum_name(kWallPhaseNames, phase); }
+const char* to_string(PlotCategory category) { return enum_name(kPlotCategoryNames, category); }
+
+const std::vector<PlotCategoryInfo>& plot_categories() {
+  using W = WallPhase;
+  static const std::vector<PlotCategoryInfo> table = {
+      {PlotCategory::kMapping, "mapping", {W::kMapping}, true},
+      {PlotCategory::kNbvPlanning, "NBV planning", {W::kClustering, W::kCandidates, W::kFiltering, W::kScoring, W::kNbvPlanning}, true},
+      {PlotCategory::kMotionPlanning, "motion planning", {W::kMotionPlanning}, true},
+      {PlotCategory::kControl, "control", {W::kControl}, true},
+      {PlotCategory::kRendering, "rendering", {W::kRendering}, false},
+      {PlotCategory::kEvaluation, "evaluation", {W::kEvaluation}, false},
+  };
+  return table;
+}
+
+namespace {
+// How each phase's cameras are drawn, and the legend's words for them.
+struct ViewPhaseStyle {
+  ViewPhase phase;
+  Rgb8 colour;
+  const char* legend;
+};
+constexpr ViewPhaseStyle kViewPhaseStyles[] = {
+    {ViewPhase::kInitial, {0x8e, 0x44, 0xad}, "initial scan"},
+    {ViewPhase::kNbv, {0x1f, 0x77, 0xb4}, "next-best view"},
+    {ViewPhase::kPredefined, {0x17, 0xbe, 0xcf}, "predefined"},
+    {ViewPhase::kMapView, {0x1f, 0x77, 0xb4}, "view"},
+};
+constexpr Rgb8 kFailedViewColour{0xe3, 0x77, 0xc2};
+
+const ViewPhaseStyle& style_of(ViewPhase phase) {
+  for (const ViewPhaseStyle& s : kViewPhaseStyles)
+    if (s.phase == phase) return s;
+  return kViewPhaseStyles[0];
+}
+
+std::string hex(const Rgb8& c) {
+  char b[8];
+  c_snprintf(b, sizeof b, "#%02x%02x%02x", c.r, c.g, c.b);
+  return b;
+}
+}  // namespace
+
+Rgb8 view_colour(ViewPhase phase, bool success) { return success ? style_of(phase).colour : kFailedViewColour; }
+const char* view_phase_legend(ViewPhase phase) { return style_of(phase).legend; }
+
+nlohmann::json vocabulary_json() {
+  nlohmann::json phases = nlohmann::json::array(), causes = nlohmann::json::array(), walls = nlohmann::json::array(),
+                 categories = nlohmann::json::array();
+  for (const auto& p : kViewPhaseNames)
+    phases.push_back({{"name", p.name}, {"colour", hex(view_colour(p.value, true))}, {"legend", view_phase_legend(p.value)}});
+  for (const auto& c : kFailureCauseNames)
+    if (c.value != FailureCause::kNone) causes.push_back(c.name);
+  for (const auto& w : kWallPhaseNames) walls.push_back(w.name);
+  for (const PlotCategoryInfo& c : plot_categories()) {
+    nlohmann::json sums = nlohmann::json::array();
+    for (const WallPhase w : c.phases) sums.push_back(to_string(w));
+    categories.push_back({{"name", to_string(c.category)}, {"title", c.title}, {"phases", sums}, {"paper", c.paper}});
   }
-  return "?";
+  return {{"view_phases", phases},
+          {"failed_view_colour", hex(kFailedViewColour)},
+          {"failure_causes", causes},
+          {"wall_phases", walls},
+          {"plot_categories", categories}};
 }
 
 std::string zero_coverage_reason(const MissionResult& result, const std::string& target, perception::LabelSource labels) {
@@ -52,7 +112,7 @@ void set_map_metrics(const evaluation::MapMetrics& m, ViewRecord* rec) {
 std::string progress_line(const ViewRecord& v, int stops, double elapsed_s) {
   char b[200];
   c_snprintf(b, sizeof b, "stop %d/%d: %s view %d %s%s (views %d, SC %.3f, elapsed %.1f s)", v.stop + 1, stops,
-                to_string(v.phase), v.attempt + 1, v.success ? "ok" : "failed: ", v.success ? "" : v.failure.c_str(),
+                to_string(v.phase), v.attempt + 1, v.success ? "ok" : "failed: ", v.success ? "" : to_string(v.failure),
                 v.successful_views, v.coverage, elapsed_s);
   return v.success || v.message.empty() ? std::string(b) : std::string(b) + ": " + v.message;
 }
@@ -74,7 +134,7 @@ void StopRecord::count(const ViewRecord& v) {
     ++nbv_attempted;
     nbv_ok += v.success;
   }
-  if (!v.success) ++failures[v.failure];
+  if (!v.success) ++failures[to_string(v.failure)];
 }
 
 int MissionResult::successful_views() const {

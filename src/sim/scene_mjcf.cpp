@@ -1,7 +1,6 @@
 #include "canopy/sim/scene_mjcf.h"
 
 #include <algorithm>
-#include <charconv>
 #include <functional>
 #include <map>
 #include <tuple>
@@ -9,6 +8,7 @@
 #include <sstream>
 
 #include "canopy/common/error.h"
+#include "canopy/common/value_text.h"
 
 namespace canopy::sim {
 
@@ -19,19 +19,8 @@ using robot::Link;
 using robot::Shape;
 using robot::ShapeType;
 
-// The shortest text that reads back as exactly `v` (std::to_chars): full precision, and the
-// buffer grows instead of truncating.
-std::string num(double v) {
-  std::string text(24, '\0');
-  for (;;) {
-    const auto [end, ec] = std::to_chars(text.data(), text.data() + text.size(), v);
-    if (ec == std::errc()) {
-      text.resize(static_cast<std::size_t>(end - text.data()));
-      return text;
-    }
-    text.resize(2 * text.size());
-  }
-}
+// Numbers in the scene: the shortest text that reads back as exactly `v`.
+std::string num(double v) { return format_number(v, NumberFormat::kShortest); }
 std::string rgb_text(double r, double g, double b) { return num(r) + " " + num(g) + " " + num(b); }
 // The sun (world file `lighting`): the fixed sun, as always written, or the world seed's.
 std::string sun_light(const world::WorldSpec& spec) {

@@ -132,7 +132,7 @@ VideoWriter::VideoWriter(std::string path, int width, int height, double fps)
   options.finish_timeout_s = kEncoderFinishTimeout_s;
   encoder_ = std::make_unique<PipedProcess>(std::vector<std::string>{
       "ffmpeg", "-loglevel", "error", "-y", "-f", "rawvideo", "-pix_fmt", "bgr24", "-s",
-      std::to_string(width) + "x" + std::to_string(height), "-r", format_number(fps, "%.9g"), "-i", "-", "-c:v", "libx264",
+      std::to_string(width) + "x" + std::to_string(height), "-r", format_number(fps, NumberFormat::kDigits9), "-i", "-", "-c:v", "libx264",
       "-preset", "veryfast", "-crf", "20", "-pix_fmt", "yuv420p", "-metadata", std::string("comment=") + kVideoComment,
       "-movflags", "+faststart", tmp_path_}, options);
   if (!encoder_->started())

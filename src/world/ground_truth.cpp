@@ -10,6 +10,7 @@
 #include "canopy/common/error.h"
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/read_file.h"
+#include "canopy/common/csv.h"
 #include "canopy/common/value_text.h"
 #include "canopy/common/random.h"
 #include "canopy/world/world.h"
@@ -104,14 +105,12 @@ void GroundTruth::save(const std::string& dir) const {
                            {"num_points", f.surface_points.size()}});
   }
   write_json_atomic(dir + "/fruits.json", j);
-  std::string csv = "instance_id,x,y,z\n";
-  char line[128];
+  CsvWriter csv({"instance_id", "x", "y", "z"});
   for (const auto& f : fruits)
-    for (const auto& p : f.surface_points) {
-      c_snprintf(line, sizeof(line), "%d,%.17g,%.17g,%.17g\n", f.instance_id, p.x(), p.y(), p.z());
-      csv += line;
-    }
-  write_file_atomic(dir + "/fruit_points.csv", csv);
+    for (const auto& p : f.surface_points)
+      csv.add(f.instance_id).add(p.x(), NumberFormat::kDigits17).add(p.y(), NumberFormat::kDigits17)
+          .add(p.z(), NumberFormat::kDigits17).end_row();
+  write_file_atomic(dir + "/fruit_points.csv", csv.str());
 }
 
 GroundTruth GroundTruth::load(const std::string& dir) {

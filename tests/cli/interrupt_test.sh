@@ -86,11 +86,11 @@ for sig in INT TERM; do
     out="$tmp/mission_${sig}_$moment"
     interrupt "mission_${sig}_$moment" "$sig" "$moment" "initial view 3 " -- \
       "$canopy" mission --world worlds/small.yaml --views-per-stop 8 --out "$out"
-    saved_or_nothing "$out" summary.json "mission $sig $moment" "$moment" views.csv map.csm sc_entropy.png report.html
+    saved_or_nothing "$out" summary.json "mission $sig $moment" "$moment" views.csv map.csm sc_entropy.svg report.html
     out="$tmp/run_${sig}_$moment"
     interrupt "run_${sig}_$moment" "$sig" "$moment" "initial view 3 " -- \
       "$canopy" run --world worlds/small.yaml --views-per-stop 8 --no-report --out "$out"
-    saved_or_nothing "$out" summary.json "run $sig $moment" "$moment" views.csv runtime.png
+    saved_or_nothing "$out" summary.json "run $sig $moment" "$moment" views.csv runtime.svg
   done
 done
 

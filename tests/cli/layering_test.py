@@ -13,6 +13,7 @@ import sys
 ROOT = pathlib.Path(sys.argv[1] if len(sys.argv) > 1 else ".")
 ALLOWED = {
     "common": set(),
+    "ros2": {"common"},
     "robot": {"common"},
     "world": {"common", "robot"},
     "sim": {"common", "robot", "world"},

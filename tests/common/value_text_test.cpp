@@ -8,11 +8,26 @@
 namespace canopy {
 namespace {
 
-TEST(ValueText, FormatNumberFollowsItsPrintfFormat) {
+TEST(ValueText, FormatNumberFollowsItsFormat) {
   EXPECT_EQ(format_number(0.1), "0.1");
   EXPECT_EQ(format_number(1.0 / 3.0), "0.333333333");
-  EXPECT_EQ(std::stod(format_number(1.0 / 3.0, "%.17g")), 1.0 / 3.0);
+  EXPECT_EQ(format_number(1.0 / 3.0, NumberFormat::kDigits6), "0.333333");
+  EXPECT_EQ(format_number(1.0 / 3.0, NumberFormat::kDigits17), "0.33333333333333331");
+  EXPECT_EQ(std::stod(format_number(1.0 / 3.0, NumberFormat::kDigits17)), 1.0 / 3.0);
   EXPECT_EQ(format_number(2.5, "%.3f"), "2.500");
+  EXPECT_EQ(format_number(1.5e-5, NumberFormat::kDigits9), "1.5e-05");
+}
+
+// The shortest form reads back to the same double and is never longer than 17 digits' form.
+TEST(ValueText, ShortestReadsBackExactly) {
+  EXPECT_EQ(format_number(0.1, NumberFormat::kShortest), "0.1");
+  EXPECT_EQ(format_number(-0.015, NumberFormat::kShortest), "-0.015");
+  EXPECT_EQ(format_number(1e300, NumberFormat::kShortest), "1e+300");
+  for (const double x : {1.0 / 3.0, 2.0 / 7.0, 1e-300, 123456.789, -0.0}) {
+    const std::string s = format_number(x, NumberFormat::kShortest);
+    EXPECT_EQ(std::stod(s), x) << s;
+    EXPECT_LE(s.size(), format_number(x, NumberFormat::kDigits17).size()) << s;
+  }
 }
 
 TEST(ValueText, ParsesPosesAndRejectsBadOnes) {
@@ -35,14 +50,6 @@ TEST(ValueText, WholeNumbersAndShardsDoNotWrapAround) {
   EXPECT_THROW(parse_numbers("0x10,0,0", 3, "--base"), InputError);
   EXPECT_THROW(parse_numbers("inf,0,0", 3, "--base"), InputError);
   EXPECT_EQ(parse_numbers("-1.5e2, 2 ,3", 3, "--base")[0], -150.0);
-}
-
-TEST(ValueText, CsvLinesSplitAtEveryCommaWithEmptyFieldsKept) {
-  EXPECT_EQ(split_csv_line("a,b,c"), (std::vector<std::string>{"a", "b", "c"}));
-  EXPECT_EQ(split_csv_line("a,,c"), (std::vector<std::string>{"a", "", "c"}));
-  EXPECT_EQ(split_csv_line("a,b,"), (std::vector<std::string>{"a", "b", ""}));  // a last, empty field
-  EXPECT_EQ(split_csv_line(",").size(), 2u);
-  EXPECT_TRUE(split_csv_line("").empty());
 }
 
 }  // namespace

@@ -66,7 +66,7 @@ done
 "$canopy" report "$dir/par" --no-plots 2>/dev/null
 "$canopy" report "$dir/full" 2>/dev/null
 cmp "$dir/par/report/curves.csv" "$dir/full/report/curves.csv" || fail "shards and one process differ in curves.csv"
-for f in curves.csv runtime.csv findings.md trials.json fig3_entropy_coverage.png fig4_runtime.png; do
+for f in curves.csv runtime.csv findings.md trials.json fig3_entropy_coverage.svg fig4_runtime.svg; do
   [[ -s "$dir/full/report/$f" ]] || fail "report: missing $f"
 done
 grep -q "4 expected, 4 ok, 0 failed, 0 missing" "$dir/full/report/findings.md" || fail "findings: $(head -3 "$dir/full/report/findings.md")"

@@ -55,6 +55,25 @@ void expect_input_error(const std::string& text, const std::string& fragment) {
   }
 }
 
+// A method entry is read by its visitor: every key named, checked against the registries the
+// settings' method section uses, and an unknown key refused.
+TEST(Experiment, MethodEntriesAreReadByTheirVisitor) {
+  const std::string ours = "{label: ours, method: ours}";
+  expect_input_error(replaced(kBase, ours, "{label: ours, method: nope}"),
+                     "key 'methods[0].method': value 'nope' is not a view planner (ours, frontier");
+  expect_input_error(replaced(kBase, ours, "{label: ours, method: ours, gain: nope}"),
+                     "key 'methods[0].gain': value 'nope' must be one of: ");
+  expect_input_error(replaced(kBase, ours, "{label: ours, method: ours, rays: nope}"), "key 'methods[0].rays'");
+  expect_input_error(replaced(kBase, ours, "{label: ours, method: ours, gian: ae}"), "methods[0].gian");
+  expect_input_error(replaced(kBase, ours, "{label: ours}"), "methods[0].method");
+  const Experiment e = load(replaced(kBase, ours, "{method: ours, gain: ae, rays: dense, set: {nbv.gain.proximity: per_voxel}}"));
+  EXPECT_EQ(e.methods[0].label, "ours-ae-dense");
+  EXPECT_EQ(e.methods[0].choice.gain, "ae");
+  EXPECT_EQ(e.methods[0].choice.rays, "dense");
+  ASSERT_EQ(e.methods[0].set.size(), 1u);
+  EXPECT_EQ(e.methods[0].set[0], (settings::SettingOverride{"nbv.gain.proximity", "per_voxel"}));
+}
+
 TEST(Experiment, ParsesTrialsInSeedMajorOrderWithStableIds) {
   const Experiment e = load(kBase);
   EXPECT_EQ(e.settings.mission.loop.views_per_stop, 2);  // the override

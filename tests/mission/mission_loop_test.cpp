@@ -135,9 +135,9 @@ TEST(MissionLoop, TheAttemptCapBoundsAFloodAndThePlannerLearnsEveryOutcome) {
     const nbv::ViewOutcome& o = Flood::told()[i];
     EXPECT_EQ(o.attempt, r.views[i].attempt);
     EXPECT_EQ(o.success, r.views[i].success);
-    EXPECT_EQ(o.failure, r.views[i].failure);
+    EXPECT_EQ(o.failure, to_string(r.views[i].failure));
     if (o.phase == "nbv") {
-      EXPECT_EQ(o.failure, failure::kNoIk);
+      EXPECT_EQ(o.failure, to_string(FailureCause::kNoIk));
       EXPECT_EQ(o.view.source, "flood");
       EXPECT_FALSE(o.detail.empty());
     }

@@ -1,7 +1,6 @@
 #include <gtest/gtest.h>
 
 #include "canopy/nbv/candidates.h"
-#include "canopy/nbv/ray_sets.h"
 #include "canopy/common/error.h"
 
 using namespace canopy;
@@ -44,43 +43,4 @@ TEST(Candidates, StraightDownHasAnUpVector) {
   EXPECT_TRUE(T.linear().allFinite());
   EXPECT_NEAR(T.linear().determinant(), 1.0, 1e-12);
   EXPECT_NEAR(T.linear().col(2).z(), -1.0, 1e-12);
-}
-
-// Ours at z = 0.4 m: b = 95.3 px, ds = 14.3 px, a proper 7 x 7 grid centred on the target.
-TEST(RaySets, OursIsAProperGrid) {
-  CameraIntrinsics K;
-  RayParams p;
-  std::vector<Vec2> px;
-  ray_set("ours").pixels(K, p, RayWindow{200.0, 200.0, 0.4}, &px);
-  ASSERT_EQ(px.size(), 49u);
-  const double ds = 0.015 * 381.36 / 0.4;
-  Vec2 mean = Vec2::Zero();
-  for (const auto& q : px) mean += q / 49.0;
-  EXPECT_NEAR(mean.x(), 200.0, 1e-9);
-  EXPECT_NEAR(mean.y(), 200.0, 1e-9);
-  for (int j = 0; j < 7; ++j)
-    for (int i = 0; i < 7; ++i) {
-      EXPECT_NEAR(px[j * 7 + i].x(), 200.0 + (i - 3) * ds, 1e-9);
-      EXPECT_NEAR(px[j * 7 + i].y(), 200.0 + (j - 3) * ds, 1e-9);  // rows are not sheared
-    }
-  // Near the border part of the grid falls outside; far outside none is left.
-  ray_set("ours").pixels(K, p, RayWindow{2.0, 200.0, 0.4}, &px);
-  EXPECT_EQ(px.size(), 28u);
-  ray_set("ours").pixels(K, p, RayWindow{-500.0, 200.0, 0.4}, &px);
-  EXPECT_TRUE(px.empty());
-  ray_set("ours").pixels(K, p, RayWindow{200.0, 200.0, 0.0}, &px);
-  EXPECT_TRUE(px.empty());
-}
-
-TEST(RaySets, DenseAndSparseCoverTheImage) {
-  CameraIntrinsics K;
-  std::vector<Vec2> px;
-  ray_set("dense").pixels(K, RayParams{}, RayWindow{}, &px);
-  EXPECT_EQ(px.size(), 784u);
-  ray_set("sparse").pixels(K, RayParams{}, RayWindow{}, &px);
-  ASSERT_EQ(px.size(), 36u);
-  EXPECT_NEAR(px.front().x(), 400.0 / 12, 1e-9);
-  EXPECT_NEAR(px.back().y(), 400.0 - 400.0 / 12, 1e-9);
-  EXPECT_EQ(ray_set_names(), (std::vector<std::string>{"ours", "dense", "sparse"}));
-  EXPECT_THROW(ray_set("all", "--rays"), InputError);
 }

@@ -57,30 +57,35 @@ TEST(ViewPlanner, RegisteredPlannersAreMadeByName) {
 }
 
 
-// The registry starts with the table of built-in planners, each made by its own entry.
-TEST(ViewPlanner, BuiltInPlannersComeFromTheirRoomsInTheTablesOrder) {
+
+// The failed-view rule (joins_failed_views): a view that failed for a cause of its own joins a
+// planner's failed_views(), once; a start in collision or an unstable simulation says nothing
+// about the view, and a success is no failure.
+TEST(ViewPlanner, FailedViewRule) {
   using namespace canopy::nbv;
-  const std::vector<ViewPlannerEntry> table = builtin_view_planners();
-  ASSERT_FALSE(table.empty());
-  EXPECT_EQ(table.front().name, "ours");  // the paper's method, the default
-  const std::vector<std::string> names = view_planner_names();
-  ASSERT_GE(names.size(), table.size());
-  for (std::size_t i = 0; i < table.size(); ++i) {
-    EXPECT_EQ(names[i], table[i].name);  // the registry starts with the table, in its order
-    EXPECT_FALSE(table[i].description.empty());
-    ViewPlannerSettings s;
-    s.method.name = table[i].name;
-    if (!table[i].reads_ground_truth) {
-      EXPECT_EQ(table[i].make(s)->name(), table[i].name);
-      continue;
-    }
-    // An oracle is declared here but built only by a context that holds the truth.
-    EXPECT_NE(table[i].description.find("READS THE GROUND TRUTH"), std::string::npos) << table[i].name;
-    try {
-      table[i].make(s);
-      ADD_FAILURE() << table[i].name << " built without a mission";
-    } catch (const canopy::InputError& e) {
-      EXPECT_NE(std::string(e.what()).find("reads the ground truth"), std::string::npos) << e.what();
-    }
+  ViewPlannerSettings s;
+  FixedPlanner planner(s);
+  const std::vector<std::pair<std::string, bool>> causes = {
+      {"no_ik", true},           {"goal_in_collision", true}, {"plan_timeout", true}, {"invalid_input", true},
+      {"not_reached", true},     {"start_in_collision", false}, {"unstable", false}};
+  double x = 0.0;
+  std::size_t joined = 0;
+  for (const auto& [cause, joins] : causes) {
+    ViewOutcome o;
+    o.view.T_world_camera.translation() = canopy::Vec3(x += 1.0, 0.0, 0.0);  // a view of its own
+    o.failure = cause;
+    EXPECT_EQ(joins_failed_views(o), joins) << cause;
+    planner.outcome(o);
+    joined += joins;
+    EXPECT_EQ(planner.failed_views().size(), joined) << cause;
+    EXPECT_EQ(planner.failed_views().contains(o.view.T_world_camera), joins) << cause;
   }
+  ViewOutcome again;  // the same view failing again is not added twice
+  again.view.T_world_camera.translation() = canopy::Vec3(1.0, 0.0, 0.0);
+  again.failure = "no_ik";
+  planner.outcome(again);
+  EXPECT_EQ(planner.failed_views().size(), joined);
+  ViewOutcome ok;
+  ok.success = true;
+  EXPECT_FALSE(joins_failed_views(ok));
 }

@@ -1,6 +1,6 @@
-// The table of per-view columns (view_columns.h): it is views.csv's header, a record's row
-// reads back to the record's values, the report's figures are where summary.json keeps them,
-// `canopy map`'s history keys stay what they were, and docs/commands.md holds its Markdown.
+// The tables of a view's fields (view_columns.h): views.csv's header, a record's row reads back
+// to the record's values, the report's figures are where summary.json keeps them, `canopy
+// map`'s history keys stay what they were (and read back), and docs/commands.md holds its Markdown.
 
 #include <gtest/gtest.h>
 
@@ -75,7 +75,7 @@ MissionResult two_views() {
   b.phase = ViewPhase::kPredefined;
   b.source = "predefined";
   b.success = false;
-  b.failure = failure::kNoIk;
+  b.failure = FailureCause::kNoIk;
   b.T_goal.translation() = Vec3(1.0, 2.0, 3.0);
   b.cluster = -1;
   b.centre_error_m = b.voxel_volume_error = b.ellipsoid_volume_error = std::nan("");
@@ -98,7 +98,7 @@ TEST(ViewColumns, AreViewsCsvsHeader) {
   for (std::size_t i = 0; i < names.size(); ++i) {
     EXPECT_EQ(view_columns()[i].name, names[i]);
     EXPECT_EQ(&view_column(names[i]), &view_columns()[i]);
-    EXPECT_NE(std::string(view_columns()[i].doc), "") << names[i];
+    EXPECT_NE(std::string(view_columns()[i].field.doc), "") << names[i];
   }
   EXPECT_THROW(view_column("no_such_column"), std::out_of_range);
 }
@@ -111,19 +111,24 @@ TEST(ViewColumns, ARecordsRowReadsBackToItsValues) {
   const std::vector<std::string> rows = lines(views_csv(r, "ours"));
   ASSERT_EQ(rows.size(), 3u);
   for (std::size_t k = 0; k < 2; ++k) {
-    const ViewRecord& v = r.views[k];
+    JsonFields json;  // the record's own values, by field
+    const_cast<ViewRecord&>(r.views[k]).visit(json, "ours");
     const std::vector<std::string> f = split(rows[k + 1]);
     ASSERT_EQ(f.size(), view_columns().size());
     for (std::size_t i = 0; i < f.size(); ++i) {
-      const ViewColumn& c = view_columns()[i];
-      const ColumnValue x = c.get(v, "ours");
-      if (std::holds_alternative<double>(x)) {
-        const double want = std::get<double>(x);
+      const FieldInfo& c = view_columns()[i];
+      const nlohmann::json& x = json.node.at(c.name);
+      if (x.is_null()) {
+        EXPECT_EQ(f[i], "") << c.name;
+      } else if (c.type == FieldType::kReal) {
+        const double want = x.get<double>();
         EXPECT_NEAR(std::stod(f[i]), want, 5e-9 * std::max(1.0, std::fabs(want))) << c.name;
-      } else if (std::holds_alternative<long long>(x)) {
-        EXPECT_EQ(std::stoll(f[i]), std::get<long long>(x)) << c.name;
+      } else if (c.type == FieldType::kFlag) {
+        EXPECT_EQ(f[i], x.get<bool>() ? "1" : "0") << c.name;
+      } else if (c.type == FieldType::kInt) {
+        EXPECT_EQ(std::stoll(f[i]), x.get<long long>()) << c.name;
       } else {
-        EXPECT_EQ(f[i], csv_field(x)) << c.name;
+        EXPECT_EQ(f[i], x.get<std::string>()) << c.name;
       }
     }
   }
@@ -159,7 +164,7 @@ TEST(ViewColumns, ARecordsRowReadsBackToItsValues) {
   EXPECT_EQ(f.entropy, std::vector<double>{41.5});
   ASSERT_EQ(f.curves.size(), curve_column_names().size());
   for (const std::string& name : curve_column_names())
-    EXPECT_EQ(f.curves.at(name), std::vector<double>{std::get<double>(view_column(name).get(r.views[0], ""))}) << name;
+    EXPECT_EQ(f.curves.at(name), std::vector<double>{views_json(r.views, "").at(name).at(0).get<double>()}) << name;
 }
 
 // The report's curves and figures at the end: unique, in the report's order, groups whole; each
@@ -171,21 +176,22 @@ TEST(ViewColumns, ReportFiguresAreWhereTheSummaryKeepsThem) {
   std::set<ReportGroup> closed;
   ReportGroup current = ReportGroup::kNone;
   const nlohmann::json summary = summary_json(two_views());
-  for (const ViewColumn* c : final_figure_columns()) {
-    keys.push_back(c->final.key);
-    if (c->final.group != current) {
-      EXPECT_FALSE(closed.count(c->final.group)) << c->name << ": its report group is split";
+  for (const FieldInfo* c : final_figure_columns()) {
+    const FinalFigure& fin = c->field.final;
+    keys.push_back(fin.key);
+    if (fin.group != current) {
+      EXPECT_FALSE(closed.count(fin.group)) << c->name << ": its report group is split";
       closed.insert(current);
-      current = c->final.group;
+      current = fin.group;
     }
-    EXPECT_NE(std::string(report_group_title(c->final.group)), "") << c->name;
+    EXPECT_NE(std::string(report_group_title(fin.group)), "") << c->name;
     const nlohmann::json* v = &summary;
-    std::stringstream path(c->final.path);
+    std::stringstream path(fin.path);
     for (std::string k; std::getline(path, k, '/');) {
-      ASSERT_TRUE(v->is_object() && v->contains(k)) << c->final.path;
+      ASSERT_TRUE(v->is_object() && v->contains(k)) << fin.path;
       v = &v->at(k);
     }
-    EXPECT_TRUE(v->is_number() || v->is_null()) << c->final.path;
+    EXPECT_TRUE(v->is_number() || v->is_null()) << fin.path;
   }
   EXPECT_EQ(keys, (std::vector<std::string>{"detection_precision", "detection_recall", "detection_f1",
                                             "detection_centre_error_m", "detection_voxel_volume_error",
@@ -205,6 +211,16 @@ TEST(ViewColumns, MapHistoryHoldsTheMapsFigures) {
                                {"fruits_sc50", 0.5},         {"fruits_sc80", 0.125},    {"detection_f1", 0.75},
                                {"fruit_voxel_precision", 0.875}};
   EXPECT_EQ(map_history_metrics(m), want);
+  // A record read from the history has the map's figures again (the report of canopy map).
+  ViewRecord v;
+  v.coverage = 0.9;
+  v.attempt = 7;
+  read_map_history(want, &v);
+  EXPECT_EQ(v.coverage, 0.25);
+  EXPECT_EQ(v.entropy, 12.0);
+  EXPECT_EQ(v.detection_f1, 0.75);
+  EXPECT_EQ(v.fruit_voxel_precision, 0.875);
+  EXPECT_EQ(v.attempt, 7);  // what the history does not hold is kept
 }
 
 // docs/commands.md holds the table's Markdown between its markers (regenerate it from the

@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "canopy/common/random.h"
@@ -122,6 +123,44 @@ TEST(RobotSim, WristCameraSeesThePlantFromHome) {
   }
   EXPECT_GT(leaf, 500);
   EXPECT_GT(valid, 500);
+}
+
+// The robot's link tree as a mission hands it to Python: every URDF link with a frame site,
+// each under its nearest such ancestor, the camera frame among them, and each pose the link's
+// frame pose now.
+TEST(RobotSim, RobotLinksAreATreeOfFramedLinks) {
+  const RobotConfig cfg = default_robot_config();
+  const robot::RobotDescription d = robot::RobotDescription::load_urdf(cfg.urdf_path);
+  Simulator sim(world::generate_world(tiny_world()), cfg);
+  sim.set_robot_state(BasePose{0.3, -0.2, 0.5}, cfg.home);
+  const RobotLinks links = sim.robot_links();
+  ASSERT_FALSE(links.links.empty());
+  ASSERT_EQ(links.parents.size(), links.links.size());
+  ASSERT_EQ(links.poses.size(), links.links.size());
+  bool camera = false;
+  for (std::size_t i = 0; i < links.links.size(); ++i) {
+    const std::string& name = links.links[i];
+    camera |= name == cfg.camera_frame;
+    EXPECT_NE(name, "world");
+    // The parent is the root or a link listed before it, and an ancestor in the URDF.
+    const auto earlier = std::find(links.links.begin(), links.links.begin() + static_cast<long>(i), links.parents[i]);
+    EXPECT_TRUE(links.parents[i] == "world" || earlier != links.links.begin() + static_cast<long>(i)) << name;
+    int at = -1;
+    for (std::size_t k = 0; k < d.links().size(); ++k)
+      if (d.links()[k].name == name) at = static_cast<int>(k);
+    ASSERT_GE(at, 0) << name << " is not a URDF link";
+    if (links.parents[i] != "world") {
+      bool ancestor = false;
+      for (int up = d.parent_link(at); up >= 0; up = d.parent_link(up)) ancestor |= d.links()[up].name == links.parents[i];
+      EXPECT_TRUE(ancestor) << links.parents[i] << " is not above " << name;
+    }
+    EXPECT_TRUE(links.poses[i].isApprox(sim.frame_pose(name))) << name;
+  }
+  EXPECT_TRUE(camera) << "the camera frame " << cfg.camera_frame << " is not a framed link";
+  // Without a robot: no links.
+  SceneDescription empty;
+  empty.mjcf = "<mujoco><worldbody/></mujoco>";
+  EXPECT_TRUE(Simulator(empty).robot_links().links.empty());
 }
 
 }  // namespace

@@ -26,35 +26,6 @@ std::string write_temp(const std::string& name, const std::string& text) {
   return path;
 }
 
-TEST(Mesh, PrimitivesAreClosedAndOutward) {
-  const TriMesh tube = make_tube({Vec3(0, 0, 0), Vec3(0, 0, 1)}, {0.1, 0.1}, 64);
-  EXPECT_NEAR(tube.volume(), M_PI * 0.01 * 1.0, 0.01 * M_PI * 0.01);
-  const std::vector<Vec2> profile = {{0, 0}, {0.5, -0.25}, {0.5, -0.75}, {0, -1}};
-  const TriMesh rev = make_lobed_revolution(profile, 32, 0, 0.0);
-  EXPECT_GT(rev.volume(), 0.0);
-}
-
-// The clean-up of imported meshes: welding within a tolerance, degenerate triangles counted,
-// unused vertices dropped, vertex clustering collapsing faces.
-TEST(Mesh, WeldCompactAndClusterVertices) {
-  const Vec3 a(0, 0, 0), b(1, 0, 0), c(0, 1, 0), d(1, 1, 0), jitter(1e-7, 0, 0);
-  long degenerate = 0;
-  std::vector<size_t> kept;
-  const TriMesh m = weld_triangles({{a, b, c}, {b + jitter, d, c}, {a, a + jitter, d}}, 1e-6, &degenerate, &kept);
-  EXPECT_EQ(m.vertices.size(), 4u);  // b and its jittered copy merged
-  EXPECT_EQ(m.faces.size(), 2u);
-  EXPECT_EQ(degenerate, 1);          // a, a + jitter, d collapses
-  EXPECT_EQ(kept, (std::vector<size_t>{0, 1}));
-  EXPECT_NEAR(m.area(), 1.0, 1e-12);
-  TriMesh unused = m;
-  unused.vertices.push_back(Vec3(5, 5, 5));
-  EXPECT_EQ(compact(unused).vertices.size(), 4u);
-  // A 2 m cell puts every vertex in one cell (the square lies in [0, 1]^2): nothing is left.
-  EXPECT_TRUE(cluster_vertices(m, 2.0).faces.empty());
-  // A 1 mm cell changes nothing.
-  EXPECT_EQ(cluster_vertices(m, 0.001).faces.size(), 2u);
-}
-
 TEST(WorldGeneration, SameSeedSameWorldOtherSeedOtherWorld) {
   const World a = generate_world(small_spec(7));
   const World b = generate_world(small_spec(7));
@@ -128,35 +99,6 @@ TEST(WorldGeneration, DefaultWorldHasEightDistinctPlantsWithLabelledParts) {
     EXPECT_NEAR(std::abs(p.base_position.y()), spec.rows.row_offset_m, spec.rows.position_jitter_m + 1e-9);
   }
   EXPECT_EQ(signatures.size(), 8u) << "plants should differ from each other";
-}
-
-TEST(GroundTruth, PointsLieOnFruitsWithTheRequestedDensity) {
-  const World w = generate_world(small_spec(3));
-  ASSERT_FALSE(w.truth.fruits.empty());
-  for (const auto& f : w.truth.fruits) {
-    const double expected = f.surface_area_m2 / (w.truth.point_spacing_m * w.truth.point_spacing_m);
-    EXPECT_NEAR(static_cast<double>(f.surface_points.size()), expected, 4.0 * std::sqrt(expected) + 5.0);
-    for (const auto& p : f.surface_points) {
-      EXPECT_TRUE((p.array() >= f.bbox_min.array() - 1e-9).all() && (p.array() <= f.bbox_max.array() + 1e-9).all());
-    }
-  }
-}
-
-TEST(GroundTruth, SaveLoadRoundTrip) {
-  const World w = generate_world(small_spec(4));
-  const std::string dir = testing::TempDir() + "/gt_roundtrip";
-  std::filesystem::create_directories(dir);
-  w.truth.save(dir);
-  const GroundTruth back = GroundTruth::load(dir);
-  ASSERT_EQ(back.fruits.size(), w.truth.fruits.size());
-  for (size_t i = 0; i < back.fruits.size(); ++i) {
-    EXPECT_EQ(back.fruits[i].instance_id, w.truth.fruits[i].instance_id);
-    EXPECT_EQ(back.fruits[i].surface_points, w.truth.fruits[i].surface_points);  // %.17g is exact
-    EXPECT_EQ(back.fruits[i].bbox_min, w.truth.fruits[i].bbox_min);
-    EXPECT_EQ(back.fruits[i].target, w.truth.fruits[i].target);
-  }
-  std::ofstream(dir + "/fruit_points.csv") << "instance_id,x,y,z\n0,1,2\n";
-  EXPECT_THROW(GroundTruth::load(dir), InputError);
 }
 
 // Targets are the ripe colours (issue 10 point 2): green fruit is generated, rendered and

@@ -288,54 +288,81 @@ class YamlIn {
   std::string dir_;
 };
 
-// --- YAML out ------------------------------------------------------------------------------
+// --- YAML and JSON out ---------------------------------------------------------------------
 
-/// Writes every key of a struct, in visiting order.
-class YamlOut {
+namespace params_detail {
+// How an output archive builds its document: YAML numbers in their shortest exact text (a
+// setting written and read back is the same double), JSON numbers as the C++ values.
+struct YamlNodes {
+  using Node = YAML::Node;
+  static Node map() { return Node(YAML::NodeType::Map); }
+  static Node list() { return Node(YAML::NodeType::Sequence); }
+  template <typename T>
+  static Node number(const T& v) { return number_node(v); }
+  template <typename T>
+  static Node value(const T& v) { return Node(v); }
+  static void push(Node& list, const Node& item) { list.push_back(item); }
+};
+struct JsonNodes {
+  using Node = nlohmann::json;
+  static Node map() { return Node::object(); }
+  static Node list() { return Node::array(); }
+  template <typename T>
+  static Node number(const T& v) { return Node(v); }
+  template <typename T>
+  static Node value(const T& v) { return Node(v); }
+  static void push(Node& list, const Node& item) { list.push_back(item); }
+};
+}  // namespace params_detail
+
+/// Writes every key of a struct, in visiting order, into one document of `Nodes`' kind: the
+/// one output archive behind YamlOut (settings.yaml, docs) and JsonOut (records, JSON files).
+template <class Nodes>
+class OutArchive {
  public:
-  YAML::Node node{YAML::NodeType::Map};
+  typename Nodes::Node node = Nodes::map();
 
   template <typename T>
   void operator()(const char* key, const T& value, const char* /*help*/) {
-    node[key] = value;
+    node[key] = Nodes::value(value);
   }
   template <typename T>
   void operator()(const char* key, const T& value, const Limits&, const char* /*help*/) {
-    node[key] = params_detail::number_node(value);
+    node[key] = Nodes::number(value);
   }
   template <typename T>
   void operator()(const char* key, const std::vector<T>& value, const Limits&, const char* /*help*/) {
-    YAML::Node s(YAML::NodeType::Sequence);
-    for (const T& x : value) s.push_back(params_detail::number_node(x));
+    typename Nodes::Node s = Nodes::list();
+    for (const T& x : value) Nodes::push(s, Nodes::number(x));
     node[key] = s;
   }
   template <typename T>
   void tuple(const char* key, std::initializer_list<T*> parts, const char*, const Limits&, const char* /*help*/) {
-    YAML::Node s(YAML::NodeType::Sequence);
-    for (const T* p : parts) s.push_back(params_detail::number_node(*p));
+    typename Nodes::Node s = Nodes::list();
+    for (const T* p : parts) Nodes::push(s, Nodes::number(*p));
     node[key] = s;
   }
-  void required(const char* key, const std::string& value, const char* /*help*/) { node[key] = value; }
+  void required(const char* key, const std::string& value, const char* /*help*/) { node[key] = Nodes::value(value); }
   template <typename E, std::size_t N>
   void choice(const char* key, const E& value, const EnumName<E> (&names)[N], const char* /*help*/) {
-    node[key] = std::string(enum_name(names, value));
+    node[key] = Nodes::value(std::string(enum_name(names, value)));
   }
   void one_of(const char* key, const std::string& value, const std::vector<std::string>&, const char* /*help*/) {
-    node[key] = value;
+    node[key] = Nodes::value(value);
   }
   template <typename S>
   void section(const char* key, const S& s, const char* /*help*/ = "") {
-    YamlOut out;
+    OutArchive out;
     const_cast<S&>(s).visit(out);
     node[key] = out.node;
   }
   template <typename S>
   void list(const char* key, const std::vector<S>& items, const char* /*help*/) {
-    YAML::Node seq(YAML::NodeType::Sequence);
+    typename Nodes::Node seq = Nodes::list();
     for (const S& s : items) {
-      YamlOut out;
+      OutArchive out;
       const_cast<S&>(s).visit(out);
-      seq.push_back(out.node);
+      Nodes::push(seq, out.node);
     }
     node[key] = seq;
   }
@@ -343,55 +370,11 @@ class YamlOut {
   void check(bool, const char*, const std::string&) {}
 };
 
-// --- JSON out ------------------------------------------------------------------------------
-
+/// Writes every key of a struct as YAML.
+using YamlOut = OutArchive<params_detail::YamlNodes>;
 /// Writes every key of a struct as JSON: numbers keep their C++ type (an int stays an
 /// integer, a double a double), so a record reads as the struct's own values.
-class JsonOut {
- public:
-  nlohmann::json node = nlohmann::json::object();
-
-  template <typename T>
-  void operator()(const char* key, const T& value, const char* /*help*/) {
-    node[key] = value;
-  }
-  template <typename T>
-  void operator()(const char* key, const T& value, const Limits&, const char* /*help*/) {
-    node[key] = value;
-  }
-  template <typename T>
-  void tuple(const char* key, std::initializer_list<T*> parts, const char*, const Limits&, const char* /*help*/) {
-    nlohmann::json a = nlohmann::json::array();
-    for (const T* p : parts) a.push_back(*p);
-    node[key] = a;
-  }
-  void required(const char* key, const std::string& value, const char* /*help*/) { node[key] = value; }
-  template <typename E, std::size_t N>
-  void choice(const char* key, const E& value, const EnumName<E> (&names)[N], const char* /*help*/) {
-    node[key] = std::string(enum_name(names, value));
-  }
-  void one_of(const char* key, const std::string& value, const std::vector<std::string>&, const char* /*help*/) {
-    node[key] = value;
-  }
-  template <typename S>
-  void section(const char* key, const S& s, const char* /*help*/ = "") {
-    JsonOut out;
-    const_cast<S&>(s).visit(out);
-    node[key] = out.node;
-  }
-  template <typename S>
-  void list(const char* key, const std::vector<S>& items, const char* /*help*/) {
-    nlohmann::json a = nlohmann::json::array();
-    for (const S& s : items) {
-      JsonOut out;
-      const_cast<S&>(s).visit(out);
-      a.push_back(out.node);
-    }
-    node[key] = a;
-  }
-  void renamed(const char*, const char*) {}
-  void check(bool, const char*, const std::string&) {}
-};
+using JsonOut = OutArchive<params_detail::JsonNodes>;
 
 // --- Validation of a struct built in code ---------------------------------------------------
 

@@ -25,9 +25,21 @@ double c_strtod(const char* text, char** end);
 /// std::stod in the "C" locale: throws std::invalid_argument / std::out_of_range as std::stod does.
 double c_stod(const std::string& text, std::size_t* used = nullptr);
 
-/// A number as text for CSV and report files, by a printf format for one double
-/// ("%.9g" keeps a float's value; "%.17g" a double's); locale-independent.
-std::string format_number(double x, const char* printf_format = "%.9g");
+/// How a number is written into a data file (CSV, scene and ids): each file keeps the format
+/// it has always had, so its bytes never change.
+enum class NumberFormat {
+  kDigits6,   ///< 6 significant digits (%.6g): fruit_shapes.csv, P_gt in trial ids, time budgets.
+  kDigits9,   ///< 9 significant digits (%.9g, a float's value): views.csv, timing.csv, the report's tables.
+  kDigits17,  ///< 17 significant digits (%.17g, a double's value): candidates.csv, fruit_points.csv, settings set by flags.
+  kShortest,  ///< The shortest text that reads back to exactly the same double (std::to_chars): MJCF scenes.
+};
+
+/// A number as text for data files (CSV, scene files, ids); locale-independent. The one number
+/// format of canopy's files: csv.h writes every CSV field through it.
+std::string format_number(double x, NumberFormat format = NumberFormat::kDigits9);
+/// A number as text for people (findings.md, log lines) by a printf format for one double
+/// ("%.3f", "%+.1f"); locale-independent.
+std::string format_number(double x, const char* printf_format);
 
 /// Parses "a,b,c" into exactly `count` finite numbers (count < 0: any number); throws
 /// InputError naming `what` otherwise.
@@ -36,9 +48,6 @@ std::vector<double> parse_numbers(const std::string& text, int count, const std:
 /// "-1" and "99999999999999999999" are errors naming `what`).
 std::uint64_t parse_uint64(const std::string& text, const std::string& what,
                            std::uint64_t max = std::numeric_limits<std::uint64_t>::max());
-/// The fields of one CSV line split at commas (no quoting: canopy's CSV files hold numbers and
-/// names without commas); a trailing comma gives a last, empty field.
-std::vector<std::string> split_csv_line(const std::string& line);
 /// Parses "x,y,z,qw,qx,qy,qz"; the quaternion must be unit length within 1e-3.
 Pose parse_pose7(const std::string& text, const std::string& what);
 /// Parses "x,y,yaw" (metres, radians).

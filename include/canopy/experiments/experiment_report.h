@@ -27,6 +27,7 @@ struct TrialResult {
   std::string message;                   ///< Why it failed.
   std::string folder;                    ///< Where it was read from.
   std::vector<double> coverage, entropy; ///< After each successful view (index v-1).
+  std::vector<std::string> phases;       ///< The phase of each successful view ("initial", "nbv", ...).
   std::map<std::string, std::vector<double>> curves;  ///< records::curve_column_names() the trial's views.csv has.
   std::map<std::string, double> phase_s; ///< Wall time by mission phase.
   double wall_s = 0.0, sim_s = 0.0;
@@ -74,7 +75,12 @@ MergedTrials merge_experiment_folders(const std::vector<std::string>& dirs);
 struct ExperimentReport {
   std::string curves_csv;   ///< method,label,p_gt,view,trials,sc_mean,sc_std,entropy_mean,entropy_std
   std::string runtime_csv;  ///< per method and P_gt: trials and mean/std of each Fig. 4 phase, totals, views
-  std::string findings_md;  ///< The paper's headline findings beside ours.
+  /// The paper's headline findings beside ours, as blocks in order, each an object with a
+  /// "kind": {"kind": "heading", "level", "text"}, {"kind": "paragraph", "text", "strong"},
+  /// {"kind": "table", "header": [...], "rows": [[...]]}, {"kind": "list", "items": [...]}.
+  /// findings.md and report.html (web/experiment_report.js) both render it.
+  nlohmann::json findings = nlohmann::json::array();
+  std::string findings_md;  ///< findings_markdown(findings).
   std::string field_curves_csv;  ///< per method, P_gt, metric and view: trials, mean and std (the field's metrics' curves)
   std::string field_csv;    ///< per method and P_gt: trials, mean and std of each of the field's metrics
   nlohmann::json trials_json;  ///< Every trial: id, status, message, source folder; missing; incomplete.
@@ -87,11 +93,11 @@ struct ExperimentReport {
 /// Aggregates merged trials (only trials with status ok enter the statistics).
 ExperimentReport make_experiment_report(const MergedTrials& merged);
 
+/// The findings' blocks (ExperimentReport::findings) as markdown (findings.md).
+std::string findings_markdown(const nlohmann::json& findings);
+
 /// The field's metrics a trial's summary.json gives at the end (its "final" and "motion_cost"
 /// sections; the coverage at each time budget as sc_at_<T>s), in report order.
 std::vector<std::string> field_metric_names(const std::vector<TrialResult>& trials);
-
-/// The paper's Fig. 4 categories and the mission phases they sum.
-const std::vector<std::pair<std::string, std::vector<std::string>>>& runtime_categories();
 
 }  // namespace canopy::experiments

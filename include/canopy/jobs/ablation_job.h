@@ -18,7 +18,7 @@ struct AblationJobParams {
   experiments::AblationPlan plan;        ///< Configurations, trials, plants, settings (world_name is filled in).
   std::string out;                       ///< Output folder.
   experiments::AblationRunOptions run;   ///< Threads, resume, summarize_only, coverage target, progress, stop.
-  bool plots = false;                    ///< Draw the PNG plots (tools/plot_ablation.py).
+  bool plots = false;                    ///< Draw gains.svg and rays.svg (figures.h).
   /// Called with the result once the jobs are summarized, before the plots (the CLI's table).
   std::function<void(const experiments::AblationRunResult&)> on_summary;
 };

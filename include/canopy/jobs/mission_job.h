@@ -2,7 +2,7 @@
 // Job: run a mission with its video, dataset export and run folder. What `canopy mission`,
 // `canopy run` and Python's canopy.run_mission do around mission::Mission: the video options
 // checked and the VideoWriter wired to the mission, the nerfstudio export fed with its views,
-// the run folder (views.csv, summary.json, map, plots) written and published.
+// the run folder (views.csv, summary.json, map, report.html, plots) written and published.
 
 #include <nlohmann/json.hpp>
 
@@ -52,7 +52,7 @@ struct MissionJobParams {
   std::string out_option = "--out";   ///< The name of `out` in messages.
   VideoOptions video;                 ///< video_options' result; path "" records none.
   std::string export_dir;             ///< nerfstudio dataset folder; "" exports none.
-  bool plots = false;                 ///< Draw sc_entropy.png and runtime.png into the run folder.
+  bool plots = false;                 ///< Draw sc_entropy.svg and runtime.svg into the run folder (figures.h).
   bool report = true;                 ///< Write report.html into the run folder (run_report.h).
   bool keep_map = false;              ///< Return a copy of the final map.
   bool strict_colours = false;        ///< A non-fruit material coloured like fruit is an error (check_world_colours).
@@ -70,7 +70,7 @@ struct MissionJobResult {
   std::string video_error;                       ///< Why the video is missing; "" when it is written (or none asked).
   std::size_t video_frames = 0;
   bool report_written = false;                   ///< report.html is in the run folder.
-  bool plots_interrupted = false;                ///< A signal while the plots were drawn: published without them.
+  bool plots_interrupted = false;                ///< A signal after the mission's end: published without its plots.
   bool dataset_written = false;                  ///< The export was published (complete missions only).
   std::size_t dataset_train = 0, dataset_test = 0;  ///< Its training and held-out views.
   std::shared_ptr<mapping::SemanticOcTree> map;  ///< The final map, when keep_map.

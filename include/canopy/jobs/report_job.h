@@ -1,7 +1,7 @@
 #pragma once
 // Job: merge experiment folders (shards, machines) and write the report folder: curves.csv,
 // runtime.csv, field.csv, field_curves.csv, trials.json, findings.md, gain_truth.csv (when the
-// trials recorded candidates), report.html (experiment_page.h) and the plots (tools/plot_experiment.py).
+// trials recorded candidates), report.html (experiment_page.h) and the figures (figures.h: SVG).
 
 #include <functional>
 #include <string>
@@ -15,7 +15,7 @@ namespace canopy::jobs {
 struct ReportJobParams {
   std::vector<std::string> dirs;  ///< Experiment folders (canopy experiment --out).
   std::string out;                ///< Report folder; "" is <first folder>/report.
-  bool plots = false;             ///< Draw the PNG plots.
+  bool plots = false;             ///< Draw the SVG figures (figures.h).
   bool page = true;               ///< Write report.html (experiment_page.h).
   /// Polled before writing and before publishing (may be null): true ends the job with
   /// Interrupted and nothing written (no folder, no .partial, no lock).

@@ -1,8 +1,8 @@
 #pragma once
 // Job: `canopy visibility`: Hemming et al.'s fruit-detectability protocol
 // (evaluation/visibility.h) on a world, for one or more world seeds, written as tables
-// (visibility.csv, combinations.csv, fruits.csv, visibility.md), visibility.json and a plot
-// (visibility.png, tools/plot_visibility.py). docs/visibility.md describes the protocol.
+// (visibility.csv, combinations.csv, fruits.csv, visibility.md), visibility.json and a figure
+// (visibility.svg, figures.h). docs/visibility.md describes the protocol.
 
 #include <cstdint>
 #include <functional>

@@ -38,8 +38,8 @@ namespace canopy::mission {
 /// x and the aisle's y (world-aligned).
 Eigen::AlignedBox3d stop_region(const settings::LoopParams& loop, double arm_x_m, double base_y_m);
 
-/// The failure cause (records::failure) of a failed arm plan ("" for success).
-const char* failure_of_plan(motion::PlanStatus status);
+/// The failure cause of a failed arm plan (kNone for success).
+records::FailureCause failure_of_plan(motion::PlanStatus status);
 
 /// What the mission gives its planner beside the settings (nbv::ViewPlannerSettings::context):
 /// the world and the simulator. The planning library's planners never read it; the oracles

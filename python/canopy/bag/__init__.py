@@ -10,7 +10,9 @@
 - record_bag(world, path, ...): runs the mission (canopy.run_mission) and writes it as a bag
   while it runs: wrist RGB, depth, labels and camera_info, /tf of the base, the arm's links and
   the camera over simulated time, the map at each view (PointCloud2 in class colours), the
-  views (MarkerArray frustums by phase) and the true fruits (MarkerArray boxes).
+  views (MarkerArray frustums by phase, in the report's phase colours), each view's record
+  (std_msgs/String JSON of the views' schema: the names of views.csv and the report) and the
+  true fruits (MarkerArray boxes).
 - export_bag(run_dir, path): the bag of a finished `canopy mission` run folder, by replaying
   the run from its own records (settings.yaml, the world's resolved spec and the seed in
   summary.json); refused unless the replay's views.csv equals the run's byte for byte.
@@ -27,4 +29,5 @@ read and write; none imports this package's __init__.
 
 from .read import BagReader, map_bag, read_bag  # noqa: F401
 from .ros import (DEFAULT_CLASSES, DEFAULT_MAX_DT, TOPICS, WORLD_FRAME, WRITER_TOPIC, BagError)  # noqa: F401
-from .write import FRUSTUM_DEPTH_M, PHASE_COLORS, export_bag, is_canopy_bag, record_bag  # noqa: F401
+from .write import (FRUSTUM_DEPTH_M, PHASE_COLORS, VIEW_RECORD_FIELDS, export_bag, is_canopy_bag,  # noqa: F401
+                    record_bag, view_record_json)

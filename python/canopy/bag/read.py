@@ -218,25 +218,22 @@ def _labels(msg, topic, ns, K, colors):
     rgb = _pixels(msg, topic, ns, np.uint8, 3)
     if msg.encoding == "bgr8":
         rgb = rgb[:, :, ::-1]
-    code = (rgb[..., 0].astype(np.int32) << 16) | (rgb[..., 1].astype(np.int32) << 8) | rgb[..., 2]
-    ids = np.full(code.shape, 255, dtype=np.uint8)
-    for i, c in enumerate(colors):
-        ids[code == (int(c[0]) << 16 | int(c[1]) << 8 | int(c[2]))] = i
-    bad = np.argwhere(ids == 255)
-    if len(bad):
-        r, c = bad[0]
-        raise BagError(f"{_where(topic, ns)}: pixel ({c}, {r}) has colour {tuple(int(v) for v in rgb[r, c])}, which "
-                       f"is no class's colour")
-    return ids
+    try:  # the rule of `canopy map --frames` (datasets::ClassColorTable::decode)
+        return _canopy.decode_class_colors(rgb, colors, _where(topic, ns))
+    except ValueError as e:
+        raise BagError(str(e)) from None
 
 
-def _nearest(stamps, ns):
-    """Index of the stamp nearest ns (-1 when there is none)."""
+def _nearest(stamps, targets, max_dt_ns=None):
+    """For each stamp of targets [ns], the index of the nearest of stamps [ns, non-decreasing]
+    within max_dt_ns (None: any distance), else -1: datasets::nearest_timestamp's rule. Times go
+    to the C++ as seconds from the first stamp, exact to well below a nanosecond's worth of
+    tolerance."""
     if not stamps:
-        return -1
-    i = bisect.bisect_left(stamps, ns)
-    best = [j for j in (i - 1, i) if 0 <= j < len(stamps)]
-    return min(best, key=lambda j: abs(stamps[j] - ns))
+        return np.full(len(targets), -1, dtype=np.int64)
+    origin = stamps[0]
+    return _canopy.nearest_stamps([(t - origin) / 1e9 for t in stamps], [(t - origin) / 1e9 for t in targets],
+                                  math.inf if max_dt_ns is None else max_dt_ns / 1e9)
 
 
 class _Progress:
@@ -394,26 +391,33 @@ class BagReader:
         self.tf.check_path(source, self.world_frame)
         intrinsics = {}
         info_stamps = [ns for ns, _ in streams[t["camera_info"]]]
+        depth_stamps = streams[depth]
+        info_of = _nearest(info_stamps, depth_stamps)
+        paired, nearest = {}, {}  # per role: within max_dt, and at any distance (for the message)
+        for role in ("rgb", "labels"):
+            if t[role] is not None:
+                paired[role] = _nearest(streams[t[role]], depth_stamps, max_dt_ns)
+                nearest[role] = _nearest(streams[t[role]], depth_stamps)
         self._plan, self.stamps, self.names = [], [], []
-        for k, ns in enumerate(streams[depth]):
+        for k, ns in enumerate(depth_stamps):
             name = f"{depth}@{ns / 1e9:.9f}"
             refs, why = {"depth": k}, None
             for role in ("rgb", "labels"):
                 topic = t[role]
                 if topic is None:
                     continue
-                ts = streams[topic]
-                j = _nearest(ts, ns)
-                if j < 0 or abs(ts[j] - ns) > max_dt_ns:
-                    nearest = f"nearest {abs(ts[j] - ns) / 1e6:.1f} ms away" if j >= 0 else "none"
-                    why = f"no {role} image on {topic} within max_dt ({nearest})"
+                j = int(paired[role][k])
+                if j < 0:
+                    n = int(nearest[role][k])
+                    away = f"nearest {abs(streams[topic][n] - ns) / 1e6:.1f} ms away" if n >= 0 else "none"
+                    why = f"no {role} image on {topic} within max_dt ({away})"
                     break
                 refs[role] = j
             T = why if why is not None else self.tf.lookup(self.world_frame, source, ns)
             if isinstance(T, str):
                 self.skipped.append({"frame": name, "reason": T})
                 continue
-            idx = streams[t["camera_info"]][_nearest(info_stamps, ns)][1]
+            idx = streams[t["camera_info"]][int(info_of[k])][1]
             if idx not in intrinsics:
                 intrinsics[idx] = self._intrinsics(idx)
             K = intrinsics[idx]

@@ -13,6 +13,7 @@ TOPICS = {
     "camera_info": "/canopy/wrist/camera_info",
     "map": "/canopy/map",
     "views": "/canopy/views",
+    "view_record": "/canopy/view_record",
     "fruits": "/canopy/fruits",
 }
 WORLD_FRAME = "world"

@@ -24,13 +24,32 @@ from .. import _canopy
 from .poses import inverse, matrix, quat_from_matrix
 from .ros import TOPICS, WORLD_FRAME, WRITER_FIELD, WRITER_TOPIC, BagError, ros
 
-# Colours of the view frustums by phase (RGBA).
-PHASE_COLORS = {
-    "initial": (0.2, 0.5, 1.0, 1.0),
-    "nbv": (1.0, 0.55, 0.0, 1.0),
-    "predefined": (0.6, 0.6, 0.6, 1.0),
-}
+
+
+def _phase_colors():
+    """RGBA of the view frustums by phase: canopy's one table of phase colours (records.h,
+    view_colour), the colours the report draws its cameras in."""
+    def rgba(hex_colour):
+        v = int(hex_colour[1:], 16)
+        return ((v >> 16 & 255) / 255.0, (v >> 8 & 255) / 255.0, (v & 255) / 255.0, 1.0)
+    return {p["name"]: rgba(p["colour"]) for p in _canopy.vocabulary()["view_phases"]}
+
+
+PHASE_COLORS = _phase_colors()
+# The fields of each view's record on TOPICS["view_record"] (std_msgs/String, JSON): the views'
+# schema (canopy.view_fields(), views.csv's and the report's names) known when the view is taken.
+VIEW_RECORD_FIELDS = tuple(f["name"] for f in _canopy.view_fields() if f["known_when_taken"])
 FRUSTUM_DEPTH_M = 0.1
+
+
+def _plain(value):
+    """A value of on_view's dict as JSON: arrays as (nested) lists, NumPy scalars as numbers."""
+    return value.tolist() if isinstance(value, (np.ndarray, np.generic)) else value
+
+
+def view_record_json(view):
+    """The record of one view as the bag holds it: on_view's fields of the views' schema."""
+    return json.dumps({name: _plain(view[name]) for name in VIEW_RECORD_FIELDS}, sort_keys=False)
 
 
 def _time(rosmods, ns):
@@ -162,6 +181,7 @@ class _RunWriter:
         self.bag.write(TOPICS["map"], self._cloud(ns, view["map"]), t)
         self.views.append((view["phase"], f.pose, K))
         self.bag.write(TOPICS["views"], self._frustums(ns), t)
+        self.bag.write(TOPICS["view_record"], self.ros.std.String(data=view_record_json(view)), t)
 
     def _image(self, ns, frame_id, a, encoding):
         a = np.ascontiguousarray(a)

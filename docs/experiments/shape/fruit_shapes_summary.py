@@ -6,7 +6,7 @@ prints a Markdown table per method label and P_gt: matched fruits, the mean cent
 voxels' centroid and of the fitted shape, and the mean relative volume errors of the voxel
 volume, the moment ellipsoid and the fitted shape (medians in brackets).
 
-    python3 tools/fruit_shapes_summary.py runs/shape_fig3 [more experiment folders]
+    python3 docs/experiments/shape/fruit_shapes_summary.py runs/shape_fig3 [more experiment folders]
 """
 import csv
 import glob
