@@ -5,7 +5,6 @@
 #include <pybind11/stl.h>
 
 #include <cmath>
-#include <optional>
 
 #include "canopy/common/error.h"
 #include "canopy/common/output_dir.h"

@@ -6,7 +6,7 @@
 #     with their plots), or, interrupted before anything was done, nothing and no leftovers;
 #   experiment: the finished trials kept, the unfinished ones left .partial for --resume,
 #     which then completes the sweep;
-#   report, visibility: nothing published and nothing left behind.
+#   visibility: nothing published and nothing left behind.
 # Always exit code 130 (SIGINT) or 143 (SIGTERM), never a .lock or a stray .partial.
 # The Python commands (map-bag, export-bag, run_mission) have python/tests/test_interrupts.py.
 # Usage: interrupt_test.sh path/to/canopy
@@ -136,15 +136,11 @@ for sig in INT TERM; do
   done
 done
 
-# --- report (nothing published, nothing left) -------------------------------------------------
-exp="$tmp/exp_INT_mid"
-for sig in INT TERM; do
-  for moment in early mid; do
-    out="$tmp/report_${sig}_$moment"
-    interrupt "report_${sig}_$moment" "$sig" "$moment" "merged" -- "$canopy" report "$exp" --out "$out"
-    nothing_left "$out" "report $sig $moment"
-  done
-done
+# --- report ---------------------------------------------------------------------------------
+# Not signalled here any more: since the figures are drawn in C++ (issue 46 point 8) a 3-trial
+# report takes about 20 ms after its first output line, so a signal sent on that line arrives
+# after the report is published. Its stop checks (jobs::write_report, before writing and before
+# publishing) need a test that does not depend on timing: an open item (closing note, 5 Dec).
 
 # --- visibility (nothing published, nothing left) ---------------------------------------------
 for sig in INT TERM; do
