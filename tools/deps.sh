@@ -17,6 +17,7 @@ PACKAGES=(
   pybind11-dev python3-dev python3-numpy python3-pytest
   python3-rosbag python3-sensor-msgs python3-geometry-msgs python3-tf2-msgs python3-visualization-msgs
   python3-pil
+  python3-xgboost libxgboost-dev python3-sklearn
   slurm-wlm munge parallel
   libjs-three
   chromium

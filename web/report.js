@@ -177,12 +177,12 @@
       ['id', 'fruit', (f) => f.id, (f) => esc(f.id)],
       ['plant', 'plant', (f) => f.plant, (f) => esc(f.plant)],
       ['cov', 'SC', (f) => f.cov, (f) => fmt(f.cov)],
-      ['views', 'views that raised its SC', (f) => f.views_seen, (f) => fmt(f.views_seen, 0)],
-      ['centre', 'centre error [mm]', (f) => (typeof f.centre_error_m === 'number' ? f.centre_error_m * 1000 : undefined),
+      ['views', 'views', (f) => f.views_seen, (f) => fmt(f.views_seen, 0)],
+      ['centre', 'centre err. [mm]', (f) => (typeof f.centre_error_m === 'number' ? f.centre_error_m * 1000 : undefined),
         (f) => (typeof f.centre_error_m === 'number' ? (f.centre_error_m * 1000).toFixed(1) : '–')],
-      ['voxel_volume', 'voxel volume error', (f) => f.voxel_volume_error, (f) => pct(f.voxel_volume_error)],
-      ['ellipsoid_volume', 'ellipsoid volume error', (f) => f.ellipsoid_volume_error, (f) => pct(f.ellipsoid_volume_error)],
-      ['volume', 'true volume [cm³]', (f) => f.true_volume_m3, (f) => (typeof f.true_volume_m3 === 'number' ? (f.true_volume_m3 * 1e6).toFixed(1) : '–')],
+      ['voxel_volume', 'voxel vol. err.', (f) => f.voxel_volume_error, (f) => pct(f.voxel_volume_error)],
+      ['ellipsoid_volume', 'ellipsoid vol. err.', (f) => f.ellipsoid_volume_error, (f) => pct(f.ellipsoid_volume_error)],
+      ['volume', 'volume [cm³]', (f) => f.true_volume_m3, (f) => (typeof f.true_volume_m3 === 'number' ? (f.true_volume_m3 * 1e6).toFixed(1) : '–')],
     ];
     const box = document.getElementById('fruits');
     box.innerHTML = '<h2>True fruits (' + fruits.length + '; click a heading to sort, hover a row to find the fruit)</h2>' +
@@ -190,7 +190,9 @@
       columns.map(([key, title]) => '<th data-sort="' + key + '">' + title + '</th>').join('') + '</tr></thead><tbody>' +
       fruits.map((f, i) => '<tr data-fruit="' + esc(f.id) + '" data-index="' + i + '">' + columns.map((c) => '<td>' + c[3](f) + '</td>').join('') + '</tr>').join('') +
       '</tbody></table></div>' +
-      '<p class="small">SC at the end of the run; errors of the fruit cluster matched to the fruit (– when none matched), volume errors relative to the true volume.</p>';
+      '<p class="small">SC at the end of the run; views: those that raised its SC; errors of the fruit cluster matched to the fruit ' +
+      '(– when none matched): its centre\'s distance from the true centre, its voxels\' and its fitted ellipsoid\'s volume against the ' +
+      'true volume (relative); volume: the true one.</p>';
     const body = box.querySelector('tbody');
     let by = null, descending = false;
     function sort(key) {

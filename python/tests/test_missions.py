@@ -15,8 +15,9 @@ import canopy
 from conftest import SOURCE
 
 
-def small_settings(views_per_stop=2):
-    return canopy.Settings().set("mission.loop.views_per_stop", views_per_stop)
+def small_settings(views_per_stop=2, exploration="frontier"):
+    return canopy.Settings().set("mission.loop.views_per_stop", views_per_stop).set("mission.loop.exploration",
+                                                                                      exploration)
 
 
 def load_example():
@@ -93,7 +94,8 @@ def test_the_planner_gets_what_builtin_planners_get(world):
                           "voxels": request.map.counts()["voxels"], "scripted": request.scripted.shape})
             return {"views": [], "reason": "recorded only"}
 
-    result = canopy.run_mission(world, small_settings(), planner=Recorder(), seed=1)
+    # Without the mission's exploration planner an empty answer ends the stop.
+    result = canopy.run_mission(world, small_settings(exploration="none"), planner=Recorder(), seed=1)
     initial_ok = result.views["success"] & (result.views["phase"] == "initial")
     assert stops == [0] and len(calls) == 1  # one stop; an empty answer ends it
     call = calls[0]
@@ -118,7 +120,7 @@ def test_the_planner_learns_every_outcome(world):
             seen.append((request.outcomes, request.failed, request.is_failed(far)))
             return {"views": [far], "order": "utility"} if len(seen) == 1 else []
 
-    result = canopy.run_mission(world, small_settings(), planner=Learner(), seed=1)
+    result = canopy.run_mission(world, small_settings(exploration="none"), planner=Learner(), seed=1)
     assert len(told) == len(result.views["attempt"]) == 13
     assert [o["success"] for o in told] == list(result.views["success"])
     assert all(o["success"] == (o["failure"] == "") for o in told)
@@ -130,6 +132,21 @@ def test_the_planner_learns_every_outcome(world):
     assert [o["attempt"] for o in outcomes] == list(range(13)) and outcomes[-1]["failure"] == "no_ik"
     assert failed.shape[1:] == (4, 4) and np.allclose(failed[-1], far) and is_failed
     assert seen[0][0][-1]["attempt"] == 11 and not seen[0][2]
+
+
+def test_the_mission_fills_the_budget_and_never_retries_a_failed_view(world):
+    far = np.eye(4)
+    far[:3, 3] = [50.0, 0.0, 1.0]  # no IK: fails for a cause of its own
+
+    def stubborn(request):
+        return {"views": [far], "order": "utility"}  # the same view every round, failed or not
+
+    result = canopy.run_mission(world, small_settings(), planner=stubborn, seed=1)
+    stop = result.stops[0]
+    assert stop["end"] == "budget_met" and stop["successful"] == stop["budget"]
+    assert stop["guarded"] >= 1 and stop["exploration_rounds"] >= 1
+    nbv = result.views["phase"] == "nbv"
+    assert int(np.sum(np.all(np.isclose(result.views["goal_pose"][nbv], far), axis=(1, 2)))) == 1
 
 
 def test_the_example_runs(tmp_path):

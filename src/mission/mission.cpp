@@ -35,6 +35,12 @@ Mission::Impl::Impl(const world::World& w, const Settings& s, std::uint64_t miss
   context->oracle = s.mission.oracle;
   ps.context = context;
   view_planner = nbv::make_view_planner(ps, "method");
+  if (s.mission.loop.exploration != "none") {
+    nbv::ViewPlannerSettings es = ps;
+    es.method = nbv::MethodChoice{};
+    es.method.name = s.mission.loop.exploration;
+    exploration_planner = nbv::make_view_planner(es, "mission.loop.exploration");
+  }
   if (s.mission.record.candidates) audit = std::make_unique<CandidateAudit>(world, sim, s);
   if (callbacks.before_step) stepper.set_before_step([this] { callbacks.before_step(sim, current_attempt); });
   update_caption();
@@ -88,7 +94,8 @@ bool Mission::Impl::drive_to_stop(int k) {
   rec.base_truth_contacts = d.contacts;
   rec.sim_time_s = sim.time() - t0;
   result.stops.push_back(rec);
-  view_planner->begin_stop();
+  for_each_planner([](nbv::ViewPlanner& p) { p.begin_stop(); });
+  failed_here = nbv::TakenViews(settings.nbv.views);
   return rec.reached_goal;
 }
 

@@ -192,7 +192,7 @@ ViewRecord Mission::Impl::attempt(const nbv::PlannedView& view, ViewPhase phase)
     scans.start(std::move(look->cloud), settings.mission.record.metrics_every_view);
     background_view_ = result.views.size();  // the row this record will take
   }
-  view_planner->taken(frame.T_world_camera);
+  for_each_planner([&](nbv::ViewPlanner& p) { p.taken(frame.T_world_camera); });
   close_record(rec, FailureCause::kNone, "camera within tolerance");
   if (callbacks.on_view) {
     scans.follow();  // the callback may read the map
@@ -219,7 +219,12 @@ void Mission::Impl::record(const ViewRecord& v, const nbv::PlannedView& view) {
   o.attempt = v.attempt;
   o.phase = to_string(v.phase);
   o.start_repaired = !v.start_repair.empty();
-  view_planner->outcome(o);
+  for_each_planner([&](nbv::ViewPlanner& p) { p.outcome(o); });
+  if (nbv::joins_failed_views(o) && !failed_here.contains(view.T_world_camera)) failed_here.add(view.T_world_camera);
+}
+
+void Mission::Impl::clear_robot_volume() {
+  map_env->clear_robot_volume(model, sim.base_pose(), sim.arm_positions(), settings.motion.collision.environment_padding_m);
 }
 
 void Mission::Impl::report(const ViewRecord& v) const {

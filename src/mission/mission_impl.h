@@ -63,6 +63,12 @@ struct Mission::Impl {
   perception::SemanticExtractor extractor;
   nbv::VoxelIndex index;
   std::unique_ptr<nbv::ViewPlanner> view_planner;
+  // mission.loop.exploration: plans the rounds in which view_planner has nothing to attempt
+  // (null: "none"). Told every view and outcome, as view_planner is.
+  std::unique_ptr<nbv::ViewPlanner> exploration_planner;
+  // The guard: views that failed at this stop for a cause of their own (nbv::joins_failed_views),
+  // never attempted again at it, whichever planner offers them.
+  nbv::TakenViews failed_here;
   std::unique_ptr<CandidateAudit> audit;  // mission.record.candidates: reads the ground truth
   SimStepper stepper;
   std::vector<double> stops_x;
@@ -140,6 +146,18 @@ struct Mission::Impl {
   };
   Look take_look(PhaseTimes& times);
   ViewRecord attempt(const nbv::PlannedView& view, ViewPhase phase);
+
+  // The robot's own volume out of the planner's collision environment, at the arm's state now:
+  // before every use of it at planning (the view filter, the goal test, a replacement's test)
+  // as before every arm plan, so that voxels mapped where the arm stands are no obstacle.
+  void clear_robot_volume();
+
+  // The planners that are told each view and outcome: the method's and the exploration one.
+  template <class F>
+  void for_each_planner(F&& f) {
+    f(*view_planner);
+    if (exploration_planner) f(*exploration_planner);
+  }
 
   // Records an attempt in the mission and stop, and tells the planner its outcome.
   void record(const ViewRecord& v, const nbv::PlannedView& view);

@@ -40,8 +40,11 @@ int Mission::Impl::replace_failed(const std::vector<nbv::PlannedView>& failed, V
   for (const ScanView& v : pattern) req.scripted.push_back(T_world_base * v.T_base_camera);
   req.max_attempts = scan.replace_max_attempts;
   req.attempts_left = attempts_left;
+  bool cleared = false;
   req.reachable = [&](const nbv::PlannedView& v) {
     ScopedPhase t(result.times, to_string(WallPhase::kNbvPlanning));
+    if (!cleared) clear_robot_volume();  // the arm has not moved since: once is enough
+    cleared = true;
     return motion::has_free_goal(model, &planner.goal_checker(), v, sim.base_pose(), sim.arm_positions());
   };
   req.attempt = [&](const nbv::PlannedView& v) {
@@ -117,13 +120,21 @@ void Mission::Impl::nbv_loop(int k, int scan_views_count) {
   const int wanted_total = std::max(0, s.budget - s.initial_ok);
   motion::NextViewsRequest req;
   req.region = stop_region(loop, stops_x[static_cast<std::size_t>(k)], settings.mission.stops.base_y_m);
+  req.failed = &failed_here;
   const nbv::PlannerTraits traits = view_planner->traits();
   if (traits.scripted) req.scripted = scan_views(k, true);
   const motion::StopArm arm{model, workspace, &planner.goal_checker(), settings.motion.tour};
-  // The goal test of frontier and predefined sees the environment the arm planner will see:
-  // without the robot's own volume (plan_move clears it the same way before the move).
-  req.before_goal_test = [this, &req] {
-    map_env->clear_robot_volume(model, req.base, req.q, settings.motion.collision.environment_padding_m);
+  // One planning round of `p` on the latest map (its times in the mission's phases).
+  auto plan_round = [&](nbv::ViewPlanner& p, std::uint64_t round_seed, bool audited) {
+    const Stopwatch watch;
+    req.seed = round_seed;
+    req.on_scored = audited && audit ? audit->observer() : nbv::CandidateObserver{};
+    motion::NextViews next = motion::next_views(map, index, p, arm, req);
+    result.times.merge(next.batch.times);
+    // The planner's own phases are in batch.times; the rest (tour, bookkeeping) here.
+    result.times.add(to_string(WallPhase::kNbvPlanning), std::max(0.0, watch.seconds() - next.batch.times.total()));
+    s.guarded += static_cast<int>(next.guarded);
+    return next;
   };
   for (;;) {
     check_stop();
@@ -139,32 +150,50 @@ void Mission::Impl::nbv_loop(int k, int scan_views_count) {
       end_stop(s, "round_cap", "round cap reached (mission.loop.max_rounds = " + std::to_string(loop.max_rounds) + ")");
       break;
     }
-    motion::NextViews next;
     scans.follow_index();  // the last scan in the map and the index; its metrics may come later
+    req.base = sim.base_pose();
+    req.q = sim.arm_positions();
+    req.T_world_camera = sim.camera_pose();
+    req.budget = wanted_total - ok;
+    req.max_views = static_cast<std::size_t>(attempts_left);
     {
-      const Stopwatch watch;
-      req.base = sim.base_pose();
-      req.q = sim.arm_positions();
-      req.T_world_camera = sim.camera_pose();
-      req.budget = wanted_total - ok;
-      req.seed = mix_seed(seed, 5000 + std::uint64_t(k) * 1000 + std::uint64_t(s.rounds));
-      req.max_views = static_cast<std::size_t>(attempts_left);
-      if (audit) req.on_scored = audit->observer();
-      next = motion::next_views(map, index, *view_planner, arm, req);
-      result.times.merge(next.batch.times);
-      // The planner's own phases are in batch.times; the rest (tour, bookkeeping) here.
-      result.times.add(to_string(WallPhase::kNbvPlanning), std::max(0.0, watch.seconds() - next.batch.times.total()));
+      // Every use of the collision environment at planning sees it without the robot's volume.
+      ScopedPhase t(result.times, to_string(WallPhase::kNbvPlanning));
+      clear_robot_volume();
     }
+    const std::uint64_t round_seed = mix_seed(seed, 5000 + std::uint64_t(k) * 1000 + std::uint64_t(s.rounds));
+    motion::NextViews next = plan_round(*view_planner, round_seed, true);
     check_stop();  // a stop requested while the planner ran (a Python planner's KeyboardInterrupt) wins
-    const nbv::ViewBatch& batch = next.batch;
     if (audit) {
       ScopedPhase t(result.times, to_string(WallPhase::kEvaluation));
-      audit->end_round(map, index, batch, k, s.rounds, ok_views_, req.seed);
+      audit->end_round(map, index, next.batch, k, s.rounds, ok_views_, round_seed, req.region, *req.T_world_camera);
     }
+    ++s.rounds;
+    s.refused += static_cast<int>(next.batch.refused.size());
+    bool explored = false;
+    if (next.batch.views.empty() && next.batch.refused.empty() && exploration_planner) {
+      // The method has nothing to attempt (it is done with the stop, or offered only views that
+      // failed here): the exploration planner's views fill the round, and the method plans
+      // again first the next round. The stop's budget is the mission's to keep, not the method's.
+      motion::NextViews fill = plan_round(*exploration_planner, mix_seed(round_seed, 1), false);
+      check_stop();
+      if (!fill.batch.views.empty()) {
+        ++s.exploration_rounds;
+        fill.batch.last_of_stop = false;
+        next = std::move(fill);
+        explored = true;
+      } else if (!next.batch.finished || fill.batch.finished) {
+        next.batch.finished = next.batch.finished && fill.batch.finished;
+        next.batch.reason += (next.batch.reason.empty() ? "" : "; ") + std::string("exploration (") +
+                             loop.exploration + "): " + (fill.batch.reason.empty() ? "nothing" : fill.batch.reason);
+      } else {
+        next.batch.finished = false;  // the exploration planner may find views next round
+        next.batch.reason += "; exploration (" + loop.exploration + "): " + (fill.batch.reason.empty() ? "nothing" : fill.batch.reason);
+      }
+    }
+    const nbv::ViewBatch& batch = next.batch;
     const std::vector<nbv::PlannedView>& ordered = next.ordered;
     const std::vector<nbv::PlannedView>& unreachable = next.unreachable;
-    ++s.rounds;
-    s.refused += static_cast<int>(batch.refused.size());
     if (batch.views.empty() && batch.refused.empty()) {
       const std::string why = batch.reason.empty() ? "nothing left to plan" : batch.reason;
       if (batch.finished) {
@@ -178,18 +207,20 @@ void Mission::Impl::nbv_loop(int k, int scan_views_count) {
       continue;  // sample anew next round
     }
     idle = 0;
-    const ViewPhase phase = traits.scripted ? ViewPhase::kPredefined : ViewPhase::kNbv;
+    const ViewPhase phase = traits.scripted && !explored ? ViewPhase::kPredefined : ViewPhase::kNbv;
     record_unreachable(unreachable, phase, &attempts_left);
     const int wanted = wanted_total - ok;
     if (batch.order == nbv::BatchOrder::kTour) {
       std::vector<nbv::PlannedView> failed = unreachable;
       failed.insert(failed.end(), batch.refused.begin(), batch.refused.end());  // not attempts
-      ok += execute(ordered, phase, traits.execute_whole_batch ? -1 : wanted, &attempts_left, &failed);
-      if (replaces_failed_scripted()) ok += replace_failed(failed, phase, &attempts_left);
+      const bool whole = !explored && traits.execute_whole_batch;
+      ok += execute(ordered, phase, whole ? -1 : wanted, &attempts_left, &failed);
+      if (!explored && replaces_failed_scripted()) ok += replace_failed(failed, phase, &attempts_left);
     } else {
       ok += execute(ordered, phase, 1, &attempts_left);  // frontier: the first view that succeeds
     }
-    if (batch.last_of_stop) {
+    // A planner's last batch ends the stop unless the exploration planner is to fill its budget.
+    if (batch.last_of_stop && (ok >= wanted_total || !exploration_planner)) {
       if (ok >= wanted_total) end_stop(s, "budget_met", "view budget of the stop reached");
       else end_stop(s, "planner_done", "the planner has nothing left to see: " + batch.reason);
       break;

@@ -1,5 +1,7 @@
 #include "canopy/motion/view_reach.h"
 
+#include <algorithm>
+
 #include "canopy/motion/arm_planner.h"
 
 
@@ -91,17 +93,19 @@ NextViews next_views(const mapping::SemanticOcTree& map, nbv::VoxelIndex& index,
   req.in_workspace = [&workspace = arm.workspace, base = request.base](const Vec3& p) {
     return workspace.in_workspace(base, p);
   };
-  bool prepared = !request.before_goal_test;
-  req.goal_free = [&model = arm.model, checker = arm.checker, base = request.base, q, &prepared,
-                   &request](const nbv::PlannedView& v) {
-    if (!prepared) {
-      request.before_goal_test();
-      prepared = true;
-    }
+  req.goal_free = [&model = arm.model, checker = arm.checker, base = request.base, q](const nbv::PlannedView& v) {
     return has_free_goal(model, checker, v, base, q);
   };
   NextViews out;
   out.batch = planner.next(req);
+  if (request.failed) {
+    std::vector<nbv::PlannedView>& views = out.batch.views;
+    const auto kept = std::remove_if(views.begin(), views.end(), [&](const nbv::PlannedView& v) {
+      return request.failed->contains(v.T_world_camera);
+    });
+    out.guarded = static_cast<std::size_t>(views.end() - kept);
+    views.erase(kept, views.end());
+  }
   if (request.max_views > 0 && out.batch.views.size() > request.max_views) out.batch.views.resize(request.max_views);
   if (out.batch.views.empty()) return out;
   if (out.batch.order == nbv::BatchOrder::kTour)

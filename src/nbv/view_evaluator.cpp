@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <functional>
 
 #include "canopy/common/timer.h"
 
@@ -104,6 +105,39 @@ ViewScore ViewEvaluator::evaluate(const Pose& T, const Vec3& target, const GainF
   if (!std::isfinite(s.gain)) s.gain = 0.0;
   s.ms = watch.ms();
   return s;
+}
+
+ViewStatus ViewEvaluator::evaluate_all(const Pose& T, const Vec3& target, const std::vector<const GainFunction*>& gains,
+                                       const RaySetEntry& rays, std::uint64_t view_seed, double* out,
+                                       const std::function<void(const RayVoxel*, std::size_t)>& each_ray) {
+  std::vector<double>& sums = sums_;
+  sums.assign(gains.size(), 0.0);
+  ViewStatus status = ViewStatus::kOk;
+  if (ray_segments(T, target, rays, &ends_, &status)) {
+    const Vec3 eye = T.translation();
+    double longest = 0.0;
+    for (const Vec3& e : ends_) longest = std::max(longest, (e - eye).norm());
+    const std::size_t cap = index_.max_voxels(longest);
+    if (buffer_.size() < cap) buffer_.resize(cap);
+    for (const Vec3& e : ends_) {
+      bool outside = false;
+      const std::size_t n = index_.cast(eye, e, target, buffer_.data(), buffer_.size(), &outside);
+      if (outside) continue;
+      for (std::size_t g = 0; g < gains.size(); ++g)
+        if (gains[g]->uses_rays()) sums[g] += gains[g]->ray_gain(buffer_.data(), n);
+      if (each_ray) each_ray(buffer_.data(), n);
+    }
+  }
+  for (std::size_t g = 0; g < gains.size(); ++g) {
+    // A gain that casts no rays scores whatever the view's status (as evaluate() does).
+    if (gains[g]->uses_rays() && status != ViewStatus::kOk) {
+      out[g] = 0.0;
+      continue;
+    }
+    out[g] = gains[g]->view_gain(sums[g], view_seed);
+    if (!std::isfinite(out[g])) out[g] = 0.0;
+  }
+  return status;
 }
 
 ViewScore ViewEvaluator::evaluate_reference(const Pose& T, const Vec3& target, const GainFunction& gain,

@@ -3,12 +3,14 @@
 #include "canopy/records/candidates_csv.h"
 
 #include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <sstream>
 
 #include "canopy/common/csv.h"
 #include "canopy/common/error.h"
 #include "canopy/common/value_text.h"
+#include "canopy/nbv/view_features.h"
 
 namespace canopy::records {
 
@@ -46,6 +48,7 @@ std::string candidates_csv(const std::vector<CandidateRecord>& records) {
                                      "y",     "z",     "qw",           "qx",      "qy",
                                      "qz",    "chosen", "planner_gain", "frustum", "truth"};
   for (const std::string& n : audit_score_names()) header.push_back(n);
+  for (const std::string& n : nbv::view_feature_names()) header.push_back("f:" + n);
   CsvWriter csv(header);
   constexpr NumberFormat k17 = NumberFormat::kDigits17;
   for (const CandidateRecord& r : records) {
@@ -55,6 +58,9 @@ std::string candidates_csv(const std::vector<CandidateRecord>& records) {
     for (const double x : {t.x(), t.y(), t.z(), q.w(), q.x(), q.y(), q.z()}) csv.add(x, k17);
     csv.add_flag(r.chosen).add(r.planner_gain, k17).add(r.frustum).add(r.truth);
     for (const double x : r.scores) csv.add(x, k17);
+    // Features are floats: 9 significant digits give them back exactly (NaN: missing).
+    for (std::size_t i = 0; i < nbv::view_feature_names().size(); ++i)
+      csv.add(i < r.features.size() ? double(r.features[i]) : std::nan(""), NumberFormat::kDigits9);
     csv.end_row();
   }
   return csv.take();

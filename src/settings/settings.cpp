@@ -7,6 +7,13 @@
 
 namespace canopy::settings {
 
+std::vector<std::string> exploration_planner_names() {
+  std::vector<std::string> names = {"none"};
+  for (const nbv::ViewPlannerEntry& e : nbv::view_planner_registry())
+    if (!e.reads_ground_truth) names.push_back(e.name);
+  return names;
+}
+
 namespace {
 
 Settings read_bundle(YamlReader& y, const std::string& dir, const RobotConfig& robot) {

@@ -74,6 +74,23 @@ expect_error "holds more than 16 radii" mission --world worlds/small.yaml --meth
 expect_error "holds 1001 numbers, at most 1000" mission --world worlds/small.yaml \
   --set "mission.record.time_budgets_s=[$(seq -s, 1 1001)]"
 
+# The learned planner's model (docs/learned.md): missing, corrupt or trained on other features is
+# one line naming the file, exit 2, never a silent fallback to another scorer.
+printf '{"learner": [1, 2' > "$tmp/corrupt_model.json"
+sed 's/"shape_seen"/"shape_sen"/' models/nbv/view_ranker.json > "$tmp/renamed_model.json"
+for model in "$tmp/missing_model.json:no such file" "$tmp/corrupt_model.json:not an XGBoost model" \
+  "$tmp/renamed_model.json:feature 17 is 'shape_sen', this canopy computes 'shape_seen'"; do
+  file="${model%%:*}"
+  expect_error "view ranker model '$file': ${model#*:}" mission --world worlds/small.yaml --method learned \
+    --set "nbv.learned.model=$file"
+  # One line: the error, after the log's info lines, and nothing after it.
+  msg=$("$canopy" mission --world worlds/small.yaml --method learned --set "nbv.learned.model=$file" \
+    --out "$tmp/learned_out" 2>&1 >/dev/null | sed -n '/error/,$p')
+  if [[ $(printf '%s\n' "$msg" | wc -l) -ne 1 || "$msg" != "canopy: error: view ranker model '$file': "* ]]; then
+    echo "FAIL: the refusal of $file is not one line: $msg"; failures=$((failures + 1))
+  fi
+done
+
 # Every command protects a folder it did not write: map and ablate (with or without
 # --resume) refuse it and leave the user's files as they were.
 for cmd in "map --views $tmp/one_view.txt" "ablate --quick --views 2 --no-plots" "ablate --quick --views 2 --no-plots --resume" \

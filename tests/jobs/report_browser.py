@@ -325,9 +325,10 @@ def check_run(b, path, incomplete, shot, mission=False, shots=None):
         b.evaluate(f"canopyReport.setView({max(0, views // 4)})")
         with open(os.path.join(shots, "report_readable.png"), "wb") as f:
             f.write(b.screenshot())
-        b.evaluate("window.scrollTo(0, 0); document.getElementById('fruits').scrollIntoView()")
-        with open(os.path.join(shots, "report_fruits.png"), "wb") as f:
-            f.write(b.screenshot("#side"))
+        for name, selector in (("report_metrics.png", "#metrics"), ("report_fruits.png", "#fruits")):
+            b.evaluate(f"document.querySelector('{selector}').scrollIntoView()")
+            with open(os.path.join(shots, name), "wb") as f:
+                f.write(b.screenshot(selector))
     fails += b.errors()
     ready_ms = b.evaluate("canopyReport.readyMs")
     marks = b.evaluate("canopyReport.marks")

@@ -60,11 +60,9 @@ TEST(MissionLoop, EveryStopMeetsItsBudgetOrSaysWhyNot) {
       EXPECT_EQ(j["stops"][k]["budget"], st.budget);
       EXPECT_EQ(j["stops"][k]["successful"], ok);
       EXPECT_EQ(j["stops"][k]["end"], st.end);
-      if (st.end == "budget_met") {
-        EXPECT_EQ(ok, st.budget);
-      } else {
-        EXPECT_TRUE(st.end == "planner_done" || st.end == "attempt_cap") << st.end << ": " << st.end_reason;
-      }
+      // The exploration planner fills the rounds a method has nothing for: every stop takes its budget.
+      EXPECT_EQ(st.end, "budget_met") << st.end_reason;
+      EXPECT_EQ(ok, st.budget);
       EXPECT_LE(st.nbv_attempted, s.mission.loop.max_attempts);
     }
     EXPECT_EQ(total, r.successful_views());
@@ -147,6 +145,113 @@ TEST(MissionLoop, TheAttemptCapBoundsAFloodAndThePlannerLearnsEveryOutcome) {
   EXPECT_EQ(r.successful_views(), 12);
   EXPECT_NE(r.end_reason.find("most attempts failed (20 of 32: no_ik 20)"), std::string::npos) << r.end_reason;
   EXPECT_NE(summary_json(r)["end_reason"].get<std::string>().find("most attempts failed"), std::string::npos);
+}
+
+// A planner that ends every stop at once, and one that offers the same unreachable view every
+// round (it never looks at failed_views()): what the mission guarantees whatever the planner.
+struct Stubborn {
+  static std::size_t& rounds() {
+    static std::size_t n = 0;
+    return n;
+  }
+};
+class DonePlanner : public nbv::ViewPlanner {
+ public:
+  DonePlanner() : ViewPlanner(nbv::ViewRules{}) {}
+  std::string name() const override { return "test_done"; }
+  nbv::ViewBatch next(const nbv::ViewRequest&) override {
+    nbv::ViewBatch b;
+    b.finished = true;
+    b.reason = "a test planner with nothing to see";
+    return b;
+  }
+};
+class StubbornPlanner : public nbv::ViewPlanner {
+ public:
+  StubbornPlanner() : ViewPlanner(nbv::ViewRules{}) {}
+  std::string name() const override { return "test_stubborn"; }
+  nbv::ViewBatch next(const nbv::ViewRequest&) override {
+    ++Stubborn::rounds();
+    nbv::ViewBatch b;
+    nbv::PlannedView v;
+    v.T_world_camera.translation() = Vec3(50.0, 0.0, 1.0);  // no IK: fails for a cause of its own
+    v.source = "stubborn";
+    b.views.push_back(v);
+    return b;
+  }
+};
+
+void register_done_and_stubborn() {
+  static const bool once = [] {
+    nbv::register_view_planner({"test_done", "a test planner that ends every stop at once",
+                                [](const nbv::ViewPlannerSettings&) { return std::make_unique<DonePlanner>(); }});
+    nbv::register_view_planner({"test_stubborn", "a test planner that offers one failing view every round",
+                                [](const nbv::ViewPlannerSettings&) { return std::make_unique<StubbornPlanner>(); }});
+    return true;
+  }();
+  (void)once;
+}
+
+// The mission, not the planner, keeps the stop's budget: a method with nothing to see gets
+// the exploration planner's views (frontier's, tagged by frontier), and with
+// mission.loop.exploration none the stop ends with the method.
+TEST(MissionLoop, TheExplorationPlannerFillsTheBudgetOfAMethodWithNothingLeft) {
+  register_done_and_stubborn();
+  const SmallWorld& w = small();
+  Settings s = w.settings;
+  s.method.name = "test_done";
+  {
+    Mission mission(w.world, s, 1);
+    const MissionResult r = mission.run();
+    const StopRecord& st = r.stops.at(0);
+    EXPECT_EQ(st.end, "budget_met") << st.end_reason;
+    EXPECT_EQ(st.initial_ok + st.nbv_ok, st.budget);
+    EXPECT_GE(st.exploration_rounds, 1);
+    EXPECT_EQ(summary_json(r)["stops"][0]["exploration_rounds"], st.exploration_rounds);
+    for (const ViewRecord& v : r.views) {
+      if (v.phase != ViewPhase::kNbv) continue;
+      EXPECT_TRUE(v.source == "roi" || v.source == "exploration") << v.source;
+    }
+  }
+  s.mission.loop.exploration = "none";
+  Mission mission(w.world, s, 1);
+  const MissionResult r = mission.run();
+  const StopRecord& st = r.stops.at(0);
+  EXPECT_EQ(st.end, "planner_done");
+  EXPECT_EQ(st.nbv_attempted, 0);
+  EXPECT_EQ(st.exploration_rounds, 0);
+  EXPECT_NE(st.end_reason.find("a test planner with nothing to see"), std::string::npos) << st.end_reason;
+}
+
+// A view that failed for a cause of its own is attempted once per stop, whatever the planner
+// offers: the mission drops it (counted as guarded), and the exploration planner fills the round.
+TEST(MissionLoop, AViewThatFailedIsNeverAttemptedAgainAtTheStop) {
+  register_done_and_stubborn();
+  const SmallWorld& w = small();
+  Settings s = w.settings;
+  s.method.name = "test_stubborn";
+  Stubborn::rounds() = 0;
+  Mission mission(w.world, s, 1);
+  const MissionResult r = mission.run();
+  const StopRecord& st = r.stops.at(0);
+  int stubborn = 0;
+  for (const ViewRecord& v : r.views) stubborn += v.source == "stubborn";
+  EXPECT_EQ(stubborn, 1);
+  EXPECT_EQ(st.guarded, static_cast<int>(Stubborn::rounds()) - 1);
+  EXPECT_GE(st.guarded, 1);
+  EXPECT_EQ(st.end, "budget_met") << st.end_reason;
+  EXPECT_EQ(summary_json(r)["guarded"], st.guarded);
+  // Without an exploration planner the rounds are idle until max_idle_rounds.
+  s.mission.loop.exploration = "none";
+  s.mission.loop.max_idle_rounds = 3;
+  Stubborn::rounds() = 0;
+  Mission alone(w.world, s, 1);
+  const MissionResult a = alone.run();
+  stubborn = 0;
+  for (const ViewRecord& v : a.views) stubborn += v.source == "stubborn";
+  EXPECT_EQ(stubborn, 1);
+  EXPECT_EQ(a.stops.at(0).end, "idle_rounds") << a.stops.at(0).end_reason;
+  EXPECT_EQ(a.stops.at(0).guarded, 3);
 }
 
 // Ctrl-C between attempts that never step the simulator (views without IK) ends the mission.

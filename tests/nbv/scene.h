@@ -2,6 +2,7 @@
 // A small analytic scene for nbv tests: fruit and leaf spheres scanned from a ring of views
 // into a semantic map (exact depth and labels, no noise).
 
+#include <cmath>
 #include <vector>
 
 #include "../mapping/synthetic.h"
@@ -33,6 +34,31 @@ inline mapping::SemanticOcTree scanned_map(int views = 4) {
     const Vec3 eye = Vec3(0.5, 0.15, 1.0) + 0.45 * Vec3(-std::cos(a), std::sin(a), 0.1);
     const LabelledFrame f = synth::render_spheres(K, synth::look_at(eye, Vec3(0.5, 0.15, 1.0)), spheres);
     ins.insert(perception::depth_to_cloud(K, f.T_world_camera, f.depth_m, f.class_id, 3));
+  }
+  return map;
+}
+
+// The shape planner's scene (shape_test, view_features_test): one fruit mapped from the front
+// only, so its back half is predicted, not seen; optionally a leaf beside its back on +y.
+inline const Vec3 kShapeFruit(0.5, 0.0, 1.0);
+inline constexpr double kShapeRadius = 0.04;
+// The leaf beside and behind the fruit on the +y side (azimuth ~40 deg seen from the fruit).
+inline const Vec3 kShapeLeaf = kShapeFruit + 0.11 * Vec3(std::cos(0.7), std::sin(0.7), 0.0);
+
+// The scene mapped from two cameras in front of it (-x side), one of them a little to +y so
+// the leaf's face towards the fruit is mapped too.
+inline mapping::SemanticOcTree front_map(bool with_leaf) {
+  mapping::SemanticMapParams p;
+  p.threads = 1;
+  mapping::SemanticOcTree map(p, SemanticClasses{});
+  mapping::ScanInserter ins(map);
+  CameraIntrinsics K;
+  std::vector<synth::Sphere> spheres = {{kShapeFruit, kShapeRadius, 2, 0}};
+  if (with_leaf) spheres.push_back({kShapeLeaf, 0.06, 1});
+  for (const Vec3& eye : {Vec3(0.1, 0.0, 1.0), Vec3(0.15, 0.2, 1.05)}) {
+    const LabelledFrame f = synth::render_spheres(K, synth::look_at(eye, kShapeFruit), spheres);
+    // Several scans: fruit voxels pass the clustering's log-odds threshold.
+    for (int i = 0; i < 3; ++i) ins.insert(perception::depth_to_cloud(K, f.T_world_camera, f.depth_m, f.class_id, 3));
   }
   return map;
 }

@@ -10,6 +10,7 @@
 #include <cmath>
 
 #include "../mapping/synthetic.h"
+#include "scene.h"
 #include "canopy/mapping/scan_inserter.h"
 #include "canopy/nbv/fruit_shapes.h"
 #include "canopy/nbv/planners/shape/shape.h"
@@ -21,28 +22,10 @@ using namespace canopy::nbv;
 
 namespace {
 
-const Vec3 kShapeFruit(0.5, 0.0, 1.0);
-constexpr double kShapeRadius = 0.04;
-// The leaf beside and behind the fruit on the +y side (azimuth ~40 deg seen from the fruit).
-const Vec3 kShapeLeaf = kShapeFruit + 0.11 * Vec3(std::cos(0.7), std::sin(0.7), 0.0);
-
-// The scene mapped from two cameras in front of it (-x side), one of them a little to +y so
-// the leaf's face towards the fruit is mapped too.
-mapping::SemanticOcTree front_map(bool with_leaf) {
-  mapping::SemanticMapParams p;
-  p.threads = 1;
-  mapping::SemanticOcTree map(p, SemanticClasses{});
-  mapping::ScanInserter ins(map);
-  CameraIntrinsics K;
-  std::vector<synth::Sphere> spheres = {{kShapeFruit, kShapeRadius, 2, 0}};
-  if (with_leaf) spheres.push_back({kShapeLeaf, 0.06, 1});
-  for (const Vec3& eye : {Vec3(0.1, 0.0, 1.0), Vec3(0.15, 0.2, 1.05)}) {
-    const LabelledFrame f = synth::render_spheres(K, synth::look_at(eye, kShapeFruit), spheres);
-    // Several scans: fruit voxels pass the clustering's log-odds threshold.
-    for (int i = 0; i < 3; ++i) ins.insert(perception::depth_to_cloud(K, f.T_world_camera, f.depth_m, f.class_id, 3));
-  }
-  return map;
-}
+using nbv_test::front_map;
+using nbv_test::kShapeFruit;
+using nbv_test::kShapeLeaf;
+using nbv_test::kShapeRadius;
 
 struct Scored {
   Pose T;

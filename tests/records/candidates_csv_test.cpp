@@ -1,5 +1,5 @@
 // candidates.csv (records/candidates_csv.h), written and read in one place: the header is the
-// fixed columns then every audit score; what is written reads back exactly (%.17g); gain_truth
+// fixed columns, every audit score, then every view feature (f:<name>); what is written reads back exactly (%.17g); gain_truth
 // reads columns by their names, finds a score equal to the truth in perfect agreement and its
 // negation in perfect disagreement, leaves out rounds of one candidate, and names the file and
 // line of a damaged row.
@@ -13,6 +13,7 @@
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/camera.h"
 #include "canopy/common/error.h"
+#include "canopy/nbv/view_features.h"
 #include "canopy/records/candidates_csv.h"
 
 namespace canopy::records {
@@ -52,6 +53,7 @@ std::vector<CandidateRecord> audit() {
       r.chosen = i == sizes[round] - 1;
       r.planner_gain = 0.5 * double(r.truth);
       for (std::size_t k = 0; k < scores; ++k) r.scores.push_back(k % 2 ? -double(r.truth) : 1e-3 * double(r.truth));
+      for (std::size_t k = 0; k < nbv::view_feature_names().size(); ++k) r.features.push_back(float(k) / 3.f + float(i));
       out.push_back(r);
     }
   return out;
@@ -65,9 +67,13 @@ TEST(CandidatesCsv, WhatIsWrittenReadsBackExactly) {
   const std::vector<std::string> fixed = {"stop", "round", "views_before", "cluster", "x", "y", "z", "qw",
                                           "qx",   "qy",    "qz",           "chosen",  "planner_gain", "frustum", "truth"};
   const std::vector<std::string> scores = audit_score_names();
-  ASSERT_EQ(header.size(), fixed.size() + scores.size());
+  std::vector<std::string> features;
+  for (const std::string& n : nbv::view_feature_names()) features.push_back("f:" + n);
+  ASSERT_EQ(header.size(), fixed.size() + scores.size() + features.size());
   EXPECT_TRUE(std::equal(fixed.begin(), fixed.end(), header.begin()));
   EXPECT_TRUE(std::equal(scores.begin(), scores.end(), header.begin() + static_cast<long>(fixed.size())));
+  EXPECT_TRUE(std::equal(features.begin(), features.end(),
+                         header.begin() + static_cast<long>(fixed.size() + scores.size())));
   for (std::size_t i = 0; i < records.size(); ++i) {
     const CandidateRecord& r = records[i];
     const std::vector<std::string> f = audit_fields(text[i + 1]);
@@ -83,6 +89,8 @@ TEST(CandidatesCsv, WhatIsWrittenReadsBackExactly) {
     EXPECT_EQ(std::stod(f[12]), r.planner_gain);
     EXPECT_EQ(std::stoul(f[14]), r.truth);
     for (std::size_t k = 0; k < r.scores.size(); ++k) EXPECT_EQ(std::stod(f[15 + k]), r.scores[k]);
+    for (std::size_t k = 0; k < r.features.size(); ++k)  // floats: 9 digits give them back exactly
+      EXPECT_EQ(std::stof(f[15 + scores.size() + k]), r.features[k]);
   }
   EXPECT_EQ(audit_lines(candidates_csv({})).size(), 1u);  // no candidates: the header alone
 }
@@ -140,8 +148,10 @@ TEST(CandidatesCsv, ADamagedFileNamesItsLine) {
   const std::vector<std::string> good = audit_lines(candidates_csv(audit()));
   EXPECT_EQ(error(good[0] + "\n" + good[1] + ",7\n"), file + ":2: expected " +
                                                         std::to_string(audit_fields(good[0]).size()) + " columns");
-  std::string nan_row = good[1];
-  nan_row.replace(nan_row.rfind(','), std::string::npos, ",x");
+  std::vector<std::string> nan_fields = audit_fields(good[1]);
+  nan_fields[14] = "x";  // the truth
+  std::string nan_row;
+  for (const std::string& f : nan_fields) nan_row += (nan_row.empty() ? "" : ",") + f;
   EXPECT_EQ(error(good[0] + "\n" + good[1] + "\n" + nan_row + "\n"), file + ":3: not a number");
   EXPECT_EQ(error("stop,round,planner_gain\n"), file + ": not a candidates.csv (no column 'truth')");
   EXPECT_EQ(error(""), file + ": not a candidates.csv (empty)");

@@ -61,10 +61,10 @@ struct NextViewsRequest {
   /// The batch is cut to its first max_views views (best first) before the tour: the attempts
   /// the stop has left (0: no cap).
   std::size_t max_views = 0;
-  /// Called once before the planner's first goal test (ViewRequest::goal_free) of this request:
-  /// the mission clears the robot's own volume from the collision environment there, as it
-  /// does before every arm plan, so the test sees what the arm planner will see; may be null.
-  std::function<void()> before_goal_test;
+  /// Views that failed here for a cause of their own (nbv::joins_failed_views): a batch's view
+  /// within them is dropped before the tour and counted in NextViews::guarded, whatever the
+  /// planner (the mission's guard; a Python planner may ignore request.failed_views). May be null.
+  const nbv::TakenViews* failed = nullptr;
 };
 
 /// The arm's side of a stop: what reachability and the tour are computed with.
@@ -81,12 +81,13 @@ struct NextViews {
   std::vector<nbv::PlannedView> ordered;      ///< Tour order (kTour) or the planner's order.
   std::vector<nbv::PlannedView> unreachable;  ///< Chosen views without an IK solution.
   std::size_t cleared_voxels = 0;             ///< Map voxels inside the robot, not obstacles.
+  std::size_t guarded = 0;                    ///< Views of the batch dropped: in NextViewsRequest::failed.
 };
 
 /// The step the mission takes at every planning round and `canopy nbv` once: the planner's
 /// batch for the robot at request.base against `map` (the workspace filter and IK as the
-/// candidate filter, the workspace as the position test), then the views in execution order
-/// (the open tour for kTour batches). `index` is kept beside `map`. Deterministic.
+/// candidate filter, the workspace as the position test), without the views that failed here
+/// (request.failed), then the views in execution order (the open tour for kTour batches). `index` is kept beside `map`. Deterministic.
 NextViews next_views(const mapping::SemanticOcTree& map, nbv::VoxelIndex& index, nbv::ViewPlanner& planner,
                      const StopArm& arm, const NextViewsRequest& request);
 

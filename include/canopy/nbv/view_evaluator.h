@@ -42,6 +42,11 @@ class ViewEvaluator {
   /// Gain of the view at T_world_camera looking at `target` with ray set `rays`.
   ViewScore evaluate(const Pose& T_world_camera, const Vec3& target, const GainFunction& gain,
                      const RaySetEntry& rays, std::uint64_t view_seed);
+  /// Several gains of one view from one cast of its rays: out[i] = evaluate(..., *gains[i], ...).gain
+  /// (bit for bit); `each_ray`, when set, is also given every ray's voxels. Returns the status.
+  ViewStatus evaluate_all(const Pose& T_world_camera, const Vec3& target, const std::vector<const GainFunction*>& gains,
+                          const RaySetEntry& rays, std::uint64_t view_seed, double* out,
+                          const std::function<void(const RayVoxel*, std::size_t)>& each_ray = nullptr);
   /// The same through the slow reference traversal (computeRayKeys + a tree search per key,
   /// voxel values computed from the tree's states).
   ViewScore evaluate_reference(const Pose& T_world_camera, const Vec3& target, const GainFunction& gain,
@@ -61,6 +66,7 @@ class ViewEvaluator {
   std::vector<Vec2> pixels_;
   std::vector<Vec3> ends_;
   std::vector<RayVoxel> buffer_;
+  std::vector<double> sums_;
   octomap::KeyRay key_ray_;
   std::vector<ReferenceVoxel> ref_voxels_;
   std::vector<VoxelInfo> ref_infos_;

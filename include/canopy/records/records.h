@@ -133,6 +133,7 @@ struct CandidateRecord {
   std::size_t frustum = 0;     ///< Uncovered truth points in its frustum.
   std::size_t truth = 0;       ///< Uncovered truth points it sees (the oracle's score).
   std::vector<double> scores;  ///< audit_score_names() order.
+  std::vector<float> features; ///< nbv::view_feature_names() order (a learned scorer's input).
 };
 
 /// One attempted view. Its fields are named, with unit and meaning, once: in visit() (the
@@ -309,6 +310,8 @@ struct StopRecord {
   int scripted_replaced = 0;
   int replacement_attempts = 0;
   int refused = 0;
+  int guarded = 0;
+  int exploration_rounds = 0;
   int rounds = 0;
   std::map<std::string, int> failures;  ///< Failed attempts by cause (FailureCause names, in name order).
   std::string end_reason;
@@ -345,6 +348,11 @@ struct StopRecord {
       F("", "replacement views attempted (counted in the attempted views too)"));
     a("refused", refused,
       F("", "scripted views the planner refused before any move (no collision-free IK goal; not attempts)"));
+    a("guarded", guarded,
+      F("", "views a planner offered again after they failed here for a cause of their own, dropped by the mission "
+            "(not attempts)"));
+    a("exploration_rounds", exploration_rounds,
+      F("", "rounds planned by mission.loop.exploration because the method had nothing to attempt"));
     a("rounds", rounds, F("", "planning rounds"));
     a("failures", failures, F("", "failed attempts by cause"));
     a("end_reason", end_reason, F("", "why the stop's loop ended, in a line"));

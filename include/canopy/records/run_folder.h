@@ -105,14 +105,19 @@ void MissionSummary::visit(A& a) {
     F("", "when the final coverage is 0: why (also the command's last line); absent otherwise").if_present());
   a.list("stops", r.stops, F("", "one per base stop"));
   int refused = 0, repairs = 0, replaced = 0, replacement_attempts = 0, arm_contacts = 0, base_contacts = 0;
+  int guarded = 0, exploration_rounds = 0;
   bool all_reached = !r.stops.empty();
   for (const StopRecord& s : r.stops) {
     refused += s.refused, repairs += s.start_repairs, replaced += s.scripted_replaced;
+    guarded += s.guarded, exploration_rounds += s.exploration_rounds;
     replacement_attempts += s.replacement_attempts, base_contacts += s.base_truth_contacts;
     all_reached = all_reached && s.reached_goal;
   }
   for (const ViewRecord& v : r.views) arm_contacts += v.truth_contacts;
   a("refused", refused, F("", "scripted views refused before any move, all stops"));
+  a("guarded", guarded, F("", "views offered again after failing at their stop, dropped by the mission, all stops"));
+  a("exploration_rounds", exploration_rounds,
+    F("", "rounds planned by mission.loop.exploration for a method with nothing to attempt, all stops"));
   a("start_repairs", repairs, F("", "attempts whose arm start was repaired, all stops"));
   a("scripted_replaced", replaced, F("", "failed scripted views replaced, all stops"));
   a("replacement_attempts", replacement_attempts, F("", "replacement views attempted, all stops"));

@@ -66,6 +66,10 @@ struct ScanParams {
   }
 };
 
+/// What mission.loop.exploration may name: "none" and the registry's planners that read only the
+/// map (not the oracles).
+std::vector<std::string> exploration_planner_names();
+
 /// The NBV loop of one stop.
 struct LoopParams {
   int views_per_stop = 12;
@@ -77,6 +81,10 @@ struct LoopParams {
   double region_min_z_m = 0.05;
   double region_max_z_m = 1.8;
   bool overlap_moves = true;
+  /// The planner that fills a stop when the method has nothing to attempt in a round (it ended
+  /// its stop early, or offered only views already failed here), so that every method spends
+  /// its views_per_stop: its views of that round are the method's ("none": the stop ends).
+  std::string exploration = "frontier";
 
   template <class A>
   void visit(A& a) {
@@ -95,6 +103,9 @@ struct LoopParams {
     a("overlap_moves", overlap_moves,
       "Start a straight move while the last scan is inserted on the second core; a move whose plan changes with "
       "the scan is made again (results are the same either way; only the wall time differs)");
+    a.one_of("exploration", exploration, exploration_planner_names(),
+             "View planner that fills a round in which the method has nothing to attempt, so that every method "
+             "spends its views_per_stop ('none': the stop ends; the method plans again first the next round)");
   }
 };
 
@@ -103,7 +114,7 @@ struct RecordParams {
   double truth_voxel_m = 0.01;
   double base_check_period_s = 0.02;
   bool metrics_every_view = true;
-  std::vector<double> time_budgets_s = {60.0, 120.0, 240.0, 480.0};
+  std::vector<double> time_budgets_s = {60.0, 120.0, 180.0, 240.0};
   bool candidates = false;
 
   template <class A>

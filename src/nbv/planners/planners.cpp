@@ -7,6 +7,7 @@
 
 #include "canopy/nbv/planners/frontier/frontier.h"
 #include "canopy/nbv/planners/global/global.h"
+#include "canopy/nbv/planners/learned/learned.h"
 #include "canopy/nbv/planners/ours/ours.h"
 #include "canopy/nbv/planners/predefined/predefined.h"
 #include "canopy/nbv/planners/reveal/reveal.h"
@@ -39,6 +40,7 @@ std::vector<ViewPlannerEntry> builtin_view_planners() {
           global::entry(),
           reveal::entry(),
           shape::entry(),
+          learned::entry(),
           oracle_entry("oracle",
                        "ours' candidates, workspace filter and reach test, each scored by the uncovered true fruit "
                        "points it sees"),

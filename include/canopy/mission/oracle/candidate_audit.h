@@ -12,6 +12,7 @@
 #include "canopy/evaluation/truth_score.h"
 #include "canopy/records/records.h"
 #include "canopy/settings/settings.h"
+#include "canopy/nbv/view_features.h"
 #include "canopy/nbv/view_planner.h"
 #include "canopy/sim/simulator.h"
 #include "canopy/world/world.h"
@@ -26,8 +27,11 @@ class CandidateAudit {
   /// The observer to pass to the planner for the coming round.
   nbv::CandidateObserver observer();
   /// Scores the round's candidates against `index` (the map as the planner saw it) and the truth.
+  /// Each candidate also gets its view features (nbv/view_features.h) for the stop `region`
+  /// and the camera at T_world_camera.
   void end_round(const mapping::SemanticOcTree& map, const nbv::VoxelIndex& index, const nbv::ViewBatch& batch,
-                 int stop, int round, int views_before, std::uint64_t seed);
+                 int stop, int round, int views_before, std::uint64_t seed, const Eigen::AlignedBox3d& region,
+                 const Pose& T_world_camera);
   /// The records of every round so far.
   const std::vector<records::CandidateRecord>& records() const { return records_; }
 
@@ -37,6 +41,7 @@ class CandidateAudit {
   std::unique_ptr<evaluation::TruthViewScorer> scorer_;
   int scorer_stop_ = -1;  // the stop whose truth renders the scorer keeps
   std::vector<std::unique_ptr<nbv::GainFunction>> gains_;
+  nbv::ViewFeatures features_;
   std::vector<nbv::ScoredView> pending_;
   std::vector<records::CandidateRecord> records_;
 };

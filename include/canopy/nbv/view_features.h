@@ -1,0 +1,76 @@
+#pragma once
+// The features of a candidate view that a learned view scorer reads (issue 47): every gain of
+// the registry over the cheap ray sets, the shape fit's predicted unseen surface in view and how
+// much of it is blocked, the fit's quality, how consistently the target fruit's voxels were
+// labelled fruit, how much of it is seen already, and the view's geometry (distance and angle to
+// the target, the move from the camera now). Map only, no ground truth: the candidate audit
+// records them beside the truth (training data), a planner computes the same at planning.
+// One feature set, one order (view_feature_names()): a model trained on them states that order.
+
+#include <Eigen/Geometry>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "canopy/common/camera.h"
+#include "canopy/mapping/shape_fit.h"
+#include "canopy/nbv/candidates.h"
+#include "canopy/nbv/fruit_shapes.h"
+#include "canopy/nbv/gains.h"
+#include "canopy/nbv/nbv_params.h"
+#include "canopy/nbv/ray_sets.h"
+#include "canopy/nbv/view_evaluator.h"
+#include "canopy/nbv/voxel_index.h"
+
+namespace canopy::nbv {
+
+/// How the shape features are computed (the shape planner's defaults, docs/shape.md).
+struct ViewFeatureParams {
+  mapping::ShapeFitParams fit;
+  double spacing_m = 0.01;         ///< Predicted surface points every this much [m].
+  double covered_m = 0.015;        ///< A predicted point is seen with a confirmed fruit voxel this close [m].
+  double unknown_transmit = 0.97;  ///< Sight-line transmission per unknown voxel.
+  double margin_m = 0.1;           ///< Fruit voxels within this of the stop region are clustered [m].
+};
+
+/// The feature names, in the order compute() writes them.
+const std::vector<std::string>& view_feature_names();
+
+/// Computes the features of candidates, one planning round at a time.
+class ViewFeatures {
+ public:
+  ViewFeatures(const CameraIntrinsics& intrinsics, const NbvParams& nbv, const ViewFeatureParams& params);
+  ~ViewFeatures();
+
+  /// A new round on `map` (whose `index` is refreshed) for the stop `region`, the camera now at
+  /// T_world_camera: the fruits fitted (kept between rounds while their voxels do not change)
+  /// and their unseen predicted surface.
+  void begin_round(const mapping::SemanticOcTree& map, const VoxelIndex& index, const Eigen::AlignedBox3d& region,
+                   const Pose& T_world_camera);
+  /// The fruits of the round.
+  const std::vector<FittedFruit>& fruits() const { return fruits_; }
+  /// The features of a view at T_world_camera looking at `target` (view_feature_names() order).
+  void compute(const Pose& T_world_camera, const Vec3& target, std::vector<float>* out);
+
+ private:
+  struct Fruit;  // per fitted fruit: label consistency, seen fraction
+  int fruit_of(const Vec3& target) const;
+  CameraIntrinsics intrinsics_;
+  NbvParams nbv_;
+  ViewFeatureParams params_;
+  std::vector<std::unique_ptr<GainFunction>> gains_;
+  std::vector<const RaySetEntry*> ray_sets_;
+  const VoxelIndex* index_ = nullptr;
+  std::unique_ptr<ViewEvaluator> eval_;
+  ShapeFitCache cache_;
+  std::vector<FittedFruit> fruits_;
+  std::vector<Fruit> fruit_info_;
+  std::vector<PredictedPoint> points_;
+  std::vector<float> weights_;  // refute rule: 1 or 0; fruit-probability rule beside it
+  std::vector<float> fruit_weights_;
+  std::vector<RayVoxel> buffer_;
+  Pose T_now_ = Pose::Identity();
+};
+
+}  // namespace canopy::nbv

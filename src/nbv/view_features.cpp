@@ -1,0 +1,287 @@
+// The features of a candidate view for a learned scorer (view_features.h).
+
+#include "canopy/nbv/view_features.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "canopy/common/error.h"
+#include "canopy/nbv/view_evaluator.h"
+
+namespace canopy::nbv {
+
+namespace {
+
+// The ray sets whose gains are features: the cheap ones (ours' window and the sparse grid; the
+// dense grid casts 20x more rays than a planning budget allows).
+const char* const kFeatureRaySets[] = {"ours", "sparse"};
+
+// Every gain of the registry that reads the map (rs, random, is not a feature), each
+// proximity test of the gains that have one apart, as the candidate audit names them.
+struct FeatureGain {
+  std::string name;
+  const GainEntry* entry;
+  Proximity proximity;
+  bool sets_proximity;
+};
+
+std::vector<FeatureGain> feature_gains() {
+  std::vector<FeatureGain> out;
+  for (const GainEntry& g : gain_registry()) {
+    if (g.name == "rs") continue;
+    if (!g.uses_proximity) {
+      out.push_back({g.name, &g, Proximity::kPerVoxel, false});
+      continue;
+    }
+    for (const auto& p : kProximityNames) out.push_back({g.name + "_" + p.name, &g, p.value, true});
+  }
+  return out;
+}
+
+// The features after the gains, in order.
+const char* const kOtherFeatures[] = {
+    "ours_rays_blocked",      // rays of ours' window whose first occupied voxel is not the target class
+    "ours_rays_on_target",    // ... whose first occupied voxel is the target class
+    "ours_rays_unknown",      // unknown voxels per ray of ours' window (mean)
+    "shape_seen",             // unseen predicted fruit surface points seen (the shape planner's score)
+    "shape_seen_fruit_prob",  // the same, points in another class's voxel counted by their fruit probability
+    "shape_seen_target",      // shape_seen of the target fruit alone
+    "shape_in_view",          // unseen predicted points in the image, depth range and facing the camera
+    "shape_blocked",          // the share of those whose sight line meets an occupied voxel
+    "fit_ok",                 // the target fruit's shape fit succeeded (1) or is the prior (0)
+    "fit_rms_mm",             // its voxels' RMS distance to the fitted surface
+    "fruit_voxels",           // its confirmed fruit voxels
+    "fruit_seen",             // the share of its predicted surface already covered
+    "fruit_label_consistency",// its voxels' mean fruit probability among their occupied classes
+    "fruit_unseen_points",    // its unseen predicted surface points
+    "fruits",                 // fitted fruits of the stop region
+    "unseen_points",          // their unseen predicted surface points
+    "target_distance_m",      // camera to target
+    "target_axis_deg",        // optical axis to the line of sight to the target
+    "target_elevation_m",     // camera height above the target
+    "unseen_side_cos",        // cos(angle) of the view direction and the fruit's unseen side
+    "move_m",                 // camera translation from the camera now
+    "move_deg",               // camera rotation from the camera now
+};
+
+// Surface area of an ellipsoid (Knud Thomsen's approximation, within 1.1 %).
+double ellipsoid_area(const Vec3& s) {
+  const double p = 1.6075;
+  const double ap = std::pow(s.x(), p), bp = std::pow(s.y(), p), cp = std::pow(s.z(), p);
+  return 4.0 * M_PI * std::pow((ap * bp + ap * cp + bp * cp) / 3.0, 1.0 / p);
+}
+
+}  // namespace
+
+const std::vector<std::string>& view_feature_names() {
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> n;
+    for (const char* rays : kFeatureRaySets)
+      for (const FeatureGain& g : feature_gains()) n.push_back(g.name + "@" + rays);
+    for (const char* f : kOtherFeatures) n.push_back(f);
+    return n;
+  }();
+  return names;
+}
+
+struct ViewFeatures::Fruit {
+  double label_consistency = 0.0;
+  double seen = 0.0;
+  int unseen_points = 0;
+  Vec3 unseen_side = Vec3::Zero();  // from the seen voxels' centroid to the fitted centre (unit; 0 when unknown)
+};
+
+ViewFeatures::ViewFeatures(const CameraIntrinsics& intrinsics, const NbvParams& nbv, const ViewFeatureParams& params)
+    : intrinsics_(intrinsics), nbv_(nbv), params_(params) {
+  for (const FeatureGain& g : feature_gains()) {
+    GainParams gp = nbv.gain;
+    if (g.sets_proximity) gp.proximity = g.proximity;
+    gains_.push_back(g.entry->make(gp));
+  }
+  for (const char* r : kFeatureRaySets) ray_sets_.push_back(&ray_set(r, "view features"));
+}
+
+ViewFeatures::~ViewFeatures() = default;
+
+void ViewFeatures::begin_round(const mapping::SemanticOcTree& map, const VoxelIndex& index,
+                               const Eigen::AlignedBox3d& region, const Pose& T_world_camera) {
+  index_ = &index;
+  T_now_ = T_world_camera;
+  eval_ = std::make_unique<ViewEvaluator>(index, intrinsics_, nbv_.rays);
+  std::vector<Vec3> confirmed;
+  fruits_ = fit_fruits(map, nbv_.cluster, params_.fit, &region, params_.margin_m, &confirmed, &cache_);
+  points_ = unseen_surface(fruits_, confirmed, params_.spacing_m, params_.covered_m);
+  const int fruit_cat = map.classes().target_index() + 1;  // prob[] holds free first
+  // Predicted points: refuted in a voxel known free; in another class's surface refuted by
+  // shape's rule (weights_) or counted by the voxel's fruit probability (fruit_weights_).
+  std::vector<PredictedPoint> kept;
+  weights_.clear();
+  fruit_weights_.clear();
+  for (const PredictedPoint& p : points_) {
+    octomap::OcTreeKey k;
+    if (!map.key_of(p.position, &k)) continue;
+    const VoxelInfo& info = index.info(index.lookup(k));
+    float w = 1.f, fw = 1.f;
+    if (info.known && !info.is_target) {
+      if (!(info.p_occ > 0.5f)) continue;
+      const float occupied = 1.f - info.prob[0];
+      w = 0.f;
+      fw = occupied > 0.f ? info.prob[fruit_cat] / occupied : 0.f;
+      if (!(fw > 0.f)) continue;
+    }
+    kept.push_back(p);
+    weights_.push_back(w);
+    fruit_weights_.push_back(fw);
+  }
+  points_ = std::move(kept);
+  fruit_info_.assign(fruits_.size(), Fruit{});
+  for (const PredictedPoint& p : points_) ++fruit_info_[static_cast<std::size_t>(p.fruit)].unseen_points;
+  for (std::size_t f = 0; f < fruits_.size(); ++f) {
+    const FittedFruit& fr = fruits_[f];
+    Fruit& fi = fruit_info_[f];
+    double consistency = 0.0;
+    int n = 0;
+    Vec3 centroid = Vec3::Zero();
+    for (const Vec3& c : fr.points) {
+      centroid += c;
+      octomap::OcTreeKey k;
+      if (!map.key_of(c, &k)) continue;
+      const VoxelInfo& info = index.info(index.lookup(k));
+      const float occupied = 1.f - info.prob[0];
+      if (occupied > 0.f) {
+        consistency += info.prob[fruit_cat] / occupied;
+        ++n;
+      }
+    }
+    fi.label_consistency = n > 0 ? consistency / n : 0.0;
+    if (!fr.points.empty()) {
+      centroid /= double(fr.points.size());
+      const Vec3 d = fr.shape.centre - centroid;
+      if (d.norm() > 1e-6) fi.unseen_side = d.normalized();
+    }
+    const double total = ellipsoid_area(fr.shape.semi_axes) / (params_.spacing_m * params_.spacing_m);
+    fi.seen = total > 0.0 ? std::clamp(1.0 - fi.unseen_points / total, 0.0, 1.0) : 0.0;
+  }
+}
+
+int ViewFeatures::fruit_of(const Vec3& target) const {
+  int best = -1;
+  double best_d = 1e300;
+  for (std::size_t f = 0; f < fruits_.size(); ++f) {
+    const double d = (fruits_[f].shape.centre - target).squaredNorm();
+    if (d < best_d) {
+      best_d = d;
+      best = int(f);
+    }
+  }
+  return best;
+}
+
+void ViewFeatures::compute(const Pose& T, const Vec3& target, std::vector<float>* out) {
+  CANOPY_CHECK(index_ && eval_, "ViewFeatures::compute before begin_round");
+  out->clear();
+  out->reserve(view_feature_names().size());
+  std::vector<const GainFunction*> gains;
+  for (const auto& g : gains_) gains.push_back(g.get());
+  std::vector<double> scores(gains.size());
+  double blocked = 0, on_target = 0, unknown = 0, rays = 0;
+  for (std::size_t r = 0; r < ray_sets_.size(); ++r) {
+    std::function<void(const RayVoxel*, std::size_t)> each_ray;
+    if (r == 0)
+      each_ray = [&](const RayVoxel* v, std::size_t n) {
+        ++rays;
+        for (std::size_t i = 0; i < n; ++i) {
+          const VoxelInfo& info = *v[i].info;
+          if (!info.known) {
+            ++unknown;
+            continue;
+          }
+          if (info.p_occ > 0.5f) {
+            (info.is_target ? on_target : blocked) += 1;
+            break;
+          }
+        }
+      };
+    eval_->evaluate_all(T, target, gains, *ray_sets_[r], 0, scores.data(), each_ray);
+    for (const double s : scores) out->push_back(static_cast<float>(s));
+  }
+  out->push_back(static_cast<float>(rays > 0 ? blocked / rays : 0.0));
+  out->push_back(static_cast<float>(rays > 0 ? on_target / rays : 0.0));
+  out->push_back(static_cast<float>(rays > 0 ? unknown / rays : 0.0));
+
+  // The predicted surface in view (as the shape planner scores it).
+  const int own = fruit_of(target);
+  const Pose T_inv = T.inverse();
+  const Vec3 eye = T.translation();
+  const double res = index_->map()->getResolution();
+  const std::size_t cap = index_->max_voxels(intrinsics_.max_range_m + 0.1);
+  if (buffer_.size() < cap) buffer_.resize(cap);
+  double seen = 0, seen_fp = 0, seen_own = 0, in_view = 0, zero = 0;
+  for (std::size_t i = 0; i < points_.size(); ++i) {
+    const PredictedPoint& pp = points_[i];
+    const Vec3& p = pp.position;
+    const Vec3 to_eye = eye - p;
+    if (to_eye.dot(pp.normal) <= 0.0) continue;
+    const Vec3 c = T_inv * p;
+    if (c.z() < intrinsics_.min_range_m || c.z() > intrinsics_.max_range_m) continue;
+    double u = 0, v = 0;
+    if (!intrinsics_.project(c, &u, &v) || u < 0.0 || v < 0.0 || u >= intrinsics_.width_px || v >= intrinsics_.height_px)
+      continue;
+    const double dist = to_eye.norm();
+    if (dist <= res) continue;
+    bool outside = false;
+    const std::size_t m = index_->cast(eye, p + to_eye * (res / dist), p, buffer_.data(), buffer_.size(), &outside);
+    if (outside) continue;
+    ++in_view;
+    double t = 1.0;
+    for (std::size_t j = 0; j < m && t > 1e-3; ++j) {
+      const VoxelInfo& info = *buffer_[j].info;
+      if (!info.known) t *= params_.unknown_transmit;
+      else if (info.p_occ > 0.5f) t = 0.0;
+    }
+    if (!(t > 1e-3)) {
+      ++zero;
+      continue;
+    }
+    seen += t * weights_[i];
+    seen_fp += t * fruit_weights_[i];
+    if (pp.fruit == own) seen_own += t * weights_[i];
+  }
+  out->push_back(static_cast<float>(seen));
+  out->push_back(static_cast<float>(seen_fp));
+  out->push_back(static_cast<float>(seen_own));
+  out->push_back(static_cast<float>(in_view));
+  out->push_back(static_cast<float>(in_view > 0 ? zero / in_view : 0.0));
+
+  // The target fruit.
+  const Vec3 view_dir = (eye - target).normalized();  // from the target toward the camera
+  if (own >= 0) {
+    const FittedFruit& f = fruits_[static_cast<std::size_t>(own)];
+    const Fruit& fi = fruit_info_[static_cast<std::size_t>(own)];
+    out->push_back(f.shape.ok ? 1.f : 0.f);
+    out->push_back(static_cast<float>(1000.0 * f.shape.rms_m));
+    out->push_back(static_cast<float>(f.points.size()));
+    out->push_back(static_cast<float>(fi.seen));
+    out->push_back(static_cast<float>(fi.label_consistency));
+    out->push_back(static_cast<float>(fi.unseen_points));
+  } else {
+    for (int i = 0; i < 6; ++i) out->push_back(std::nanf(""));  // no fruit: missing, as XGBoost reads NaN
+  }
+  out->push_back(static_cast<float>(fruits_.size()));
+  out->push_back(static_cast<float>(points_.size()));
+
+  // Geometry.
+  const Vec3 to_target = target - eye;
+  const double dist = to_target.norm();
+  const Vec3 axis = T.linear().col(2);
+  out->push_back(static_cast<float>(dist));
+  out->push_back(static_cast<float>(dist > 0 ? std::acos(std::clamp(axis.dot(to_target) / dist, -1.0, 1.0)) * 180.0 / M_PI : 0.0));
+  out->push_back(static_cast<float>(eye.z() - target.z()));
+  out->push_back(own >= 0 ? static_cast<float>(view_dir.dot(fruit_info_[static_cast<std::size_t>(own)].unseen_side))
+                          : std::nanf(""));
+  out->push_back(static_cast<float>((eye - T_now_.translation()).norm()));
+  out->push_back(static_cast<float>(Eigen::AngleAxisd(T_now_.linear().transpose() * T.linear()).angle() * 180.0 / M_PI));
+  CANOPY_CHECK(out->size() == view_feature_names().size(), "one value per feature name");
+}
+
+}  // namespace canopy::nbv

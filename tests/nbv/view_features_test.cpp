@@ -1,0 +1,119 @@
+// The view features of a learned scorer (nbv/view_features.h) on the shape planner's scene: one
+// fruit mapped from the front only, a leaf beside its back on the +y side. The features agree
+// with what they restate (the shape planner's score, each gain evaluated on its own), and the
+// geometric ones tell the unseen back from the seen front.
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+
+#include "../mapping/synthetic.h"
+#include "scene.h"
+#include "canopy/nbv/planners/shape/shape.h"
+#include "canopy/nbv/view_evaluator.h"
+#include "canopy/nbv/view_features.h"
+
+using namespace canopy;
+using namespace canopy::nbv;
+
+namespace {
+
+const Vec3 kFruit = nbv_test::kShapeFruit;
+const Eigen::AlignedBox3d kRegion(Vec3(0.2, -0.4, 0.6), Vec3(0.8, 0.4, 1.4));
+
+mapping::SemanticOcTree front_map() { return nbv_test::front_map(true); }
+
+std::size_t feature(const std::string& name) {
+  const auto& n = view_feature_names();
+  const auto it = std::find(n.begin(), n.end(), name);
+  EXPECT_NE(it, n.end()) << name;
+  return std::size_t(it - n.begin());
+}
+
+TEST(ViewFeatures, NamesAreUniqueAndEveryGainOfTheRegistryButRandomIsOne) {
+  const auto& n = view_feature_names();
+  EXPECT_EQ(std::set<std::string>(n.begin(), n.end()).size(), n.size());
+  for (const GainEntry& g : gain_registry()) {
+    const std::string name = g.uses_proximity ? g.name + "_per_voxel@ours" : g.name + "@ours";
+    EXPECT_EQ(std::count(n.begin(), n.end(), name), g.name == "rs" ? 0 : 1) << name;
+  }
+}
+
+// shape_seen is the shape planner's score of the same candidate; every gain feature is that
+// gain evaluated alone (one cast of the rays for all of them gives the same sums).
+TEST(ViewFeatures, AgreeWithTheShapePlannerAndWithEachGainAlone) {
+  const mapping::SemanticOcTree map = front_map();
+  VoxelIndex index(map);
+  ViewPlannerSettings s;
+  s.method.name = "shape";
+  const auto planner = make_view_planner(s);
+  ViewRequest req;
+  req.map = &map;
+  req.index = &index;
+  req.region = kRegion;
+  std::vector<ScoredView> scored;
+  req.on_scored = [&](const ScoredView& v) { scored.push_back(v); };
+  planner->next(req);
+  ASSERT_GT(scored.size(), 20u);
+
+  CameraIntrinsics K;
+  ViewFeatures features(K, s.params, ViewFeatureParams{});
+  const Pose T_now = synth::look_at(Vec3(0.1, 0.0, 1.0), kFruit);
+  features.begin_round(map, index, kRegion, T_now);
+  ASSERT_EQ(features.fruits().size(), 1u);
+  ViewEvaluator eval(index, K, s.params.rays);
+  const auto uvc = make_gain("uvc", s.params.gain), mi = make_gain("mi", s.params.gain);
+  std::vector<float> f;
+  int positive = 0;
+  for (const ScoredView& v : scored) {
+    features.compute(v.candidate.T_world_camera, v.candidate.target, &f);
+    ASSERT_EQ(f.size(), view_feature_names().size());
+    EXPECT_NEAR(f[feature("shape_seen")], v.score.gain, 1e-3 * (1.0 + v.score.gain));
+    positive += v.score.gain > 0.0;
+    EXPECT_EQ(f[feature("uvc@ours")],
+              float(eval.evaluate(v.candidate.T_world_camera, v.candidate.target, *uvc, ray_set("ours"), 0).gain));
+    EXPECT_EQ(f[feature("mi@sparse")],
+              float(eval.evaluate(v.candidate.T_world_camera, v.candidate.target, *mi, ray_set("sparse"), 0).gain));
+    EXPECT_GE(f[feature("shape_seen_fruit_prob")], f[feature("shape_seen")] - 1e-3f);
+  }
+  EXPECT_GT(positive, 5);
+  // The camera now has not moved; half the fruit is seen.
+  features.compute(T_now, kFruit, &f);
+  EXPECT_NEAR(f[feature("move_m")], 0.0, 1e-6);
+  EXPECT_NEAR(f[feature("move_deg")], 0.0, 1e-3);
+  EXPECT_GT(f[feature("fruit_seen")], 0.2);
+  EXPECT_LT(f[feature("fruit_seen")], 0.8);
+  EXPECT_EQ(f[feature("fit_ok")], 1.f);
+  EXPECT_GT(f[feature("fruit_label_consistency")], 0.9);
+}
+
+// Looking at the unseen back (from +x) is on the fruit's unseen side, the front (from -x) is not;
+// behind the leaf, more of the predicted surface in view is blocked than from its mirror.
+TEST(ViewFeatures, TellTheUnseenSideAndTheLeafThatBlocksIt) {
+  const mapping::SemanticOcTree map = front_map();
+  VoxelIndex index(map);
+  CameraIntrinsics K;
+  ViewFeatures features(K, NbvParams{}, ViewFeatureParams{});
+  features.begin_round(map, index, kRegion, synth::look_at(Vec3(0.1, 0.0, 1.0), kFruit));
+  const Vec3 centre = features.fruits().at(0).shape.centre;
+  std::vector<float> back, front, leaf_side, clear_side;
+  auto at = [&](double azimuth_deg, std::vector<float>* f) {
+    const double a = azimuth_deg * M_PI / 180.0;
+    features.compute(synth::look_at(centre + 0.4 * Vec3(std::cos(a), std::sin(a), 0.0), centre), centre, f);
+  };
+  at(0, &back);
+  at(180, &front);
+  at(40, &leaf_side);
+  at(-40, &clear_side);
+  EXPECT_GT(back[feature("unseen_side_cos")], 0.5);
+  EXPECT_LT(front[feature("unseen_side_cos")], -0.5);
+  EXPECT_GT(back[feature("shape_seen")], 4.0 * front[feature("shape_seen")]);
+  EXPECT_GT(leaf_side[feature("ours_rays_blocked")] + leaf_side[feature("shape_blocked")],
+            clear_side[feature("ours_rays_blocked")] + clear_side[feature("shape_blocked")]);
+  EXPECT_NEAR(back[feature("target_distance_m")], 0.4, 1e-6);
+  EXPECT_NEAR(back[feature("target_axis_deg")], 0.0, 0.1);
+}
+
+}  // namespace

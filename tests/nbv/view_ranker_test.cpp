@@ -1,0 +1,74 @@
+// The learned view scorer's model file (nbv/view_ranker.h): a model trained here with XGBoost's
+// C API on the view features, to rank by one of them, orders views by that feature; a missing,
+// corrupt or feature-mismatched file is refused with one line naming it. The shipped model
+// (tools/train_view_ranker.py, docs/learned.md) reads this canopy's features.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include "canopy/common/data_dir.h"
+#include "canopy/common/error.h"
+#include "canopy/nbv/planners/learned/learned_params.h"
+#include "canopy/nbv/view_features.h"
+#include "canopy/nbv/view_ranker.h"
+#include "ranker_model.h"
+
+using namespace canopy;
+using namespace canopy::nbv;
+
+namespace {
+
+namespace fs = std::filesystem;
+using nbv_test::train_model;
+
+std::string refusal(const std::string& path) {
+  try {
+    ViewRanker r(path);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(ViewRanker, AModelTrainedToRankByAFeatureOrdersViewsByIt) {
+  const std::size_t by = 7;
+  const ViewRanker ranker(train_model("by_feature.json", by));
+  const std::size_t cols = view_feature_names().size();
+  std::vector<float> rows(5 * cols, 5.f);
+  for (std::size_t r = 0; r < 5; ++r) rows[r * cols + by] = float(2 * r);  // 0, 2, 4, 6, 8
+  const std::vector<float> s = ranker.score(rows, 5);
+  ASSERT_EQ(s.size(), 5u);
+  for (std::size_t r = 1; r < 5; ++r) EXPECT_GT(s[r], s[r - 1]) << r;
+  EXPECT_TRUE(ranker.score({}, 0).empty());
+}
+
+TEST(ViewRanker, MissingCorruptOrMismatchedModelsAreRefusedNamingTheFile) {
+  const std::string missing = (fs::path(testing::TempDir()) / "no_model.json").string();
+  EXPECT_NE(refusal(missing).find("'" + missing + "': no such file"), std::string::npos) << refusal(missing);
+  const std::string corrupt = (fs::path(testing::TempDir()) / "corrupt.json").string();
+  std::ofstream(corrupt) << "{\"learner\": [1, 2";
+  EXPECT_NE(refusal(corrupt).find("'" + corrupt + "': not an XGBoost model"), std::string::npos) << refusal(corrupt);
+  std::vector<std::string> other = view_feature_names();
+  other.pop_back();
+  const std::string shorter = train_model("shorter.json", 0, other);
+  EXPECT_NE(refusal(shorter).find("reads " + std::to_string(other.size()) + " features"), std::string::npos)
+      << refusal(shorter);
+  other = view_feature_names();
+  other[3] = "renamed";
+  const std::string renamed = train_model("renamed.json", 0, other);
+  EXPECT_NE(refusal(renamed).find("feature 3 is 'renamed'"), std::string::npos) << refusal(renamed);
+  for (const std::string& p : {missing, corrupt, shorter, renamed})
+    EXPECT_EQ(refusal(p).find('\n'), std::string::npos) << "one line";
+}
+
+TEST(ViewRanker, TheShippedModelReadsThisCanopysFeatures) {
+  const ViewRanker ranker(find_data_file(LearnedParams{}.model));
+  const std::vector<float> s = ranker.score(std::vector<float>(view_feature_names().size(), 0.f), 1);
+  ASSERT_EQ(s.size(), 1u);
+  EXPECT_TRUE(std::isfinite(s[0]));
+}
+
+}  // namespace

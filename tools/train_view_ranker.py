@@ -1,0 +1,256 @@
+#!/usr/bin/env python3
+"""Trains canopy's learned view scorer (issue 47) from candidate audits, and ranks it against the truth.
+
+The candidate audit (mission.record.candidates) writes, per planning round, every candidate a
+planner scored with its view features (nbv/view_features.h: columns f:<name>) and its truth score
+(the uncovered true fruit surface points it sees). One round is one query; the model orders its
+candidates (XGBoost learning to rank, gradient-boosted trees).
+
+    python3 tools/train_view_ranker.py runs/ranker_default runs/ranker_dense --out models/view_ranker.json
+
+Only tuning worlds train: a trial whose world seed is 1000 or more (the evaluation worlds) is
+refused, one line and exit 2. --evaluate RUN... ranks a model against the truth on other runs
+(the evaluation worlds allowed there) beside every hand-made gain, as canopy report's
+gain_truth table does: per round Spearman's rho, the top view being the truth's best (top-1) or
+in its best five (top-5), the truth rank of the top view, the score's rank of the truth's best
+view, and the top view's share of the round's best truth; means over rounds.
+"""
+import argparse
+import csv
+import glob
+import json
+import math
+import os
+import sys
+
+import numpy as np
+
+TUNING_SEED_LIMIT = 1000
+
+
+def fail(msg):
+    print(f"train_view_ranker: {msg}", file=sys.stderr)
+    sys.exit(2)
+
+
+def trials_of(run):
+    """(trial folder, trial record) of every ok trial with a candidates.csv under an experiment folder."""
+    out = []
+    for tj in sorted(glob.glob(os.path.join(run, "trials", "*", "trial.json"))):
+        folder = os.path.dirname(tj)
+        with open(tj) as f:
+            t = json.load(f)
+        cands = os.path.join(folder, "mission", "candidates.csv")
+        if t.get("status") != "ok" or not os.path.exists(cands):
+            continue
+        out.append((folder, t))
+    return out
+
+
+def read_rounds(runs, tuning_only):
+    """Rounds of every trial: list of dicts with the features matrix, truth, audit scores and the trial's keys."""
+    rounds = []
+    names = None
+    scores_names = None
+    for run in runs:
+        trials = trials_of(run)
+        if not trials:
+            fail(f"{run}: no trial with a candidates.csv (run it with mission.record.candidates: true)")
+        for folder, t in trials:
+            spec = t["trial"]
+            seed = spec.get("world_seed")
+            if tuning_only and (seed is None or seed >= TUNING_SEED_LIMIT):
+                fail(f"{folder}: world seed {seed} is an evaluation world (>= {TUNING_SEED_LIMIT}); train on tuning worlds only")
+            path = os.path.join(folder, "mission", "candidates.csv")
+            with open(path) as f:
+                rows = list(csv.reader(f))
+            header = rows[0]
+            feats = [i for i, h in enumerate(header) if h.startswith("f:")]
+            if not feats:
+                fail(f"{path}: no feature columns (f:...): recorded by an older canopy")
+            fnames = [header[i][2:] for i in feats]
+            if names is None:
+                names = fnames
+            elif fnames != names:
+                fail(f"{path}: its features differ from the first file's (recorded by another canopy)")
+            first_score = header.index("truth") + 1
+            snames = header[first_score:feats[0]]
+            scores_names = scores_names or snames
+            ci = {h: i for i, h in enumerate(header)}
+            group = {}
+            order = []
+            for r in rows[1:]:
+                if not r:
+                    continue
+                key = (r[ci["stop"]], r[ci["round"]])
+                if key not in group:
+                    group[key] = []
+                    order.append(key)
+                group[key].append(r)
+            world = os.path.basename(os.path.normpath(run))
+            for key in order:
+                rs = group[key]
+                if len(rs) < 2:
+                    continue
+                X = np.array([[float(r[i]) for i in feats] for r in rs], dtype=np.float32)
+                truth = np.array([float(r[ci["truth"]]) for r in rs])
+                planner = np.array([float(r[ci["planner_gain"]]) for r in rs])
+                S = np.array([[float(r[ci[n]]) for n in snames] for r in rs]) if snames else np.zeros((len(rs), 0))
+                rounds.append({"X": X, "truth": truth, "planner": planner, "scores": S, "run": world,
+                               "method": spec["label"], "p_gt": spec["p_gt"], "world_seed": seed,
+                               "trial": spec["id"]})
+    return rounds, names, scores_names
+
+
+def average_ranks(v):
+    order = np.argsort(v, kind="mergesort")
+    ranks = np.empty(len(v))
+    sv = v[order]
+    i = 0
+    while i < len(v):
+        j = i
+        while j + 1 < len(v) and sv[j + 1] == sv[i]:
+            j += 1
+        ranks[order[i:j + 1]] = (i + j) / 2.0 + 1.0
+        i = j + 1
+    return ranks
+
+
+def spearman(a, b):
+    ra, rb = average_ranks(a), average_ranks(b)
+    if np.std(ra) == 0 or np.std(rb) == 0:
+        return None
+    return float(np.corrcoef(ra, rb)[0, 1])
+
+
+class Agreement:
+    """The same statistics as evaluation::RankAgreement (rank_stats.h)."""
+
+    def __init__(self):
+        self.rounds = self.correlated = self.top1 = self.top5 = self.share_rounds = 0
+        self.rho = self.rank = self.share = self.best_rank = 0.0
+
+    def add(self, score, truth):
+        self.rounds += 1
+        rho = spearman(score, truth)
+        if rho is not None:
+            self.correlated += 1
+            self.rho += rho
+        choice = int(np.argmax(score))  # the first largest
+        rank = 1 + int(np.sum(truth > truth[choice]))
+        self.top1 += rank == 1
+        self.top5 += rank <= 5
+        self.rank += rank
+        # The truth's best view (the first of them) in the score's order: 1 + views scored above it
+        # + half the others scored alike (a score that ties everything ranks it in the middle).
+        b = score[int(np.argmax(truth))]
+        self.best_rank += 1 + int(np.sum(score > b)) + 0.5 * (int(np.sum(score == b)) - 1)
+        best = truth.max()
+        if best > 0:
+            self.share += truth[choice] / best
+            self.share_rounds += 1
+
+    def row(self):
+        n = max(self.rounds, 1)
+        return (self.rounds, self.rho / max(self.correlated, 1), self.top1 / n, self.top5 / n, self.rank / n,
+                self.share / max(self.share_rounds, 1), self.best_rank / n)
+
+
+def relevance(truth):
+    """Graded relevance of a round's candidates for rank:ndcg: 0..10 by the share of the round's best truth."""
+    best = truth.max()
+    if best <= 0:
+        return np.zeros_like(truth)
+    return np.round(10.0 * truth / best)
+
+
+def train(rounds, names, args):
+    import xgboost as xgb
+    X = np.concatenate([r["X"] for r in rounds])
+    y = np.concatenate([relevance(r["truth"]) for r in rounds])
+    d = xgb.DMatrix(X, label=y, feature_names=names, missing=np.nan)
+    d.set_group([len(r["truth"]) for r in rounds])
+    params = {"objective": args.objective, "eta": args.eta, "max_depth": args.depth, "min_child_weight": 1.0,
+              "subsample": 0.8, "colsample_bytree": 0.8, "seed": 1, "nthread": args.threads,
+              "eval_metric": "ndcg@5"}
+    return xgb.train(params, d, num_boost_round=args.trees)
+
+
+def predict(booster, rounds, names):
+    import xgboost as xgb
+    for r in rounds:
+        r["model"] = booster.predict(xgb.DMatrix(r["X"], feature_names=names, missing=np.nan))
+
+
+def ranking_table(rounds, names, scores_names, title, with_model):
+    """Markdown: every score's agreement with the truth, per (P_gt), over the rounds."""
+    cols = []
+    if with_model:
+        cols.append(("learned (model)", lambda r: r["model"]))
+    cols.append(("the planner's own score", lambda r: r["planner"]))
+    for j, n in enumerate(scores_names):
+        cols.append((f"{n} (audit)", lambda r, j=j: r["scores"][:, j]))
+    for j, n in enumerate(names):
+        cols.append((n, lambda r, j=j: np.nan_to_num(r["X"][:, j], nan=-1e30)))
+    out = [f"### {title}", "",
+           "| P_gt | score | rounds | Spearman ρ | top-1 | top-5 | truth rank of its top view | its rank of the truth's best | truth share |",
+           "|---|---|---|---|---|---|---|---|---|"]
+    for pgt in sorted({r["p_gt"] for r in rounds}, reverse=True):
+        rs = [r for r in rounds if r["p_gt"] == pgt]
+        rows = []
+        for label, f in cols:
+            a = Agreement()
+            for r in rs:
+                a.add(f(r), r["truth"])
+            rows.append((label, a.row()))
+        keep = rows[:2 if with_model else 1] + sorted(rows[2 if with_model else 1:], key=lambda x: -x[1][1])
+        for label, (n, rho, t1, t5, rank, share, best_rank) in keep:
+            out.append(f"| {pgt:g} | {label} | {n} | {rho:.2f} | {100 * t1:.0f} % | {100 * t5:.0f} % | {rank:.1f} | "
+                       f"{best_rank:.1f} | {share:.2f} |")
+    return "\n".join(out) + "\n"
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("runs", nargs="+", help="experiment folders of tuning worlds (world seeds < 1000) with candidates.csv")
+    ap.add_argument("--out", required=True, help="the model file (XGBoost JSON)")
+    ap.add_argument("--evaluate", nargs="*", default=[], help="experiment folders to rank the model on (any worlds)")
+    ap.add_argument("--holdout", type=int, nargs="*", default=[],
+                    help="tuning world seeds kept out of training and ranked instead (model selection)")
+    ap.add_argument("--objective", default="rank:pairwise")
+    ap.add_argument("--trees", type=int, default=100)
+    ap.add_argument("--depth", type=int, default=4)
+    ap.add_argument("--eta", type=float, default=0.1)
+    ap.add_argument("--threads", type=int, default=1, help="1: the same model, byte for byte, from the same data")
+    ap.add_argument("--table", help="write the ranking tables (markdown) here")
+    args = ap.parse_args()
+
+    rounds, names, scores_names = read_rounds(args.runs, tuning_only=True)
+    held = [r for r in rounds if r["world_seed"] in args.holdout]
+    train_rounds = [r for r in rounds if r["world_seed"] not in args.holdout]
+    if not train_rounds:
+        fail("no round to train on")
+    booster = train(train_rounds, names, args)
+    booster.save_model(args.out)
+    n_rows = sum(len(r["truth"]) for r in train_rounds)
+    print(f"trained on {len(train_rounds)} rounds, {n_rows} candidates, {len(names)} features "
+          f"({len({r['trial'] for r in train_rounds})} trials); model {os.path.getsize(args.out)} bytes: {args.out}")
+    tables = []
+    if held:
+        predict(booster, held, names)
+        tables.append(ranking_table(held, names, scores_names, f"Held-out tuning worlds {args.holdout}", True))
+    if args.evaluate:
+        ev, ev_names, ev_scores = read_rounds(args.evaluate, tuning_only=False)
+        if ev_names != names:
+            fail("the evaluation runs' features differ from the training runs'")
+        predict(booster, ev, names)
+        tables.append(ranking_table(ev, names, ev_scores, "Evaluation runs", True))
+    text = "\n".join(tables)
+    if args.table:
+        with open(args.table, "w") as f:
+            f.write(text)
+    print(text)
+
+
+if __name__ == "__main__":
+    main()
