@@ -103,6 +103,10 @@ struct Mission::Impl {
     if (callbacks.progress) callbacks.progress(m);
   }
   void update_caption();
+  // The true plants as voxels, for the robot's contacts: the plants the rendered model holds
+  // (a long row's window, issue 49: the base's contacts on a drive are counted with the plants
+  // of the window it drives to; every plant of a world that fits in one window).
+  std::shared_ptr<const motion::CollisionEnvironment> truth_environment() const;
   BasePose stop_pose(int k) const;
   std::vector<Pose> scan_views(int k, bool extra) const;
   StopRecord& stop_record() { return result.stops.back(); }
