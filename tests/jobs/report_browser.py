@@ -286,7 +286,7 @@ def check_robot_shapes(b, robot, views, ok):
 def check_mapped(b):
     """The thumbnail of the labels mapped (after segmentation and noise) is shown beside the truth."""
     mapped = b.evaluate("getComputedStyle(document.getElementById('thumb-mapped')).backgroundImage")
-    if "report_mapped_0.png" not in mapped or b.evaluate("document.getElementById('fig-mapped').style.display") == "none":
+    if "report_mapped_" not in mapped or b.evaluate("document.getElementById('fig-mapped').style.display") == "none":
         return [f"no thumbnail of the labels mapped: '{mapped}'"]
     return []
 
