@@ -9,11 +9,14 @@ candidates (XGBoost learning to rank, gradient-boosted trees).
     python3 tools/train_view_ranker.py runs/ranker_default runs/ranker_dense --out models/view_ranker.json
 
 Only tuning worlds train: a trial whose world seed is 1000 or more (the evaluation worlds) is
-refused, one line and exit 2. --evaluate RUN... ranks a model against the truth on other runs
+refused, one line and exit 2. --evaluate RUN... ranks the model against the truth on other runs
 (the evaluation worlds allowed there) beside every hand-made gain, as canopy report's
 gain_truth table does: per round Spearman's rho, the top view being the truth's best (top-1) or
 in its best five (top-5), the truth rank of the top view, the score's rank of the truth's best
-view, and the top view's share of the round's best truth; means over rounds.
+view, and the top view's share of the round's best truth; means over rounds, one table per run.
+--model FILE ranks a model already trained instead of training one (no training runs then):
+
+    python3 tools/train_view_ranker.py --model models/nbv/view_ranker.json --evaluate runs/learned_eval
 """
 import argparse
 import csv
@@ -212,8 +215,9 @@ def ranking_table(rounds, names, scores_names, title, with_model):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("runs", nargs="+", help="experiment folders of tuning worlds (world seeds < 1000) with candidates.csv")
-    ap.add_argument("--out", required=True, help="the model file (XGBoost JSON)")
+    ap.add_argument("runs", nargs="*", help="experiment folders of tuning worlds (world seeds < 1000) with candidates.csv")
+    ap.add_argument("--out", help="the model file (XGBoost JSON) to train")
+    ap.add_argument("--model", help="rank this trained model on the --evaluate runs instead of training one")
     ap.add_argument("--evaluate", nargs="*", default=[], help="experiment folders to rank the model on (any worlds)")
     ap.add_argument("--holdout", type=int, nargs="*", default=[],
                     help="tuning world seeds kept out of training and ranked instead (model selection)")
@@ -225,6 +229,24 @@ def main():
     ap.add_argument("--table", help="write the ranking tables (markdown) here")
     args = ap.parse_args()
 
+    if args.model:
+        if args.runs or args.out or args.holdout or not args.evaluate:
+            fail("--model ranks a trained model on --evaluate runs: give neither training runs, --out nor --holdout")
+        import xgboost as xgb
+        if not os.path.isfile(args.model):
+            fail(f"{args.model}: no such model file")
+        booster = xgb.Booster()
+        try:
+            booster.load_model(args.model)
+        except xgb.core.XGBoostError as e:
+            fail(f"{args.model}: not an XGBoost model ({str(e).splitlines()[0]})")
+        names = booster.feature_names
+        if not names:
+            fail(f"{args.model}: the model names no features")
+        finish(booster, names, [], [], args)
+        return
+    if not args.runs or not args.out:
+        fail("give the tuning runs to train on and --out (or --model with --evaluate)")
     rounds, names, scores_names = read_rounds(args.runs, tuning_only=True)
     held = [r for r in rounds if r["world_seed"] in args.holdout]
     train_rounds = [r for r in rounds if r["world_seed"] not in args.holdout]
@@ -235,16 +257,21 @@ def main():
     n_rows = sum(len(r["truth"]) for r in train_rounds)
     print(f"trained on {len(train_rounds)} rounds, {n_rows} candidates, {len(names)} features "
           f"({len({r['trial'] for r in train_rounds})} trials); model {os.path.getsize(args.out)} bytes: {args.out}")
+    finish(booster, names, held, scores_names, args)
+
+
+def finish(booster, names, held, scores_names, args):
+    """Ranks the model on the held-out rounds and on each --evaluate run; prints and writes the tables."""
     tables = []
     if held:
         predict(booster, held, names)
         tables.append(ranking_table(held, names, scores_names, f"Held-out tuning worlds {args.holdout}", True))
-    if args.evaluate:
-        ev, ev_names, ev_scores = read_rounds(args.evaluate, tuning_only=False)
+    for run in args.evaluate:
+        ev, ev_names, ev_scores = read_rounds([run], tuning_only=False)
         if ev_names != names:
-            fail("the evaluation runs' features differ from the training runs'")
+            fail(f"{run}: its features differ from the model's")
         predict(booster, ev, names)
-        tables.append(ranking_table(ev, names, ev_scores, "Evaluation runs", True))
+        tables.append(ranking_table(ev, names, ev_scores, f"{run}: every audited round of {', '.join(sorted({r['method'] for r in ev}))}", True))
     text = "\n".join(tables)
     if args.table:
         with open(args.table, "w") as f:

@@ -66,6 +66,13 @@ std::vector<FittedFruit> fit_fruits(const mapping::SemanticOcTree& map, const Cl
   return out;
 }
 
+std::vector<Vec3> fitted_centres(const std::vector<FittedFruit>& fruits) {
+  std::vector<Vec3> out;
+  out.reserve(fruits.size());
+  for (const FittedFruit& f : fruits) out.push_back(f.shape.centre);
+  return out;
+}
+
 std::vector<PredictedPoint> unseen_surface(const std::vector<FittedFruit>& fruits, const std::vector<Vec3>& confirmed,
                                            double spacing_m, double covered_m) {
   const PointKdTree tree(confirmed);

@@ -6,7 +6,7 @@ the 30th, 60th and 90th successful view (a trial that ended before keeps its las
 the end, mean ± std over the worlds every method completed; the best other map-only method at
 each mark (highest mean; the oracle READS THE TRUTH and is a bound, not a method); the method
 under test (--method, default learned) against it and against half the way to the oracle after 60
-views; paired differences over the worlds (SC points, mean ± std, wins of n); planning time per
+views; paired differences over the worlds (SC points, mean ± paired standard error, wins of n); planning time per
 NBV attempt (the planning phases of summary.json over the stops' NBV attempts).
 
   python3 docs/experiments/learned/goal_table.py default=runs/learned_eval dense=runs/learned_eval_dense
@@ -79,6 +79,12 @@ def load(folder):
     return trials
 
 
+def paired(xs):
+    """Mean and standard error of per-world differences (the paired SE: std / sqrt(n))."""
+    m, s = stat(xs)
+    return m, s / math.sqrt(len(xs)) if xs else float("nan")
+
+
 def pm(m, s, fmt="%.3f"):
     return (fmt % m) + " ± " + (fmt % s)
 
@@ -114,7 +120,7 @@ def condition_tables(preset, p_gt, trials, under_test, out):
     for m in marks:
         best = max(others, key=lambda l: means[(l, m)])
         d = [100.0 * (by[(under_test, w)]["sc"][m] - by[(best, w)]["sc"][m]) for w in worlds]
-        dm, ds = stat(d)
+        dm, ds = paired(d)
         wins = sum(1 for x in d if x > 0)
         met = means[(under_test, m)] >= means[(best, m)]
         verdict[m] = met
@@ -130,7 +136,7 @@ def condition_tables(preset, p_gt, trials, under_test, out):
         lines.append(f"half way to the oracle after 60: {means[(under_test, 'after 60')]:.3f} vs {half:.3f} "
                      + ("met" if met else f"**not met** by {100 * (half - means[(under_test, 'after 60')]):.1f} points"))
     out.append(f"{under_test} against the best other map-only method at each mark: " + "; ".join(lines) + ".\n")
-    out.append(f"| paired, SC points, mean ± std (wins of {len(worlds)}) | after 30 | after 60 | after 90 | final |")
+    out.append(f"| paired, SC points, mean ± paired SE (wins of {len(worlds)}) | after 30 | after 60 | after 90 | final |")
     out.append("|---|---|---|---|---|")
     out.append(f"| {under_test} − the best other at the mark | " + " | ".join(f"{d} ({b})" for _, b, d in diffs) + " |")
     for l in labels:
@@ -139,7 +145,7 @@ def condition_tables(preset, p_gt, trials, under_test, out):
         cells = []
         for m in marks:
             d = [100.0 * (by[(under_test, w)]["sc"][m] - by[(l, w)]["sc"][m]) for w in worlds]
-            dm, ds = stat(d)
+            dm, ds = paired(d)
             cells.append(f"{dm:+.1f} ± {ds:.1f} ({sum(1 for x in d if x > 0)})")
         out.append(f"| {under_test} − {l} | " + " | ".join(cells) + " |")
     out.append("")

@@ -43,6 +43,9 @@ std::vector<FittedFruit> fit_fruits(const mapping::SemanticOcTree& map, const Cl
                                     double margin_m = 0.1, std::vector<Vec3>* confirmed = nullptr,
                                     ShapeFitCache* cache = nullptr);
 
+/// The fruits' fitted centres, in their order (the targets planners sample candidates around).
+std::vector<Vec3> fitted_centres(const std::vector<FittedFruit>& fruits);
+
 /// A predicted surface point not yet covered.
 struct PredictedPoint {
   Vec3 position = Vec3::Zero();

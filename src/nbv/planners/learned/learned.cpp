@@ -7,7 +7,7 @@
 
 #include "canopy/common/data_dir.h"
 #include "canopy/common/error.h"
-#include "canopy/nbv/failed_views.h"
+#include "canopy/nbv/round_planner.h"
 #include "canopy/nbv/view_features.h"
 #include "canopy/nbv/view_ranker.h"
 
@@ -24,11 +24,11 @@ ViewFeatureParams feature_params(const LearnedParams& p) {
   return f;
 }
 
-class LearnedPlanner : public ViewPlanner {
+class LearnedPlanner : public RoundPlanner {
  public:
   explicit LearnedPlanner(const ViewPlannerSettings& s)
-      : ViewPlanner(s.params.views), settings_(s), params_(s.params.planner<LearnedParams>()), failed_(s.params.views),
-        ranker_(find_data_file(params_.model)), features_(s.intrinsics, s.params, feature_params(params_)) {
+      : RoundPlanner(s), params_(s.params.planner<LearnedParams>()), ranker_(find_data_file(params_.model)),
+        features_(s.intrinsics, s.params, feature_params(params_)) {
     const auto& names = view_feature_names();
     seen_ = std::size_t(std::find(names.begin(), names.end(), "shape_in_view") - names.begin());
     unknown_ = std::size_t(std::find(names.begin(), names.end(), "uvc@ours") - names.begin());
@@ -37,18 +37,8 @@ class LearnedPlanner : public ViewPlanner {
 
   std::string name() const override { return "learned"; }
 
-  void taken(const Pose& T) override {
-    ViewPlanner::taken(T);
-    failed_.taken(T);
-  }
-
-  void begin_stop() override { failed_.begin_stop(); }
-
   ViewBatch next(const ViewRequest& req) override {
-    CANOPY_CHECK(req.map && req.index, "view request without a map");
-    failed_.next_batch();
-    ViewBatch batch;
-    batch.order = BatchOrder::kUtility;
+    ViewBatch batch = begin_round(req);
     {
       ScopedPhase phase(batch.times, "clustering");
       req.index->refresh(*req.map);
@@ -64,31 +54,13 @@ class LearnedPlanner : public ViewPlanner {
     const std::size_t width = view_feature_names().size();
     std::vector<Candidate> kept;
     std::vector<float> rows, f;
-    for (std::size_t i = 0; i < fruits.size(); ++i)
-      for (const double r : params_.radii_m) {
-        CandidateParams cp = settings_.params.candidates;
-        cp.sphere.radius_m = r;
-        std::vector<Candidate> cands;
-        {
-          ScopedPhase phase(batch.times, "candidates");
-          cands = sample_candidates(fruits[i].shape.centre, int(i), cp);
-        }
-        for (Candidate& cand : cands) {
-          {
-            ScopedPhase phase(batch.times, "filtering");
-            if (!offerable(&cand, req, failed_)) {
-              ++batch.filtered;
-              continue;
-            }
-          }
-          ScopedPhase phase(batch.times, "scoring");
-          features_.compute(cand.T_world_camera, cand.target, &f);
-          ++batch.candidates;
-          if (!(f[seen_] > 0.f) && !(f[unknown_] > 0.f)) continue;  // nothing a view could add
-          kept.push_back(cand);
-          rows.insert(rows.end(), f.begin(), f.end());
-        }
-      }
+    for_each_candidate(fitted_centres(fruits), params_.radii_m, req, &batch, [&](const Candidate& cand) {
+      features_.compute(cand.T_world_camera, cand.target, &f);
+      ++batch.candidates;
+      if (!(f[seen_] > 0.f) && !(f[unknown_] > 0.f)) return;  // nothing a view could add
+      kept.push_back(cand);
+      rows.insert(rows.end(), f.begin(), f.end());
+    });
     if (kept.empty()) {
       batch.finished = true;
       batch.reason = batch.candidates == 0 ? "every candidate was filtered out"
@@ -114,9 +86,7 @@ class LearnedPlanner : public ViewPlanner {
   }
 
  private:
-  ViewPlannerSettings settings_;
   LearnedParams params_;
-  FailedViews failed_;
   ViewRanker ranker_;
   ViewFeatures features_;
   std::size_t seen_ = 0, unknown_ = 0;  // the features that say whether a view could add anything

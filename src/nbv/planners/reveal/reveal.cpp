@@ -9,31 +9,21 @@
 #include "canopy/common/error.h"
 #include "canopy/mapping/voxel_key.h"
 #include "canopy/nbv/clusters.h"
-#include "canopy/nbv/failed_views.h"
+#include "canopy/nbv/round_planner.h"
 
 namespace canopy::nbv::reveal {
 
 namespace {
 
-class RevealPlanner : public ViewPlanner {
+class RevealPlanner : public RoundPlanner {
  public:
   explicit RevealPlanner(const ViewPlannerSettings& s)
-      : ViewPlanner(s.params.views), settings_(s), params_(s.params.planner<RevealParams>()), failed_(s.params.views) {}
+      : RoundPlanner(s), settings_(s), params_(s.params.planner<RevealParams>()) {}
 
   std::string name() const override { return "reveal"; }
 
-  void taken(const Pose& T) override {
-    ViewPlanner::taken(T);
-    failed_.taken(T);
-  }
-
-  void begin_stop() override { failed_.begin_stop(); }
-
   ViewBatch next(const ViewRequest& req) override {
-    CANOPY_CHECK(req.map && req.index, "view request without a map");
-    failed_.next_batch();
-    ViewBatch batch;
-    batch.order = BatchOrder::kUtility;
+    ViewBatch batch = begin_round(req);
     std::vector<Cluster> clusters;
     {
       ScopedPhase phase(batch.times, "clustering");
@@ -48,30 +38,14 @@ class RevealPlanner : public ViewPlanner {
       return batch;
     }
     std::vector<ScoredView> scored;
-    for (std::size_t c = 0; c < clusters.size(); ++c)
-      for (const double r : params_.radii_m) {
-        CandidateParams cp = settings_.params.candidates;
-        cp.sphere.radius_m = r;
-        std::vector<Candidate> cands;
-        {
-          ScopedPhase phase(batch.times, "candidates");
-          cands = sample_candidates(clusters[c].centroid, int(c), cp);
-        }
-        for (Candidate& cand : cands) {
-          {
-            ScopedPhase phase(batch.times, "filtering");
-            if (!offerable(&cand, req, failed_)) {
-              ++batch.filtered;
-              continue;
-            }
-          }
-          ScopedPhase phase(batch.times, "scoring");
-          ScoredView sv{cand, {}};
-          sv.score.gain = double(revealed(*req.index, cand.T_world_camera));
-          if (req.on_scored) req.on_scored(sv);
-          scored.push_back(sv);
-        }
-      }
+    std::vector<Vec3> centres;
+    for (const Cluster& c : clusters) centres.push_back(c.centroid);
+    for_each_candidate(centres, params_.radii_m, req, &batch, [&](const Candidate& cand) {
+      ScoredView sv{cand, {}};
+      sv.score.gain = double(revealed(*req.index, cand.T_world_camera));
+      if (req.on_scored) req.on_scored(sv);
+      scored.push_back(sv);
+    });
     take_best_views(std::move(scored), params_.max_views, "reveal", "no candidate reveals fruit surface",
                     [this](const Pose& T) { failed_.offered(T); }, &batch);
     return batch;
@@ -141,7 +115,6 @@ class RevealPlanner : public ViewPlanner {
 
   ViewPlannerSettings settings_;
   RevealParams params_;
-  FailedViews failed_;
   std::vector<Vec3> surface_;
   std::vector<RayVoxel> buffer_;
 };

@@ -6,26 +6,25 @@
 #include <utility>
 
 #include "canopy/common/error.h"
-#include "canopy/nbv/failed_views.h"
 #include "canopy/nbv/fruit_shapes.h"
 #include "canopy/nbv/planners/frontier/frontier.h"
+#include "canopy/nbv/round_planner.h"
 
 namespace canopy::nbv::shape {
 
 namespace {
 
-class ShapePlanner : public ViewPlanner {
+class ShapePlanner : public RoundPlanner {
  public:
   explicit ShapePlanner(const ViewPlannerSettings& s)
-      : ViewPlanner(s.params.views), settings_(s), params_(s.params.planner<ShapeParams>()), failed_(s.params.views),
+      : RoundPlanner(s), settings_(s), params_(s.params.planner<ShapeParams>()),
         uvc_(params_.uvc_weight > 0.0 ? make_gain("uvc", s.params.gain) : nullptr),
         fallback_(params_.fallback == "frontier" ? frontier::make_planner(s) : nullptr) {}
 
   std::string name() const override { return "shape"; }
 
   void taken(const Pose& T) override {
-    ViewPlanner::taken(T);
-    failed_.taken(T);
+    RoundPlanner::taken(T);
     if (fallback_) fallback_->taken(T);
   }
 
@@ -35,7 +34,7 @@ class ShapePlanner : public ViewPlanner {
   }
 
   void begin_stop() override {
-    failed_.begin_stop();
+    RoundPlanner::begin_stop();
     if (fallback_) fallback_->begin_stop();
   }
 
@@ -55,10 +54,7 @@ class ShapePlanner : public ViewPlanner {
 
  private:
   ViewBatch shape_round(const ViewRequest& req) {
-    CANOPY_CHECK(req.map && req.index, "view request without a map");
-    failed_.next_batch();
-    ViewBatch batch;
-    batch.order = BatchOrder::kUtility;
+    ViewBatch batch = begin_round(req);
     std::vector<FittedFruit> fruits;
     {
       ScopedPhase phase(batch.times, "clustering");
@@ -78,33 +74,15 @@ class ShapePlanner : public ViewPlanner {
     if (uvc_) eval = std::make_unique<ViewEvaluator>(*req.index, settings_.intrinsics, settings_.params.rays);
     const RaySetEntry& rays = ray_set("ours");
     std::vector<ScoredView> scored;
-    for (std::size_t f = 0; f < fruits.size(); ++f)
-      for (const double r : params_.radii_m) {
-        CandidateParams cp = settings_.params.candidates;
-        cp.sphere.radius_m = r;
-        std::vector<Candidate> cands;
-        {
-          ScopedPhase phase(batch.times, "candidates");
-          cands = sample_candidates(fruits[f].shape.centre, int(f), cp);
-        }
-        for (Candidate& cand : cands) {
-          {
-            ScopedPhase phase(batch.times, "filtering");
-            if (!offerable(&cand, req, failed_)) {
-              ++batch.filtered;
-              continue;
-            }
-          }
-          ScopedPhase phase(batch.times, "scoring");
-          ScoredView sv{cand, {}};
-          sv.score.gain = predicted_seen(*req.index, cand.T_world_camera);
-          if (eval)
-            sv.score.gain += params_.uvc_weight *
-                             eval->evaluate(cand.T_world_camera, cand.target, *uvc_, rays, scored.size()).gain;
-          if (req.on_scored) req.on_scored(sv);
-          scored.push_back(sv);
-        }
-      }
+    for_each_candidate(fitted_centres(fruits), params_.radii_m, req, &batch, [&](const Candidate& cand) {
+      ScoredView sv{cand, {}};
+      sv.score.gain = predicted_seen(*req.index, cand.T_world_camera);
+      if (eval)
+        sv.score.gain +=
+            params_.uvc_weight * eval->evaluate(cand.T_world_camera, cand.target, *uvc_, rays, scored.size()).gain;
+      if (req.on_scored) req.on_scored(sv);
+      scored.push_back(sv);
+    });
     take_best_views(std::move(scored), params_.max_views, "shape", "no candidate sees predicted fruit surface",
                     [this](const Pose& T) { failed_.offered(T); }, &batch);
     return batch;
@@ -176,7 +154,6 @@ class ShapePlanner : public ViewPlanner {
 
   ViewPlannerSettings settings_;
   ShapeParams params_;
-  FailedViews failed_;
   std::unique_ptr<GainFunction> uvc_;
   ShapeFitCache cache_;
   std::vector<PredictedPoint> points_;
