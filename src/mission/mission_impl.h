@@ -81,8 +81,9 @@ struct Mission::Impl {
   evaluation::MapMetrics last_metrics;
 
   // The rendered model per plant section (issue 49): a 12 m window of 3 m sections, so that a
-  // compartment's row is never one compiled model; a world that fits in one window (every
-  // world file but the compartment's) is built whole, as it always was.
+  // compartment's row is never one compiled model; a world that fits in one window or has
+  // fewer than 3 M triangles (every world file but the compartment's) is built whole, as it
+  // always was.
   static sim::SceneOptions scene_options() {
     sim::SceneOptions o;
     o.plant_window_m = 12.0;

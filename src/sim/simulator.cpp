@@ -53,7 +53,8 @@ Simulator::Simulator(const world::World& world, const RobotConfig& robot_config,
     }
     const int sections = static_cast<int>(std::floor((x1 - x0) / options.plant_section_m)) + 1;
     const int per_window = std::max(1, static_cast<int>(std::lround(options.plant_window_m / options.plant_section_m)));
-    if (sections > per_window) {  // else the whole world: today's scene
+    if (sections > per_window && static_cast<double>(world.triangle_count()) >= options.plant_window_min_triangles) {
+      // else the whole world: today's scene
       world_ = &world;
       sections_x0_m_ = x0;
       sections_ = sections;
