@@ -10,12 +10,14 @@
 
 namespace canopy::evaluation {
 
-std::vector<Vec3> world_occupied_voxels(const world::World& world, double res) {
+std::vector<Vec3> world_occupied_voxels(const world::World& world, double res, double plants_from_x_m,
+                                        double plants_to_x_m) {
   if (!(std::isfinite(res) && res > 0.0)) throw InputError("world voxels: resolution must be > 0");
   auto key = [res](const Vec3& p) { return mapping::grid_key(p, res); };
   std::unordered_set<std::uint64_t> keys;
   const double step = 0.5 * res;  // Samples closer than a voxel: no voxel is skipped.
   for (const auto& plant : world.plants) {
+    if (!(plant.base_position.x() >= plants_from_x_m && plant.base_position.x() < plants_to_x_m)) continue;
     for (const auto& part : plant.parts) {
       const auto& v = part.mesh.vertices;
       for (const auto& f : part.mesh.faces) {

@@ -18,9 +18,7 @@ Mission::Impl::Impl(const world::World& w, const Settings& s, std::uint64_t miss
       model(motion::RobotModel::load(sim.robot_config())), workspace(model, s.motion.workspace),
       map_env(motion::CollisionEnvironment::empty(s.mapping.map.resolution_m)),
       map_checker(model, s.motion.collision, map_env), planner(map_checker, s.motion.planner, s.motion.trajectory),
-      truth_checker(model, s.motion.collision,
-                    motion::CollisionEnvironment::from_voxels(
-                        evaluation::world_occupied_voxels(w, s.mission.record.truth_voxel_m), s.mission.record.truth_voxel_m)),
+      truth_checker(model, s.motion.collision, truth_environment()),
       map(map_params(s), w.spec.classes), inserter(map), extractor(extractor_params(s, mission_seed), w.spec.classes),
       stepper(sim, callbacks.video_period_s, video_tick(), callbacks.stop_requested),
       stops_x(stop_positions(s.mission.stops, w.spec)), evaluator(w.truth, s.mapping.metrics) {
@@ -45,6 +43,12 @@ Mission::Impl::Impl(const world::World& w, const Settings& s, std::uint64_t miss
   if (s.mission.record.candidates) audit = std::make_unique<CandidateAudit>(world, sim, s);
   if (callbacks.before_step) stepper.set_before_step([this] { callbacks.before_step(sim, current_attempt); });
   update_caption();
+}
+
+std::shared_ptr<const motion::CollisionEnvironment> Mission::Impl::truth_environment() const {
+  const auto [from_x, to_x] = sim.plant_window_x();
+  const double res = settings.mission.record.truth_voxel_m;
+  return motion::CollisionEnvironment::from_voxels(evaluation::world_occupied_voxels(world, res, from_x, to_x), res);
 }
 
 void Mission::Impl::update_caption() {
@@ -78,6 +82,8 @@ bool Mission::Impl::drive_to_stop(int k) {
   // A long row's rendered model holds the plants near the robot (issue 49): the stop's, built
   // again here when the stop is out of the window (the drive's video shows the stop's window).
   if (sim.show_plants_near(rec.goal.x_m, rec.goal.x_m)) {
+    truth_checker.set_environment(nullptr);  // the old window's voxels go before the new ones are made
+    truth_checker.set_environment(truth_environment());
     const auto [first, end] = sim.plant_window();
     result.times.add(to_string(WallPhase::kScene), watch.seconds());
     progress("stop " + std::to_string(k + 1) + ": the rendered model built again for plant sections " +

@@ -81,8 +81,9 @@ struct Mission::Impl {
   evaluation::MapMetrics last_metrics;
 
   // The rendered model per plant section (issue 49): a 12 m window of 3 m sections, so that a
-  // compartment's row is never one compiled model; a world that fits in one window (every
-  // world file but the compartment's) is built whole, as it always was.
+  // compartment's row is never one compiled model; a world that fits in one window or has
+  // fewer than 3 M triangles (every world file but the compartment's) is built whole, as it
+  // always was.
   static sim::SceneOptions scene_options() {
     sim::SceneOptions o;
     o.plant_window_m = 12.0;
@@ -103,6 +104,10 @@ struct Mission::Impl {
     if (callbacks.progress) callbacks.progress(m);
   }
   void update_caption();
+  // The true plants as voxels, for the robot's contacts: the plants the rendered model holds
+  // (a long row's window, issue 49: the base's contacts on a drive are counted with the plants
+  // of the window it drives to; every plant of a world that fits in one window).
+  std::shared_ptr<const motion::CollisionEnvironment> truth_environment() const;
   BasePose stop_pose(int k) const;
   std::vector<Pose> scan_views(int k, bool extra) const;
   StopRecord& stop_record() { return result.stops.back(); }

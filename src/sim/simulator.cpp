@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
+#include <tuple>
 #include <mutex>
 #include <stdexcept>
 
@@ -51,7 +53,8 @@ Simulator::Simulator(const world::World& world, const RobotConfig& robot_config,
     }
     const int sections = static_cast<int>(std::floor((x1 - x0) / options.plant_section_m)) + 1;
     const int per_window = std::max(1, static_cast<int>(std::lround(options.plant_window_m / options.plant_section_m)));
-    if (sections > per_window) {  // else the whole world: today's scene
+    if (sections > per_window && static_cast<double>(world.triangle_count()) >= options.plant_window_min_triangles) {
+      // else the whole world: today's scene
       world_ = &world;
       sections_x0_m_ = x0;
       sections_ = sections;
@@ -182,13 +185,19 @@ bool Simulator::show_plants_near(double base_x_lo_m, double base_x_hi_m) {
   return true;
 }
 
+std::pair<double, double> Simulator::plant_window_x() const {
+  if (!world_) return {-std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
+  return {sections_x0_m_ + window_first_ * options_.plant_section_m, sections_x0_m_ + window_end_ * options_.plant_section_m};
+}
+
 void Simulator::build_window(int first, int end) {
   // The old model goes first: the two are never held at once.
   render_data_.reset();
   render_model_.reset();
   SceneOptions window = options_;
-  window.plants_from_x_m = sections_x0_m_ + first * options_.plant_section_m;
-  window.plants_to_x_m = sections_x0_m_ + end * options_.plant_section_m;
+  window_first_ = first;
+  window_end_ = end;
+  std::tie(window.plants_from_x_m, window.plants_to_x_m) = plant_window_x();
   const robot::RobotDescription description = robot::RobotDescription::load_urdf(robot_config_.urdf_path);
   SceneDescription rendered = make_scene_mjcf(*world_, description, robot_config_, window);
   // load() keeps the labels of scene_ (the rendered scene's; the stepped one's are a subset).
@@ -198,8 +207,6 @@ void Simulator::build_window(int first, int end) {
   std::string().swap(rendered.mjcf);
   CANOPY_CHECK(render_model_->nq == model_->nq && render_model_->nv == model_->nv,
                "the rendered and the stepped scene differ in their joints");
-  window_first_ = first;
-  window_end_ = end;
   ++render_generation_;
   sync_render();
 }

@@ -197,6 +197,7 @@ TEST(Renderer, AWindowBuiltAgainRendersAsAFreshOneAndAsTheWholeRowInRange) {
   o.plant_window_m = 6.0;
   o.plant_section_m = 3.0;
   o.plant_reach_m = 0.5;
+  o.plant_window_min_triangles = 0.0;
   const RobotConfig cfg = default_robot_config();
   Simulator moved(w, cfg, o), fresh(w_at_12, cfg, o), whole(w, cfg);
   Renderer moved_renderer(moved, spec.camera);  // made before the move: it follows the model

@@ -4,7 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
+#include <set>
 #include <random>
 
 #include "canopy/motion/execution.h"
@@ -102,6 +104,29 @@ TEST(MotionSim, PlannedMovesReachTheirViewsWithoutContacts) {
     EXPECT_NEAR(sim.base_pose().x_m, base.x_m, 0.01);
   }
   EXPECT_EQ(succeeded, static_cast<int>(views.size()));
+}
+
+// A long row's truth per window (issue 49): the voxels of a window's plants are the whole
+// row's near them, and the windows either side of a cut cover the whole row's voxels.
+TEST(MotionSim, TheTruthVoxelsOfAWindowAreTheWholeRowsNearIt) {
+  world::WorldSpec spec;
+  spec.rows.rows = 1;
+  spec.rows.plants_per_row = 6;
+  const world::World world = world::generate_world(spec);
+  const double res = 0.02;
+  const auto key = [](const Vec3& v) { return std::array<double, 3>{v.x(), v.y(), v.z()}; };
+  std::set<std::array<double, 3>> whole, left, right;
+  for (const Vec3& v : evaluation::world_occupied_voxels(world, res)) whole.insert(key(v));
+  for (const Vec3& v : evaluation::world_occupied_voxels(world, res, -10.0, 1.2)) left.insert(key(v));
+  for (const Vec3& v : evaluation::world_occupied_voxels(world, res, 1.2, 10.0)) right.insert(key(v));
+  EXPECT_GT(left.size(), 0u);
+  EXPECT_GT(right.size(), 0u);
+  EXPECT_LT(left.size(), whole.size());
+  std::set<std::array<double, 3>> both = left;
+  both.insert(right.begin(), right.end());
+  EXPECT_EQ(both, whole);
+  for (const auto& v : left) EXPECT_LT(v[0], 1.2 + 0.5);  // the plants of [.., 1.2) m and their leaves
+  EXPECT_EQ(evaluation::world_occupied_voxels(world, res, 20.0, 30.0).size(), 0u);
 }
 
 }  // namespace

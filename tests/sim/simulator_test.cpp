@@ -202,6 +202,7 @@ SceneOptions two_sections() {
   o.plant_window_m = 6.0;
   o.plant_section_m = 3.0;
   o.plant_reach_m = 0.5;
+  o.plant_window_min_triangles = 0.0;
   return o;
 }
 
@@ -229,6 +230,15 @@ TEST(RobotSim, AWorldThatFitsInOneWindowIsBuiltWhole) {
   EXPECT_EQ(windowed.render_model()->ngeom, whole.render_model()->ngeom);
   EXPECT_EQ(windowed.render_model()->nmeshvert, whole.render_model()->nmeshvert);
   EXPECT_EQ(rendered_plants_x(windowed, w).size(), rendered_plants_x(whole, w).size());
+  // A long row of fewer triangles than asked for a window is built whole too (the ablation's
+  // world, 15 m; the default world's rows made 100 plants long).
+  world::WorldSpec spec = long_row();
+  const world::World row = world::generate_world(spec);
+  SceneOptions few = two_sections();
+  few.plant_window_min_triangles = static_cast<double>(row.triangle_count()) + 1.0;
+  EXPECT_FALSE(Simulator(row, default_robot_config(), few).plants_windowed());
+  few.plant_window_min_triangles = static_cast<double>(row.triangle_count());
+  EXPECT_TRUE(Simulator(row, default_robot_config(), few).plants_windowed());
 }
 
 TEST(RobotSim, TheRenderedModelHoldsTheSectionsNearTheBaseAndFollowsIt) {

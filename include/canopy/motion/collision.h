@@ -122,6 +122,9 @@ class CollisionChecker {
   const RobotModel& model() const { return *model_; }
   const CollisionParams& params() const { return params_; }
   const std::shared_ptr<const CollisionEnvironment>& environment() const { return environment_; }
+  /// Another environment (a long row's truth for the plants near the robot, issue 49); not
+  /// while another thread queries.
+  void set_environment(std::shared_ptr<const CollisionEnvironment> environment) { environment_ = std::move(environment); }
 
  private:
   struct Shapes;

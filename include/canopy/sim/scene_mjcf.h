@@ -59,8 +59,11 @@ struct SceneOptions {
   /// rendered model holds only the sections of one window (plant_window_m long, at least the
   /// sections needed) around the robot; Simulator::show_plants_near moves it. The sections
   /// needed for a base at x are those within plant_reach_m plus the camera's max range of x.
-  /// A world whose plants fit in one window is built whole, as without a window. 0: no window.
+  /// A world whose plants fit in one window, or of fewer than plant_window_min_triangles
+  /// triangles (every world file but the compartment's, and the default world's rows made 100
+  /// plants long), is built whole, as without a window. 0: no window.
   double plant_window_m = 0.0;
+  double plant_window_min_triangles = 3.0e6;
   double plant_section_m = 3.0;
   double plant_reach_m = 2.0;
   /// Smallest off-screen buffer (for larger video frames than the camera's).

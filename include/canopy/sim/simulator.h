@@ -81,6 +81,8 @@ class Simulator {
   /// The sections of plants the rendered model holds: [first, end) of `plant_sections()`.
   std::pair<int, int> plant_window() const { return {window_first_, window_end_}; }
   int plant_sections() const { return sections_; }
+  /// The base x range of the plants the rendered model holds, [from, to); unbounded without a window.
+  std::pair<double, double> plant_window_x() const;
   /// Counts the rendered model's rebuilds (renderers follow it on their next frame).
   int render_generation() const { return render_generation_; }
   /// Labels are indexed by the rendered model's geom ids. The MJCF text is not kept once
