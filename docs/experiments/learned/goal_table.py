@@ -156,7 +156,10 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("folders", nargs="+", help="preset=experiment folder")
     ap.add_argument("--method", default="learned", help="the method under test (a label)")
+    ap.add_argument("--csv", action="append", default=[],
+                    help="preset=file: write that preset's per-trial figures (the data of a later paired comparison)")
     a = ap.parse_args()
+    csv_out = dict(c.partition("=")[::2] for c in a.csv)
     out = []
     timing = []
     summary = []
@@ -165,6 +168,15 @@ def main():
         if not folder:
             sys.exit(f"goal_table: '{spec}': give preset=folder")
         trials = load(folder)
+        if preset in csv_out:
+            with open(csv_out[preset], "w", newline="") as f:
+                w = csv.writer(f)
+                w.writerow(["label", "p_gt", "world_seed", "sc_after_30", "sc_after_60", "sc_after_90", "sc_final",
+                            "views", "simulated_s", "planning_s", "nbv_attempts"])
+                for t in sorted(trials, key=lambda t: (t["label"], -t["p_gt"], t["world"])):
+                    w.writerow([t["label"], f"{t['p_gt']:g}", t["world"]] + [f"{t['sc'][m]:.6f}" for m in
+                               ["after 30", "after 60", "after 90", "final"]] +
+                               [t["views"], f"{t['sim_time_s']:.3f}", f"{t['planning_s']:.3f}", t["nbv_attempts"]])
         for p in sorted({t["p_gt"] for t in trials}, reverse=True):
             r = condition_tables(preset, p, trials, a.method, out)
             if r:
