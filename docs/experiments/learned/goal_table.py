@@ -115,6 +115,7 @@ def condition_tables(preset, p_gt, trials, under_test, out):
     out.append("")
     others = [l for l in labels if l != under_test and not l.startswith("oracle")]
     verdict = {}
+    goal_cells = {}
     lines = []
     diffs = []
     for m in marks:
@@ -124,6 +125,8 @@ def condition_tables(preset, p_gt, trials, under_test, out):
         wins = sum(1 for x in d if x > 0)
         met = means[(under_test, m)] >= means[(best, m)]
         verdict[m] = met
+        goal_cells[m] = (f"{means[(under_test, m)]:.3f} vs {means[(best, m)]:.3f} {best}, "
+                    f"{dm:+.1f} ± {ds:.1f} ({wins}) " + ("✔" if met else "✘")).replace("-", "−")
         lines.append(f"{m}: {means[(under_test, m)]:.3f} vs {best} {means[(best, m)]:.3f} "
                      + ("met" if met else f"**not met** by {100 * (means[(best, m)] - means[(under_test, m)]):.1f} points"))
         diffs.append((m, best, f"{dm:+.1f} ± {ds:.1f} ({wins})"))
@@ -133,6 +136,8 @@ def condition_tables(preset, p_gt, trials, under_test, out):
         half = means[(best60, "after 60")] + 0.5 * (means[("oracle", "after 60")] - means[(best60, "after 60")])
         met = means[(under_test, "after 60")] >= half
         verdict["half way"] = met
+        goal_cells["half way"] = (f"{means[(under_test, 'after 60')]:.3f} vs {half:.3f} "
+                             + ("✔" if met else f"✘ {100 * (means[(under_test, 'after 60')] - half):+.1f}")).replace("-", "−")
         lines.append(f"half way to the oracle after 60: {means[(under_test, 'after 60')]:.3f} vs {half:.3f} "
                      + ("met" if met else f"**not met** by {100 * (half - means[(under_test, 'after 60')]):.1f} points"))
     out.append(f"{under_test} against the best other map-only method at each mark: " + "; ".join(lines) + ".\n")
@@ -149,7 +154,7 @@ def condition_tables(preset, p_gt, trials, under_test, out):
             cells.append(f"{dm:+.1f} ± {ds:.1f} ({sum(1 for x in d if x > 0)})")
         out.append(f"| {under_test} − {l} | " + " | ".join(cells) + " |")
     out.append("")
-    return {"verdict": verdict, "labels": labels, "worlds": worlds, "by": by}
+    return {"verdict": verdict, "cells": goal_cells, "labels": labels, "worlds": worlds, "by": by}
 
 
 def main():
@@ -180,7 +185,7 @@ def main():
         for p in sorted({t["p_gt"] for t in trials}, reverse=True):
             r = condition_tables(preset, p, trials, a.method, out)
             if r:
-                summary.append((preset, p, r["verdict"]))
+                summary.append((preset, p, r["verdict"], r["cells"], len(r["worlds"])))
             for l in sorted({t["label"] for t in trials if t["p_gt"] == p}):
                 ts = [t for t in trials if t["label"] == l and t["p_gt"] == p]
                 per = [1000.0 * t["planning_s"] / t["nbv_attempts"] for t in ts if t["nbv_attempts"]]
@@ -190,9 +195,15 @@ def main():
                                   f"{m:.0f} ({max(per):.0f}) |")
     out.append("| preset | P_gt | after 30 | after 60 | after 90 | final | half way at 60 |")
     out.append("|---|---|---|---|---|---|---|")
-    for preset, p, v in summary:
+    for preset, p, v, _, _ in summary:
         cells = ["—" if k not in v else "✔" if v[k] else "✘" for k in ["after 30", "after 60", "after 90", "final", "half way"]]
         out.append(f"| {preset} | {p:g} | " + " | ".join(cells) + " |")
+    out.append("")
+    out.append(f"| preset, P_gt (worlds) | after 30 | after 60 | after 90 | final | half way to the oracle at 60 |")
+    out.append("|---|---|---|---|---|---|")
+    for preset, p, _, c, n in summary:
+        out.append(f"| {preset}, {p:g} ({n}) | " + " | ".join(c.get(k, "—") for k in
+                   ["after 30", "after 60", "after 90", "final", "half way"]) + " |")
     out.append("")
     out.append("| preset | P_gt | method | planning per mission [s] | per NBV attempt [ms], mean (worst mission) |")
     out.append("|---|---|---|---|---|")
