@@ -42,7 +42,9 @@ void add_bench_mission(CLI::App& bench) {
       ->capture_default_str()
       ->check(CLI::Range(1, 100));
   sub->add_option("--save", opt->save, "Save this build's missions (--against's saved form) to this JSON file");
-  sub->add_option("--set", opt->sets, "KEY=VALUE given to both builds' missions (with --against / --save)");
+  sub->add_option("--set", opt->sets,
+                  "KEY=VALUE given to the missions (to both builds' with --against / --save); with --rows, stops "
+                  "given by mission.stops.positions_m are kept for a row size with as many");
   sub->callback([opt] {
     if (!opt->against.empty() || !opt->save.empty()) {
       jobs::BenchCompareParams p;
@@ -92,6 +94,8 @@ void add_bench_mission(CLI::App& bench) {
     p.rows = jobs::parse_row_sizes(opt->rows, "--rows");
     p.settings = load_settings(opt->config);
     p.settings.set("method.name", opt->method, "--method");
+    for (const settings::SettingOverride& kv : settings::parse_overrides(opt->sets, "--set"))
+      p.settings.set(kv.first, kv.second, "--set " + kv.first);
     p.seed = opt->seed;
     p.progress = [](const std::string& line) { spdlog::info("{}", line); };
     const std::vector<jobs::BenchMissionLine> lines = jobs::bench_mission(p);

@@ -64,21 +64,7 @@ void map_recorded(const MapOptions& opt, const settings::Settings& bundle) {
   reader.max_time_diff_s = opt.max_dt_s;
   reader.label_images = bundle.mapping.extractor.source == perception::LabelSource::kTruth;
   const datasets::FrameSequence frames = datasets::FrameSequence::open(opt.frames, reader);
-  jobs::RecordedSequence seq;
-  seq.source = opt.frames;
-  seq.classes = frames.classes();
-  seq.size = frames.size();
-  seq.name = [&frames](std::size_t i) { return frames.name(i); };
-  seq.read = [&frames](std::size_t i, LabelledFrame* f, std::string* why) { return frames.read(i, f, why); };
-  seq.skipped = frames.skipped();
-  seq.notes = frames.notes();
-  seq.run["command"] = "map";
-  seq.run["frames"] = opt.frames;
-  seq.run["layout"] = datasets::to_string(frames.layout());
-  seq.run["labels"] = reader.label_images ? "label images" : "color";
-  seq.run["classes"] = frames.classes().names;
-  seq.run["max_time_diff_s"] = opt.max_dt_s;
-  seq.run["p_gt"] = bundle.mapping.extractor.p_gt;
+  const jobs::RecordedSequence seq = jobs::frames_sequence(frames, reader);
   spdlog::info("mapping {} frames ({} layout, {} skipped while pairing), labels {}: {}", frames.size(),
                datasets::to_string(frames.layout()), frames.skipped().size(), reader.label_images ? "from images" : "color",
                opt.pgt < 0.0 ? "no simulated mask noise (p_gt 1; --pgt adds it)"
@@ -96,20 +82,7 @@ void map_mcap(const MapOptions& opt, const settings::Settings& bundle) {
   jobs::McapFrames recording(opt.mcap, o);
   for (const std::string& line : recording.choices()) spdlog::info("{}: {}", opt.mcap, line);
   const jobs::McapFrameOptions& used = recording.options();
-  jobs::RecordedSequence seq = recording.sequence();
-  seq.run["command"] = "map";
-  seq.run["mcap"] = opt.mcap;
-  seq.run["topics"]["rgb"] = used.rgb;
-  seq.run["topics"]["depth"] = used.depth;
-  seq.run["topics"]["camera_info"] = used.camera_info;
-  if (o.label_images) seq.run["topics"]["labels"] = used.labels;
-  seq.run["frame"] = used.frame;
-  seq.run["world_frame"] = used.world_frame;
-  seq.run["labels"] = o.label_images ? "label images" : "color";
-  seq.run["classes"] = seq.classes.names;
-  seq.run["max_time_diff_s"] = opt.max_dt_s;
-  seq.run["range_m"] = std::vector<double>{used.min_range_m, used.max_range_m};
-  seq.run["p_gt"] = bundle.mapping.extractor.p_gt;
+  const jobs::RecordedSequence seq = recording.sequence();
   spdlog::info("mapping {} frames of {} ({} skipped while pairing), camera frame {} in {}, labels {}: {}", seq.size,
                opt.mcap, seq.skipped.size(), used.frame, used.world_frame, o.label_images ? "from images" : "color",
                opt.pgt < 0.0 ? "no simulated mask noise (p_gt 1; --pgt adds it)"

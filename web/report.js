@@ -178,6 +178,7 @@
       ['plant', 'plant', (f) => f.plant, (f) => esc(f.plant)],
       ['cov', 'SC', (f) => f.cov, (f) => fmt(f.cov)],
       ['views', 'views', (f) => f.views_seen, (f) => fmt(f.views_seen, 0)],
+      ['raised', 'raised', (f) => f.views_raised, (f) => fmt(f.views_raised, 0)],
       ['centre', 'centre err. [mm]', (f) => (typeof f.centre_error_m === 'number' ? f.centre_error_m * 1000 : undefined),
         (f) => (typeof f.centre_error_m === 'number' ? (f.centre_error_m * 1000).toFixed(1) : '–')],
       ['voxel_volume', 'voxel vol. err.', (f) => f.voxel_volume_error, (f) => pct(f.voxel_volume_error)],
@@ -190,7 +191,8 @@
       columns.map(([key, title]) => '<th data-sort="' + key + '">' + title + '</th>').join('') + '</tr></thead><tbody>' +
       fruits.map((f, i) => '<tr data-fruit="' + esc(f.id) + '" data-index="' + i + '">' + columns.map((c) => '<td>' + c[3](f) + '</td>').join('') + '</tr>').join('') +
       '</tbody></table></div>' +
-      '<p class="small">SC at the end of the run; views: those that raised its SC; errors of the fruit cluster matched to the fruit ' +
+      '<p class="small">SC at the end of the run; views: the successful views that saw it (any part of it in the view\'s ' +
+      'true instance image, within the camera\'s range), raised: the views that raised its SC; errors of the fruit cluster matched to the fruit ' +
       '(– when none matched): its centre\'s distance from the true centre, its voxels\' and its fitted ellipsoid\'s volume against the ' +
       'true volume (relative); volume: the true one.</p>';
     const body = box.querySelector('tbody');
@@ -271,6 +273,26 @@
     sprite.userData.text = text;
     labels3d.push(sprite);
     return sprite;
+  }
+
+  // One shape of a link (data.robot.shapes[i][j]) in the link's frame: boxes, spheres, cylinders
+  // and capsules along their z axis (three.js's cylinders run along y), shaded in the URDF's colour.
+  function robotShape(sh) {
+    const colour = new THREE.Color(sh.rgba[0], sh.rgba[1], sh.rgba[2]);
+    const material = new THREE.MeshLambertMaterial({ color: colour, transparent: sh.rgba[3] < 1, opacity: sh.rgba[3] });
+    const g = new THREE.Group();
+    const alongZ = (mesh) => { mesh.rotation.x = Math.PI / 2; return mesh; };
+    if (sh.type === 'box') g.add(new THREE.Mesh(new THREE.BoxGeometry(sh.size[0], sh.size[1], sh.size[2]), material));
+    else if (sh.type === 'sphere') g.add(new THREE.Mesh(new THREE.SphereGeometry(sh.radius, 16, 10), material));
+    else if (sh.type === 'cylinder') g.add(alongZ(new THREE.Mesh(new THREE.CylinderGeometry(sh.radius, sh.radius, sh.length, 20), material)));
+    else if (sh.type === 'capsule') {
+      g.add(alongZ(new THREE.Mesh(new THREE.CylinderGeometry(sh.radius, sh.radius, sh.length, 20, 1, true), material)));
+      for (const z of [-sh.length / 2, sh.length / 2]) g.add(at(new THREE.Mesh(new THREE.SphereGeometry(sh.radius, 16, 10), material), 0, 0, z));
+    }
+    g.position.set(sh.pose[0], sh.pose[1], sh.pose[2]);
+    g.quaternion.set(sh.pose[4], sh.pose[5], sh.pose[6], sh.pose[3]);
+    g.userData.type = sh.type;
+    return g;
   }
 
   function setupScene() {
@@ -364,29 +386,44 @@
       for (let m = Math.floor(box.min.y); m <= Math.ceil(box.max.y); ++m)
         if (m) scene.add(at(textSprite('scale-y' + m, 'y ' + m + ' m', '#666', 0.07), x0, m, 0));
     }
-    // The robot at the view shown: its links' frames joined parent to child, the base a box.
+    // The robot at the view shown: each link's shapes (the URDF's boxes, cylinders, spheres and
+    // capsules, data.robot.shapes) in its frame; without shapes, the links' frames joined parent
+    // to child and the base a box.
     if (data.robot && (data.robot.links || []).length && (data.robot.poses || []).length) {
-      const R = data.robot;
+      const R = data.robot, shaped = (R.shapes || []).some((l) => l.length);
       robot = new THREE.Group();
       robot.name = 'robot';
       const material = new THREE.MeshBasicMaterial({ color: 0x4a5a70 });
       robot.userData.joints = R.links.map(() => {
         const m = new THREE.Mesh(new THREE.SphereGeometry(0.022, 10, 6), material);
+        m.visible = !shaped;  // kept as the links' origins (state().robot) when the shapes are drawn
         robot.add(m);
         return m;
       });
       robot.userData.bones = R.links.map((l, i) => {
         const parent = R.links.indexOf(R.parents[i]);
-        if (parent < 0) return null;
+        if (parent < 0 || shaped) return null;
         const m = new THREE.Mesh(new THREE.CylinderGeometry(0.016, 0.016, 1, 8), material);
         m.userData.parent = parent;
         robot.add(m);
         return m;
       });
-      const base = new THREE.Mesh(new THREE.BoxGeometry(0.5, 0.4, 0.3), new THREE.MeshBasicMaterial({ color: 0x8090a0, transparent: true, opacity: 0.35 }));
-      robot.userData.base = base;
-      robot.add(base);
+      robot.userData.frames = R.links.map((l, i) => {  // a group per link, posed per view
+        const g = new THREE.Group();
+        for (const sh of (R.shapes || [])[i] || []) g.add(robotShape(sh));
+        robot.add(g);
+        return g;
+      });
+      if (!shaped) {
+        const base = new THREE.Mesh(new THREE.BoxGeometry(0.5, 0.4, 0.3), new THREE.MeshBasicMaterial({ color: 0x8090a0, transparent: true, opacity: 0.35 }));
+        robot.userData.base = base;
+        robot.add(base);
+      }
       scene.add(robot);
+      scene.add(new THREE.AmbientLight(0xffffff, 0.55));
+      const sun = new THREE.DirectionalLight(0xffffff, 0.6);
+      sun.position.set(1, -2, 3);
+      scene.add(sun);
     }
     targetLine = new THREE.Line(new THREE.BufferGeometry().setFromPoints([new THREE.Vector3(), new THREE.Vector3()]), new THREE.LineBasicMaterial({ color: 0x000000 }));
     targetLine.visible = false;
@@ -565,9 +602,15 @@
       m.scale.set(1, len, 1);
       m.quaternion.setFromUnitVectors(up, d.normalize());
     });
-    const base = robot.userData.base;  // under the first link (the base's), turned with it
-    base.position.set(p[0], p[1], 0.15);
-    base.quaternion.set(p[4], p[5], p[6], p[3]);
+    robot.userData.frames.forEach((g, i) => {
+      g.position.copy(at(i));
+      g.quaternion.set(p[7 * i + 4], p[7 * i + 5], p[7 * i + 6], p[7 * i + 3]);
+    });
+    const base = robot.userData.base;  // without shapes: under the first link (the base's), turned with it
+    if (base) {
+      base.position.set(p[0], p[1], 0.15);
+      base.quaternion.set(p[4], p[5], p[6], p[3]);
+    }
     robot.visible = document.getElementById('show-robot').checked;
   }
   function thumb(id, kind) {
@@ -592,7 +635,8 @@
       .map((p) => '<span class="sw" style="background:' + esc(p.colour) + '"></span>' + esc(p.legend)).join('') +
       '<span class="sw" style="background:' + esc(vocabulary.failed_view_colour) + '"></span>failed' +
       '<br>true fruits: <span class="sw" style="background:#2b8cff"></span>seen (SC ≥ 0.8)<span class="sw" style="background:#ffb000"></span>partly<span class="sw" style="background:#777"></span>unseen' +
-      (robot ? '<br>robot: <span class="sw" style="background:#4a5a70"></span>at the view shown' : '') +
+      (robot ? (robot.userData.frames.some((g) => g.children.length) ? '<br>robot: its URDF\'s shapes at the view shown'
+        : '<br>robot: <span class="sw" style="background:#4a5a70"></span>at the view shown') : '') +
       '<br><span id="scale-note">grid: 0.5 m squares; axes x red, y green, z blue, 0.5 m long</span>';
     legend.innerHTML = html;
   }
@@ -631,6 +675,11 @@
                     camera: camera ? camera.position.toArray() : null,
                     // The robot's drawn link origins, in the order of data.robot.links.
                     robot: robot && robot.visible ? robot.userData.joints.map((m) => m.position.toArray()) : null,
+                    // The robot's drawn shapes: type and centre in the world.
+                    robotShapes: robot && robot.visible ? robot.userData.frames.flatMap((g) => g.children.map((c) => {
+                      c.updateWorldMatrix(true, false);
+                      return { type: c.userData.type, at: new THREE.Vector3().setFromMatrixPosition(c.matrixWorld).toArray() };
+                    })) : null,
                     labels3d: labels3d.map((l) => ({ name: l.name, text: l.userData.text, at: l.position.toArray() })),
                     axes: !!(scene && scene.getObjectByName('axes')) }),
     // Colours of the occupancy and entropy levels and of the true fruits' states, as RGB 0-255.

@@ -61,7 +61,12 @@ std::vector<BenchMissionLine> bench_mission(const BenchMissionParams& params) {
     spec.rows.plants_per_row = r.plants_per_row;
     settings::Settings s = params.settings;
     s.set("mission.stops.count", std::to_string(r.stops), "--rows");
-    s.mission.stops.positions_m.clear();
+    // Stops given by position (mission.stops.positions_m, e.g. a few at each end of a
+    // compartment's row) are kept for a row size with as many stops; else evenly spaced.
+    const std::size_t given = s.mission.stops.positions_m.size();
+    if (given > 0 && given != static_cast<std::size_t>(r.stops))
+      throw InputError("--rows " + std::to_string(r.plants_per_row) + ":" + std::to_string(r.stops) + ": the settings give " +
+                       std::to_string(given) + " stop positions (mission.stops.positions_m); give as many stops");
     BenchMissionLine line;
     line.size = r;
     const Stopwatch build;

@@ -100,14 +100,15 @@ MapJobResult map_views(const MapJobParams& p) {
     const Stopwatch render_watch;
     const LabelledFrame frame = renderer.render_free_camera(views[i]);
     const double ms_render = render_watch.ms();
-    const mapping::FrameMapStep fs = mapping::map_frame(frame, extractor, inserter);
+    Image<std::uint8_t> mapped_labels;  // what the extractor labelled (after noise), for the report
+    const mapping::FrameMapStep fs = mapping::map_frame(frame, extractor, inserter, replay ? &mapped_labels : nullptr);
     if (dataset) dataset->add_train(frame);
     insert_ms_sum += fs.insert.ms_total;
     const evaluation::MapMetrics m = evaluation::evaluate_map(map, world.truth, cfg.metrics);
     if (replay) {
       replay->record_scan(map, inserter.last_updates(), &inserter.last_occupancy());
       replay->record_fruits(m);
-      replay->record_frame(frame);
+      replay->record_frame(frame, &mapped_labels);
     }
     mapping::save_map(map, out.path("map.csm"));
     const std::size_t occupied = mapping::export_ply(map, out.path("map.ply"));

@@ -620,6 +620,19 @@ RecordedSequence McapFrames::sequence() {
   seq.read = [&s](std::size_t i, LabelledFrame* f, std::string* why) { return s.read(i, f, why); };
   seq.skipped = s.skipped;
   seq.notes = s.notes;
+  const McapFrameOptions& used = s.o;
+  seq.run["command"] = "map";
+  seq.run["mcap"] = s.in.path();
+  seq.run["topics"]["rgb"] = used.rgb;
+  seq.run["topics"]["depth"] = used.depth;
+  seq.run["topics"]["camera_info"] = used.camera_info;
+  if (used.label_images) seq.run["topics"]["labels"] = used.labels;
+  seq.run["frame"] = used.frame;
+  seq.run["world_frame"] = used.world_frame;
+  seq.run["labels"] = used.label_images ? "label images" : "color";
+  seq.run["classes"] = seq.classes.names;
+  seq.run["max_time_diff_s"] = used.max_dt_s;
+  seq.run["range_m"] = std::vector<double>{used.min_range_m, used.max_range_m};
   return seq;
 }
 

@@ -187,6 +187,7 @@ MissionJobResult run_mission_job(const world::World& world, const MissionJobPara
   if (out && (replay || p.plots)) report = mission_report_data(r.result, settings, world, r.summary);
   if (out && replay) {
     const Stopwatch watch;
+    report.robot_shapes = robot_shapes_json(robot::RobotDescription::load_urdf(mission.simulator().robot_config().urdf_path));
     write_run_report(out->working_dir(), report, *replay);
     r.report_written = true;
     spdlog::info("report.html: {} voxel changes over {} views, recorded in {:.2f} s beside the mission, written in {:.2f} s",

@@ -25,6 +25,24 @@ constexpr double kAnchorFraction = 0.25;
 double map_half_extent_m(double resolution) { return 32768.0 * resolution; }  // 16-bit keys
 }  // namespace
 
+RecordedSequence frames_sequence(const datasets::FrameSequence& frames, const datasets::FrameReaderOptions& reader) {
+  RecordedSequence seq;
+  seq.source = frames.dir();
+  seq.classes = frames.classes();
+  seq.size = frames.size();
+  seq.name = [&frames](std::size_t i) { return frames.name(i); };
+  seq.read = [&frames](std::size_t i, LabelledFrame* f, std::string* why) { return frames.read(i, f, why); };
+  seq.skipped = frames.skipped();
+  seq.notes = frames.notes();
+  seq.run["command"] = "map";
+  seq.run["frames"] = frames.dir();
+  seq.run["layout"] = datasets::to_string(frames.layout());
+  seq.run["labels"] = reader.label_images ? "label images" : "color";
+  seq.run["classes"] = frames.classes().names;
+  seq.run["max_time_diff_s"] = reader.max_time_diff_s;
+  return seq;
+}
+
 RecordedMapResult map_recorded(const RecordedSequence& frames, const RecordedMapParams& p) {
   const settings::MappingSettings& cfg = p.settings.mapping;
   StagedDir out(p.out, "map", StagedDir::Mode::kReplace, p.out_option);
@@ -32,7 +50,9 @@ RecordedMapResult map_recorded(const RecordedSequence& frames, const RecordedMap
   mapping::ScanInserter inserter(map);
   perception::SemanticExtractor extractor(cfg.extractor, frames.classes);
   write_file_atomic(out.path("settings.yaml"), p.settings.to_yaml_text());
-  write_file_atomic(out.path("run.yaml"), yaml_text(frames.run));
+  YAML::Node run = YAML::Clone(frames.run);
+  if (!run["p_gt"]) run["p_gt"] = cfg.extractor.p_gt;  // the mask noise the frames were mapped with
+  write_file_atomic(out.path("run.yaml"), yaml_text(run));
 
   // A recording far from its frame's origin (a farm's map frame, UTM) would fall outside the
   // octree's keys (+-32768 voxels: +-491.5 m at 0.015 m) and map nothing: its map is anchored

@@ -9,6 +9,7 @@
 
 #include "canopy/common/data_dir.h"
 #include "canopy/common/error.h"
+#include "canopy/common/frame.h"
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/png_io.h"
 #include "canopy/common/read_file.h"
@@ -104,6 +105,30 @@ nlohmann::json detection_summary(const nlohmann::json& detection, nlohmann::json
 }
 
 }  // namespace
+
+nlohmann::json robot_shapes_json(const robot::RobotDescription& robot) {
+  nlohmann::json out = nlohmann::json::object();
+  for (const robot::Link& link : robot.links()) {
+    nlohmann::json shapes = nlohmann::json::array();
+    for (const robot::Shape& s : link.visuals.empty() ? link.collisions : link.visuals) {
+      nlohmann::json j;
+      switch (s.type) {
+        case robot::ShapeType::kBox: j = {{"type", "box"}, {"size", vec(s.box_size)}}; break;
+        case robot::ShapeType::kSphere: j = {{"type", "sphere"}, {"radius", r4(s.radius)}}; break;
+        case robot::ShapeType::kCylinder: j = {{"type", "cylinder"}, {"radius", r4(s.radius)}, {"length", r4(s.length)}}; break;
+        case robot::ShapeType::kCapsule: j = {{"type", "capsule"}, {"radius", r4(s.radius)}, {"length", r4(s.length)}}; break;
+        case robot::ShapeType::kMesh: continue;
+      }
+      const Quat q(s.T_link_shape.linear());
+      const Vec3& t = s.T_link_shape.translation();
+      j["pose"] = {r4(t.x()), r4(t.y()), r4(t.z()), r4(q.w()), r4(q.x()), r4(q.y()), r4(q.z())};
+      j["rgba"] = {r3(s.rgba[0]), r3(s.rgba[1]), r3(s.rgba[2]), r3(s.rgba[3])};
+      shapes.push_back(j);
+    }
+    if (!shapes.empty()) out[link.name] = shapes;
+  }
+  return out;
+}
 
 nlohmann::json changed_settings(const settings::Settings& settings) {
   std::map<std::string, std::string> defaults;
@@ -282,6 +307,27 @@ nlohmann::json pack_replay(const records::MapReplay& replay, const mapping::Sema
   return j;
 }
 
+void set_fruit_views(nlohmann::json& fruits, const records::MapReplay& replay) {
+  const auto& cov = replay.fruit_coverage();
+  const auto& seen = replay.instances_seen();
+  for (std::size_t i = 0; i < fruits.size(); ++i) {
+    if (!seen.empty()) {
+      const int id = fruits[i].value("id", kNoInstance);
+      fruits[i]["views_seen"] = std::count_if(seen.begin(), seen.end(), [id](const std::vector<int>& ids) {
+        return std::binary_search(ids.begin(), ids.end(), id);
+      });
+    }
+    int raised = 0;
+    double before = 0.0;
+    for (const std::vector<double>& c : cov) {
+      if (i >= c.size()) continue;
+      if (c[i] > before + 1e-3) ++raised;
+      before = c[i];
+    }
+    if (!cov.empty() && !cov.front().empty()) fruits[i]["views_raised"] = raised;
+  }
+}
+
 bool report_libraries_present() {
   return std::filesystem::exists(kThreeJs) && std::filesystem::exists(kOrbitJs);
 }
@@ -371,8 +417,8 @@ std::vector<std::string> write_run_report(const std::string& dir, RunReport repo
     }
   }
   report.data["thumbs"] = thumbs;
-  // The robot at each successful view: link names, parents, and per view x y z qw qx qy qz of
-  // each link in the world.
+  // The robot at each successful view: link names, parents, per view x y z qw qx qy qz of each
+  // link in the world, and each link's shapes.
   if (!replay.robot_links().empty() && replay.robot_poses().size() == rgb.size()) {
     nlohmann::json poses = nlohmann::json::array();
     for (const std::vector<Pose>& at : replay.robot_poses()) {
@@ -385,22 +431,15 @@ std::vector<std::string> write_run_report(const std::string& dir, RunReport repo
       poses.push_back(row);
     }
     report.data["robot"] = {{"links", replay.robot_links()}, {"parents", replay.robot_parents()}, {"poses", poses}};
-  }
-  // Each fruit's count of views that raised its coverage (by more than 0.001).
-  if (report.data.contains("fruits")) {
-    const auto& cov = replay.fruit_coverage();
-    nlohmann::json& fruits = report.data["fruits"];
-    for (std::size_t i = 0; i < fruits.size(); ++i) {
-      int seen = 0;
-      double before = 0.0;
-      for (const std::vector<double>& c : cov) {
-        if (i >= c.size()) continue;
-        if (c[i] > before + 1e-3) ++seen;
-        before = c[i];
-      }
-      if (!cov.empty() && !cov.front().empty()) fruits[i]["views_seen"] = seen;
+    // Each recorded link's shapes, in the order of the links (none for a link without).
+    if (report.robot_shapes.is_object()) {
+      nlohmann::json shapes = nlohmann::json::array();
+      for (const std::string& link : replay.robot_links())
+        shapes.push_back(report.robot_shapes.contains(link) ? report.robot_shapes[link] : nlohmann::json::array());
+      report.data["robot"]["shapes"] = shapes;
     }
   }
+  if (report.data.contains("fruits")) set_fruit_views(report.data["fruits"], replay);
   mapping::SemanticMapParams map_params;
   map_params.resolution_m = report.data.value("resolution_m", map_params.resolution_m);
   report.data["map"] = pack_replay(replay, map_params, bounds);

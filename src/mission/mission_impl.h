@@ -80,6 +80,14 @@ struct Mission::Impl {
   evaluation::IncrementalEvaluator evaluator;  // the metrics after each view (reads the ground truth)
   evaluation::MapMetrics last_metrics;
 
+  // The rendered model per plant section (issue 49): a 12 m window of 3 m sections, so that a
+  // compartment's row is never one compiled model; a world that fits in one window (every
+  // world file but the compartment's) is built whole, as it always was.
+  static sim::SceneOptions scene_options() {
+    sim::SceneOptions o;
+    o.plant_window_m = 12.0;
+    return o;
+  }
   static mapping::SemanticMapParams map_params(const Settings& s) { return s.mapping.map; }
   static perception::ExtractorParams extractor_params(const Settings& s, std::uint64_t seed) {
     perception::ExtractorParams p = s.mapping.extractor;

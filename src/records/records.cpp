@@ -22,7 +22,7 @@ const std::vector<PlotCategoryInfo>& plot_categories() {
       {PlotCategory::kNbvPlanning, "NBV planning", {W::kClustering, W::kCandidates, W::kFiltering, W::kScoring, W::kNbvPlanning}, true},
       {PlotCategory::kMotionPlanning, "motion planning", {W::kMotionPlanning}, true},
       {PlotCategory::kControl, "control", {W::kControl}, true},
-      {PlotCategory::kRendering, "rendering", {W::kRendering}, false},
+      {PlotCategory::kRendering, "rendering", {W::kRendering, W::kScene}, false},
       {PlotCategory::kEvaluation, "evaluation", {W::kEvaluation}, false},
   };
   return table;

@@ -81,7 +81,18 @@ void MapReplay::record_frame(const LabelledFrame& frame, const Image<std::uint8_
       if (same_size(frame.class_id)) labels.at(x, y) = classes_.color(frame.class_id.at(sx, sy));
       if (mapped) mapped_thumb.at(x, y) = classes_.color(mapped_labels->at(sx, sy));
     }
+  // The fruit instances seen: pixels of an instance that hold a depth.
+  std::vector<int> seen;
+  const bool with_depth = frame.depth_m.width == frame.instance.width && frame.depth_m.height == frame.instance.height;
+  for (std::size_t i = 0; i < frame.instance.data.size(); ++i) {
+    const int id = frame.instance.data[i];
+    if (id == kNoInstance || (with_depth && !(frame.depth_m.data[i] > 0.f))) continue;
+    if (seen.empty() || seen.back() != id) seen.push_back(id);  // runs of one id: most pixels skip here
+  }
+  std::sort(seen.begin(), seen.end());
+  seen.erase(std::unique(seen.begin(), seen.end()), seen.end());
   std::lock_guard<std::mutex> lock(frame_mutex_);
+  seen_.push_back(std::move(seen));
   rgb_.push_back(std::move(rgb));
   labels_.push_back(std::move(labels));
   if (mapped) mapped_.push_back(std::move(mapped_thumb));

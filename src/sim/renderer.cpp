@@ -190,8 +190,6 @@ Renderer::Renderer(Simulator& sim, const CameraIntrinsics& intrinsics, const Ren
   mjv_defaultOption(&r.option);
   mjv_defaultCamera(&r.camera);
   mjr_defaultContext(&r.context);
-  mjv_makeScene(m, &r.scene, m->ngeom + 64);
-  r.scene_made = true;
   // MuJoCo halves the stacks for hemispheres and disks: fewer than 2 would draw none.
   if (options_.primitive_slices < 0 || (options_.primitive_slices > 0 && options_.primitive_slices < 3) ||
       options_.primitive_stacks < 0 || options_.primitive_stacks == 1)
@@ -199,6 +197,30 @@ Renderer::Renderer(Simulator& sim, const CameraIntrinsics& intrinsics, const Ren
                      std::to_string(options_.primitive_slices) + " and " + std::to_string(options_.primitive_stacks));
   slices_ = options_.primitive_slices > 0 ? options_.primitive_slices : m->vis.quality.numslices;
   stacks_ = options_.primitive_stacks > 0 ? options_.primitive_stacks : m->vis.quality.numstacks;
+  make_model_context();
+  // Only ground, plants and (optionally) the robot's visual geoms; no sites, frames or lights.
+  for (int g = 0; g < mjNGROUP; ++g) {
+    r.option.geomgroup[g] = g == kGroupGround || g == kGroupPlants || g == kGroupRobotVisual;
+    r.option.sitegroup[g] = 0;
+  }
+  const size_t n = static_cast<size_t>(intrinsics_.width_px) * intrinsics_.height_px;
+  r.rgb.resize(3 * n);
+  r.seg.resize(3 * n);
+  r.depth.resize(n);
+}
+
+Renderer::~Renderer() = default;
+
+void Renderer::make_model_context() {
+  Impl& r = *impl_;
+  const mjModel* m = sim_.render_model();
+  if (r.context_made) mjr_freeContext(&r.context);
+  if (r.scene_made) mjv_freeScene(&r.scene);
+  r.context_made = r.scene_made = false;
+  mjv_defaultScene(&r.scene);
+  mjr_defaultContext(&r.context);
+  mjv_makeScene(m, &r.scene, m->ngeom + 64);
+  r.scene_made = true;
   if (slices_ == m->vis.quality.numslices && stacks_ == m->vis.quality.numstacks) {
     mjr_makeContext(m, &r.context, mjFONTSCALE_50);
   } else {
@@ -213,18 +235,14 @@ Renderer::Renderer(Simulator& sim, const CameraIntrinsics& intrinsics, const Ren
   r.context_made = true;
   mjr_setBuffer(mjFB_OFFSCREEN, &r.context);
   if (r.context.currentBuffer != mjFB_OFFSCREEN) throw std::runtime_error("MuJoCo: off-screen buffer not supported");
-  // Only ground, plants and (optionally) the robot's visual geoms; no sites, frames or lights.
-  for (int g = 0; g < mjNGROUP; ++g) {
-    r.option.geomgroup[g] = g == kGroupGround || g == kGroupPlants || g == kGroupRobotVisual;
-    r.option.sitegroup[g] = 0;
-  }
-  const size_t n = static_cast<size_t>(intrinsics_.width_px) * intrinsics_.height_px;
-  r.rgb.resize(3 * n);
-  r.seg.resize(3 * n);
-  r.depth.resize(n);
+  generation_ = sim_.render_generation();
 }
 
-Renderer::~Renderer() = default;
+void Renderer::follow_model() {
+  if (generation_ == sim_.render_generation()) return;
+  make_model_context();
+  video_.forget_world();
+}
 
 LabelledFrame Renderer::render_wrist_camera() {
   sim_.update_kinematics();
@@ -237,6 +255,7 @@ void Renderer::warm_up() {
   Impl& r = *impl_;
   std::unique_lock<std::mutex> lock(gl_mutex());
   r.make_current();
+  follow_model();
   video_.forget_world();  // the GL buffers are reused
   pass(T, true, true, "", true);
   label_pass();
@@ -272,10 +291,11 @@ Image<Rgb8> Renderer::render_video_frame(const Pose& T_world_camera, const std::
   if (!T_world_camera.matrix().allFinite()) throw InputError("camera pose: not finite (NaN or inf)");
   Impl& r = *impl_;
   const int W = intrinsics_.width_px, H = intrinsics_.height_px;
-  const bool still = video_.camera_still(T_world_camera, options_.shadows);
-  Image<Rgb8> out(W, H);
   std::unique_lock<std::mutex> lock(gl_mutex());
   r.make_current();
+  follow_model();  // a model built again: the kept world is forgotten (and drawn again)
+  const bool still = video_.camera_still(T_world_camera, options_.shadows);
+  Image<Rgb8> out(W, H);
   if (!still) {  // the camera moves: the whole scene
     video_.full_frame();
     pass(T_world_camera, true, true, caption, false);
@@ -394,6 +414,7 @@ LabelledFrame Renderer::draw(const Pose& T_world_camera, bool show_robot, bool l
   if (!T_world_camera.matrix().allFinite()) throw InputError("camera pose: not finite (NaN or inf)");
   std::unique_lock<std::mutex> lock(gl_mutex());
   r.make_current();
+  follow_model();
   video_.forget_world();  // the GL buffers are reused
   pass(T_world_camera, true, show_robot, caption, depth);
   const mjModel* m = sim_.render_model();

@@ -1,6 +1,7 @@
 #include "canopy/sim/scene_mjcf.h"
 
 #include <algorithm>
+#include <cmath>
 #include <functional>
 #include <map>
 #include <tuple>
@@ -238,8 +239,12 @@ SceneDescription make_scene_mjcf(const world::World& world, const robot::RobotDe
   // Plant textures: one texture and one material per texture file (shared by the parts and
   // the plants that use it).
   std::map<std::string, std::string> texture_of_file;
-  if (options.include_plants)
-    for (const auto& plant : world.plants)
+  const auto shown = [&](const world::Plant& plant) {
+    return options.include_plants && plant.base_position.x() >= options.plants_from_x_m &&
+           plant.base_position.x() < options.plants_to_x_m;
+  };
+  for (const auto& plant : world.plants)
+    if (shown(plant))
       for (const auto& part : plant.parts) {
         if (part.texture) {
           auto [it, fresh] = texture_of_file.try_emplace(part.texture_file, "plant_tex_" + std::to_string(texture_of_file.size()));
@@ -254,9 +259,12 @@ SceneDescription make_scene_mjcf(const world::World& world, const robot::RobotDe
           write_mesh_asset(os, part.name, part.mesh);
         }
       }
+  const bool windowed = std::isfinite(options.plants_from_x_m) && std::isfinite(options.plants_to_x_m);
   os << "  </asset>\n  <worldbody>\n"
      << sun_light(spec)
-     << "    <geom name=\"ground\" type=\"plane\" size=\"30 30 0.1\" material=\"ground\" group=\"" << kGroupGround
+     << "    <geom name=\"ground\" type=\"plane\" size=\"30 30 0.1\""
+     << (windowed ? " pos=\"" + num(0.5 * (options.plants_from_x_m + options.plants_to_x_m)) + " 0 0\"" : std::string())
+     << " material=\"ground\" group=\"" << kGroupGround
      << "\" contype=\"1\" conaffinity=\"1\"/>\n";
   scene.labels["ground"] = GeomLabel{spec.class_of("ground"), kNoInstance, false};
   if (g.path_width_m > 0.0) {
@@ -288,7 +296,7 @@ SceneDescription make_scene_mjcf(const world::World& world, const robot::RobotDe
   }
   for (const auto& plant : world.plants)
     for (const auto& part : plant.parts) {
-      if (!options.include_plants) break;
+      if (!shown(plant)) break;
       if (part.texture)
         os << "    <geom name=\"" << part.name << "\" type=\"mesh\" mesh=\"" << part.name << "\" material=\""
            << texture_of_file.at(part.texture_file) << "\" group=\"" << kGroupPlants << "\" contype=\"0\" conaffinity=\"0\"/>\n";

@@ -39,21 +39,47 @@ void install_mujoco_error_handler() {
 }
 
 Simulator::Simulator(const world::World& world, const RobotConfig& robot_config, const SceneOptions& options)
-    : robot_config_(robot_config), start_(world.spec.robot_start) {
+    : robot_config_(robot_config), options_(options), start_(world.spec.robot_start) {
   const robot::RobotDescription description = robot::RobotDescription::load_urdf(robot_config.urdf_path);
-  scene_ = make_scene_mjcf(world, description, robot_config, options);
-  if (options.include_plants && !world.plants.empty()) {
+  // Plant sections: by base x, plant_section_m long from the first plant's.
+  if (options.include_plants && options.plant_window_m > 0.0 && !world.plants.empty()) {
+    CANOPY_CHECK(options.plant_section_m > 0.0 && options.plant_reach_m >= 0.0, "plant sections need a positive length");
+    double x0 = world.plants.front().base_position.x(), x1 = x0;
+    for (const world::Plant& p : world.plants) {
+      x0 = std::min(x0, p.base_position.x());
+      x1 = std::max(x1, p.base_position.x());
+    }
+    const int sections = static_cast<int>(std::floor((x1 - x0) / options.plant_section_m)) + 1;
+    const int per_window = std::max(1, static_cast<int>(std::lround(options.plant_window_m / options.plant_section_m)));
+    if (sections > per_window) {  // else the whole world: today's scene
+      world_ = &world;
+      sections_x0_m_ = x0;
+      sections_ = sections;
+      window_end_ = 0;  // nothing held yet
+    }
+  }
+  if (world_) {
     SceneOptions physics = options;
     physics.include_plants = false;
-    const SceneDescription stepped = make_scene_mjcf(world, description, robot_config, physics);
-    load(stepped.mjcf);
-    load_render(scene_.mjcf);
-    CANOPY_CHECK(render_model_->nq == model_->nq && render_model_->nv == model_->nv,
-                 "the rendered and the stepped scene differ in their joints");
-  } else {
+    scene_ = make_scene_mjcf(world, description, robot_config, physics);
     load(scene_.mjcf);
+    release_mjcf();
+    show_plants_near(start_.x_m, start_.x_m);
+  } else {
+    scene_ = make_scene_mjcf(world, description, robot_config, options);
+    if (options.include_plants && !world.plants.empty()) {
+      SceneOptions physics = options;
+      physics.include_plants = false;
+      const SceneDescription stepped = make_scene_mjcf(world, description, robot_config, physics);
+      load(stepped.mjcf);
+      load_render(scene_.mjcf);
+      CANOPY_CHECK(render_model_->nq == model_->nq && render_model_->nv == model_->nv,
+                   "the rendered and the stepped scene differ in their joints");
+    } else {
+      load(scene_.mjcf);
+    }
+    release_mjcf();
   }
-  release_mjcf();
   bind_robot();
   // The link tree: each link with a frame site, under its nearest ancestor that has one.
   // fixed_below[i]: only fixed joints between link i and frame_of[i].
@@ -137,6 +163,45 @@ void Simulator::load_render(const std::string& mjcf) {
   render_data_ = std::move(data_);
   model_ = std::move(stepped_model);
   data_ = std::move(stepped_data);
+}
+
+bool Simulator::show_plants_near(double base_x_lo_m, double base_x_hi_m) {
+  if (!world_) return false;
+  const double margin = options_.plant_reach_m + world_->spec.camera.max_range_m;
+  const auto section = [&](double x) {
+    const double s = std::floor((x - sections_x0_m_) / options_.plant_section_m);
+    return static_cast<int>(std::clamp(s, 0.0, static_cast<double>(sections_ - 1)));
+  };
+  const int first = section(std::min(base_x_lo_m, base_x_hi_m) - margin);
+  const int last = section(std::max(base_x_lo_m, base_x_hi_m) + margin);
+  if (first >= window_first_ && last < window_end_) return false;
+  const int per_window = std::max(1, static_cast<int>(std::lround(options_.plant_window_m / options_.plant_section_m)));
+  const int count = std::max(per_window, last - first + 1);
+  const int begin = std::max(0, std::min(first, sections_ - count));
+  build_window(begin, std::min(sections_, begin + count));
+  return true;
+}
+
+void Simulator::build_window(int first, int end) {
+  // The old model goes first: the two are never held at once.
+  render_data_.reset();
+  render_model_.reset();
+  SceneOptions window = options_;
+  window.plants_from_x_m = sections_x0_m_ + first * options_.plant_section_m;
+  window.plants_to_x_m = sections_x0_m_ + end * options_.plant_section_m;
+  const robot::RobotDescription description = robot::RobotDescription::load_urdf(robot_config_.urdf_path);
+  SceneDescription rendered = make_scene_mjcf(*world_, description, robot_config_, window);
+  // load() keeps the labels of scene_ (the rendered scene's; the stepped one's are a subset).
+  scene_.labels = std::move(rendered.labels);
+  scene_.files = std::move(rendered.files);
+  load_render(rendered.mjcf);
+  std::string().swap(rendered.mjcf);
+  CANOPY_CHECK(render_model_->nq == model_->nq && render_model_->nv == model_->nv,
+               "the rendered and the stepped scene differ in their joints");
+  window_first_ = first;
+  window_end_ = end;
+  ++render_generation_;
+  sync_render();
 }
 
 void Simulator::sync_render() {

@@ -5,10 +5,16 @@
 # find_package(canopy 0.2) finds it while find_package(canopy 0.1) does not (a minor version
 # of 0.x may break the interface; CHANGELOG.md lists what did).
 # Usage: headers_test.sh BUILD_DIR
+# The check works in BUILD_DIR/header_check, not in a fresh temporary folder: its paths are then
+# the same in every checkout below CCACHE_BASEDIR (tools/test.sh sets it to the tree), so ccache
+# answers for every header whose text and includes did not change (-fsyntax-only is cached).
 set -u
-build="$1"
-tmp=$(mktemp -d)
+build=$(cd "$1" && pwd)
+tmp="$build/header_check"
+rm -rf "$tmp"
+mkdir -p "$tmp"
 trap 'rm -rf "$tmp"' EXIT
+export CCACHE_BASEDIR="${CCACHE_BASEDIR:-$tmp}" CCACHE_NOHASHDIR=true
 prefix="$tmp/prefix"
 failures=0
 fail() { echo "FAIL: $*"; failures=$((failures + 1)); }

@@ -94,17 +94,21 @@ const std::string& frames_map() {
   static const std::string map = [] {
     const std::string out = testing::TempDir() + "/lab_frames_map";
     fs::remove_all(out);
-    const datasets::FrameSequence frames = datasets::FrameSequence::open(lab_frames().folders);
-    RecordedSequence seq;
-    seq.source = lab_frames().folders;
-    seq.classes = frames.classes();
-    seq.size = frames.size();
-    seq.name = [&frames](std::size_t i) { return frames.name(i); };
-    seq.read = [&frames](std::size_t i, LabelledFrame* f, std::string* why) { return frames.read(i, f, why); };
+    const datasets::FrameReaderOptions reader;
+    const datasets::FrameSequence frames = datasets::FrameSequence::open(lab_frames().folders, reader);
+    const RecordedSequence seq = frames_sequence(frames, reader);
     RecordedMapParams p;
     p.settings = colour_settings();
     p.out = out;
     EXPECT_EQ(map_recorded(seq, p).mapped, lab_frames().count);
+    const YAML::Node run = YAML::LoadFile(out + "/run.yaml");  // what frames_sequence describes
+    EXPECT_EQ(run["command"].as<std::string>(), "map");
+    EXPECT_EQ(run["frames"].as<std::string>(), lab_frames().folders);
+    EXPECT_EQ(run["layout"].as<std::string>(), "canopy");
+    EXPECT_EQ(run["labels"].as<std::string>(), "color");
+    EXPECT_EQ(run["classes"].as<std::vector<std::string>>(), frames.classes().names);
+    EXPECT_EQ(run["max_time_diff_s"].as<double>(), reader.max_time_diff_s);
+    EXPECT_EQ(run["p_gt"].as<double>(), p.settings.mapping.extractor.p_gt);
     return read_file(out + "/map.csm");
   }();
   return map;

@@ -133,6 +133,22 @@ TEST(McapFrames, ChoosesRealSenseTopicsAndMapsSixteenBitDepth) {
   const RecordedMapResult r = map_mcap(path, o, dir + "/realsense_map");
   EXPECT_EQ(r.mapped, m.result.successful_views());
   EXPECT_GT(r.occupied_voxels, 1000u);
+  // run.yaml names the recording and what was chosen from it; the job adds the mask noise last.
+  const YAML::Node run = YAML::LoadFile(dir + "/realsense_map/run.yaml");
+  EXPECT_EQ(run["command"].as<std::string>(), "map");
+  EXPECT_EQ(run["mcap"].as<std::string>(), path);
+  EXPECT_EQ(run["topics"]["depth"].as<std::string>(), "/camera/aligned_depth_to_color/image_raw");
+  EXPECT_EQ(run["topics"]["rgb"].as<std::string>(), "/camera/color/image_raw");
+  EXPECT_FALSE(run["topics"]["labels"]) << "colour segmentation reads no label topic";
+  EXPECT_EQ(run["labels"].as<std::string>(), "color");
+  EXPECT_EQ(run["max_time_diff_s"].as<double>(), o.max_dt_s);
+  EXPECT_EQ(run["range_m"].as<std::vector<double>>(), (std::vector<double>{frames.options().min_range_m,
+                                                                           frames.options().max_range_m}));
+  ASSERT_GT(run.size(), 0u);
+  std::string last;
+  for (const auto& kv : run) last = kv.first.as<std::string>();
+  EXPECT_EQ(last, "p_gt");
+  EXPECT_EQ(run["p_gt"].as<double>(), 1.0);
 }
 
 TEST(McapFrames, RefusesInOneLineAndWritesNothing) {

@@ -94,5 +94,29 @@ TEST(RecordedMapJob, FramesThatPutNoPointInTheMapAreAnError) {
   EXPECT_FALSE(fs::exists(out + ".lock"));
 }
 
+// run.yaml is the caller's record with the mask noise the frames were mapped with added last;
+// a record that states it (Python's map-bag does) is written as given.
+TEST(RecordedMapJob, RunRecordGetsTheMaskNoiseUnlessItStatesIt) {
+  const std::string dir = testing::TempDir() + "/recorded_run_record";
+  fs::remove_all(dir);
+  RecordedSequence seq = wall(Vec3(0.0, 0.0, 0.6), 0.5f, 2);
+  seq.run["command"] = "map";
+  seq.run["frames"] = "somewhere";
+  RecordedMapParams p = params(dir + "/added");
+  p.settings.mapping.extractor.p_gt = 0.7;
+  map_recorded(seq, p);
+  YAML::Node run = YAML::LoadFile(dir + "/added/run.yaml");
+  std::vector<std::string> keys;
+  for (const auto& kv : run) keys.push_back(kv.first.as<std::string>());
+  EXPECT_EQ(keys, (std::vector<std::string>{"command", "frames", "p_gt"}));
+  EXPECT_EQ(run["p_gt"].as<double>(), 0.7);
+  EXPECT_FALSE(seq.run["p_gt"]) << "the caller's record is not changed";
+
+  seq.run["p_gt"] = 0.5;  // stated by the caller: kept
+  map_recorded(seq, params(dir + "/stated"));
+  run = YAML::LoadFile(dir + "/stated/run.yaml");
+  EXPECT_EQ(run["p_gt"].as<double>(), 0.5);
+}
+
 }  // namespace
 }  // namespace canopy::jobs

@@ -5,13 +5,15 @@ A small Chrome DevTools Protocol client over --remote-debugging-pipe (file descr
 4, NUL-separated JSON): no network, no extra Python package. Used by
 run_report_browser_test.sh and, with --screenshot, to make the README's picture.
 
-  report_browser.py [--window WxH] [--screenshot OUT.png] KIND REPORT.html [KIND REPORT.html ...]
+  report_browser.py [--window WxH] [--screenshot OUT.png] [--fruit-views VIEWS.json] KIND REPORT.html [KIND REPORT.html ...]
 
 KIND is run (a complete mission or map), mission (a complete mission: also the robot, the
-labels mapped and the table and metrics against summary.json beside the page), incomplete (an
+labels mapped and the table and metrics against summary.json beside the page; a map's page: its
+labels mapped), incomplete (an
 interrupted one: the page must say so), experiment, or poisoned (a page whose data strings hold
 "<!--<script>": it must open and show them as text); the screenshot is of the first run page.
---shots DIR also writes the pictures of docs/report.md into DIR.
+--shots DIR also writes the pictures of docs/report.md into DIR. --fruit-views: the views that saw
+each fruit counted apart (fruit_views.py), which a mission page's column "views" must equal.
 
 Exit 0 when every check passes; otherwise one line per failure and exit 1.
 """
@@ -233,7 +235,63 @@ def check_readable(b, views):
     return fails
 
 
-def check_mission(b, path):
+def count_changed(b, png_a, png_b, tol=30):
+    """Pixels that differ by more than `tol` (sum over RGB) between two screenshots of one size."""
+    js = """(async () => {
+      const load = async (b64) => { const i = new Image(); i.src = 'data:image/png;base64,' + b64; await i.decode();
+        const c = document.createElement('canvas'); c.width = i.width; c.height = i.height;
+        const g = c.getContext('2d'); g.drawImage(i, 0, 0); return g.getImageData(0, 0, c.width, c.height).data; };
+      const a = await load('%s'), b = await load('%s');
+      let n = 0;
+      for (let i = 0; i < a.length; i += 4) if (Math.abs(a[i] - b[i]) + Math.abs(a[i + 1] - b[i + 1]) + Math.abs(a[i + 2] - b[i + 2]) > %d) ++n;
+      return n;
+    })()""" % (base64.b64encode(png_a).decode(), base64.b64encode(png_b).decode(), tol)
+    return b.evaluate(js)
+
+
+def check_robot_shapes(b, robot, views, ok):
+    """The robot drawn as its URDF's shapes (issue 48): every shape of data.robot.shapes drawn at
+    the first, middle and last view, the camera's box within 2 cm of the view's camera, the
+    shapes moving between the views, and the robot covering pixels of the 3D view (shown against
+    hidden)."""
+    fails = []
+    want = sum(len(l) for l in robot.get("shapes", []))
+    if not want:
+        return ["the page's robot has no shapes (the URDF's geometry)"]
+    at = []
+    for k in sorted({0, len(ok) // 2, len(ok) - 1}):
+        b.evaluate(f"canopyReport.setView({k})")
+        shapes = json.loads(b.evaluate("JSON.stringify(canopyReport.state().robotShapes)")) or []
+        cam = [views[c][ok[k]] for c in ("reached_x", "reached_y", "reached_z")]
+        boxes = [s["at"] for s in shapes if s["type"] == "box"]
+        d = min((sum((a - c) ** 2 for a, c in zip(p, cam)) ** 0.5 for p in boxes), default=float("inf"))
+        if len(shapes) != want or d > 0.02:
+            fails.append(f"view {k + 1}: {len(shapes)} robot shapes drawn of {want}, the nearest box {d:.3f} m from the camera")
+        at.append(shapes)
+    if len(at) > 1 and at[0] == at[-1]:
+        fails.append("the robot's shapes do not move between the first and the last view")
+    shown = b.screenshot("#view3d canvas")
+    b.evaluate("(() => { const c = document.getElementById('show-robot'); c.checked = false; c.dispatchEvent(new Event('change')); })()")
+    time.sleep(0.3)  # the draw waits for the next animation frame
+    hidden = b.screenshot("#view3d canvas")
+    b.evaluate("(() => { const c = document.getElementById('show-robot'); c.checked = true; c.dispatchEvent(new Event('change')); })()")
+    n = count_changed(b, shown, hidden)
+    if n < 200:
+        fails.append(f"the robot's shapes cover {n} pixels of the 3D view at the last view")
+    else:
+        print(f"robot: {want} shapes, {n} pixels of the 3D view at the last view")
+    return fails
+
+
+def check_mapped(b):
+    """The thumbnail of the labels mapped (after segmentation and noise) is shown beside the truth."""
+    mapped = b.evaluate("getComputedStyle(document.getElementById('thumb-mapped')).backgroundImage")
+    if "report_mapped_" not in mapped or b.evaluate("document.getElementById('fig-mapped').style.display") == "none":
+        return [f"no thumbnail of the labels mapped: '{mapped}'"]
+    return []
+
+
+def check_mission(b, path, fruit_views=None):
     """A complete mission's page against its summary.json: one fruit row per true fruit,
     sortable; detection F1, precision and recall as in the summary; the robot drawn at each view
     with a link at the camera; the labels mapped beside the true labels."""
@@ -253,9 +311,23 @@ def check_mission(b, path):
         got = [cov[i] for i in b.evaluate("canopyReport.fruitTable.order()")]
         if not order(got):
             fails.append(f"a click on SC did not sort the fruits {name}: {got[:8]}...")
-    seen = b.evaluate("[...document.querySelectorAll('#fruit-table tr[data-fruit]')].map(r => r.cells[3].textContent)")
-    if not any(v not in ("0", "–") for v in seen):
-        fails.append(f"no fruit has views that raised its SC: {seen[:8]}")
+    head = b.evaluate("[...document.querySelectorAll('#fruit-table th')].map(h => h.dataset.sort)")
+    cells = {key: dict(b.evaluate(f"[...document.querySelectorAll('#fruit-table tr[data-fruit]')].map(r => [r.dataset.fruit, r.cells[{head.index(key)}].textContent])"))
+             for key in ("views", "raised") if key in head}
+    if "views" not in cells or "raised" not in cells:
+        fails.append(f"the fruit table has no 'views' or 'raised' column: {head}")
+    else:
+        if not any(v not in ("0", "–") for v in cells["raised"].values()):
+            fails.append(f"no fruit has views that raised its SC: {list(cells['raised'].values())[:8]}")
+        if fruit_views is not None:  # the views that saw each fruit, counted apart (fruit_views.py)
+            want = {i: str(fruit_views["views"].get(i, 0)) for i in cells["views"]}
+            if cells["views"] != want:
+                fails.append(f"the views that saw each fruit differ from the count of the exported frames: page "
+                             f"{cells['views']}, frames {want}")
+            elif fruit_views["frames"] != b.evaluate("canopyReport.views"):
+                fails.append(f"{fruit_views['frames']} exported frames for {b.evaluate('canopyReport.views')} views")
+            else:
+                print(f"{path}: views that saw each fruit as counted from the exported frames: {cells['views']}")
     for key in ("precision", "recall", "f1"):
         shown = b.evaluate(f"(document.querySelector('#metrics tr[data-metric=detection_{key}] td') || {{}}).textContent")
         if shown != f"{fin['detection'][key]:.3f}":
@@ -278,13 +350,12 @@ def check_mission(b, path):
             at.append(joints)
         if len(at) > 1 and at[0] == at[-1]:
             fails.append("the robot does not move between the first and the last view")
-    mapped = b.evaluate("getComputedStyle(document.getElementById('thumb-mapped')).backgroundImage")
-    if "report_mapped_0.png" not in mapped or b.evaluate("document.getElementById('fig-mapped').style.display") == "none":
-        fails.append(f"no thumbnail of the labels mapped: '{mapped}'")
+        fails += check_robot_shapes(b, robot, views, ok)
+    fails += check_mapped(b)
     return fails
 
 
-def check_run(b, path, incomplete, shot, mission=False, shots=None):
+def check_run(b, path, incomplete, shot, mission=False, shots=None, fruit_views=None):
     fails = []
     load_s = b.open(path)
     last = b.evaluate("JSON.stringify(canopyReport.state())")
@@ -320,7 +391,9 @@ def check_run(b, path, incomplete, shot, mission=False, shots=None):
         fails.append("a complete run's report says: " + banner)
     fails += check_readable(b, views)
     if mission:
-        fails += check_mission(b, path)
+        fails += check_mission(b, path, fruit_views)
+    elif b.evaluate("JSON.parse(document.getElementById('canopy-data').textContent).kind") == "map" and not incomplete:
+        fails += check_mapped(b)  # canopy map's page too
     if shots:
         b.evaluate(f"canopyReport.setView({max(0, views // 4)})")
         with open(os.path.join(shots, "report_readable.png"), "wb") as f:
@@ -416,6 +489,11 @@ def main(argv):
         i = args.index("--shots")
         shots = args[i + 1]
         del args[i:i + 2]
+    fruit_views = None
+    if "--fruit-views" in args:  # the views that saw each fruit, counted apart (fruit_views.py's JSON)
+        i = args.index("--fruit-views")
+        fruit_views = json.load(open(args[i + 1]))
+        del args[i:i + 2]
     if "--screenshot" in args:
         i = args.index("--screenshot")
         shot = args[i + 1]
@@ -432,7 +510,8 @@ def main(argv):
             elif kind == "poisoned":
                 got = check_poisoned(b, path)
             else:
-                got = check_run(b, path, kind == "incomplete", shot, kind == "mission", shots if kind == "mission" else None)
+                got = check_run(b, path, kind == "incomplete", shot, kind == "mission", shots if kind == "mission" else None,
+                                fruit_views if kind == "mission" else None)
                 shot = None
             fails += [f"{path}: {f}" for f in got]
             b.events.clear()

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <sstream>
 
@@ -112,6 +113,72 @@ TEST(RunReport, ChangedSettingsListsOnlyWhatDiffers) {
   ASSERT_EQ(c.size(), 1u);
   EXPECT_EQ(c[0]["key"], "mission.loop.views_per_stop");
   EXPECT_EQ(c[0]["value"], "3");
+}
+
+// The fruit table's views: those that saw the fruit (its instance in the frame, with a depth),
+// whether or not they raised its coverage, and those that raised it.
+TEST(RunReport, FruitViewsCountTheViewsThatSawEachFruit) {
+  records::MapReplay replay(SemanticClasses{});
+  const auto frame = [](const std::vector<int>& ids) {
+    LabelledFrame f;
+    f.rgb = Image<Rgb8>(8, 8);
+    f.class_id = Image<std::uint8_t>(8, 8, 0);
+    f.depth_m = Image<float>(8, 8, 0.4f);
+    f.instance = Image<std::int32_t>(8, 8, kNoInstance);
+    for (std::size_t i = 0; i < ids.size(); ++i) f.instance.at(int(i), 0) = ids[i];
+    return f;
+  };
+  const auto coverage = [&](std::vector<double> c) {
+    evaluation::MapMetrics m;
+    for (double x : c) m.fruits.push_back(evaluation::FruitMetrics{}), m.fruits.back().coverage = x;
+    replay.record_fruits(m);
+  };
+  // Fruit 4: seen by all three views, raised by the first two; fruit 8: seen by the second only,
+  // which did not raise it; fruit 5: never seen.
+  replay.record_frame(frame({4}));
+  coverage({0.3, 0.0, 0.0});
+  replay.record_frame(frame({8, 4, 8}));
+  coverage({0.6, 0.0, 0.0});
+  replay.record_frame(frame({4}));
+  coverage({0.6, 0.0, 0.0});
+  nlohmann::json fruits = {{{"id", 4}}, {{"id", 8}}, {{"id", 5}}};
+  set_fruit_views(fruits, replay);
+  EXPECT_EQ(fruits[0]["views_seen"], 3);
+  EXPECT_EQ(fruits[0]["views_raised"], 2);
+  EXPECT_EQ(fruits[1]["views_seen"], 1);
+  EXPECT_EQ(fruits[1]["views_raised"], 0);
+  EXPECT_EQ(fruits[2]["views_seen"], 0);
+  // Nothing recorded: no counts (the page shows –).
+  nlohmann::json none = {{{"id", 4}}};
+  set_fruit_views(none, records::MapReplay(SemanticClasses{}));
+  EXPECT_FALSE(none[0].contains("views_seen"));
+  EXPECT_FALSE(none[0].contains("views_raised"));
+}
+
+// The robot's shapes for the page, from the repo's URDF: the chassis and wheels of the base, the
+// arm's cylinders, the camera's box; links without geometry left out.
+TEST(RunReport, RobotShapesAreTheURDFsVisuals) {
+  const robot::RobotDescription robot = robot::RobotDescription::load_urdf(default_robot_config().urdf_path);
+  const nlohmann::json shapes = robot_shapes_json(robot);
+  ASSERT_TRUE(shapes.contains("base_link"));
+  const nlohmann::json& chassis = shapes["base_link"][0];
+  EXPECT_EQ(chassis["type"], "box");
+  EXPECT_EQ(chassis["size"], (nlohmann::json{0.99, 0.57, 0.2}));
+  EXPECT_EQ(chassis["pose"], (nlohmann::json{0.0, 0.0, 0.25, 1.0, 0.0, 0.0, 0.0}));
+  EXPECT_EQ(shapes["base_link"].size(), robot.link("base_link").visuals.size());  // chassis, plate, 4 wheels
+  const nlohmann::json& wheel = shapes["base_link"][2];
+  EXPECT_EQ(wheel["type"], "cylinder");
+  EXPECT_DOUBLE_EQ(wheel["radius"].get<double>(), 0.165);
+  EXPECT_NEAR(wheel["pose"][4].get<double>(), std::sqrt(0.5), 1e-4);  // turned about x: the axle along y
+  ASSERT_TRUE(shapes.contains("camera_link"));
+  EXPECT_EQ(shapes["camera_link"][0]["size"], (nlohmann::json{0.042, 0.042, 0.023}));
+  EXPECT_EQ(shapes["camera_link"][0]["rgba"][3], 1.0);
+  EXPECT_FALSE(shapes.contains("tool0"));  // no geometry
+  std::size_t n = 0;
+  for (const robot::Link& l : robot.links()) n += (l.visuals.empty() ? l.collisions : l.visuals).size();
+  std::size_t drawn = 0;
+  for (const auto& [link, list] : shapes.items()) drawn += list.size();
+  EXPECT_EQ(drawn, n);
 }
 
 TEST(RunReport, PageKeepsItsDataInsideTheScriptElement) {

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <limits>
 
 #include "canopy/mapping/voxel_key.h"
 
@@ -117,6 +118,31 @@ TEST(MapReplay, ThumbnailsTheLabelsMappedBesideTheTruth) {
   replay.record_frame(frame, &smaller);
   EXPECT_EQ(replay.mapped_labels().size(), 1u);
   EXPECT_EQ(replay.rgb().size(), 2u);
+}
+
+// The fruits a view saw: the instances of its true instance image where the depth is valid (a
+// fruit beyond the camera's range, depth 0, or hidden, not in the image, is not seen); without a
+// depth image of the same size, every instance pixel counts.
+TEST(MapReplay, RecordsTheFruitInstancesEachViewSaw) {
+  MapReplay replay(SemanticClasses{});
+  LabelledFrame frame = flat_frame(kReplayLeaf);
+  frame.instance = Image<std::int32_t>(64, 48, kNoInstance);
+  frame.depth_m = Image<float>(64, 48, 0.5f);
+  frame.instance.at(10, 10) = 7;  // one pixel is enough
+  frame.instance.at(20, 30) = 3;
+  frame.instance.at(21, 30) = 3;
+  frame.instance.at(40, 5) = 9;   // ... with a depth: fruit 9 lies beyond the range
+  frame.depth_m.at(40, 5) = 0.f;
+  frame.instance.at(41, 5) = 11;
+  frame.depth_m.at(41, 5) = std::numeric_limits<float>::quiet_NaN();
+  replay.record_frame(frame);
+  replay.record_frame(flat_frame(kReplayLeaf));  // no instance image: nothing seen
+  frame.depth_m = Image<float>();                // no depth: every instance pixel counts
+  replay.record_frame(frame);
+  ASSERT_EQ(replay.instances_seen().size(), 3u);
+  EXPECT_EQ(replay.instances_seen()[0], (std::vector<int>{3, 7}));
+  EXPECT_TRUE(replay.instances_seen()[1].empty());
+  EXPECT_EQ(replay.instances_seen()[2], (std::vector<int>{3, 7, 9, 11}));
 }
 
 // The robot's links: names and parents once, poses per view.

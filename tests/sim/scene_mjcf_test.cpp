@@ -91,5 +91,38 @@ TEST(SceneMjcf, HeatingPipesRunAlongEveryRowEachSideOfItsCentreLine) {
   EXPECT_EQ(make_scene_mjcf(world::generate_world(plain), robot, cfg).mjcf.find("heating_pipe_"), std::string::npos);
 }
 
+// A window of plants (issue 49): only the plants whose base lies in it, each with all its
+// parts and labels; the ground plane centred on it. Unbounded, the scene is the one always made.
+TEST(SceneMjcf, AWindowHoldsItsPlantsOnlyAndNoWindowIsTodaysScene) {
+  const RobotConfig cfg = default_robot_config();
+  const robot::RobotDescription robot = robot::RobotDescription::load_urdf(cfg.urdf_path);
+  world::WorldSpec spec;
+  spec.rows.plants_per_row = 8;
+  const world::World w = world::generate_world(spec);
+  SceneOptions unbounded;
+  unbounded.plant_window_m = 12.0;  // the window's length alone changes no scene text
+  EXPECT_EQ(make_scene_mjcf(w, robot, cfg, unbounded).mjcf, make_scene_mjcf(w, robot, cfg).mjcf);
+  EXPECT_NE(make_scene_mjcf(w, robot, cfg).mjcf.find("<geom name=\"ground\" type=\"plane\" size=\"30 30 0.1\" material"),
+            std::string::npos);
+  SceneOptions window;
+  window.plants_from_x_m = 1.0;
+  window.plants_to_x_m = 2.5;
+  const SceneDescription scene = make_scene_mjcf(w, robot, cfg, window);
+  int inside = 0;
+  for (const auto& plant : w.plants) {
+    const bool in = plant.base_position.x() >= 1.0 && plant.base_position.x() < 2.5;
+    inside += in;
+    for (const auto& part : plant.parts) {
+      EXPECT_EQ(scene.labels.count(part.name), in ? 1u : 0u) << part.name;
+      EXPECT_EQ(scene.mjcf.find("<mesh name=\"" + part.name + "\"") != std::string::npos, in) << part.name;
+      EXPECT_EQ(scene.mjcf.find("<geom name=\"" + part.name + "\"") != std::string::npos, in) << part.name;
+    }
+  }
+  EXPECT_GT(inside, 0);
+  EXPECT_LT(inside, static_cast<int>(w.plants.size()));
+  EXPECT_NE(scene.mjcf.find("<geom name=\"ground\" type=\"plane\" size=\"30 30 0.1\" pos=\"1.75 0 0\""), std::string::npos);
+  EXPECT_TRUE(scene.labels.count("ground"));
+}
+
 }  // namespace
 }  // namespace canopy::sim

@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <utility>
 
 #include "canopy/common/random.h"
 #include "canopy/motion/base_follower.h"
@@ -185,6 +187,101 @@ TEST(RobotSim, TheSceneTextIsNotKeptOnceCompiled) {
   SceneDescription bare;
   bare.mjcf = "<mujoco><worldbody/></mujoco>";
   EXPECT_TRUE(Simulator(bare).scene().mjcf.empty());
+}
+
+// The rendered model per section (issue 49): a row of 40 plants 0.5 m apart, in 3 m sections
+// of which a window holds two.
+world::WorldSpec long_row() {
+  world::WorldSpec s;
+  s.rows.rows = 1;
+  s.rows.plants_per_row = 40;
+  return s;
+}
+SceneOptions two_sections() {
+  SceneOptions o;
+  o.plant_window_m = 6.0;
+  o.plant_section_m = 3.0;
+  o.plant_reach_m = 0.5;
+  return o;
+}
+
+// The base x of the plant each plant geom of the rendered model belongs to.
+std::vector<double> rendered_plants_x(const Simulator& sim, const world::World& w) {
+  std::map<std::string, double> x_of;
+  for (const auto& plant : w.plants)
+    for (const auto& part : plant.parts) x_of[part.name] = plant.base_position.x();
+  std::vector<double> out;
+  const mjModel* m = sim.render_model();
+  for (int g = 0; g < m->ngeom; ++g) {
+    const char* name = mj_id2name(m, mjOBJ_GEOM, g);
+    if (name && x_of.count(name)) out.push_back(x_of.at(name));
+  }
+  return out;
+}
+
+TEST(RobotSim, AWorldThatFitsInOneWindowIsBuiltWhole) {
+  const world::World w = world::generate_world(world::WorldSpec{});  // the default: 2 rows of 4
+  Simulator windowed(w, default_robot_config(), two_sections());
+  Simulator whole(w, default_robot_config());
+  EXPECT_FALSE(windowed.plants_windowed());
+  EXPECT_FALSE(windowed.show_plants_near(100.0, 100.0));
+  EXPECT_EQ(windowed.render_generation(), 0);
+  EXPECT_EQ(windowed.render_model()->ngeom, whole.render_model()->ngeom);
+  EXPECT_EQ(windowed.render_model()->nmeshvert, whole.render_model()->nmeshvert);
+  EXPECT_EQ(rendered_plants_x(windowed, w).size(), rendered_plants_x(whole, w).size());
+}
+
+TEST(RobotSim, TheRenderedModelHoldsTheSectionsNearTheBaseAndFollowsIt) {
+  const world::World w = world::generate_world(long_row());
+  Simulator sim(w, default_robot_config(), two_sections());
+  ASSERT_TRUE(sim.plants_windowed());
+  EXPECT_EQ(sim.plant_sections(), 7);  // 19.5 m of plants
+  // At the start (x = -0.8): the first two sections, the plants of [0, 6) m.
+  EXPECT_EQ(sim.plant_window(), std::make_pair(0, 2));
+  const auto within = [&](double lo, double hi) {
+    const std::vector<double> xs = rendered_plants_x(sim, w);
+    if (xs.empty()) return false;
+    for (double x : xs)
+      if (x < lo || x >= hi) return false;
+    return true;
+  };
+  EXPECT_TRUE(within(0.0, 6.0));
+  const int all_geoms = Simulator(w, default_robot_config()).render_model()->ngeom;
+  EXPECT_LT(sim.render_model()->ngeom, all_geoms);
+  EXPECT_FALSE(sim.show_plants_near(2.0, 3.0));  // held already
+  const int built = sim.render_generation();
+  // The robot moves on with its arm away from home; a base at 12 m needs [10.5, 13.5] m.
+  ArmConfig q = default_robot_config().home;
+  q[0] += 0.4;
+  q[2] -= 0.3;
+  sim.set_robot_state(BasePose{12.0, 0.1, 0.2}, q);
+  EXPECT_TRUE(sim.show_plants_near(12.0, 12.0));
+  EXPECT_EQ(sim.render_generation(), built + 1);
+  EXPECT_EQ(sim.plant_window(), std::make_pair(3, 5));
+  EXPECT_TRUE(within(9.0, 15.0));
+  EXPECT_FALSE(sim.show_plants_near(12.5, 12.5));
+  // The joint state carried over to the new rendered model.
+  for (int i = 0; i < sim.model()->nq; ++i) EXPECT_EQ(sim.render_data()->qpos[i], sim.data()->qpos[i]) << i;
+  // The last sections, and past the row's end the window stays on them.
+  EXPECT_TRUE(sim.show_plants_near(30.0, 30.0));
+  EXPECT_EQ(sim.plant_window(), std::make_pair(5, 7));
+  EXPECT_FALSE(sim.show_plants_near(40.0, 40.0));
+  // A range wider than a window gets every section it needs.
+  EXPECT_TRUE(sim.show_plants_near(0.0, 12.0));
+  EXPECT_EQ(sim.plant_window(), std::make_pair(0, 5));
+  EXPECT_EQ(sim.render_generation(), built + 3);
+  // The labels follow the model: every geom's label is its part's.
+  std::map<std::string, int> instance_of;
+  for (const auto& plant : w.plants)
+    for (const auto& part : plant.parts) instance_of[part.name] = part.instance_id;
+  int fruits = 0;
+  for (int g = 0; g < sim.render_model()->ngeom; ++g) {
+    const char* name = mj_id2name(sim.render_model(), mjOBJ_GEOM, g);
+    if (!name || !instance_of.count(name)) continue;
+    EXPECT_EQ(sim.geom_label(g).instance_id, instance_of.at(name)) << name;
+    fruits += instance_of.at(name) != kNoInstance;
+  }
+  EXPECT_GT(fruits, 0);
 }
 
 }  // namespace

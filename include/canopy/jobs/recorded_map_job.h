@@ -31,7 +31,7 @@ struct RecordedSequence {
   std::function<bool(std::size_t, LabelledFrame*, std::string*)> read;
   std::vector<datasets::SkippedFrame> skipped;          ///< Dropped before reading (no partner, no pose).
   std::vector<std::string> notes;                       ///< What the reader changed or assumed.
-  YAML::Node run;                                       ///< run.yaml: the command and the source's options.
+  YAML::Node run;  ///< run.yaml: the command and the source's options (map_recorded adds p_gt when absent).
 };
 
 /// What map_recorded needs besides the sequence.
@@ -48,6 +48,11 @@ struct RecordedMapResult {
   std::size_t mapped = 0, skipped = 0, occupied_voxels = 0;
   bool complete = true;
 };
+
+/// A frame folder (canopy's or TUM RGB-D, datasets::FrameSequence) as a sequence to map, with
+/// run.yaml's description of it: the command, the folder, its layout, where labels come from,
+/// the classes and the pairing tolerance. `frames` must outlive the sequence.
+RecordedSequence frames_sequence(const datasets::FrameSequence& frames, const datasets::FrameReaderOptions& reader);
 
 /// Maps the sequence and publishes the folder. Throws InputError when no frame could be
 /// mapped, Interrupted when stopped (before the first frame: nothing written; after it: the

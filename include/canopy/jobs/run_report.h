@@ -16,6 +16,7 @@
 
 #include "canopy/mission/mission.h"
 #include "canopy/records/replay.h"
+#include "canopy/robot/robot_description.h"
 #include "canopy/settings/settings.h"
 #include "canopy/world/world.h"
 
@@ -34,6 +35,9 @@ struct ReportBounds {
 struct RunReport {
   nlohmann::json data;
   nlohmann::json wall;  ///< Wall times (the line that differs between equal runs).
+  /// The robot's shapes by link (robot_shapes_json), drawn at each view's link poses when the
+  /// replay recorded them; null: the links' frames only.
+  nlohmann::json robot_shapes;
 };
 
 /// A mission's report data: views (poses, phases, failures, gains, curves), stops, fruits,
@@ -44,6 +48,12 @@ RunReport mission_report_data(const records::MissionResult& result, const settin
 /// A `canopy map` folder's report data: the views' poses and curves (metrics.json's history).
 RunReport map_report_data(const nlohmann::json& metrics, const std::vector<Pose>& views,
                           const settings::Settings& settings, const world::World& world);
+
+/// The robot's geometry for the page: by link name, the link's visual shapes (its collision
+/// shapes when it has no visual), each {type: box | sphere | cylinder | capsule, size (box's
+/// edges) or radius and length (along the shape's z), pose in the link frame as x y z qw qx qy
+/// qz, rgba}. Meshes are left out (the URDF's robot has none).
+nlohmann::json robot_shapes_json(const robot::RobotDescription& robot);
 
 /// The settings that differ from the defaults: [{key, value, default}].
 nlohmann::json changed_settings(const settings::Settings& settings);
@@ -59,6 +69,12 @@ std::vector<std::string> write_run_report(const std::string& dir, RunReport repo
 /// `step` views, with a note saying so.
 nlohmann::json pack_replay(const records::MapReplay& replay, const mapping::SemanticMapParams& map,
                            const ReportBounds& bounds);
+
+/// Each fruit of `fruits` (report data: objects with "id", in the order of the metrics' target
+/// fruits) gets "views_seen", the successful views that saw it (a pixel of it in the view's true
+/// instance image within the camera's range: MapReplay::instances_seen), and "views_raised",
+/// those that raised its coverage by more than 0.001; each only when the replay recorded it.
+void set_fruit_views(nlohmann::json& fruits, const records::MapReplay& replay);
 
 /// True when Debian's libjs-three is installed (three.js and its orbit controls).
 bool report_libraries_present();

@@ -21,7 +21,9 @@ struct FrameMapStep {
   InsertStats insert;
 };
 
-/// Labels and inserts one frame.
-FrameMapStep map_frame(const LabelledFrame& frame, perception::SemanticExtractor& extractor, ScanInserter& inserter);
+/// Labels and inserts one frame; the pixel labels it mapped (after noise) go to `mapped_labels`
+/// when given (what a report thumbnails beside the true labels).
+FrameMapStep map_frame(const LabelledFrame& frame, perception::SemanticExtractor& extractor, ScanInserter& inserter,
+                       Image<std::uint8_t>* mapped_labels = nullptr);
 
 }  // namespace canopy::mapping

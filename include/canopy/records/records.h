@@ -71,6 +71,7 @@ enum class WallPhase {
   kFiltering,
   kScoring,
   kTruth,
+  kScene,  ///< The rendered model built again for a long row's next window of plants (issue 49).
 };
 inline constexpr EnumName<WallPhase> kWallPhaseNames[] = {
     {WallPhase::kMapping, "mapping"},
@@ -84,6 +85,7 @@ inline constexpr EnumName<WallPhase> kWallPhaseNames[] = {
     {WallPhase::kFiltering, "filtering"},
     {WallPhase::kScoring, "scoring"},
     {WallPhase::kTruth, "truth"},
+    {WallPhase::kScene, "scene"},
 };
 const char* to_string(WallPhase phase);
 

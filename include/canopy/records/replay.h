@@ -3,7 +3,7 @@
 // again: after each successful view, the voxels whose drawn state changed (occupied or not,
 // most likely class, occupancy and entropy in a few levels), each fruit's coverage, a
 // thumbnail of the wrist RGB, of its true labels and of the labels mapped (after noise), and
-// the robot's link poses at the view.
+// the robot's link poses at the view, and the fruit instances the view saw.
 //
 // The mission feeds it from its scan pipeline's thread (record_scan, record_fruits) and from
 // its own (record_frame); `canopy map` from its loop. Scans are recorded in the order they
@@ -48,8 +48,9 @@ class MapReplay {
                    const std::vector<std::uint8_t>* occupancy = nullptr);
   /// The coverage of each target fruit after the last scan (under the metrics' rule).
   void record_fruits(const evaluation::MapMetrics& metrics);
-  /// The frame of the next successful view (its thumbnails) and, when given, the labels that
-  /// were mapped from it (the extractor's, after segmentation and noise; the frame's size).
+  /// The frame of the next successful view (its thumbnails and the fruit instances it saw) and,
+  /// when given, the labels that were mapped from it (the extractor's, after segmentation and
+  /// noise; the frame's size).
   void record_frame(const LabelledFrame& frame, const Image<std::uint8_t>* mapped_labels = nullptr);
   /// The robot's links at the next successful view: their names and parents (taken from the
   /// first call) and their world poses.
@@ -70,6 +71,10 @@ class MapReplay {
   const std::vector<Image<Rgb8>>& labels() const { return labels_; }
   /// Per recorded frame, the thumbnail of the labels mapped (empty when none were given).
   const std::vector<Image<Rgb8>>& mapped_labels() const { return mapped_; }
+  /// Per recorded frame, the fruit instances it saw, ascending: the ids of its true instance
+  /// image whose pixels hold a depth (within the camera's range; every pixel of the instance
+  /// image when the depth image is of another size). Occlusion is the renderer's.
+  const std::vector<std::vector<int>>& instances_seen() const { return seen_; }
   /// The robot's links, their parents, and per recorded view their world poses (empty without).
   const std::vector<std::string>& robot_links() const { return robot_links_; }
   const std::vector<std::string>& robot_parents() const { return robot_parents_; }
@@ -88,6 +93,7 @@ class MapReplay {
   std::vector<std::vector<VoxelChange>> scans_;
   std::vector<std::vector<double>> fruits_;
   std::vector<Image<Rgb8>> rgb_, labels_, mapped_;
+  std::vector<std::vector<int>> seen_;
   std::vector<std::string> robot_links_, robot_parents_;
   std::vector<std::vector<Pose>> robot_poses_;
   double scan_seconds_ = 0.0, frame_seconds_ = 0.0;

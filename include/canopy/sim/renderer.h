@@ -99,8 +99,16 @@ class Renderer {
   /// The robot's part of the still-camera video frame (render_video_frame); GL lock held.
   void robot_over_kept_world(const Pose& T_world_camera, const std::string& caption);
 
+  /// (Re)makes the MuJoCo scene and render context of the simulator's rendered model (its
+  /// meshes uploaded); the caller holds the GL lock with the context current.
+  void make_model_context();
+  /// After the simulator rebuilt its rendered model (Simulator::show_plants_near): the
+  /// context made again; the caller holds the GL lock with the context current.
+  void follow_model();
+
   struct Impl;
   std::unique_ptr<Impl> impl_;
+  int generation_ = -1;  // the simulator's render_generation() the context was made for
   Simulator& sim_;
   CameraIntrinsics intrinsics_;
   RenderOptions options_;

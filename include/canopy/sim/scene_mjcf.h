@@ -3,6 +3,7 @@
 // bodies, joints, geoms and wrist camera come from the RobotDescription (the URDF), the
 // plants from the world's meshes. Also records each geom's semantic class and instance.
 
+#include <limits>
 #include <map>
 #include <string>
 
@@ -47,6 +48,21 @@ struct SceneOptions {
   /// Plant meshes in the scene. The simulator steps a model without them (they never
   /// collide, yet MuJoCo 2.2.2 walks every geom in each step) and renders one with them.
   bool include_plants = true;
+  /// Only the plants whose base x lies in [plants_from_x_m, plants_to_x_m): a window of a long
+  /// row's plants (Simulator's plant sections). With a bounded window the ground plane is
+  /// centred on it (the plane is drawn 30 m either way). Unbounded, the default: every plant,
+  /// and the scene as it always was.
+  double plants_from_x_m = -std::numeric_limits<double>::infinity();
+  double plants_to_x_m = std::numeric_limits<double>::infinity();
+  /// The rendered model per section (issue 49; Simulator): plants are grouped by their base x
+  /// in sections of plant_section_m from the first plant's, and with plant_window_m > 0 the
+  /// rendered model holds only the sections of one window (plant_window_m long, at least the
+  /// sections needed) around the robot; Simulator::show_plants_near moves it. The sections
+  /// needed for a base at x are those within plant_reach_m plus the camera's max range of x.
+  /// A world whose plants fit in one window is built whole, as without a window. 0: no window.
+  double plant_window_m = 0.0;
+  double plant_section_m = 3.0;
+  double plant_reach_m = 2.0;
   /// Smallest off-screen buffer (for larger video frames than the camera's).
   int min_offscreen_width_px = 640;
   int min_offscreen_height_px = 480;

@@ -7,6 +7,7 @@
 #include <array>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "canopy/robot/robot_config.h"
@@ -67,6 +68,21 @@ class Simulator {
   mjData* render_data() const { return render_data_ ? render_data_.get() : data_.get(); }
   /// Copies the joint positions into the rendered model and updates its kinematics.
   void sync_render();
+
+  /// The rendered model per section (SceneOptions::plant_window_m; issue 49: a compartment's
+  /// plants cannot be one compiled model). Makes the rendered model hold every plant section
+  /// needed for a base anywhere in [base_x_lo_m, base_x_hi_m]; when the window it holds lacks
+  /// one, the rendered model is built again for a new window (at least plant_window_m long,
+  /// from the first section needed) and the robot's joint state carried over. Returns whether
+  /// it rebuilt. Without a window (none asked, or the world's plants fit in one) it does nothing.
+  bool show_plants_near(double base_x_lo_m, double base_x_hi_m);
+  /// Whether the rendered model holds a window of the plants rather than all of them.
+  bool plants_windowed() const { return world_ != nullptr; }
+  /// The sections of plants the rendered model holds: [first, end) of `plant_sections()`.
+  std::pair<int, int> plant_window() const { return {window_first_, window_end_}; }
+  int plant_sections() const { return sections_; }
+  /// Counts the rendered model's rebuilds (renderers follow it on their next frame).
+  int render_generation() const { return render_generation_; }
   /// Labels are indexed by the rendered model's geom ids. The MJCF text is not kept once
   /// compiled (`mjcf` is empty): it writes every plant vertex out as numbers, and a long row's
   /// would be held for the whole mission (make_scene_mjcf gives it again).
@@ -111,6 +127,8 @@ class Simulator {
  private:
   void load(const std::string& mjcf);
   void load_render(const std::string& mjcf);
+  // Builds the rendered model of the plant sections [first, end).
+  void build_window(int first, int end);
   // Frees the compiled scene's MJCF text (scene().mjcf).
   void release_mjcf();
   void bind_robot();
@@ -118,6 +136,12 @@ class Simulator {
 
   SceneDescription scene_;
   RobotConfig robot_config_;
+  SceneOptions options_;
+  // Windowed scenes only (else null): the world, which the caller keeps alive, and its sections.
+  const world::World* world_ = nullptr;
+  double sections_x0_m_ = 0.0;
+  int sections_ = 1, window_first_ = 0, window_end_ = 1;
+  int render_generation_ = 0;
   BasePose start_;
   RobotLinks link_tree_;  // robot_links() without the poses, found once
   struct ModelDeleter {
