@@ -4,7 +4,8 @@
 The new run is an experiment folder (per-trial data); the old one is what its page committed,
 runtime.csv's final_sc_mean / final_sc_std / trials per method and P_gt (the old per-trial SC was
 not committed, so the difference's standard error is the unpaired one, sqrt(s_new^2/n_new +
-s_old^2/n_old), which a paired one could only make smaller). --old-row adds a method the old page
+s_old^2/n_old); a mean equal to the old one to 1e-6, the old CSV's precision, is taken for the same
+trials, a paired difference of 0). --old-row adds a method the old page
 lacks (label,p_gt,mean,std,n). Prints one markdown table: new, old, new - old in SC points ± its
 standard error, and whether the change is within one and within two standard errors.
 
@@ -79,8 +80,11 @@ def main():
             d = 100.0 * (m - om)
             se = 100.0 * math.sqrt(s * s / len(xs) + osd * osd / on)
             verdict = ("yes / yes" if abs(d) <= se else "no / yes" if abs(d) <= 2 * se else "no / no")
+            change = f"{d:+.1f} ± {se:.1f}".replace("-", "−")
+            if abs(m - om) < 1e-6:  # the old CSV's 6 digits: the same trials, paired difference 0
+                change, verdict = "0 (the same mean to 1e-6)", "yes / yes"
             print(f"| {preset} | {p:g} | {label} | {m:.3f} ± {s:.3f} ({len(xs)}) | {om:.3f} ± {osd:.3f} ({on}) | "
-                  f"{d:+.1f} ± {se:.1f} | {verdict} |")
+                  f"{change} | {verdict} |")
 
 
 if __name__ == "__main__":

@@ -115,6 +115,7 @@ def condition_tables(preset, p_gt, trials, under_test, out):
     out.append("")
     others = [l for l in labels if l != under_test and not l.startswith("oracle")]
     verdict = {}
+    goal_cells = {}
     lines = []
     diffs = []
     for m in marks:
@@ -124,6 +125,8 @@ def condition_tables(preset, p_gt, trials, under_test, out):
         wins = sum(1 for x in d if x > 0)
         met = means[(under_test, m)] >= means[(best, m)]
         verdict[m] = met
+        goal_cells[m] = (f"{means[(under_test, m)]:.3f} vs {means[(best, m)]:.3f} {best}, "
+                    f"{dm:+.1f} ± {ds:.1f} ({wins}) " + ("✔" if met else "✘")).replace("-", "−")
         lines.append(f"{m}: {means[(under_test, m)]:.3f} vs {best} {means[(best, m)]:.3f} "
                      + ("met" if met else f"**not met** by {100 * (means[(best, m)] - means[(under_test, m)]):.1f} points"))
         diffs.append((m, best, f"{dm:+.1f} ± {ds:.1f} ({wins})"))
@@ -133,6 +136,8 @@ def condition_tables(preset, p_gt, trials, under_test, out):
         half = means[(best60, "after 60")] + 0.5 * (means[("oracle", "after 60")] - means[(best60, "after 60")])
         met = means[(under_test, "after 60")] >= half
         verdict["half way"] = met
+        goal_cells["half way"] = (f"{means[(under_test, 'after 60')]:.3f} vs {half:.3f} "
+                             + ("✔" if met else f"✘ {100 * (means[(under_test, 'after 60')] - half):+.1f}")).replace("-", "−")
         lines.append(f"half way to the oracle after 60: {means[(under_test, 'after 60')]:.3f} vs {half:.3f} "
                      + ("met" if met else f"**not met** by {100 * (half - means[(under_test, 'after 60')]):.1f} points"))
     out.append(f"{under_test} against the best other map-only method at each mark: " + "; ".join(lines) + ".\n")
@@ -149,14 +154,17 @@ def condition_tables(preset, p_gt, trials, under_test, out):
             cells.append(f"{dm:+.1f} ± {ds:.1f} ({sum(1 for x in d if x > 0)})")
         out.append(f"| {under_test} − {l} | " + " | ".join(cells) + " |")
     out.append("")
-    return {"verdict": verdict, "labels": labels, "worlds": worlds, "by": by}
+    return {"verdict": verdict, "cells": goal_cells, "labels": labels, "worlds": worlds, "by": by}
 
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("folders", nargs="+", help="preset=experiment folder")
     ap.add_argument("--method", default="learned", help="the method under test (a label)")
+    ap.add_argument("--csv", action="append", default=[],
+                    help="preset=file: write that preset's per-trial figures (the data of a later paired comparison)")
     a = ap.parse_args()
+    csv_out = dict(c.partition("=")[::2] for c in a.csv)
     out = []
     timing = []
     summary = []
@@ -165,10 +173,19 @@ def main():
         if not folder:
             sys.exit(f"goal_table: '{spec}': give preset=folder")
         trials = load(folder)
+        if preset in csv_out:
+            with open(csv_out[preset], "w", newline="") as f:
+                w = csv.writer(f)
+                w.writerow(["label", "p_gt", "world_seed", "sc_after_30", "sc_after_60", "sc_after_90", "sc_final",
+                            "views", "simulated_s", "planning_s", "nbv_attempts"])
+                for t in sorted(trials, key=lambda t: (t["label"], -t["p_gt"], t["world"])):
+                    w.writerow([t["label"], f"{t['p_gt']:g}", t["world"]] + [f"{t['sc'][m]:.6f}" for m in
+                               ["after 30", "after 60", "after 90", "final"]] +
+                               [t["views"], f"{t['sim_time_s']:.3f}", f"{t['planning_s']:.3f}", t["nbv_attempts"]])
         for p in sorted({t["p_gt"] for t in trials}, reverse=True):
             r = condition_tables(preset, p, trials, a.method, out)
             if r:
-                summary.append((preset, p, r["verdict"]))
+                summary.append((preset, p, r["verdict"], r["cells"], len(r["worlds"])))
             for l in sorted({t["label"] for t in trials if t["p_gt"] == p}):
                 ts = [t for t in trials if t["label"] == l and t["p_gt"] == p]
                 per = [1000.0 * t["planning_s"] / t["nbv_attempts"] for t in ts if t["nbv_attempts"]]
@@ -178,9 +195,15 @@ def main():
                                   f"{m:.0f} ({max(per):.0f}) |")
     out.append("| preset | P_gt | after 30 | after 60 | after 90 | final | half way at 60 |")
     out.append("|---|---|---|---|---|---|---|")
-    for preset, p, v in summary:
+    for preset, p, v, _, _ in summary:
         cells = ["—" if k not in v else "✔" if v[k] else "✘" for k in ["after 30", "after 60", "after 90", "final", "half way"]]
         out.append(f"| {preset} | {p:g} | " + " | ".join(cells) + " |")
+    out.append("")
+    out.append(f"| preset, P_gt (worlds) | after 30 | after 60 | after 90 | final | half way to the oracle at 60 |")
+    out.append("|---|---|---|---|---|---|")
+    for preset, p, _, c, n in summary:
+        out.append(f"| {preset}, {p:g} ({n}) | " + " | ".join(c.get(k, "—") for k in
+                   ["after 30", "after 60", "after 90", "final", "half way"]) + " |")
     out.append("")
     out.append("| preset | P_gt | method | planning per mission [s] | per NBV attempt [ms], mean (worst mission) |")
     out.append("|---|---|---|---|---|")
