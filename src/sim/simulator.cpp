@@ -58,6 +58,7 @@ Simulator::Simulator(const world::World& world, const RobotConfig& robot_config,
       world_ = &world;
       sections_x0_m_ = x0;
       sections_ = sections;
+      sections_per_window_ = per_window;
       window_end_ = 0;  // nothing held yet
     }
   }
@@ -178,8 +179,7 @@ bool Simulator::show_plants_near(double base_x_lo_m, double base_x_hi_m) {
   const int first = section(std::min(base_x_lo_m, base_x_hi_m) - margin);
   const int last = section(std::max(base_x_lo_m, base_x_hi_m) + margin);
   if (first >= window_first_ && last < window_end_) return false;
-  const int per_window = std::max(1, static_cast<int>(std::lround(options_.plant_window_m / options_.plant_section_m)));
-  const int count = std::max(per_window, last - first + 1);
+  const int count = std::max(sections_per_window_, last - first + 1);
   const int begin = std::max(0, std::min(first, sections_ - count));
   build_window(begin, std::min(sections_, begin + count));
   return true;

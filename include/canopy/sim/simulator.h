@@ -143,6 +143,7 @@ class Simulator {
   const world::World* world_ = nullptr;
   double sections_x0_m_ = 0.0;
   int sections_ = 1, window_first_ = 0, window_end_ = 1;
+  int sections_per_window_ = 1;  // plant_window_m / plant_section_m, at least 1
   int render_generation_ = 0;
   BasePose start_;
   RobotLinks link_tree_;  // robot_links() without the poses, found once
