@@ -1,7 +1,8 @@
 #pragma once
 // MCAP's record layout (mcap.dev specification, major version 0), shared by the writer and the
-// reader: opcodes, fixed sizes, little-endian field writing, and a cursor that reads fields
-// from a record without ever reading past it. Internal to the ros2 module.
+// reader: opcodes, fixed sizes, little-endian field writing, a cursor that reads fields from a
+// record without ever reading past it, and the reader's parsers of the Schema, Channel and
+// Chunk records. Internal to the ros2 module.
 
 #include <cstddef>
 #include <cstdint>
@@ -9,6 +10,11 @@
 #include <stdexcept>
 #include <string>
 #include <string_view>
+
+namespace canopy::ros2 {
+struct McapSchema;
+struct McapChannel;
+}  // namespace canopy::ros2
 
 namespace canopy::ros2::mcap {
 
@@ -121,5 +127,20 @@ class Cursor {
   const char* record_;
   std::size_t pos_ = 0;
 };
+
+/// A Schema record's content; FormatError when a field runs past it.
+McapSchema parse_schema(std::string_view content);
+/// A Channel record's content, its metadata map included; FormatError when a field runs past it.
+McapChannel parse_channel(std::string_view content);
+
+/// A Chunk record's fields before its records.
+struct ChunkHeader {
+  std::uint64_t start_time = 0, end_time = 0, uncompressed_size = 0;
+  std::uint32_t uncompressed_crc = 0;
+  std::string compression;
+  std::uint64_t records_size = 0;
+};
+/// Reads a Chunk record's fields up to its records (which `c` is then at).
+ChunkHeader parse_chunk_header(Cursor& c);
 
 }  // namespace canopy::ros2::mcap

@@ -42,6 +42,8 @@ ALLOWED = {
     "nbv/fruit_shapes": "shape_test.cpp (FruitShapes.FrontScanPredictsTheBackHalf)",
     "records/records": "the records' vocabularies, being given visit() by issue 46 point 1: view_columns_test.cpp, run_folder_test.cpp",
     "records/schema": "the records' visit() names: every output against it in python/tests/test_records.py (views.csv, summary.json, report data, on_view, bags), view_columns_test.cpp",
+    "ros2/mcap_blocks": "McapReader's data section (a private unit of the reader): mcap_reader_test.cpp (a file without summary scanned, every cut, every flipped byte, overlapping chunks)",
+    "ros2/mcap_input": "McapReader's file input (a private header): mcap_reader_test.cpp (a missing file, a folder, a device, every cut)",
     "ros2/mcap_records": "MCAP record framing internal to the writer and reader (a private header): mcap_writer_test.cpp and mcap_reader_test.cpp (every cut, every flipped byte, CRCs)",
     "world/plant_folder": "imported plant folders: plant_import_test.cpp and cli.import_plant",
     "world/plant_generator": "procedural plants: world_test.cpp (WorldGeneration)",
