@@ -17,6 +17,7 @@
 #include "canopy/common/params.h"
 #include "canopy/common/png_io.h"
 #include "canopy/jobs/mcap_job.h"
+#include "canopy/jobs/mcap_topics.h"
 #include "canopy/ros2/cdr.h"
 #include "canopy/ros2/mcap_reader.h"
 #include "canopy/ros2/tf_buffer.h"
@@ -32,22 +33,12 @@ namespace mcap_frames_detail {
 enum Kind { kDepth = 0, kRgb = 1, kLabels = 2, kKinds = 3 };
 const char* const kKindFlag[kKinds] = {"--depth", "--rgb", "--labels"};
 
-bool is_depth_encoding(const std::string& e) { return e == "16UC1" || e == "mono16" || e == "32FC1"; }
-bool is_colour_encoding(const std::string& e) { return e == "rgb8" || e == "bgr8" || e == "rgba8" || e == "bgra8"; }
-bool is_label_encoding(const std::string& e) { return e == "mono8" || e == "8UC1"; }
-bool is_png(const std::string& format) { return format.find("png") != std::string::npos; }
-
 std::int64_t ns_of(const msg::Time& t) { return std::int64_t(t.sec) * 1000000000 + std::int64_t(t.nanosec); }
 
 std::string seconds(std::int64_t ns) {
   char buf[48];
   std::snprintf(buf, sizeof buf, "%.9f s", static_cast<double>(ns) / 1e9);
   return buf;
-}
-
-std::string dirname(const std::string& topic) {
-  const std::size_t slash = topic.rfind('/');
-  return slash == std::string::npos || slash == 0 ? "" : topic.substr(0, slash);
 }
 
 std::string list(const std::vector<std::string>& v) {
@@ -177,92 +168,21 @@ struct McapFrames::Impl {
     return enc;
   }
 
-  void check_topic(const std::map<std::string, ros2::McapTopic>& all, const std::string& name, const char* flag,
-                   const std::vector<std::string>& types) const {
-    const auto it = all.find(name);
-    if (it == all.end()) {
-      std::vector<std::string> names;
-      for (const auto& [n, t] : all) names.push_back(n + " (" + t.type + ")");
-      refuse(std::string(flag) + " " + name + ": no such topic (the recording has " + list(names) + ")");
-    }
-    if (std::find(types.begin(), types.end(), it->second.type) == types.end())
-      refuse(std::string(flag) + " " + name + ": a topic of type " + it->second.type + ", not " + list(types));
-  }
-
-  // The one candidate, or the one whose name has one of `words` as a path component or part.
-  std::string pick(std::vector<std::string> candidates, const std::vector<std::string>& words, const char* flag,
-                   const char* what) {
-    if (candidates.size() > 1) {
-      std::vector<std::string> preferred;
-      for (const std::string& c : candidates)
-        for (const std::string& w : words)
-          if (c.find(w) != std::string::npos) {
-            preferred.push_back(c);
-            break;
-          }
-      if (preferred.size() == 1) candidates = preferred;
-    }
-    if (candidates.size() == 1) return candidates.front();
-    refuse(std::string(candidates.empty() ? "no " : "several ") + what + " topics (" + list(candidates) +
-           "): name one with " + flag);
-  }
-
+  // What the options leave open, chosen from the recording's topics (mcap_topics.h).
   void choose_topics() {
     const std::map<std::string, ros2::McapTopic> all = topic_map();
-    const std::vector<std::string> image_types = {msg::Image::kTypeName, msg::CompressedImage::kTypeName};
-    const bool need_guess = o.depth.empty() || o.rgb.empty() || (o.label_images && o.labels.empty());
-    const std::map<std::string, std::string> enc = need_guess ? first_encodings(all) : std::map<std::string, std::string>{};
-    const auto has = [&](const char* t) { return all.count(t) > 0; };
-    if (o.depth.empty()) {
-      if (has(topics::kDepth)) {
-        o.depth = topics::kDepth;
-      } else {
-        std::vector<std::string> c;
-        for (const auto& [name, e] : enc)
-          if (all.at(name).type == msg::Image::kTypeName && is_depth_encoding(e)) c.push_back(name);
-        o.depth = pick(c, {"aligned", "registered"}, "--depth", "depth image (16UC1, mono16, 32FC1)");
-      }
-      choices.push_back("--depth " + o.depth + " (chosen from the recording)");
+    const std::map<std::string, std::string> enc =
+        choice_needs_encodings(o) ? first_encodings(all) : std::map<std::string, std::string>{};
+    std::vector<RecordingTopic> listed;
+    for (const auto& [name, t] : all) {
+      const auto e = enc.find(name);
+      listed.push_back({name, t.type, e == enc.end() ? "" : e->second});
     }
-    if (o.rgb.empty()) {
-      if (has(topics::kRgb)) {
-        o.rgb = topics::kRgb;
-      } else {
-        std::vector<std::string> c;
-        for (const auto& [name, e] : enc) {
-          const bool compressed = all.at(name).type == msg::CompressedImage::kTypeName;
-          if (name == topics::kLabelsColor) continue;
-          if (compressed ? (is_png(e) && e.find("epth") == std::string::npos) : is_colour_encoding(e)) c.push_back(name);
-        }
-        // image_transport's NAME/compressed beside NAME: the raw one.
-        std::vector<std::string> raw;
-        for (const std::string& name : c)
-          if (!(name.size() > 11 && name.compare(name.size() - 11, 11, "/compressed") == 0 &&
-                std::find(c.begin(), c.end(), name.substr(0, name.size() - 11)) != c.end()))
-            raw.push_back(name);
-        o.rgb = pick(raw, {"/color/", "/rgb/"}, "--rgb", "colour image (rgb8, bgr8, rgba8, bgra8, PNG)");
-      }
-      choices.push_back("--rgb " + o.rgb + " (chosen from the recording)");
+    try {
+      for (std::string& line : choose_mcap_topics(listed, o)) choices.push_back(std::move(line));
+    } catch (const InputError& e) {
+      refuse(e.what());
     }
-    if (o.label_images && o.labels.empty()) {
-      if (!has(topics::kLabels)) refuse("--seg truth reads label images: name their topic (mono8 class indices) with --labels");
-      o.labels = topics::kLabels;
-      choices.push_back("--labels " + o.labels + " (chosen from the recording)");
-    }
-    check_topic(all, o.depth, "--depth", {msg::Image::kTypeName});
-    check_topic(all, o.rgb, "--rgb", image_types);
-    if (o.label_images) check_topic(all, o.labels, "--labels", {msg::Image::kTypeName});
-    if (o.camera_info.empty()) {
-      std::vector<std::string> c;
-      for (const auto& [name, t] : all)
-        if (t.type == msg::CameraInfo::kTypeName) c.push_back(name);
-      std::string chosen;
-      for (const std::string& ns : {dirname(o.rgb), dirname(dirname(o.rgb)), dirname(o.depth)})
-        if (chosen.empty() && !ns.empty() && all.count(ns + "/camera_info")) chosen = ns + "/camera_info";
-      o.camera_info = chosen.empty() ? pick(c, {}, "--camera-info", "CameraInfo") : chosen;
-      choices.push_back("--camera-info " + o.camera_info + " (chosen from the recording)");
-    }
-    check_topic(all, o.camera_info, "--camera-info", {msg::CameraInfo::kTypeName});
     topic[kDepth] = o.depth;
     topic[kRgb] = o.rgb;
     topic[kLabels] = o.label_images ? o.labels : "";
