@@ -37,6 +37,7 @@ ALLOWED = {
     "mission/candidate_audit": "oracle_planners_test.cpp (Oracle.CandidateAuditScoresEveryCandidateByEveryGainAndTheTruth)",
     "mission/scan_pipeline": "the mission's second thread: mission_test.cpp (OverlappedMovesGiveTheSameViewsAsMovesInLine, IncrementalMetrics...)",
     "mission/stepping": "stepping and driving the robot: mission_test.cpp (MissionFaults) and simulator_motion_test.cpp",
+    "motion/arm_search": "OMPL's side of ArmPlanner (a private header): arm_planner_test.cpp (seeded plans, motion checks on several threads, the iteration budget, every planner of the registry)",
     "motion/robot_model": "ur_kinematics_test.cpp (RobotModel.CollisionBodiesAndAdjacency, the FK and IK through the model)",
     "motion/view_reach": "the reach test of a view: cmd_nbv_test.cpp and reach_job_test.cpp",
     "nbv/fruit_shapes": "shape_test.cpp (FruitShapes.FrontScanPredictsTheBackHalf)",

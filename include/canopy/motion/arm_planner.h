@@ -3,7 +3,7 @@
 // checker validates states, motions are checked at a fixed joint-space resolution, the
 // path is simplified and timed within the joint limits. Expected failures (no IK, start or
 // goal in collision, timeout, bad input) come back as a status with a message.
-// OMPL stays inside arm_planner.cpp.
+// OMPL stays inside src/motion/arm_search.cpp.
 
 #include <cstdint>
 #include <memory>
