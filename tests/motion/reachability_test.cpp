@@ -8,6 +8,7 @@
 #include "canopy/common/error.h"
 #include "canopy/robot/robot_config.h"
 #include "canopy/world/world.h"
+#include "small_worlds.h"
 
 namespace canopy::motion {
 namespace {
@@ -36,10 +37,7 @@ TEST(Reachability, SphereViewsLookAtTheTargetWithZeroRoll) {
 }
 
 TEST(Reachability, WorldVoxelsCoverEveryMeshVertex) {
-  world::WorldSpec spec;
-  spec.rows.rows = 1;
-  spec.rows.plants_per_row = 1;
-  const world::World w = world::generate_world(spec);
+  const world::World w = world::generate_world(test::one_row_spec(1));
   const double res = 0.015;
   const std::vector<Vec3> vox = evaluation::world_occupied_voxels(w, res);
   ASSERT_GT(vox.size(), 500u);

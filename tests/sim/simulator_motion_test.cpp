@@ -16,6 +16,7 @@
 #include "canopy/motion/tour.h"
 #include "canopy/sim/simulator.h"
 #include "canopy/world/world.h"
+#include "small_worlds.h"
 
 namespace canopy::motion {
 namespace {
@@ -26,10 +27,7 @@ const RobotModel& model() {
 }
 
 TEST(MotionSim, IkSolutionsPlaceMujocosCameraAtTheGoal) {
-  world::WorldSpec spec;
-  spec.rows.rows = 1;
-  spec.rows.plants_per_row = 1;
-  sim::Simulator sim(world::generate_world(spec), default_robot_config());
+  sim::Simulator sim(world::generate_world(test::one_row_spec(1)), default_robot_config());
   std::mt19937 rng(21);
   std::uniform_real_distribution<double> u(-M_PI, M_PI), b(-2.0, 2.0);
   int checked = 0;
@@ -109,10 +107,7 @@ TEST(MotionSim, PlannedMovesReachTheirViewsWithoutContacts) {
 // A long row's truth per window (issue 49): the voxels of a window's plants are the whole
 // row's near them, and the windows either side of a cut cover the whole row's voxels.
 TEST(MotionSim, TheTruthVoxelsOfAWindowAreTheWholeRowsNearIt) {
-  world::WorldSpec spec;
-  spec.rows.rows = 1;
-  spec.rows.plants_per_row = 6;
-  const world::World world = world::generate_world(spec);
+  const world::World world = world::generate_world(test::one_row_spec(6));
   const double res = 0.02;
   const auto key = [](const Vec3& v) { return std::array<double, 3>{v.x(), v.y(), v.z()}; };
   std::set<std::array<double, 3>> whole, left, right;
