@@ -1,13 +1,15 @@
 #pragma once
 // Each parameter struct states its keys once, in a visit() function (after Drake's
 // Serialize(Archive*) and nvblox's Param<T>::Description), and that one list serves:
-//  - reading YAML strictly (YamlIn: absent keys keep their values, unknown keys and bad values
-//    are errors naming the file, the key path and the value),
+//  - reading YAML strictly (YamlIn, params_yaml_in.h: absent keys keep their values, unknown
+//    keys and bad values are errors naming the file, the key path and the value),
 //  - writing YAML (YamlOut: every key, in the order visited, floats as the doubles they are)
 //    and JSON (JsonOut: numbers as the C++ types they are, for result records),
 //  - validating a struct built in code (validate_params),
 //  - equality (same_params), the reference of every setting (describe_params) and the
 //    commented settings files of configs/ (YamlDoc, params_yaml_doc).
+// What a number must satisfy (Limits) and a value's text are in params_limits.h; this header
+// includes it and params_yaml_in.h, so one include gives every archive.
 //
 // A struct's visit names each field with its limits and a line of help:
 //
@@ -25,10 +27,8 @@
 #include <nlohmann/json.hpp>
 #include <yaml-cpp/yaml.h>
 
-#include <cmath>
 #include <cstdint>
 #include <initializer_list>
-#include <limits>
 #include <map>
 #include <string>
 #include <type_traits>
@@ -36,257 +36,11 @@
 
 #include "canopy/common/enum_names.h"
 #include "canopy/common/error.h"
+#include "canopy/common/params_limits.h"
+#include "canopy/common/params_yaml_in.h"
 #include "canopy/common/yaml_reader.h"
 
 namespace canopy {
-
-/// The most numbers a list setting holds (a stop list for a 1,000-plant row); lists whose
-/// entries multiply the work (candidate radii) declare a lower limit of their own.
-constexpr std::size_t kMaxListEntries = 1000;
-
-/// What a number must satisfy. Numbers are always finite.
-struct Limits {
-  double lo = -std::numeric_limits<double>::infinity();
-  double hi = std::numeric_limits<double>::infinity();
-  bool lo_open = false, hi_open = false;
-
-  bool ok(double v) const {
-    if (!std::isfinite(v)) return false;
-    if (lo_open ? !(v > lo) : !(v >= lo)) return false;
-    if (hi_open ? !(v < hi) : !(v <= hi)) return false;
-    return true;
-  }
-  /// "must be > 0", "must be in [0, 1]", "must be a finite number", ...
-  std::string text() const;
-};
-
-namespace limits {
-inline Limits finite() { return {}; }
-inline Limits positive() { return {0.0, std::numeric_limits<double>::infinity(), true, false}; }
-inline Limits non_negative() { return {0.0, std::numeric_limits<double>::infinity(), false, false}; }
-inline Limits negative() { return {-std::numeric_limits<double>::infinity(), 0.0, false, true}; }
-/// [lo, hi].
-inline Limits in(double lo, double hi) { return {lo, hi, false, false}; }
-/// (lo, hi].
-inline Limits above_up_to(double lo, double hi) { return {lo, hi, true, false}; }
-/// [lo, hi).
-inline Limits from_below(double lo, double hi) { return {lo, hi, false, true}; }
-/// (lo, hi).
-inline Limits open(double lo, double hi) { return {lo, hi, true, true}; }
-inline Limits at_least(double lo) { return {lo, std::numeric_limits<double>::infinity(), false, false}; }
-}  // namespace limits
-
-namespace params_detail {
-template <typename T>
-constexpr bool is_number =
-    std::is_arithmetic_v<T> && !std::is_same_v<T, bool>;  // int, unsigned, float, double, ...
-
-template <typename T>
-struct is_vector : std::false_type {};
-template <typename U>
-struct is_vector<std::vector<U>> : std::true_type {};
-template <typename T>
-struct is_map : std::false_type {};
-template <typename K, typename V>
-struct is_map<std::map<K, V>> : std::true_type {};
-/// "[min, max] of numbers": what a tuple must be, for messages and the reference.
-std::string tuple_text(const char* shape, bool whole, const Limits& each);
-
-/// The shortest decimal text that reads back to exactly `v` ("0.015", not "0.014999999999999999").
-std::string shortest(double v);
-/// The same for a float: the shortest text whose double, cast to float, is `v` ("-0.1").
-std::string shortest(float v);
-
-template <typename T>
-std::string value_text(const T& v) {
-  if constexpr (std::is_same_v<T, bool>) return v ? "true" : "false";
-  else if constexpr (std::is_same_v<T, std::string>) return v;
-  else if constexpr (std::is_floating_point_v<T>) return shortest(v);
-  else if constexpr (is_vector<T>::value) {  // on one line, as YAML: [a, b]
-    std::string s;
-    for (const auto& x : v) s += (s.empty() ? "" : ", ") + value_text(x);
-    return "[" + s + "]";
-  } else if constexpr (is_map<T>::value) {  // {key: value, ...}
-    std::string s;
-    for (const auto& [k, x] : v) s += (s.empty() ? "" : ", ") + value_text(k) + ": " + value_text(x);
-    return "{" + s + "}";
-  } else return std::to_string(v);
-}
-std::string join(const std::vector<std::string>& names);
-/// A YAML scalar of a number: floating point as its shortest exact text.
-template <typename T>
-YAML::Node number_node(const T& v) {
-  if constexpr (std::is_floating_point_v<T>) return YAML::Node(shortest(v));
-  else return YAML::Node(v);
-}
-}  // namespace params_detail
-
-// --- YAML in -------------------------------------------------------------------------------
-
-/// Reads a struct's keys from one YAML mapping over its current values. Sections given as a
-/// file name (a string) are read from that file when `section_files` is set (relative to the
-/// folder of the file that names them): the settings bundle's component files.
-class YamlIn {
- public:
-  explicit YamlIn(YamlReader& reader, bool section_files = false, std::string dir = "")
-      : y_(reader), section_files_(section_files), dir_(std::move(dir)) {}
-
-  template <typename T>
-  void operator()(const char* key, T& value, const char* /*help*/) {
-    static_assert(!params_detail::is_number<T>, "numbers need limits: a(key, value, limits::..., help)");
-    read(key, value);
-  }
-  template <typename T>
-  void operator()(const char* key, T& value, const Limits& lim, const char* /*help*/) {
-    static_assert(params_detail::is_number<T>, "limits apply to numbers");
-    if (!y_.has(key)) {
-      y_.get<std::string>(key, "");  // marks it read
-      return;
-    }
-    T v{};
-    if constexpr (std::is_floating_point_v<T>) {
-      const double d = y_.require<double>(key);
-      y_.check(lim.ok(d), key, lim.text());
-      v = static_cast<T>(d);
-    } else {
-      // Integers: the text must be a whole number in range (yaml-cpp wraps some overflows).
-      y_.require<YAML::Node>(key);  // marks the key read
-      const std::string text = y_.value_text(key);
-      long double d = 0;
-      std::size_t used = 0;
-      try {
-        d = std::stold(text, &used);
-      } catch (const std::exception&) {
-        y_.fail(key, "must be a whole number");
-      }
-      y_.check(used == text.size() && d == std::floor(d), key, "must be a whole number");
-      y_.check(d >= static_cast<long double>(std::numeric_limits<T>::lowest()) &&
-                   d <= static_cast<long double>(std::numeric_limits<T>::max()) && lim.ok(double(d)),
-               key, lim.text());
-      v = static_cast<T>(d);
-    }
-    value = v;
-  }
-  /// A list of numbers, each within `each`.
-  template <typename T>
-  void operator()(const char* key, std::vector<T>& value, const Limits& each, const char* /*help*/) {
-    if (!y_.has(key)) {
-      y_.get<std::string>(key, "");
-      return;
-    }
-    const YAML::Node n = y_.require<YAML::Node>(key);
-    y_.check(n.IsSequence(), key, "must be a list of numbers");
-    y_.check(n.size() <= kMaxListEntries, key,
-             "holds " + std::to_string(n.size()) + " numbers, at most " + std::to_string(kMaxListEntries));
-    std::vector<T> v;
-    for (const auto& item : n) {
-      double d = 0.0;
-      try {
-        d = item.as<double>();
-      } catch (const YAML::Exception&) {
-        y_.fail(key, "must be a list of numbers");
-      }
-      y_.check(each.ok(d), key, "holds a value that " + each.text());
-      if constexpr (std::is_integral_v<T>) y_.check(d == std::floor(d), key, "must hold whole numbers");
-      v.push_back(static_cast<T>(d));
-    }
-    value = std::move(v);
-  }
-  /// A fixed-length list of numbers held in separate fields (e.g. [min, max]), each within `each`.
-  template <typename T>
-  void tuple(const char* key, std::initializer_list<T*> parts, const char* shape, const Limits& each,
-             const char* /*help*/) {
-    if (!y_.has(key)) {
-      y_.get<std::string>(key, "");
-      return;
-    }
-    const YAML::Node n = y_.require<YAML::Node>(key);
-    const std::string problem = "must be " + params_detail::tuple_text(shape, std::is_integral_v<T>, each);
-    y_.check(n.IsSequence() && n.size() == parts.size(), key, problem);
-    std::vector<T> v;
-    for (const auto& item : n) {
-      double d = 0.0;
-      try {
-        d = item.as<double>();
-      } catch (const YAML::Exception&) {
-        y_.fail(key, problem);
-      }
-      y_.check(each.ok(d), key, problem);
-      if constexpr (std::is_integral_v<T>) y_.check(d == std::floor(d), key, problem);
-      v.push_back(static_cast<T>(d));
-    }
-    std::size_t i = 0;
-    for (T* p : parts) *p = v[i++];
-  }
-  /// A string that must be present.
-  void required(const char* key, std::string& value, const char* /*help*/) { value = y_.require<std::string>(key); }
-  template <typename E, std::size_t N>
-  void choice(const char* key, E& value, const EnumName<E> (&names)[N], const char* /*help*/) {
-    value = y_.get_choice(key, value, names);
-  }
-  /// A string from `names`.
-  void one_of(const char* key, std::string& value, const std::vector<std::string>& names, const char* /*help*/) {
-    read(key, value);
-    for (const auto& n : names)
-      if (n == value) return;
-    y_.fail(key, "must be one of: " + params_detail::join(names));
-  }
-  template <typename S>
-  void section(const char* key, S& s, const char* /*help*/ = "") {
-    if (section_files_ && y_.has(key) && y_.value_is_scalar(key)) {
-      const std::string path = resolve(y_.require<std::string>(key));
-      YamlReader c = YamlReader::load_file(path);
-      YamlIn in(c, false, "");
-      s.visit(in);
-      c.finish();
-      return;
-    }
-    YamlReader c = y_.child(key);
-    YamlIn in(c, false, "");
-    s.visit(in);
-    c.finish();
-  }
-  /// A list of structs (replaces the defaults when given; at least one item).
-  template <typename S>
-  void list(const char* key, std::vector<S>& items, const char* /*help*/) {
-    if (!y_.has(key)) {
-      y_.get<std::string>(key, "");
-      return;
-    }
-    const YAML::Node n = y_.require<YAML::Node>(key);
-    y_.check(n.IsSequence() && n.size() > 0, key, "must be a non-empty list");
-    std::vector<S> out;
-    for (std::size_t i = 0; i < n.size(); ++i) {
-      YamlReader c(n[i], y_.file(), y_.key_path(key) + "[" + std::to_string(i) + "]");
-      YamlIn in(c, false, "");
-      S item{};
-      item.visit(in);
-      c.finish();
-      out.push_back(std::move(item));
-    }
-    items = std::move(out);
-  }
-  /// `old_key` is the former name of `key`: when given (and `key` is not), it is read as `key`
-  /// with a one-line deprecation warning.
-  void renamed(const char* old_key, const char* key);
-  void check(bool ok, const char* key, const std::string& problem) {
-    if (ok) return;
-    if (y_.has(key)) y_.fail(key, problem);
-    // Not in the file: the default or earlier value is at fault, together with the key read.
-    throw InputError(y_.file() + ": key '" + y_.key_path(key) + "' (not given) " + problem);
-  }
-
- private:
-  template <typename T>
-  void read(const char* key, T& value) {
-    value = y_.get<T>(key, value);
-  }
-  std::string resolve(const std::string& path) const;
-
-  YamlReader& y_;
-  bool section_files_;
-  std::string dir_;
-};
 
 // --- YAML and JSON out ---------------------------------------------------------------------
 
@@ -566,27 +320,6 @@ class YamlDoc {
 
 // --- Entry points --------------------------------------------------------------------------
 
-/// Reads `p`'s keys from `y` over its current values (call y.finish() after to reject
-/// unknown keys at this level).
-template <typename P>
-void read_params(YamlReader& y, P& p) {
-  YamlIn in(y);
-  p.visit(in);
-}
-/// A struct read from `y` over `p` (defaults unless given).
-template <typename P>
-P params_from_yaml(YamlReader& y, P p = P{}) {
-  read_params(y, p);
-  return p;
-}
-/// A struct read from a YAML file over `p`; unknown keys are errors.
-template <typename P>
-P load_params(const std::string& path, P p = P{}) {
-  YamlReader y = YamlReader::load_file(path);
-  read_params(y, p);
-  y.finish();
-  return p;
-}
 /// `p` as a YAML mapping.
 template <typename P>
 YAML::Node params_to_yaml(const P& p) {
