@@ -159,7 +159,9 @@ TEST(ViewFeatures, FrustumPrefilterSkipsOnlyPointsTheLoopSkips) {
       d *= (k % 2 == 0 ? radius : rng.uniform(0.0, radius)) / d.norm();  // on the sphere, and inside it
       const bool seen = point_in_view(K, T, centre + d);
       in_view = in_view || seen;
-      if (out) ASSERT_FALSE(seen) << "pose " << i << " point " << k;
+      if (out) {
+        ASSERT_FALSE(seen) << "pose " << i << " point " << k;
+      }
     }
     any_in_view += in_view;
     in_view_rejected += in_view && out;
