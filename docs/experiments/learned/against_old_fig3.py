@@ -11,6 +11,7 @@ standard error, and whether the change is within one and within two standard err
 
   git show fdb9fd2:docs/experiments/fig3/runtime.csv > /tmp/fig3_old.csv
   python3 docs/experiments/learned/against_old_fig3.py default=runs/learned_eval:/tmp/fig3_old.csv
+  python3 docs/experiments/learned/against_old_fig3.py dense=docs/experiments/fig3_dense/trials_sc.csv,runs/more:/tmp/old.csv
 """
 import argparse
 import csv
@@ -20,9 +21,31 @@ import pathlib
 import sys
 
 
-def new_finals(folder):
-    """{(label, p_gt): [final SC per world]} of the ok trials of an experiment folder."""
+def new_finals(sources):
+    """{(label, p_gt): [final SC per world]} of the ok trials of experiment folders or per-trial
+    .csv files (goal_table.py --csv), joined; a (label, p_gt, world) given twice is refused."""
     out = {}
+    seen = set()
+    for source in sources.split(","):
+        path = pathlib.Path(source)
+        if path.is_file():
+            rows = [(r["label"], float(r["p_gt"]), int(r["world_seed"]), float(r["sc_final"]))
+                    for r in csv.DictReader(open(path, newline=""))]
+        elif (path / "trials").is_dir():
+            rows = folder_finals(path)
+        else:
+            sys.exit(f"against_old_fig3: '{source}' is neither an experiment folder nor a per-trial .csv")
+        for label, p, world, final in rows:
+            if (label, p, world) in seen:
+                sys.exit(f"against_old_fig3: {(label, p, world)} is in two sources")
+            seen.add((label, p, world))
+            out.setdefault((label, p), []).append(final)
+    return out
+
+
+def folder_finals(folder):
+    """[(label, p_gt, world, final SC)] of the ok trials of an experiment folder."""
+    out = []
     for tj in sorted(pathlib.Path(folder).glob("trials/*/trial.json")):
         t = json.loads(tj.read_text())
         if t.get("status") != "ok":
@@ -33,7 +56,7 @@ def new_finals(folder):
                 if row["success"] == "1":
                     last = float(row["coverage"])
         if last is not None:
-            out.setdefault((t["trial"]["label"], float(t["trial"]["p_gt"])), []).append(last)
+            out.append((t["trial"]["label"], float(t["trial"]["p_gt"]), t["trial"].get("world_seed"), last))
     return out
 
 
@@ -58,7 +81,7 @@ def stat(xs):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("pairs", nargs="+", help="preset=new experiment folder:old runtime.csv")
+    ap.add_argument("pairs", nargs="+", help="preset=new experiment folders or per-trial .csv files (comma-separated):old runtime.csv")
     ap.add_argument("--old-row", action="append", default=[], help="preset:label,p_gt,mean,std,n (a method the old page lacks)")
     a = ap.parse_args()
     print("| preset | P_gt | method | new final SC (n) | old final SC (n) | new − old, SC points ± SE | within 1 SE / 2 SE |")

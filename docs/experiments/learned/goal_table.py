@@ -10,6 +10,7 @@ views; paired differences over the worlds (SC points, mean ± paired standard er
 NBV attempt (the planning phases of summary.json over the stops' NBV attempts).
 
   python3 docs/experiments/learned/goal_table.py default=runs/learned_eval dense=runs/learned_eval_dense
+  python3 docs/experiments/learned/goal_table.py dense=docs/experiments/fig3_dense/trials_sc.csv dense=runs/more_worlds
 """
 import argparse
 import csv
@@ -70,9 +71,34 @@ def read_trial(folder):
     }
 
 
-def load(folder):
+def load_csv(path):
+    """The trials of a per-trial file that --csv wrote (e.g. docs/experiments/fig3_dense/trials_sc.csv)."""
     trials = []
-    for d in sorted((pathlib.Path(folder) / "trials").iterdir()):
+    with open(path, newline="") as f:
+        for row in csv.DictReader(f):
+            trials.append({
+                "label": row["label"],
+                "method": row["label"],
+                "p_gt": float(row["p_gt"]),
+                "world": int(row["world_seed"]),
+                "sc": {m: float(row["sc_" + m.replace(" ", "_")]) for m in ["after 30", "after 60", "after 90", "final"]},
+                "views": int(row["views"]),
+                "sim_time_s": float(row["simulated_s"]),
+                "planning_s": float(row["planning_s"]),
+                "nbv_attempts": int(row["nbv_attempts"]),
+            })
+    return trials
+
+
+def load(source):
+    """The finished trials of an experiment folder, or of a per-trial .csv file."""
+    path = pathlib.Path(source)
+    if path.is_file():
+        return load_csv(path)
+    if not (path / "trials").is_dir():
+        sys.exit(f"goal_table: '{source}' is neither an experiment folder nor a per-trial .csv")
+    trials = []
+    for d in sorted((path / "trials").iterdir()):
         t = read_trial(d)
         if t:
             trials.append(t)
@@ -159,7 +185,9 @@ def condition_tables(preset, p_gt, trials, under_test, out):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("folders", nargs="+", help="preset=experiment folder")
+    ap.add_argument("folders", nargs="+",
+                    help="preset=experiment folder or per-trial .csv; a preset given again adds its trials "
+                         "(a (label, P_gt, world) given twice is refused)")
     ap.add_argument("--method", default="learned", help="the method under test (a label)")
     ap.add_argument("--csv", action="append", default=[],
                     help="preset=file: write that preset's per-trial figures (the data of a later paired comparison)")
@@ -168,11 +196,22 @@ def main():
     out = []
     timing = []
     summary = []
+    sources = {}
     for spec in a.folders:
         preset, _, folder = spec.partition("=")
         if not folder:
             sys.exit(f"goal_table: '{spec}': give preset=folder")
-        trials = load(folder)
+        sources.setdefault(preset, []).append(folder)
+    for preset, folders in sources.items():
+        trials = []
+        seen = set()
+        for folder in folders:
+            for t in load(folder):
+                key = (t["label"], t["p_gt"], t["world"])
+                if key in seen:
+                    sys.exit(f"goal_table: {preset}: {key} is in two sources")
+                seen.add(key)
+                trials.append(t)
         if preset in csv_out:
             with open(csv_out[preset], "w", newline="") as f:
                 w = csv.writer(f)
