@@ -59,7 +59,7 @@ void expect_labels_as_by_name2id(const Simulator& sim) {
     EXPECT_EQ(a.robot, b.robot) << g;
     labelled += a.instance_id != kNoInstance;
   }
-  EXPECT_GT(labelled, 100);
+  EXPECT_GT(labelled, 20);  // the plant parts (instances) of a 6 m window
 }
 
 TEST(SimulatorWindow, APreparedWindowIsTheModelBuiltOnArrivalBitForBit) {
