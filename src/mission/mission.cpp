@@ -47,8 +47,28 @@ Mission::Impl::Impl(const world::World& w, const Settings& s, std::uint64_t miss
 
 std::shared_ptr<const motion::CollisionEnvironment> Mission::Impl::truth_environment() const {
   const auto [from_x, to_x] = sim.plant_window_x();
+  return truth_environment(from_x, to_x);
+}
+
+std::shared_ptr<const motion::CollisionEnvironment> Mission::Impl::truth_environment(double from_x_m,
+                                                                                     double to_x_m) const {
   const double res = settings.mission.record.truth_voxel_m;
-  return motion::CollisionEnvironment::from_voxels(evaluation::world_occupied_voxels(world, res, from_x, to_x), res);
+  return motion::CollisionEnvironment::from_voxels(evaluation::world_occupied_voxels(world, res, from_x_m, to_x_m), res);
+}
+
+void Mission::Impl::prepare_next_window(int k) {
+  // The first stop after k out of the window held: built while the robot works at the stops before it.
+  int next = k + 1;
+  while (next < static_cast<int>(stops_x.size()) && sim.holds_plants_near(stop_pose(next).x_m, stop_pose(next).x_m))
+    ++next;
+  if (next >= static_cast<int>(stops_x.size())) return;
+  const double x = stop_pose(next).x_m;
+  if (!sim.prepare_plants_near(x, x)) return;  // under way
+  if (prepared_truth.environment.valid()) prepared_truth.environment.wait();
+  prepared_truth.x_m = sim.prepared_plant_window_x();
+  const auto [from_x, to_x] = prepared_truth.x_m;
+  prepared_truth.environment =
+      std::async(std::launch::async, [this, from_x = from_x, to_x = to_x] { return truth_environment(from_x, to_x); });
 }
 
 void Mission::Impl::update_caption() {
@@ -82,14 +102,21 @@ bool Mission::Impl::drive_to_stop(int k) {
   // A long row's rendered model holds the plants near the robot (issue 49): the stop's, built
   // again here when the stop is out of the window (the drive's video shows the stop's window).
   if (sim.show_plants_near(rec.goal.x_m, rec.goal.x_m)) {
-    truth_checker.set_environment(nullptr);  // the old window's voxels go before the new ones are made
-    truth_checker.set_environment(truth_environment());
+    truth_checker.set_environment(nullptr);  // the old window's voxels go (before the new ones are made, unless prepared)
+    if (prepared_truth.environment.valid() && prepared_truth.x_m == sim.plant_window_x()) {
+      truth_checker.set_environment(prepared_truth.environment.get());
+    } else {
+      if (prepared_truth.environment.valid()) prepared_truth.environment.wait();
+      prepared_truth = PreparedTruth{};
+      truth_checker.set_environment(truth_environment());
+    }
     const auto [first, end] = sim.plant_window();
     result.times.add(to_string(WallPhase::kScene), watch.seconds());
     progress("stop " + std::to_string(k + 1) + ": the rendered model built again for plant sections " +
              std::to_string(first + 1) + "-" + std::to_string(end) + " of " + std::to_string(sim.plant_sections()) +
              " (" + format_number(watch.seconds(), "%.1f") + " s)");
   }
+  prepare_next_window(k);
   watch.restart();
   const sim::SimState before = sim.snapshot();
   const BasePose start = sim.base_pose();

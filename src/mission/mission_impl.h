@@ -108,6 +108,16 @@ struct Mission::Impl {
   // (a long row's window, issue 49: the base's contacts on a drive are counted with the plants
   // of the window it drives to; every plant of a world that fits in one window).
   std::shared_ptr<const motion::CollisionEnvironment> truth_environment() const;
+  // The truth's voxels of the plants in base x [from, to) (unbounded: every plant). Any thread.
+  std::shared_ptr<const motion::CollisionEnvironment> truth_environment(double from_x_m, double to_x_m) const;
+  // A long row's next window (issue 49): its rendered model and truth voxels built on another
+  // thread while the robot works at stop k, for the first later stop out of the window held.
+  void prepare_next_window(int k);
+  struct PreparedTruth {
+    std::pair<double, double> x_m;
+    std::future<std::shared_ptr<const motion::CollisionEnvironment>> environment;
+  };
+  PreparedTruth prepared_truth;
   BasePose stop_pose(int k) const;
   std::vector<Pose> scan_views(int k, bool extra) const;
   StopRecord& stop_record() { return result.stops.back(); }

@@ -73,6 +73,27 @@ double ellipsoid_area(const Vec3& s) {
 
 }  // namespace
 
+bool sphere_out_of_view(const CameraIntrinsics& K, const Pose& T_world_camera, const Vec3& centre_world,
+                        double radius_m) {
+  // The loop computes each point's camera coordinates (T^-1 p) and projection apart; these
+  // differ from the sphere's by at most radius_m plus rounding (~1e-15 m), so a margin of
+  // 1e-6 m (in the planes' units: times their normal's length) decides only clear cases.
+  constexpr double kMargin = 1e-6;
+  const Vec3 c = T_world_camera.inverse(Eigen::Isometry) * centre_world;
+  const double r = radius_m + kMargin;
+  if (c.z() + r < K.min_range_m || c.z() - r > K.max_range_m) return true;
+  // A point in the depth range has z > 0 (or fails project()); then u < 0 iff fx x + cx z < 0,
+  // u >= width iff fx x + (cx - width) z >= 0, and alike for v: planes through the eye.
+  const auto beyond = [&](double a, double b, double coord) {  // plane a * coord + b * z, its sign
+    const double n = std::hypot(a, b);
+    const double s = a * coord + b * c.z();
+    return s + r * n < 0.0 ? -1 : s - r * n > 0.0 ? 1 : 0;
+  };
+  if (K.min_range_m <= 0.0) return false;  // z may be 0: leave such views to the loop
+  return beyond(K.fx_px, K.cx_px, c.x()) < 0 || beyond(K.fx_px, K.cx_px - K.width_px, c.x()) > 0 ||
+         beyond(K.fy_px, K.cy_px, c.y()) < 0 || beyond(K.fy_px, K.cy_px - K.height_px, c.y()) > 0;
+}
+
 const std::vector<std::string>& view_feature_names() {
   static const std::vector<std::string> names = [] {
     std::vector<std::string> n;
@@ -97,6 +118,7 @@ ViewFeatures::ViewFeatures(const CameraIntrinsics& intrinsics, const NbvParams& 
     GainParams gp = nbv.gain;
     if (g.sets_proximity) gp.proximity = g.proximity;
     gains_.push_back(g.entry->make(gp));
+    gain_ptrs_.push_back(gains_.back().get());
   }
   for (const char* r : kFeatureRaySets) ray_sets_.push_back(&ray_set(r, "view features"));
 }
@@ -134,6 +156,16 @@ void ViewFeatures::begin_round(const mapping::SemanticOcTree& map, const VoxelIn
     fruit_weights_.push_back(fw);
   }
   points_ = std::move(kept);
+  // Each fruit's points in a sphere (their box's centre, the farthest point's distance).
+  std::vector<Eigen::AlignedBox3d> boxes(fruits_.size());
+  for (const PredictedPoint& p : points_) boxes[static_cast<std::size_t>(p.fruit)].extend(p.position);
+  fruit_spheres_.assign(fruits_.size(), {Vec3::Zero(), -1.0});
+  for (std::size_t f = 0; f < fruits_.size(); ++f)
+    if (!boxes[f].isEmpty()) fruit_spheres_[f].first = boxes[f].center();
+  for (const PredictedPoint& p : points_) {
+    auto& [centre, radius] = fruit_spheres_[static_cast<std::size_t>(p.fruit)];
+    radius = std::max(radius, (p.position - centre).norm());
+  }
   fruit_info_.assign(fruits_.size(), Fruit{});
   for (const PredictedPoint& p : points_) ++fruit_info_[static_cast<std::size_t>(p.fruit)].unseen_points;
   for (std::size_t f = 0; f < fruits_.size(); ++f) {
@@ -181,9 +213,9 @@ void ViewFeatures::compute(const Pose& T, const Vec3& target, std::vector<float>
   CANOPY_CHECK(index_ && eval_, "ViewFeatures::compute before begin_round");
   out->clear();
   out->reserve(view_feature_names().size());
-  std::vector<const GainFunction*> gains;
-  for (const auto& g : gains_) gains.push_back(g.get());
-  std::vector<double> scores(gains.size());
+  const std::vector<const GainFunction*>& gains = gain_ptrs_;
+  std::vector<double>& scores = scores_;
+  scores.assign(gains.size(), 0.0);
   double blocked = 0, on_target = 0, unknown = 0, rays = 0;
   for (std::size_t r = 0; r < ray_sets_.size(); ++r) {
     std::function<void(const RayVoxel*, std::size_t)> each_ray;
@@ -215,10 +247,16 @@ void ViewFeatures::compute(const Pose& T, const Vec3& target, std::vector<float>
   const Vec3 eye = T.translation();
   const double res = index_->map()->getResolution();
   const std::size_t cap = index_->max_voxels(intrinsics_.max_range_m + 0.1);
-  if (buffer_.size() < cap) buffer_.resize(cap);
+  walk_capacity_ = std::max(walk_capacity_, cap);
   double seen = 0, seen_fp = 0, seen_own = 0, in_view = 0, zero = 0;
+  // Fruits wholly out of view: their points would each fail the depth or image test below.
+  fruit_out_of_view_.assign(fruits_.size(), 0);
+  for (std::size_t f = 0; f < fruits_.size(); ++f)
+    fruit_out_of_view_[f] = fruit_spheres_[f].second >= 0.0 &&
+                            sphere_out_of_view(intrinsics_, T, fruit_spheres_[f].first, fruit_spheres_[f].second);
   for (std::size_t i = 0; i < points_.size(); ++i) {
     const PredictedPoint& pp = points_[i];
+    if (fruit_out_of_view_[static_cast<std::size_t>(pp.fruit)]) continue;
     const Vec3& p = pp.position;
     const Vec3 to_eye = eye - p;
     if (to_eye.dot(pp.normal) <= 0.0) continue;
@@ -229,16 +267,16 @@ void ViewFeatures::compute(const Pose& T, const Vec3& target, std::vector<float>
       continue;
     const double dist = to_eye.norm();
     if (dist <= res) continue;
-    bool outside = false;
-    const std::size_t m = index_->cast(eye, p + to_eye * (res / dist), p, buffer_.data(), buffer_.size(), &outside);
-    if (outside) continue;
-    ++in_view;
+    // The sight line's transmission from the eye, the walk stopped where it reaches (about)
+    // zero: at its first occupied voxel, often well before the point.
     double t = 1.0;
-    for (std::size_t j = 0; j < m && t > 1e-3; ++j) {
-      const VoxelInfo& info = *buffer_[j].info;
+    const bool inside = index_->walk(eye, p + to_eye * (res / dist), walk_capacity_, [&](const VoxelInfo& info) {
       if (!info.known) t *= params_.unknown_transmit;
       else if (info.p_occ > 0.5f) t = 0.0;
-    }
+      return t > 1e-3;
+    });
+    if (!inside) continue;
+    ++in_view;
     if (!(t > 1e-3)) {
       ++zero;
       continue;

@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <future>
+#include <map>
 #include <limits>
 #include <tuple>
 #include <mutex>
@@ -116,9 +118,9 @@ Simulator::Simulator(SceneDescription scene) : scene_(std::move(scene)) {
 
 Simulator::~Simulator() = default;
 
-void Simulator::load(const std::string& mjcf) {
+Simulator::ModelPtr Simulator::compile(const std::string& mjcf, const std::map<std::string, std::string>& files) {
   install_mujoco_error_handler();
-  // The files added are freed however load() ends.
+  // The files added are freed however compile() ends.
   struct VfsFree {
     void operator()(mjVFS* v) const {
       mj_deleteVFS(v);
@@ -133,26 +135,37 @@ void Simulator::load(const std::string& mjcf) {
   const int idx = mj_findFileVFS(vfs.get(), name);
   std::memcpy(vfs->filedata[idx], mjcf.data(), mjcf.size());
   // Files the scene names (plant textures), under the names it gives them.
-  for (const auto& [file, disk_path] : scene_.files) {
+  for (const auto& [file, disk_path] : files) {
     const std::string bytes = read_file(disk_path);
     if (mj_makeEmptyFileVFS(vfs.get(), file.c_str(), static_cast<int>(bytes.size())) != 0)
       throw std::runtime_error("MuJoCo: cannot add " + disk_path + " to the in-memory files");
     std::memcpy(vfs->filedata[mj_findFileVFS(vfs.get(), file.c_str())], bytes.data(), bytes.size());
   }
   char error[1024] = "";
+  ModelPtr model;
   {
     // MuJoCo 2.2's XML loader keeps global state (the last loaded model); load one at a time.
     static std::mutex load_mutex;
     std::lock_guard<std::mutex> lock(load_mutex);
-    model_.reset(mj_loadXML(name, vfs.get(), error, sizeof(error)));
+    model.reset(mj_loadXML(name, vfs.get(), error, sizeof(error)));
   }
-  vfs.reset();
-  if (!model_) throw std::runtime_error(std::string("MuJoCo could not compile the scene: ") + error);
+  if (!model) throw std::runtime_error(std::string("MuJoCo could not compile the scene: ") + error);
+  return model;
+}
+
+void Simulator::load(const std::string& mjcf) {
+  model_ = compile(mjcf, scene_.files);
   data_.reset(mj_makeData(model_.get()));
-  geom_labels_.assign(static_cast<size_t>(model_->ngeom), GeomLabel{});
-  for (const auto& [geom_name, label] : scene_.labels) {
-    const int id = mj_name2id(model_.get(), mjOBJ_GEOM, geom_name.c_str());
-    if (id >= 0) geom_labels_[static_cast<size_t>(id)] = label;
+  label_geoms(model_.get());
+}
+
+void Simulator::label_geoms(const mjModel* m) {
+  // Each geom's label by its name: one pass over the geoms (mj_name2id per label scans them
+  // all, quadratic in a window's 23 k plant parts). MuJoCo's names are unique.
+  geom_labels_.assign(static_cast<size_t>(m->ngeom), GeomLabel{});
+  for (int id = 0; id < m->ngeom; ++id) {
+    const auto it = scene_.labels.find(m->names + m->name_geomadr[id]);
+    if (it != scene_.labels.end()) geom_labels_[static_cast<size_t>(id)] = it->second;
   }
 }
 
@@ -169,8 +182,7 @@ void Simulator::load_render(const std::string& mjcf) {
   data_ = std::move(stepped_data);
 }
 
-bool Simulator::show_plants_near(double base_x_lo_m, double base_x_hi_m) {
-  if (!world_) return false;
+std::pair<int, int> Simulator::window_for(double base_x_lo_m, double base_x_hi_m) const {
   const double margin = options_.plant_reach_m + world_->spec.camera.max_range_m;
   const auto section = [&](double x) {
     const double s = std::floor((x - sections_x0_m_) / options_.plant_section_m);
@@ -178,33 +190,81 @@ bool Simulator::show_plants_near(double base_x_lo_m, double base_x_hi_m) {
   };
   const int first = section(std::min(base_x_lo_m, base_x_hi_m) - margin);
   const int last = section(std::max(base_x_lo_m, base_x_hi_m) + margin);
-  if (first >= window_first_ && last < window_end_) return false;
+  if (first >= window_first_ && last < window_end_) return {-1, -1};
   const int count = std::max(sections_per_window_, last - first + 1);
   const int begin = std::max(0, std::min(first, sections_ - count));
-  build_window(begin, std::min(sections_, begin + count));
+  return {begin, std::min(sections_, begin + count)};
+}
+
+bool Simulator::show_plants_near(double base_x_lo_m, double base_x_hi_m) {
+  if (!world_) return false;
+  const auto [first, end] = window_for(base_x_lo_m, base_x_hi_m);
+  if (first < 0) return false;
+  build_window(first, end);
   return true;
 }
 
+bool Simulator::holds_plants_near(double base_x_lo_m, double base_x_hi_m) const {
+  return !world_ || window_for(base_x_lo_m, base_x_hi_m).first < 0;
+}
+
+bool Simulator::prepare_plants_near(double base_x_lo_m, double base_x_hi_m) {
+  if (!world_) return false;
+  const auto [first, end] = window_for(base_x_lo_m, base_x_hi_m);
+  if (first < 0 || (prepared_.built.valid() && prepared_.first == first && prepared_.end == end)) return false;
+  if (prepared_.built.valid()) prepared_.built.wait();  // another window's: let it end, then drop it
+  prepared_.first = first;
+  prepared_.end = end;
+  prepared_.built = std::async(std::launch::async, [this, first = first, end = end] { return compile_window(first, end); });
+  return true;
+}
+
+double Simulator::section_x(int section) const { return sections_x0_m_ + section * options_.plant_section_m; }
+
 std::pair<double, double> Simulator::plant_window_x() const {
   if (!world_) return {-std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
-  return {sections_x0_m_ + window_first_ * options_.plant_section_m, sections_x0_m_ + window_end_ * options_.plant_section_m};
+  return {section_x(window_first_), section_x(window_end_)};
+}
+
+std::pair<double, double> Simulator::prepared_plant_window_x() const {
+  if (!prepared_.built.valid()) return {0.0, 0.0};
+  return {section_x(prepared_.first), section_x(prepared_.end)};
+}
+
+Simulator::CompiledWindow Simulator::compile_window(int first, int end) const {
+  SceneOptions window = options_;
+  window.plants_from_x_m = section_x(first);
+  window.plants_to_x_m = section_x(end);
+  const robot::RobotDescription description = robot::RobotDescription::load_urdf(robot_config_.urdf_path);
+  SceneDescription rendered = make_scene_mjcf(*world_, description, robot_config_, window);
+  CompiledWindow out;
+  out.model = compile(rendered.mjcf, rendered.files);
+  out.labels = std::move(rendered.labels);
+  out.files = std::move(rendered.files);
+  return out;
 }
 
 void Simulator::build_window(int first, int end) {
-  // The old model goes first: the two are never held at once.
+  CompiledWindow built;
+  if (prepared_.built.valid() && prepared_.first == first && prepared_.end == end) {
+    built = prepared_.built.get();
+  } else {
+    if (prepared_.built.valid()) prepared_.built.wait();
+    prepared_ = Prepared{};
+    // Built here, the old model goes first: the two are never held at once.
+    render_data_.reset();
+    render_model_.reset();
+    built = compile_window(first, end);
+  }
   render_data_.reset();
-  render_model_.reset();
-  SceneOptions window = options_;
+  render_model_ = std::move(built.model);
+  render_data_.reset(mj_makeData(render_model_.get()));
   window_first_ = first;
   window_end_ = end;
-  std::tie(window.plants_from_x_m, window.plants_to_x_m) = plant_window_x();
-  const robot::RobotDescription description = robot::RobotDescription::load_urdf(robot_config_.urdf_path);
-  SceneDescription rendered = make_scene_mjcf(*world_, description, robot_config_, window);
-  // load() keeps the labels of scene_ (the rendered scene's; the stepped one's are a subset).
-  scene_.labels = std::move(rendered.labels);
-  scene_.files = std::move(rendered.files);
-  load_render(rendered.mjcf);
-  std::string().swap(rendered.mjcf);
+  // The labels of scene_ are the rendered scene's (the stepped one's are a subset).
+  scene_.labels = std::move(built.labels);
+  scene_.files = std::move(built.files);
+  label_geoms(render_model_.get());
   CANOPY_CHECK(render_model_->nq == model_->nq && render_model_->nv == model_->nv,
                "the rendered and the stepped scene differ in their joints");
   ++render_generation_;

@@ -129,6 +129,76 @@ TEST(WorkspaceFilter, ViewsThatMissTheWorkspaceAreDiscarded) {
   EXPECT_EQ(filter().filter(base, nan, model().config().home).verdict, ViewVerdict::kInvalidInput);
 }
 
+// The filter as it was before positions were decided by bounds (issue 47): every position
+// along the view measured, smallest shift first. The slow, obviously correct reference.
+FilteredView filter_reference(const WorkspaceFilter& f, const BasePose& base, const Pose& T_world_camera,
+                              const ArmConfig& seed, const CollisionChecker* checker) {
+  const WorkspaceParams& p = f.params();
+  std::vector<double> shifts = {0.0};
+  const int n_fwd = static_cast<int>(std::floor(p.max_forward_shift_m / p.shift_step_m + 1e-9));
+  const int n_back = static_cast<int>(std::floor(p.max_backward_shift_m / p.shift_step_m + 1e-9));
+  for (int k = 1; k <= std::max(n_fwd, n_back); ++k) {
+    if (k <= n_fwd) shifts.push_back(k * p.shift_step_m);
+    if (k <= n_back) shifts.push_back(-k * p.shift_step_m);
+  }
+  FilteredView out;
+  bool any_workspace = false, any_ik = false;
+  for (double t : shifts) {
+    Pose T = T_world_camera;
+    T.translation() = T_world_camera.translation() + t * T_world_camera.linear().col(2);
+    if (!f.in_workspace(base, T.translation())) continue;
+    any_workspace = true;
+    const IkResult ik = f.model().camera_ik(base, T, seed);
+    if (ik.empty()) continue;
+    any_ik = true;
+    for (int s = 0; s < ik.count; ++s) {
+      const ArmConfig& q = ik.q[static_cast<size_t>(s)];
+      if (checker && checker->in_collision(base, q)) continue;
+      out.verdict = ViewVerdict::kKept;
+      out.T_world_camera = T;
+      out.shift_m = t;
+      out.q = q;
+      return out;
+    }
+  }
+  out.verdict = !any_workspace ? ViewVerdict::kOutsideWorkspace : !any_ik ? ViewVerdict::kNoIk : ViewVerdict::kInCollision;
+  return out;
+}
+
+TEST(WorkspaceFilter, BoundsDecideAsMeasuringEveryPosition) {
+  // Random views around the arm, from deep inside its workspace to far beyond it, with and
+  // without obstacles: the filter's verdict, pose, shift and joints are the reference's, bit
+  // for bit (the bounds only skip queries whose answer they know).
+  std::mt19937 rng(47);
+  const BasePose base{0.4, -0.2, 0.5};
+  const Vec3 arm = (RobotModel::T_world_base(base) * model().T_base_arm()).translation();
+  std::uniform_real_distribution<double> off(-1.0, 1.0), angle(-M_PI, M_PI);
+  std::vector<Vec3> wall;  // a wall of voxels beside the arm: some IK solutions collide
+  for (double y = -0.6; y <= 0.6; y += 0.03)
+    for (double z = 0.0; z <= 1.2; z += 0.03) wall.push_back(arm + Vec3(0.35, y, z - 0.3));
+  const CollisionChecker blocked(model(), CollisionParams{}, CollisionEnvironment::from_voxels(wall, 0.03));
+  int verdicts[5] = {0, 0, 0, 0, 0};
+  for (int i = 0; i < 1500; ++i) {
+    Pose T = Pose::Identity();
+    T.linear() = (Eigen::AngleAxisd(angle(rng), Vec3::UnitZ()) * Eigen::AngleAxisd(angle(rng), Vec3::UnitY()) *
+                  Eigen::AngleAxisd(angle(rng), Vec3::UnitX()))
+                     .toRotationMatrix();
+    T.translation() = arm + Vec3(off(rng), off(rng), 0.5 * off(rng) + 0.3);
+    const ArmConfig seed = random_config(rng);
+    for (const CollisionChecker* checker : {static_cast<const CollisionChecker*>(nullptr), &blocked}) {
+      const FilteredView fast = filter().filter(base, T, seed, checker);
+      const FilteredView ref = filter_reference(filter(), base, T, seed, checker);
+      ASSERT_EQ(fast.verdict, ref.verdict) << "view " << i;
+      ++verdicts[static_cast<int>(fast.verdict)];
+      EXPECT_EQ(fast.shift_m, ref.shift_m) << "view " << i;
+      EXPECT_TRUE(fast.T_world_camera.matrix() == ref.T_world_camera.matrix()) << "view " << i;
+      EXPECT_TRUE(fast.q == ref.q) << "view " << i;
+    }
+  }
+  // Every verdict but invalid input occurs, so each path was compared.
+  for (int v = 0; v < 4; ++v) EXPECT_GT(verdicts[v], 0) << to_string(static_cast<ViewVerdict>(v));
+}
+
 TEST(WorkspaceFilter, CollisionCheckedSurvivors) {
   const BasePose base{0, 0, 0};
   const ArmConfig q = model().config().home;

@@ -11,6 +11,7 @@
 
 #include "../mapping/synthetic.h"
 #include "scene.h"
+#include "canopy/common/random.h"
 #include "canopy/nbv/planners/shape/shape.h"
 #include "canopy/nbv/view_evaluator.h"
 #include "canopy/nbv/view_features.h"
@@ -117,3 +118,62 @@ TEST(ViewFeatures, TellTheUnseenSideAndTheLeafThatBlocksIt) {
 }
 
 }  // namespace
+
+namespace {
+
+// The loop's own test of a predicted point (ViewFeatures::compute): in the depth range and in
+// the image.
+bool point_in_view(const CameraIntrinsics& K, const Pose& T, const Vec3& p) {
+  const Vec3 c = T.inverse() * p;
+  if (c.z() < K.min_range_m || c.z() > K.max_range_m) return false;
+  double u = 0, v = 0;
+  return K.project(c, &u, &v) && u >= 0.0 && v >= 0.0 && u < K.width_px && v < K.height_px;
+}
+
+}  // namespace
+
+// The frustum prefilter (sphere_out_of_view) against the loop's own test on every point: on
+// random camera poses and fruit-sized spheres, a sphere it calls out of view holds no point the
+// loop would count (points inside and on the sphere, closest to the image borders and depth
+// limits too); and it is not vacuous: it rejects most spheres out of view, keeps those in view.
+TEST(ViewFeatures, FrustumPrefilterSkipsOnlyPointsTheLoopSkips) {
+  CameraIntrinsics K;
+  Rng rng(47);
+  int rejected = 0, any_in_view = 0, in_view_rejected = 0, outside_kept = 0, outside = 0;
+  for (int i = 0; i < 4000; ++i) {
+    Pose T = Pose::Identity();
+    T.linear() = (Eigen::AngleAxisd(rng.uniform(-M_PI, M_PI), Vec3::UnitZ()) *
+                  Eigen::AngleAxisd(rng.uniform(-M_PI, M_PI), Vec3::UnitY()) *
+                  Eigen::AngleAxisd(rng.uniform(-M_PI, M_PI), Vec3::UnitX()))
+                     .toRotationMatrix();
+    T.translation() = Vec3(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(0, 2));
+    const double radius = rng.uniform(0.0, 0.08);
+    // Centres around the camera, many near the frustum's planes and depth limits.
+    const Vec3 centre = T * Vec3(rng.uniform(-0.8, 0.8), rng.uniform(-0.8, 0.8), rng.uniform(-0.2, 1.3));
+    const bool out = sphere_out_of_view(K, T, centre, radius);
+    rejected += out;
+    bool in_view = false;
+    for (int k = 0; k < 400; ++k) {
+      Vec3 d(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1));
+      if (d.norm() < 1e-9) continue;
+      d *= (k % 2 == 0 ? radius : rng.uniform(0.0, radius)) / d.norm();  // on the sphere, and inside it
+      const bool seen = point_in_view(K, T, centre + d);
+      in_view = in_view || seen;
+      if (out) {
+        ASSERT_FALSE(seen) << "pose " << i << " point " << k;
+      }
+    }
+    any_in_view += in_view;
+    in_view_rejected += in_view && out;
+    const bool centre_out = !point_in_view(K, T, centre);
+    const Vec3 c = T.inverse() * centre;
+    if (centre_out && (c.z() > K.max_range_m + radius + 0.01 || c.z() < K.min_range_m - radius - 0.01)) {
+      ++outside;
+      outside_kept += !out;
+    }
+  }
+  EXPECT_EQ(in_view_rejected, 0);
+  EXPECT_GT(any_in_view, 200);
+  EXPECT_GT(rejected, 2000);
+  EXPECT_EQ(outside_kept, 0) << "of " << outside << " spheres clear of the depth range";
+}

@@ -136,6 +136,40 @@ TEST(VoxelIndex, OutsideTheMapVisitsNothing) {
   EXPECT_EQ(index.cast(Vec3(0.0, 0, 1), Vec3(0.5, 0, 1), Vec3::Zero(), buf.data(), 5, &outside), 5u);
 }
 
+// walk() visits what cast() writes, in order, up to the capacity, stops when told to, and says
+// outside when cast() does.
+TEST(VoxelIndex, WalkVisitsWhatCastWrites) {
+  const mapping::SemanticOcTree map = nbv_test::scanned_map();
+  VoxelIndex index(map);
+  Rng rng(11);
+  std::vector<RayVoxel> buf(4096);
+  std::size_t stopped_early = 0, outside_rays = 0;
+  for (int r = 0; r < 2000; ++r) {
+    const Vec3 o = Vec3(0.5, 0.15, 1.0) + Vec3(rng.uniform(-0.6, 0.6), rng.uniform(-0.6, 0.6), rng.uniform(-0.4, 0.4));
+    Vec3 e = Vec3(0.5, 0.15, 1.0) + Vec3(rng.uniform(-0.2, 0.2), rng.uniform(-0.2, 0.2), rng.uniform(-0.2, 0.2));
+    if (r % 50 == 0) e = o + Vec3(1e4, 0.0, 0.0);  // outside the tree's range
+    const std::size_t capacity = r % 7 == 0 ? std::size_t(r % 5) : buf.size();  // 0 and small caps too
+    bool outside = false;
+    const std::size_t n = index.cast(o, e, o, buf.data(), capacity, &outside);
+    // A walk that stops at its first occupied voxel.
+    std::vector<const VoxelInfo*> seen;
+    const bool inside = index.walk(o, e, capacity, [&](const VoxelInfo& info) {
+      seen.push_back(&info);
+      return !(info.known && info.p_occ > 0.5f);
+    });
+    ASSERT_EQ(inside, !outside) << "ray " << r;
+    outside_rays += outside;
+    std::size_t until = 0;  // what the walk should have visited: cast's voxels to the first occupied one
+    while (until < n && !(buf[until].info->known && buf[until].info->p_occ > 0.5f)) ++until;
+    if (until < n) ++until;
+    ASSERT_EQ(seen.size(), until) << "ray " << r;
+    for (std::size_t i = 0; i < until; ++i) ASSERT_EQ(seen[i], buf[i].info) << "ray " << r << " voxel " << i;
+    stopped_early += until < n;
+  }
+  EXPECT_GT(stopped_early, 150u);  // rays through occupied voxels (191 of 2,000 here), not only free and unknown space
+  EXPECT_GT(outside_rays, 10u);
+}
+
 namespace canopy::nbv {
 namespace {
 

@@ -11,6 +11,7 @@
 
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "canopy/common/camera.h"
@@ -33,6 +34,14 @@ struct ViewFeatureParams {
   double unknown_transmit = 0.97;  ///< Sight-line transmission per unknown voxel.
   double margin_m = 0.1;           ///< Fruit voxels within this of the stop region are clustered [m].
 };
+
+/// True when no point within `radius_m` of `centre_world` can lie in the view of a camera at
+/// T_world_camera: every such point is nearer than the minimum range, beyond the maximum range
+/// (depth along the optical axis) or projects outside the image, with a margin far above
+/// rounding. The predicted-surface loop of ViewFeatures::compute skips the points of a fruit
+/// whose bounding sphere this says is out of view (it would skip each of them anyway).
+bool sphere_out_of_view(const CameraIntrinsics& intrinsics, const Pose& T_world_camera, const Vec3& centre_world,
+                        double radius_m);
 
 /// The feature names, in the order compute() writes them.
 const std::vector<std::string>& view_feature_names();
@@ -60,6 +69,8 @@ class ViewFeatures {
   NbvParams nbv_;
   ViewFeatureParams params_;
   std::vector<std::unique_ptr<GainFunction>> gains_;
+  std::vector<const GainFunction*> gain_ptrs_;  // gains_, as evaluate_all takes them
+  std::vector<double> scores_;                  // one ray set's gains (scratch)
   std::vector<const RaySetEntry*> ray_sets_;
   const VoxelIndex* index_ = nullptr;
   std::unique_ptr<ViewEvaluator> eval_;
@@ -67,9 +78,11 @@ class ViewFeatures {
   std::vector<FittedFruit> fruits_;
   std::vector<Fruit> fruit_info_;
   std::vector<PredictedPoint> points_;
+  std::vector<std::pair<Vec3, double>> fruit_spheres_;  // per fruit: a sphere holding its points_ (radius < 0: none)
+  std::vector<char> fruit_out_of_view_;                  // per fruit, for the view being computed
   std::vector<float> weights_;  // refute rule: 1 or 0; fruit-probability rule beside it
   std::vector<float> fruit_weights_;
-  std::vector<RayVoxel> buffer_;
+  std::size_t walk_capacity_ = 0;  // voxels a sight line may visit (the most any round needed)
   Pose T_now_ = Pose::Identity();
 };
 

@@ -19,8 +19,11 @@
 
 
 #include "canopy/common/classes.h"
+#include "canopy/common/error.h"
 #include "canopy/common/types.h"
 #include "canopy/mapping/semantic_octree.h"
+#include "canopy/mapping/voxel_key.h"
+#include "canopy/mapping/voxel_ray.h"
 
 namespace canopy::nbv {
 
@@ -107,6 +110,13 @@ class VoxelIndex {
   std::size_t cast(const Vec3& origin, const Vec3& end, const Vec3& target, RayVoxel* out, std::size_t capacity,
                    bool* outside = nullptr, octomap::OcTreeKey* keys = nullptr) const;
 
+  /// The voxels cast() visits on origin -> end, in order and at most `capacity` of them, each
+  /// one's state given to visit(const VoxelInfo&) until it returns false: for loops that stop
+  /// early (at a sight line's first occupied voxel) without writing a buffer. False when an end
+  /// lies outside the tree's range (cast()'s *outside; nothing visited).
+  template <class Visit>
+  bool walk(const Vec3& origin, const Vec3& end, std::size_t capacity, Visit&& visit) const;
+
   /// Upper bound of the voxels a segment of `length_m` can visit.
   std::size_t max_voxels(double length_m) const;
 
@@ -141,6 +151,32 @@ class VoxelIndex {
   double update_ms_ = 0.0;
   std::unordered_map<detail::StateBytes, std::uint32_t, detail::StateHash> ids_;  // state -> palette id
 };
+
+template <class Visit>
+bool VoxelIndex::walk(const Vec3& origin_d, const Vec3& end_d, std::size_t capacity, Visit&& visit) const {
+  CANOPY_CHECK(map_ != nullptr, "VoxelIndex::walk before rebuild");
+  // As cast(): float end points, the same walk, the same capacity.
+  const octomap::point3d origin(float(origin_d.x()), float(origin_d.y()), float(origin_d.z()));
+  const octomap::point3d end(float(end_d.x()), float(end_d.y()), float(end_d.z()));
+  if (capacity == 0) {
+    octomap::OcTreeKey k;
+    return map_->coordToKeyChecked(origin, k) && map_->coordToKeyChecked(end, k);
+  }
+  std::size_t n = 0;
+  bool have_brick = false;
+  std::uint64_t cached_bk = 0;
+  const std::uint32_t* cached = nullptr;
+  return mapping::walk_ray(*map_, origin, end, [&](unsigned x, unsigned y, unsigned z) {
+    const std::uint64_t bk = mapping::brick_key(x, y, z);
+    if (!have_brick || bk != cached_bk) {
+      have_brick = true;
+      cached_bk = bk;
+      cached = brick(bk);
+    }
+    if (!visit(palette_[cached ? cached[mapping::brick_cell(x, y, z)] : 0u])) return false;
+    return ++n < capacity;
+  });
+}
 
 /// The slow reference traversal: OctoMap's computeRayKeys, then one tree search per key.
 /// Appends (key, state or nullptr) pairs; false when an end is outside the tree.

@@ -5,6 +5,8 @@
 #include <mujoco/mujoco.h>
 
 #include <array>
+#include <future>
+#include <map>
 #include <memory>
 #include <string>
 #include <utility>
@@ -76,6 +78,16 @@ class Simulator {
   /// from the first section needed) and the robot's joint state carried over. Returns whether
   /// it rebuilt. Without a window (none asked, or the world's plants fit in one) it does nothing.
   bool show_plants_near(double base_x_lo_m, double base_x_hi_m);
+  /// Starts building, on another thread, the rendered model that show_plants_near(lo, hi)
+  /// would build, so that the call finds it built (a compartment's window takes seconds to
+  /// compile). The model is the same either way, bit for bit; until it is taken (or another
+  /// is asked for) two rendered models are held. Returns whether it started one: not without
+  /// a window, nor when the window held covers [lo, hi], nor when that build is under way.
+  bool prepare_plants_near(double base_x_lo_m, double base_x_hi_m);
+  /// Whether the rendered model holds every plant section needed for a base in [lo, hi] (no rebuild).
+  bool holds_plants_near(double base_x_lo_m, double base_x_hi_m) const;
+  /// The base x range of the window prepare_plants_near is building, [from, to); (0, 0) when none.
+  std::pair<double, double> prepared_plant_window_x() const;
   /// Whether the rendered model holds a window of the plants rather than all of them.
   bool plants_windowed() const { return world_ != nullptr; }
   /// The sections of plants the rendered model holds: [first, end) of `plant_sections()`.
@@ -127,9 +139,32 @@ class Simulator {
   RobotLinks robot_links() const;
 
  private:
+  struct ModelDeleter {
+    void operator()(mjModel* m) const { mj_deleteModel(m); }
+  };
+  struct DataDeleter {
+    void operator()(mjData* d) const { mj_deleteData(d); }
+  };
+  using ModelPtr = std::unique_ptr<mjModel, ModelDeleter>;
+  // A compiled rendered model of a window, with its scene's labels and files.
+  struct CompiledWindow {
+    ModelPtr model;
+    std::map<std::string, GeomLabel> labels;
+    std::map<std::string, std::string> files;
+  };
+  // mjcf compiled, with `files` in MuJoCo's in-memory file system. Any thread.
+  static ModelPtr compile(const std::string& mjcf, const std::map<std::string, std::string>& files);
   void load(const std::string& mjcf);
   void load_render(const std::string& mjcf);
-  // Builds the rendered model of the plant sections [first, end).
+  // geom_labels_ of `m` from scene_.labels.
+  void label_geoms(const mjModel* m);
+  // The sections [first, end) for a base anywhere in [lo, hi]; (-1, -1) when the window held covers them.
+  std::pair<int, int> window_for(double base_x_lo_m, double base_x_hi_m) const;
+  double section_x(int section) const;
+  // The rendered model of the plant sections [first, end): reads only what the constructor
+  // set (the world, options, robot), so it runs on prepare_plants_near's thread too.
+  CompiledWindow compile_window(int first, int end) const;
+  // Builds (or takes the prepared) rendered model of the plant sections [first, end).
   void build_window(int first, int end);
   // Frees the compiled scene's MJCF text (scene().mjcf).
   void release_mjcf();
@@ -147,12 +182,6 @@ class Simulator {
   int render_generation_ = 0;
   BasePose start_;
   RobotLinks link_tree_;  // robot_links() without the poses, found once
-  struct ModelDeleter {
-    void operator()(mjModel* m) const { mj_deleteModel(m); }
-  };
-  struct DataDeleter {
-    void operator()(mjData* d) const { mj_deleteData(d); }
-  };
   std::unique_ptr<mjModel, ModelDeleter> model_;
   std::unique_ptr<mjData, DataDeleter> data_;
   std::unique_ptr<mjModel, ModelDeleter> render_model_;  // null: render model_ itself
@@ -162,6 +191,13 @@ class Simulator {
   std::array<int, 3> base_qpos_{}, base_dof_{}, base_act_{};
   std::array<int, kArmDof> arm_qpos_{}, arm_dof_{}, arm_act_{};
   int camera_id_ = -1;
+  // prepare_plants_near's build: sections [first, end). Last member: destroyed first, it waits
+  // for its thread, which reads the members above.
+  struct Prepared {
+    int first = -1, end = -1;
+    std::future<CompiledWindow> built;
+  };
+  Prepared prepared_;
 };
 
 }  // namespace canopy::sim
