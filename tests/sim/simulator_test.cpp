@@ -12,6 +12,7 @@
 #include "canopy/motion/base_follower.h"
 #include "canopy/robot/robot_description.h"
 #include "canopy/sim/renderer.h"
+#include "plant_window_scene.h"
 
 namespace canopy::sim {
 namespace {
@@ -189,23 +190,7 @@ TEST(RobotSim, TheSceneTextIsNotKeptOnceCompiled) {
   EXPECT_TRUE(Simulator(bare).scene().mjcf.empty());
 }
 
-// The rendered model per section (issue 49): a row of 40 plants 0.5 m apart, in 3 m sections
-// of which a window holds two.
-world::WorldSpec long_row() {
-  world::WorldSpec s;
-  s.rows.rows = 1;
-  s.rows.plants_per_row = 40;
-  return s;
-}
-SceneOptions two_sections() {
-  SceneOptions o;
-  o.plant_window_m = 6.0;
-  o.plant_section_m = 3.0;
-  o.plant_reach_m = 0.5;
-  o.plant_window_min_triangles = 0.0;
-  return o;
-}
-
+// The rendered model per section (issue 49): plant_window_scene.h's row and window.
 // The base x of the plant each plant geom of the rendered model belongs to.
 std::vector<double> rendered_plants_x(const Simulator& sim, const world::World& w) {
   std::map<std::string, double> x_of;
@@ -222,7 +207,7 @@ std::vector<double> rendered_plants_x(const Simulator& sim, const world::World& 
 
 TEST(RobotSim, AWorldThatFitsInOneWindowIsBuiltWhole) {
   const world::World w = world::generate_world(world::WorldSpec{});  // the default: 2 rows of 4
-  Simulator windowed(w, default_robot_config(), two_sections());
+  Simulator windowed(w, default_robot_config(), test::two_section_window());
   Simulator whole(w, default_robot_config());
   EXPECT_FALSE(windowed.plants_windowed());
   EXPECT_FALSE(windowed.show_plants_near(100.0, 100.0));
@@ -232,9 +217,9 @@ TEST(RobotSim, AWorldThatFitsInOneWindowIsBuiltWhole) {
   EXPECT_EQ(rendered_plants_x(windowed, w).size(), rendered_plants_x(whole, w).size());
   // A long row of fewer triangles than asked for a window is built whole too (the ablation's
   // world, 15 m; the default world's rows made 100 plants long).
-  world::WorldSpec spec = long_row();
+  world::WorldSpec spec = test::long_row_spec();
   const world::World row = world::generate_world(spec);
-  SceneOptions few = two_sections();
+  SceneOptions few = test::two_section_window();
   few.plant_window_min_triangles = static_cast<double>(row.triangle_count()) + 1.0;
   EXPECT_FALSE(Simulator(row, default_robot_config(), few).plants_windowed());
   few.plant_window_min_triangles = static_cast<double>(row.triangle_count());
@@ -242,8 +227,8 @@ TEST(RobotSim, AWorldThatFitsInOneWindowIsBuiltWhole) {
 }
 
 TEST(RobotSim, TheRenderedModelHoldsTheSectionsNearTheBaseAndFollowsIt) {
-  const world::World w = world::generate_world(long_row());
-  Simulator sim(w, default_robot_config(), two_sections());
+  const world::World w = world::generate_world(test::long_row_spec());
+  Simulator sim(w, default_robot_config(), test::two_section_window());
   ASSERT_TRUE(sim.plants_windowed());
   EXPECT_EQ(sim.plant_sections(), 7);  // 19.5 m of plants
   // At the start (x = -0.8): the first two sections, the plants of [0, 6) m.

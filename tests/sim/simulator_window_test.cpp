@@ -9,6 +9,7 @@
 
 #include "canopy/common/camera.h"
 #include "canopy/sim/renderer.h"
+#include "plant_window_scene.h"
 
 namespace canopy::sim {
 namespace {
@@ -20,21 +21,6 @@ std::vector<unsigned char> mjb_bytes(const mjModel* m) {
   return bytes;
 }
 
-world::World window_test_row() {
-  world::WorldSpec spec;
-  spec.rows.rows = 1;
-  spec.rows.plants_per_row = 40;
-  return world::generate_world(spec);
-}
-
-SceneOptions window_test_options() {
-  SceneOptions o;
-  o.plant_window_m = 6.0;
-  o.plant_section_m = 3.0;
-  o.plant_reach_m = 0.5;
-  o.plant_window_min_triangles = 0.0;
-  return o;
-}
 
 // Each geom's label as the simulator gave it before issue 49's rebuilds were timed: by
 // mj_name2id of every labelled name.
@@ -63,9 +49,9 @@ void expect_labels_as_by_name2id(const Simulator& sim) {
 }
 
 TEST(SimulatorWindow, APreparedWindowIsTheModelBuiltOnArrivalBitForBit) {
-  const world::World w = window_test_row();
+  const world::World w = world::generate_world(test::long_row_spec());
   const RobotConfig cfg = default_robot_config();
-  Simulator ahead(w, cfg, window_test_options()), on_arrival(w, cfg, window_test_options());
+  Simulator ahead(w, cfg, test::two_section_window()), on_arrival(w, cfg, test::two_section_window());
   Renderer ahead_renderer(ahead, w.spec.camera), arrival_renderer(on_arrival, w.spec.camera);
   EXPECT_EQ(mjb_bytes(ahead.render_model()), mjb_bytes(on_arrival.render_model()));
   expect_labels_as_by_name2id(ahead);
@@ -114,9 +100,9 @@ TEST(SimulatorWindow, APreparedWindowIsTheModelBuiltOnArrivalBitForBit) {
 }
 
 TEST(SimulatorWindow, AWindowPreparedButNotTakenIsDroppedForTheOneAskedFor) {
-  const world::World w = window_test_row();
+  const world::World w = world::generate_world(test::long_row_spec());
   const RobotConfig cfg = default_robot_config();
-  Simulator sim(w, cfg, window_test_options()), fresh(w, cfg, window_test_options());
+  Simulator sim(w, cfg, test::two_section_window()), fresh(w, cfg, test::two_section_window());
   ASSERT_TRUE(sim.prepare_plants_near(6.0, 6.0));
   ASSERT_TRUE(sim.prepare_plants_near(9.0, 9.0));  // another window: the first is dropped
   ASSERT_TRUE(sim.show_plants_near(12.0, 12.0));   // neither
