@@ -15,10 +15,12 @@ standard error, and whether the change is within one and within two standard err
 """
 import argparse
 import csv
-import json
 import math
 import pathlib
 import sys
+
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
+import goal_table  # noqa: E402  (its readers of experiment folders and per-trial files)
 
 
 def new_finals(sources):
@@ -27,36 +29,12 @@ def new_finals(sources):
     out = {}
     seen = set()
     for source in sources.split(","):
-        path = pathlib.Path(source)
-        if path.is_file():
-            rows = [(r["label"], float(r["p_gt"]), int(r["world_seed"]), float(r["sc_final"]))
-                    for r in csv.DictReader(open(path, newline=""))]
-        elif (path / "trials").is_dir():
-            rows = folder_finals(path)
-        else:
-            sys.exit(f"against_old_fig3: '{source}' is neither an experiment folder nor a per-trial .csv")
-        for label, p, world, final in rows:
-            if (label, p, world) in seen:
-                sys.exit(f"against_old_fig3: {(label, p, world)} is in two sources")
-            seen.add((label, p, world))
-            out.setdefault((label, p), []).append(final)
-    return out
-
-
-def folder_finals(folder):
-    """[(label, p_gt, world, final SC)] of the ok trials of an experiment folder."""
-    out = []
-    for tj in sorted(pathlib.Path(folder).glob("trials/*/trial.json")):
-        t = json.loads(tj.read_text())
-        if t.get("status") != "ok":
-            continue
-        last = None
-        with open(tj.parent / "mission" / "views.csv", newline="") as f:
-            for row in csv.DictReader(f):
-                if row["success"] == "1":
-                    last = float(row["coverage"])
-        if last is not None:
-            out.append((t["trial"]["label"], float(t["trial"]["p_gt"]), t["trial"].get("world_seed"), last))
+        for t in goal_table.load(source):
+            key = (t["label"], t["p_gt"], t["world"])
+            if key in seen:
+                sys.exit(f"against_old_fig3: {key} is in two sources")
+            seen.add(key)
+            out.setdefault((t["label"], t["p_gt"]), []).append(t["sc"]["final"])
     return out
 
 
