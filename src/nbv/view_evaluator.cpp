@@ -109,10 +109,16 @@ ViewScore ViewEvaluator::evaluate(const Pose& T, const Vec3& target, const GainF
 
 ViewStatus ViewEvaluator::evaluate_all(const Pose& T, const Vec3& target, const std::vector<const GainFunction*>& gains,
                                        const RaySetEntry& rays, std::uint64_t view_seed, double* out,
-                                       const std::function<void(const RayVoxel*, std::size_t)>& each_ray) {
+                                       const std::function<void(const RayVoxel*, std::size_t)>& each_ray,
+                                       std::vector<std::uint64_t>* bricks) {
   std::vector<double>& sums = sums_;
   sums.assign(gains.size(), 0.0);
   ViewStatus status = ViewStatus::kOk;
+  if (bricks) {  // precheck() reads the camera's voxel
+    octomap::OcTreeKey key;
+    const Vec3 eye = T.translation();
+    if (index_.map() && eye.allFinite() && index_.map()->key_of(eye, &key)) bricks->push_back(mapping::brick_key(key));
+  }
   if (ray_segments(T, target, rays, &ends_, &status)) {
     const Vec3 eye = T.translation();
     double longest = 0.0;
@@ -121,7 +127,7 @@ ViewStatus ViewEvaluator::evaluate_all(const Pose& T, const Vec3& target, const 
     if (buffer_.size() < cap) buffer_.resize(cap);
     for (const Vec3& e : ends_) {
       bool outside = false;
-      const std::size_t n = index_.cast(eye, e, target, buffer_.data(), buffer_.size(), &outside);
+      const std::size_t n = index_.cast(eye, e, target, buffer_.data(), buffer_.size(), &outside, nullptr, bricks);
       if (outside) continue;
       for (std::size_t g = 0; g < gains.size(); ++g)
         if (gains[g]->uses_rays()) sums[g] += gains[g]->ray_gain(buffer_.data(), n);

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include "canopy/common/error.h"
 #include "canopy/nbv/view_evaluator.h"
@@ -196,6 +197,15 @@ void ViewFeatures::begin_round(const mapping::SemanticOcTree& map, const VoxelIn
   }
 }
 
+std::size_t ViewFeatures::ViewKeyHash::operator()(const ViewKey& k) const {
+  std::uint64_t h = 1469598103934665603ULL;
+  for (const std::uint64_t b : k) {
+    h ^= b + 0x9E3779B97F4A7C15ULL + (h << 6) + (h >> 2);
+    h *= 1099511628211ULL;
+  }
+  return static_cast<std::size_t>(h ^ (h >> 29));
+}
+
 int ViewFeatures::fruit_of(const Vec3& target) const {
   int best = -1;
   double best_d = 1e300;
@@ -213,6 +223,42 @@ void ViewFeatures::compute(const Pose& T, const Vec3& target, std::vector<float>
   CANOPY_CHECK(index_ && eval_, "ViewFeatures::compute before begin_round");
   out->clear();
   out->reserve(view_feature_names().size());
+  // The ray sets' features read the map only through the voxels their rays visit: kept from an
+  // earlier round while none of those voxels changed.
+  if (ray_features_index_ != index_ || ray_features_.size() > 20000) {
+    ray_features_.clear();
+    ray_features_index_ = index_;
+  }
+  ViewKey key;
+  for (int c = 0; c < 4; ++c)
+    for (int r = 0; r < 3; ++r) std::memcpy(&key[std::size_t(3 * c + r)], &T.matrix()(r, c), 8);
+  for (int a = 0; a < 3; ++a) std::memcpy(&key[std::size_t(12 + a)], &target[a], 8);
+  RayFeatures* kept = nullptr;
+  if (const auto it = ray_features_.find(key); it != ray_features_.end()) {
+    RayFeatures& rf = it->second;
+    if (!index_->changed_since(rf.generation, rf.bricks)) {
+      rf.generation = index_->generation();  // checked up to now
+      kept = &rf;
+    }
+  }
+  if (kept) {
+    ++rays_kept_;
+    out->insert(out->end(), kept->values.begin(), kept->values.end());
+  } else {
+    ++rays_cast_;
+    bricks_.clear();
+    compute_rays(T, target, out);
+    std::sort(bricks_.begin(), bricks_.end());
+    bricks_.erase(std::unique(bricks_.begin(), bricks_.end()), bricks_.end());
+    RayFeatures& rf = ray_features_[key];
+    rf.values.assign(out->begin(), out->end());
+    rf.bricks = bricks_;
+    rf.generation = index_->generation();
+  }
+  compute_rest(T, target, out);
+}
+
+void ViewFeatures::compute_rays(const Pose& T, const Vec3& target, std::vector<float>* out) {
   const std::vector<const GainFunction*>& gains = gain_ptrs_;
   std::vector<double>& scores = scores_;
   scores.assign(gains.size(), 0.0);
@@ -234,13 +280,15 @@ void ViewFeatures::compute(const Pose& T, const Vec3& target, std::vector<float>
           }
         }
       };
-    eval_->evaluate_all(T, target, gains, *ray_sets_[r], 0, scores.data(), each_ray);
+    eval_->evaluate_all(T, target, gains, *ray_sets_[r], 0, scores.data(), each_ray, &bricks_);
     for (const double s : scores) out->push_back(static_cast<float>(s));
   }
   out->push_back(static_cast<float>(rays > 0 ? blocked / rays : 0.0));
   out->push_back(static_cast<float>(rays > 0 ? on_target / rays : 0.0));
   out->push_back(static_cast<float>(rays > 0 ? unknown / rays : 0.0));
+}
 
+void ViewFeatures::compute_rest(const Pose& T, const Vec3& target, std::vector<float>* out) {
   // The predicted surface in view (as the shape planner scores it).
   const int own = fruit_of(target);
   const Pose T_inv = T.inverse();

@@ -104,6 +104,7 @@ std::uint32_t* VoxelIndex::brick_for_insert(std::uint64_t bk) {
   table_keys_[h] = bk;
   table_values_[h] = static_cast<std::uint32_t>(brick_keys_.size());
   brick_keys_.push_back(bk);
+  brick_stamps_.push_back(generation_);  // all unknown: as when it was absent
   cells_.resize(cells_.size() + kBrickCells, 0u);
   return &cells_[cells_.size() - kBrickCells];
 }
@@ -128,6 +129,8 @@ void VoxelIndex::rebuild(const mapping::SemanticOcTree& map) {
   palette_.push_back(make_voxel_info(map, nullptr));
   cells_.clear();
   brick_keys_.clear();
+  brick_stamps_.clear();
+  rebuilt_at_ = ++generation_;
   table_keys_.clear();
   table_values_.clear();
   grow();
@@ -183,12 +186,22 @@ bool VoxelIndex::apply_updates(const mapping::SemanticOcTree& map, std::uint64_t
   // States that are no longer in the map stay in the palette; past a bound, rebuild instead.
   if (palette_.size() > kMaxPalette) return false;
   const Stopwatch watch;
+  // Equal ids are identical states (one palette), so a cell whose id changes is a voxel whose
+  // state changed: its brick is stamped (changed_since).
+  const std::uint64_t generation = generation_ + 1;
+  bool changed = false;
   for (const mapping::VoxelUpdate& u : updates) {
     const octomap::OcTreeKey key = mapping::morton_key(u.code);
     const mapping::SemanticState* s = map.find(key);
     const std::uint32_t id = s ? intern(map, *s) : 0;  // an update leaves a known voxel: s is set
-    brick_for_insert(mapping::brick_key(key))[mapping::brick_cell(key[0], key[1], key[2])] = id;
+    std::uint32_t* cells = brick_for_insert(mapping::brick_key(key));
+    std::uint32_t& cell = cells[mapping::brick_cell(key[0], key[1], key[2])];
+    if (cell == id) continue;
+    cell = id;
+    brick_stamps_[std::size_t(cells - cells_.data()) / kBrickCells] = generation;
+    changed = true;
   }
+  if (changed) generation_ = generation;
   revision_ = map.revision();
   update_ms_ += watch.ms();
   return true;
@@ -205,6 +218,25 @@ std::uint32_t VoxelIndex::lookup(const octomap::OcTreeKey& key) const {
   return b ? b[mapping::brick_cell(key[0], key[1], key[2])] : 0u;
 }
 
+bool VoxelIndex::changed_since(std::uint64_t since, const std::vector<std::uint64_t>& brick_keys) const {
+  if (since >= generation_) return false;
+  if (since < rebuilt_at_) return true;
+  if (table_keys_.empty()) return false;
+  for (const std::uint64_t bk : brick_keys) {
+    std::uint64_t h = slot(bk);
+    for (;;) {
+      const std::uint64_t k = table_keys_[h];
+      if (k == bk) {
+        if (brick_stamps_[table_values_[h]] > since) return true;
+        break;
+      }
+      if (k == kEmpty) break;  // absent now, so absent then: all unknown
+      h = (h + 1) & table_mask_;
+    }
+  }
+  return false;
+}
+
 std::size_t VoxelIndex::max_voxels(double length_m) const {
   if (!(resolution_ > 0.0) || !std::isfinite(length_m)) return 0;
   return static_cast<std::size_t>(3.0 * (length_m / resolution_ + 2.0)) + 4;
@@ -216,7 +248,8 @@ std::size_t VoxelIndex::memory_bytes() const {
 }
 
 std::size_t VoxelIndex::cast(const Vec3& origin_d, const Vec3& end_d, const Vec3& target, RayVoxel* out,
-                             std::size_t capacity, bool* outside, octomap::OcTreeKey* keys) const {
+                             std::size_t capacity, bool* outside, octomap::OcTreeKey* keys,
+                             std::vector<std::uint64_t>* bricks) const {
   if (outside) *outside = false;
   CANOPY_CHECK(map_ != nullptr, "VoxelIndex::cast before rebuild");
   // Float end points, as OctoMap's computeRayKeys takes them (mapping/voxel_ray.h).
@@ -237,6 +270,7 @@ std::size_t VoxelIndex::cast(const Vec3& origin_d, const Vec3& end_d, const Vec3
     if (bk != cached_bk) {
       cached_bk = bk;
       cached = brick(bk);
+      if (bricks) bricks->push_back(bk);
     }
     const std::uint32_t id = cached ? cached[mapping::brick_cell(x, y, z)] : 0u;
     const double cx = mapping::key_center(x, res) - tx0;

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <set>
 
 #include "../mapping/synthetic.h"
@@ -176,4 +177,66 @@ TEST(ViewFeatures, FrustumPrefilterSkipsOnlyPointsTheLoopSkips) {
   EXPECT_GT(any_in_view, 200);
   EXPECT_GT(rejected, 2000);
   EXPECT_EQ(outside_kept, 0) << "of " << outside << " spheres clear of the depth range";
+}
+
+// The ray sets' features kept between rounds are the ones computed afresh, bit for bit, while the
+// map changes on one side of the scene between rounds (views whose rays cross it are cast again,
+// the others kept) and once the index is rebuilt (everything cast again).
+TEST(ViewFeatures, KeptRayFeaturesEqualFreshOnesAsTheMapChanges) {
+  mapping::SemanticOcTree map = front_map();
+  VoxelIndex index(map);
+  const NbvParams nbv;
+  CameraIntrinsics K;
+  ViewFeatures kept(K, nbv, ViewFeatureParams{});
+  // Views of the fruit from around it.
+  Rng rng(12);
+  std::vector<std::pair<Pose, Vec3>> views;
+  for (int i = 0; i < 60; ++i) {
+    const double az = rng.uniform(-M_PI, M_PI), el = rng.uniform(-0.6, 0.6), r = rng.uniform(0.25, 0.45);
+    const Vec3 target = kFruit + Vec3(rng.uniform(-0.02, 0.02), rng.uniform(-0.02, 0.02), rng.uniform(-0.02, 0.02));
+    const Vec3 eye = kFruit + r * Vec3(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el));
+    views.emplace_back(synth::look_at(eye, target), target);
+  }
+  const Pose T_now = synth::look_at(Vec3(0.1, 0.0, 1.0), kFruit);
+  std::size_t cast_before = 0;
+  for (int round = 0; round < 6; ++round) {
+    ViewFeatures fresh(K, nbv, ViewFeatureParams{});
+    kept.begin_round(map, index, kRegion, T_now);
+    fresh.begin_round(map, index, kRegion, T_now);
+    std::vector<float> a, b;
+    for (std::size_t v = 0; v < views.size(); ++v) {
+      kept.compute(views[v].first, views[v].second, &a);
+      fresh.compute(views[v].first, views[v].second, &b);
+      ASSERT_EQ(a.size(), b.size());
+      ASSERT_EQ(std::memcmp(a.data(), b.data(), a.size() * sizeof(float)), 0) << "round " << round << " view " << v;
+    }
+    if (round == 0) {
+      EXPECT_EQ(kept.rays_cast(), views.size());
+    } else if (round != 4) {
+      EXPECT_GT(kept.rays_cast(), cast_before) << "round " << round;                  // some cast again
+      EXPECT_LT(kept.rays_cast(), cast_before + views.size()) << "round " << round;   // some kept
+    } else {
+      EXPECT_EQ(kept.rays_cast(), cast_before + views.size());  // after the rebuild
+    }
+    cast_before = kept.rays_cast();
+    // Voxels changed on the +y side, beyond the leaf: views from -y do not reach them (round 3:
+    // the index is rebuilt instead).
+    if (round == 3) {
+      index.rebuild(map);
+      continue;
+    }
+    std::vector<mapping::VoxelUpdate> u;
+    for (int i = 0; i < 200; ++i) {
+      octomap::OcTreeKey k;
+      ASSERT_TRUE(map.key_of(kFruit + Vec3(rng.uniform(-0.1, 0.1), rng.uniform(0.12, 0.22), rng.uniform(-0.1, 0.1)), &k));
+      const double r = rng.uniform(0.0, 1.0);
+      u.push_back({mapping::morton_code(k), r < 0.5 ? mapping::VoxelUpdate::kFree : std::uint8_t(r < 0.8 ? 2 : 1)});
+    }
+    std::sort(u.begin(), u.end(), [](const auto& x, const auto& y) { return x.code < y.code; });
+    u.erase(std::unique(u.begin(), u.end(), [](const auto& x, const auto& y) { return x.code == y.code; }), u.end());
+    const std::uint64_t before = map.revision();
+    map.apply_sorted_updates(u);
+    ASSERT_TRUE(index.apply_updates(map, before, u));
+  }
+  EXPECT_GT(kept.rays_kept(), views.size() / 2);
 }

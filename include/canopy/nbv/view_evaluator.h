@@ -44,9 +44,12 @@ class ViewEvaluator {
                      const RaySetEntry& rays, std::uint64_t view_seed);
   /// Several gains of one view from one cast of its rays: out[i] = evaluate(..., *gains[i], ...).gain
   /// (bit for bit); `each_ray`, when set, is also given every ray's voxels. Returns the status.
+  /// `bricks`, when given, is appended the brick keys of every voxel read (the camera's and the
+  /// rays'): the result depends on the map through those bricks only.
   ViewStatus evaluate_all(const Pose& T_world_camera, const Vec3& target, const std::vector<const GainFunction*>& gains,
                           const RaySetEntry& rays, std::uint64_t view_seed, double* out,
-                          const std::function<void(const RayVoxel*, std::size_t)>& each_ray = nullptr);
+                          const std::function<void(const RayVoxel*, std::size_t)>& each_ray = nullptr,
+                          std::vector<std::uint64_t>* bricks = nullptr);
   /// The same through the slow reference traversal (computeRayKeys + a tree search per key,
   /// voxel values computed from the tree's states).
   ViewScore evaluate_reference(const Pose& T_world_camera, const Vec3& target, const GainFunction& gain,

@@ -9,8 +9,11 @@
 
 #include <Eigen/Geometry>
 
+#include <array>
+#include <cstdint>
 #include <memory>
 #include <string>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -60,11 +63,18 @@ class ViewFeatures {
   /// The fruits of the round.
   const std::vector<FittedFruit>& fruits() const { return fruits_; }
   /// The features of a view at T_world_camera looking at `target` (view_feature_names() order).
+  /// The ray sets' features of a view asked before (the same pose and target, bit for bit) are
+  /// kept while no voxel they read changed (VoxelIndex::changed_since): the same values.
   void compute(const Pose& T_world_camera, const Vec3& target, std::vector<float>* out);
+  /// Views whose ray-set features were kept / cast.
+  std::size_t rays_kept() const { return rays_kept_; }
+  std::size_t rays_cast() const { return rays_cast_; }
 
  private:
   struct Fruit;  // per fitted fruit: label consistency, seen fraction
   int fruit_of(const Vec3& target) const;
+  void compute_rays(const Pose& T, const Vec3& target, std::vector<float>* out);  // the ray sets' features
+  void compute_rest(const Pose& T, const Vec3& target, std::vector<float>* out);  // the others
   CameraIntrinsics intrinsics_;
   NbvParams nbv_;
   ViewFeatureParams params_;
@@ -84,6 +94,21 @@ class ViewFeatures {
   std::vector<float> fruit_weights_;
   std::size_t walk_capacity_ = 0;  // voxels a sight line may visit (the most any round needed)
   Pose T_now_ = Pose::Identity();
+  // The ray sets' features of the views computed so far (a stop's rounds score the same
+  // candidates again), with the bricks their rays read and the index's generation then.
+  using ViewKey = std::array<std::uint64_t, 15>;  // the pose's 3x4 and the target, bit for bit
+  struct ViewKeyHash {
+    std::size_t operator()(const ViewKey& k) const;
+  };
+  struct RayFeatures {
+    std::vector<float> values;
+    std::vector<std::uint64_t> bricks;
+    std::uint64_t generation = 0;
+  };
+  std::unordered_map<ViewKey, RayFeatures, ViewKeyHash> ray_features_;
+  const VoxelIndex* ray_features_index_ = nullptr;
+  std::vector<std::uint64_t> bricks_;  // scratch
+  std::size_t rays_kept_ = 0, rays_cast_ = 0;
 };
 
 }  // namespace canopy::nbv

@@ -106,9 +106,12 @@ class VoxelIndex {
   /// (the origin's voxel first, the end's voxel excluded), at most `capacity` of them written
   /// to `out`. Returns the count; 0 when both ends share a voxel. *outside (when given) is
   /// set when an end lies outside the tree's range (then nothing is visited). `keys`, when
-  /// given, receives the visited keys (same capacity). No allocation.
+  /// given, receives the visited keys (same capacity); `bricks`, when given, is appended the
+  /// brick key (mapping::brick_key) of each run of visited voxels in one brick. No allocation
+  /// without `bricks`.
   std::size_t cast(const Vec3& origin, const Vec3& end, const Vec3& target, RayVoxel* out, std::size_t capacity,
-                   bool* outside = nullptr, octomap::OcTreeKey* keys = nullptr) const;
+                   bool* outside = nullptr, octomap::OcTreeKey* keys = nullptr,
+                   std::vector<std::uint64_t>* bricks = nullptr) const;
 
   /// The voxels cast() visits on origin -> end, in order and at most `capacity` of them, each
   /// one's state given to visit(const VoxelInfo&) until it returns false: for loops that stop
@@ -116,6 +119,14 @@ class VoxelIndex {
   /// lies outside the tree's range (cast()'s *outside; nothing visited).
   template <class Visit>
   bool walk(const Vec3& origin, const Vec3& end, std::size_t capacity, Visit&& visit) const;
+
+  /// Counts the changes of the index: each rebuild and each apply_updates() that changed a
+  /// voxel's state.
+  std::uint64_t generation() const { return generation_; }
+  /// False only when no voxel of the bricks `brick_keys` (mapping::brick_key; bricks absent
+  /// then or now included) changed state after generation `since`: what was read from those
+  /// bricks then reads the same now. A rebuild after `since` counts as a change everywhere.
+  bool changed_since(std::uint64_t since, const std::vector<std::uint64_t>& brick_keys) const;
 
   /// Upper bound of the voxels a segment of `length_m` can visit.
   std::size_t max_voxels(double length_m) const;
@@ -143,6 +154,9 @@ class VoxelIndex {
   std::vector<VoxelInfo> palette_;
   std::vector<std::uint32_t> cells_;          // brick-major, kBrickCells per brick
   std::vector<std::uint64_t> brick_keys_;     // brick key of each brick (insertion order)
+  std::vector<std::uint64_t> brick_stamps_;   // per brick: the generation of its last change
+  std::uint64_t generation_ = 0;
+  std::uint64_t rebuilt_at_ = 0;              // the generation of the last rebuild
   std::vector<std::uint64_t> table_keys_;     // open addressing: brick key or kEmpty
   std::vector<std::uint32_t> table_values_;   // brick index
   std::uint64_t table_mask_ = 0;
