@@ -283,6 +283,14 @@ bool CollisionEnvironment::occupied(const Vec3& p) const {
   return n && tree.isNodeOccupied(n);
 }
 
+// A shape (its padded geometry, at `pose`) against the map: the coarse grid first, then FCL.
+bool map_hit(const CollisionEnvironment::Impl& env, const robot::Shape& shape, const Geometry& padded, const Pose& pose,
+             double pad) {
+  Vec3 lo, hi;
+  shape_aabb(shape, pose, pad, &lo, &hi);
+  return env.coarse.any(lo, hi) && collide(padded, pose, *env.octree, Pose::Identity());
+}
+
 // ----------------------------------------------------------------------------------------
 struct CollisionChecker::Shapes {
   std::vector<std::shared_ptr<Geometry>> padded;  // Against the map and the ground.
@@ -354,7 +362,18 @@ bool CollisionChecker::check(const BasePose& base, const ArmConfig& q, BodySet s
     return report == nullptr;  // Stop at the first hit unless reporting.
   };
 
-  // Self-collision first: cheap bounding-sphere rejection removes most pairs.
+  // A yes/no answer is the same in any order of the tests; the map is hit most often by the
+  // shapes nearest the camera (the arm reaching into the foliage), so those are asked first and
+  // most states in collision are decided by one octree query (issue 47). A report keeps the
+  // order below.
+  const double pad = params_.environment_padding_m;
+  if (!report) {
+    for (size_t k = bodies.size(); k-- > 0;) {
+      if (set == BodySet::kArmOnly && !bodies[k].on_arm) continue;
+      if (environment_ && map_hit(environment_->impl(), bodies[k].shape, *shapes_->padded[k], poses[k], pad)) return true;
+    }
+  }
+  // Self-collision: cheap bounding-sphere rejection removes most pairs.
   for (const auto& [i, j] : self_pairs_) {
     const auto ui = static_cast<size_t>(i), uj = static_cast<size_t>(j);
     const double reach = bodies[ui].bounding_radius_m + bodies[uj].bounding_radius_m + 2 * params_.self_padding_m;
@@ -370,16 +389,12 @@ bool CollisionChecker::check(const BasePose& base, const ArmConfig& q, BodySet s
         collide(*shapes_->padded[b], poses[b], *shapes_->ground, Pose::Identity()) &&
         found(bodies[b].shape.name + " | ground"))
       return true;
-    if (environment_) {
-      Vec3 lo, hi;
-      shape_aabb(bodies[b].shape, poses[b], params_.environment_padding_m, &lo, &hi);
-      if (environment_->impl().coarse.any(lo, hi) &&
-          collide(*shapes_->padded[b], poses[b], *environment_->impl().octree, Pose::Identity()) &&
-          found(bodies[b].shape.name + " | map"))
-        return true;
-    }
+    if (environment_ && report && map_hit(environment_->impl(), bodies[b].shape, *shapes_->padded[b], poses[b], pad) &&
+        found(bodies[b].shape.name + " | map"))
+      return true;
   }
   return hit;
 }
+
 
 }  // namespace canopy::motion

@@ -248,5 +248,39 @@ TEST(Collision, IncrementalEnvironmentEqualsRebuilt) {
   EXPECT_LT(collisions, 290);
 }
 
+// in_collision() stops at the first test that hits, in an order of its own (the shapes nearest
+// the camera against the map first); its answer is the report's, which runs every test in the
+// declared order: states near voxels, near the ground and folded onto the robot, with and without
+// the arm-only body set.
+TEST(Collision, FirstHitAnswersAsTheFullReport) {
+  const double res = 0.015;
+  std::mt19937 rng(23);
+  std::uniform_real_distribution<double> ux(-0.2, 0.9), uy(0.45, 0.9), uz(0.05, 1.3);
+  std::vector<Vec3> voxels;
+  for (int i = 0; i < 1500; ++i) voxels.push_back(Vec3(ux(rng), uy(rng), uz(rng)));
+  const CollisionChecker checker(model(), CollisionParams{}, CollisionEnvironment::from_voxels(voxels, res));
+  std::uniform_real_distribution<double> dq(-2.0, 2.0);
+  int hits = 0, n = 0;
+  for (int k = 0; k < 2000; ++k) {
+    ArmConfig q = model().config().home;
+    for (double& v : q) v += dq(rng);
+    const BasePose base{0.3, 0.0, 0.2 * dq(rng)};
+    const CollisionReport r = checker.report(base, q);
+    ASSERT_EQ(checker.in_collision(base, q), r.in_collision) << "state " << k;
+    ASSERT_EQ(r.in_collision, !r.pairs.empty()) << "state " << k;
+    hits += r.in_collision;
+    ++n;
+    // The arm-only set: the full answer when no base shape is in the report.
+    bool base_pair = false;
+    for (const std::string& p : r.pairs)
+      for (const CollisionBody& b : model().bodies())
+        if (!b.on_arm && p.rfind(b.shape.name + " | ", 0) == 0 && (p.find("| map") != std::string::npos || p.find("| ground") != std::string::npos))
+          base_pair = true;
+    if (!base_pair) ASSERT_EQ(checker.in_collision(base, q, BodySet::kArmOnly), r.in_collision) << "state " << k;
+  }
+  EXPECT_GT(hits, n / 10);  // both answers compared
+  EXPECT_LT(hits, n * 9 / 10);
+}
+
 }  // namespace
 }  // namespace canopy::motion
