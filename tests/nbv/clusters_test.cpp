@@ -30,6 +30,69 @@ TEST(Clusters, DbscanSeparatesBlobsAndNoise) {
   EXPECT_TRUE((clusters[0].max.array() >= clusters[0].centroid.array()).all());
 }
 
+// DBSCAN as written down (every pair's distance, neighbours in index order, a cluster grown by
+// a plain queue): the slow reference of dbscan().
+std::vector<int> dbscan_reference(const std::vector<Vec3>& pts, double eps, int min_points, int* count) {
+  const std::size_t n = pts.size();
+  std::vector<std::vector<std::size_t>> nb(n);
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t j = 0; j < n; ++j) {
+      double d2 = 0.0;
+      for (int a = 0; a < 3; ++a) d2 += (pts[i][a] - pts[j][a]) * (pts[i][a] - pts[j][a]);
+      if (d2 < eps * eps) nb[i].push_back(j);
+    }
+  std::vector<int> label(n, -2);
+  int c = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (label[i] != -2) continue;
+    if (nb[i].size() < std::size_t(min_points)) {
+      label[i] = -1;
+      continue;
+    }
+    label[i] = c;
+    std::vector<std::size_t> queue(nb[i].begin(), nb[i].end());
+    for (std::size_t q = 0; q < queue.size(); ++q) {
+      const std::size_t j = queue[q];
+      if (label[j] == -1) label[j] = c;
+      if (label[j] != -2) continue;
+      label[j] = c;
+      if (nb[j].size() >= std::size_t(min_points)) queue.insert(queue.end(), nb[j].begin(), nb[j].end());
+    }
+    ++c;
+  }
+  *count = c;
+  return label;
+}
+
+// Clouds of voxel centres (blobs that touch through thin bridges, surfaces, scattered noise):
+// the same labels as the reference, point for point.
+TEST(Clusters, DbscanLabelsAsTheReference) {
+  Rng rng(47);
+  const double res = 0.015;
+  int compared = 0;
+  for (int cloud = 0; cloud < 40; ++cloud) {
+    std::vector<Vec3> pts;
+    const int blobs = 1 + cloud % 6;
+    for (int b = 0; b < blobs; ++b) {
+      const Vec3 centre(rng.uniform(0.0, 0.4), rng.uniform(0.0, 0.4), rng.uniform(0.0, 0.4));
+      const int n = int(rng.uniform(5, 150));
+      for (int i = 0; i < n; ++i) {
+        const Vec3 p = centre + rng.uniform(0.01, 0.05) * Vec3(rng.normal(), rng.normal(), rng.normal()).normalized();
+        pts.push_back(((p / res).array().floor() + 0.5).matrix() * res);  // a voxel centre
+      }
+    }
+    for (int i = 0; i < 30; ++i) pts.push_back(Vec3(rng.uniform(0.0, 0.4), rng.uniform(0.0, 0.4), rng.uniform(0.0, 0.4)));
+    for (const int min_points : {3, 5}) {
+      int n = -1, n_ref = -2;
+      const std::vector<int> label = dbscan(pts, 0.05, min_points, &n);
+      ASSERT_EQ(label, dbscan_reference(pts, 0.05, min_points, &n_ref)) << "cloud " << cloud;
+      ASSERT_EQ(n, n_ref);
+      compared += n;
+    }
+  }
+  EXPECT_GT(compared, 100);
+}
+
 TEST(Clusters, TooFewPointsAreNoise) {
   int n = -1;
   EXPECT_TRUE(dbscan({}, 0.05, 3, &n).empty());
