@@ -175,13 +175,26 @@ void IncrementalEvaluator::score_all(const SemanticOcTree& map) {
   joined_.clear();
   left_.clear();
   const int target = map.classes().target_index();
+  // Only a point within the coverage distance of a fruit voxel can be covered: those are scored,
+  // every other point is uncovered (the same reach as update()'s), so the first scoring costs
+  // the map's fruit voxels, not the world's points.
+  std::vector<std::uint32_t> near_points;
+  std::vector<std::pair<std::size_t, double>> near;
+  const double reach = params_.coverage_distance_m + kSlack;
   map.for_each_voxel_if([&](const SemanticState& s) { return SemanticOcTree::is_class_voxel(s, target); },
                          [&](const octomap::OcTreeKey& key, const SemanticState& s) {
-                           set_voxel(mapping::morton_code(key), classify(map, key, &s), map.center_of(key));
+                           const Vec3 centre = map.center_of(key);
+                           const std::uint8_t flags = classify(map, key, &s);
+                           set_voxel(mapping::morton_code(key), flags, centre);
+                           if (!flags) return;
+                           point_tree_->within(centre, reach, &near);
+                           for (const auto& n : near) near_points.push_back(static_cast<std::uint32_t>(n.first));
                          });
   for (FruitMetrics& fm : metrics_.fruits) fm.paper.covered = fm.prototype.covered = 0;
   std::fill(point_covered_.begin(), point_covered_.end(), 0);
-  for (std::size_t i = 0; i < points().size(); ++i) rescore_point(map, i);
+  std::sort(near_points.begin(), near_points.end());
+  near_points.erase(std::unique(near_points.begin(), near_points.end()), near_points.end());
+  for (std::uint32_t i : near_points) rescore_point(map, i);
   for (std::size_t i = 0; i < fruits_.size(); ++i)
     score_fruit_entropy(map, *fruits_[i], centroids_[i], params_, &metrics_.fruits[i]);
   last_points_ = points().size();

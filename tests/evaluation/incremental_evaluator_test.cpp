@@ -69,6 +69,12 @@ TEST(IncrementalEvaluator, EqualsTheFullEvaluationAfterEveryRandomBatch) {
       const MapMetrics want = evaluate_map(map, truth, params);
       SCOPED_TRACE("batch " + std::to_string(batch) + " rule " + to_string(rule));
       expect_same_metrics(got, want);
+      EXPECT_TRUE(inc.follows(map));
+      if (batch % 10 == 9) {  // a fresh evaluator scores the whole map at once: the same figures
+        IncrementalEvaluator fresh(truth, params);
+        EXPECT_FALSE(fresh.follows(map));
+        expect_same_metrics(fresh.update(map, {}), want);
+      }
       if (want.fruit_voxels_paper < most_voxels) lost_voxels = true;
       most_voxels = std::max(most_voxels, want.fruit_voxels_paper);
     }

@@ -502,6 +502,14 @@ TEST(Mission, IncrementalMetricsEqualAFullEvaluationAtEveryView) {
   EXPECT_GT(views, 12);
   EXPECT_GT(r.final_metrics.coverage, 0.0);
   EXPECT_GT(r.final_metrics.fruit_voxels_paper, r.final_metrics.fruit_voxels_prototype);  // both rules exercised
+  // The final figures come from the evaluator that followed every scan: the full evaluation's,
+  // counts included.
+  const evaluation::MapMetrics full = evaluation::evaluate_map(mission.map(), w.world.truth, s.mapping.metrics);
+  evaluation::expect_same_metrics(r.final_metrics, full);
+  EXPECT_EQ(r.final_metrics.counts.leaves, full.counts.leaves);
+  EXPECT_EQ(r.final_metrics.counts.voxels, full.counts.voxels);
+  EXPECT_EQ(r.final_metrics.counts.target, full.counts.target);
+  EXPECT_EQ(r.final_metrics.counts.memory_bytes, full.counts.memory_bytes);
 }
 
 }  // namespace

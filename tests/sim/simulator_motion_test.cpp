@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <set>
@@ -11,6 +12,7 @@
 
 #include "canopy/motion/execution.h"
 #include "canopy/evaluation/truth_voxels.h"
+#include "canopy/mapping/voxel_key.h"
 #include "canopy/motion/motion_config.h"
 #include "canopy/motion/reachability.h"
 #include "canopy/motion/tour.h"
@@ -102,6 +104,39 @@ TEST(MotionSim, PlannedMovesReachTheirViewsWithoutContacts) {
     EXPECT_NEAR(sim.base_pose().x_m, base.x_m, 0.01);
   }
   EXPECT_EQ(succeeded, static_cast<int>(views.size()));
+}
+
+// The truth's voxels against a slow reference: every sample of every triangle (the same
+// samples, half a voxel apart) put into an ordered set, nothing skipped or merged before.
+TEST(MotionSim, TheTruthVoxelsAreTheVoxelsOfEverySample) {
+  const world::World world = world::generate_world(test::one_row_spec(3));
+  for (const double res : {0.01, 0.02}) {
+    for (const auto& [from, to] : {std::pair{-1e9, 1e9}, std::pair{0.2, 0.9}}) {
+      std::set<std::uint64_t> keys;
+      for (const auto& plant : world.plants) {
+        if (!(plant.base_position.x() >= from && plant.base_position.x() < to)) continue;
+        for (const auto& part : plant.parts)
+          for (const auto& f : part.mesh.faces) {
+            const Vec3 &a = part.mesh.vertices[std::size_t(f[0])], &b = part.mesh.vertices[std::size_t(f[1])],
+                       &c = part.mesh.vertices[std::size_t(f[2])];
+            const double longest = std::max({(b - a).norm(), (c - a).norm(), (c - b).norm()});
+            const int n = std::max(1, static_cast<int>(std::ceil(longest / (0.5 * res))));
+            for (int i = 0; i <= n; ++i)
+              for (int j = 0; j <= n - i; ++j)
+                keys.insert(mapping::grid_key(a + (b - a) * (double(i) / n) + (c - a) * (double(j) / n), res));
+          }
+      }
+      std::vector<Vec3> want;
+      for (const std::uint64_t k : keys) want.push_back(mapping::grid_center(k, res));
+      std::sort(want.begin(), want.end(), [](const Vec3& p, const Vec3& q) {
+        return std::lexicographical_compare(p.data(), p.data() + 3, q.data(), q.data() + 3);
+      });
+      const std::vector<Vec3> got = evaluation::world_occupied_voxels(world, res, from, to);
+      EXPECT_GT(got.size(), 1000u) << res;
+      EXPECT_TRUE(got == want) << "resolution " << res << ", plants from " << from << ": " << got.size() << " voxels, "
+                               << want.size() << " in the reference";
+    }
+  }
 }
 
 // A long row's truth per window (issue 49): the voxels of a window's plants are the whole

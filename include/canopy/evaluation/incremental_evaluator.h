@@ -52,6 +52,9 @@ class IncrementalEvaluator {
   void reset() { map_ = nullptr; }
   /// The metrics of the last update().
   const MapMetrics& metrics() const { return metrics_; }
+  /// Whether the last update() scored `map` (metrics() are then `map`'s, provided the map has
+  /// changed only through the updates passed since, as update() requires).
+  bool follows(const SemanticOcTree& map) const { return map_ == &map && resolution_ == map.getResolution(); }
   /// Surface points and fruits scored again by the last update() (for benchmarks and tests).
   std::size_t last_rescored_points() const { return last_points_; }
   std::size_t last_rescored_fruits() const { return last_fruits_; }
