@@ -380,15 +380,10 @@ void Renderer::pass(const Pose& T_world_camera, bool world, bool show_robot, con
     }
   }
   scene_geoms_ = r.scene.ngeom;
-  if (culling_) {
-    constexpr double kRangePad = 0.01;  // [m], far above the depth buffer's resolution at 1 m
-    // Depth noise draws one number per covered pixel: with it, fewer covered pixels would noise the rest anew.
-    const bool by_range = options_.depth_within_range && intrinsics_.depth_noise_k == 0.0;
-    const double cull_far = by_range ? std::min(far_m, intrinsics_.max_range_m + kRangePad) : far_m;
+  if (culling_)
     cull_outside(r.scene, r.context,
-                 gl_frustum(p, fwd, up, near_m, cull_far, 0.5 * H / intrinsics_.fy_px, 0.5 * W / intrinsics_.fy_px),
+                 gl_frustum(p, fwd, up, near_m, far_m, 0.5 * H / intrinsics_.fy_px, 0.5 * W / intrinsics_.fy_px),
                  options_.shadows);
-  }
   drawn_geoms_ = r.scene.ngeom;
   last_triangles_ = 0;
   for (int g = 0; g < r.scene.ngeom; ++g) {

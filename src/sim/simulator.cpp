@@ -64,6 +64,14 @@ Simulator::Simulator(const world::World& world, const RobotConfig& robot_config,
       window_end_ = 0;  // nothing held yet
     }
   }
+  const bool every_plant = std::isinf(options.plants_from_x_m) && options.plants_from_x_m < 0.0 &&
+                           std::isinf(options.plants_to_x_m) && options.plants_to_x_m > 0.0;
+  if (!world_ && options.include_plants && every_plant &&
+      static_cast<double>(world.triangle_count()) > options.whole_max_triangles)
+    throw InputError("world '" + world.spec.name + "': " + std::to_string(world.triangle_count()) +
+                     " plant triangles, more than one rendered model of the whole world holds (" +
+                     std::to_string(static_cast<long long>(options.whole_max_triangles)) +
+                     "); canopy mission and canopy bench mission render it a window at a time, this command cannot");
   if (world_) {
     SceneOptions physics = options;
     physics.include_plants = false;

@@ -6,8 +6,10 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <string>
 #include <utility>
 
+#include "canopy/common/error.h"
 #include "canopy/common/random.h"
 #include "canopy/motion/base_follower.h"
 #include "canopy/robot/robot_description.h"
@@ -224,6 +226,35 @@ TEST(RobotSim, AWorldThatFitsInOneWindowIsBuiltWhole) {
   EXPECT_FALSE(Simulator(row, default_robot_config(), few).plants_windowed());
   few.plant_window_min_triangles = static_cast<double>(row.triangle_count());
   EXPECT_TRUE(Simulator(row, default_robot_config(), few).plants_windowed());
+}
+
+// A whole world of more triangles than one rendered model holds is refused with a message
+// naming it (the compartment took minutes and gigabytes before failing); with a window, or only
+// some plants asked for, it is built.
+TEST(RobotSim, AWholeWorldTooLargeForOneModelIsRefusedNamingIt) {
+  const world::World row = world::generate_world(test::long_row_spec());
+  SceneOptions small;
+  small.whole_max_triangles = static_cast<double>(row.triangle_count()) - 1.0;
+  try {
+    Simulator sim(row, default_robot_config(), small);
+    ADD_FAILURE() << "built a whole world above the limit";
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("world '" + row.spec.name + "': " + std::to_string(row.triangle_count()) + " plant triangles"),
+              std::string::npos)
+        << what;
+    EXPECT_NE(what.find("canopy mission"), std::string::npos) << what;
+  }
+  SceneOptions windowed = test::two_section_window();
+  windowed.plant_window_min_triangles = 0.0;
+  windowed.whole_max_triangles = small.whole_max_triangles;
+  EXPECT_TRUE(Simulator(row, default_robot_config(), windowed).plants_windowed());
+  SceneOptions some = small;
+  some.plants_from_x_m = 0.0;
+  some.plants_to_x_m = 3.0;
+  EXPECT_GT(Simulator(row, default_robot_config(), some).render_model()->ngeom, 0);
+  small.whole_max_triangles = static_cast<double>(row.triangle_count());  // at the limit: built
+  EXPECT_FALSE(Simulator(row, default_robot_config(), small).plants_windowed());
 }
 
 TEST(RobotSim, TheRenderedModelHoldsTheSectionsNearTheBaseAndFollowsIt) {

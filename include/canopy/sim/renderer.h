@@ -27,12 +27,6 @@ struct RenderOptions {
   /// robot is mostly cylinders: a chase view needs far fewer than a wrist camera's labels.
   int primitive_slices = 0;
   int primitive_stacks = 0;
-  /// For a caller that reads only depth (the oracle's truth renders): geoms wholly farther than
-  /// the camera's max_range_m (planar depth, with a 1 cm margin) are not drawn either. Every
-  /// pixel they would cover reads beyond the range, no depth, with them or without (they can hide
-  /// only what is farther still), so the depth image is the same; RGB and labels are not. Off
-  /// with depth noise (CameraIntrinsics::depth_noise_k), which draws a number per covered pixel.
-  bool depth_within_range = false;
 };
 
 /// Renders frames of a Simulator's scene. It owns an OSMesa context and a MuJoCo render

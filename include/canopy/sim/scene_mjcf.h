@@ -64,6 +64,11 @@ struct SceneOptions {
   /// plants long), is built whole, as without a window. 0: no window.
   double plant_window_m = 0.0;
   double plant_window_min_triangles = 3.0e6;
+  /// Without a window, a scene of every plant of more triangles than this is refused
+  /// (InputError) instead of compiled: MuJoCo 2.2.2's compiler takes minutes and gigabytes for
+  /// more (the compartment's 23 M did not load in 11 min at 4.6 GB). Commands that follow the
+  /// robot along a long row (canopy mission, canopy bench mission) build windows instead.
+  double whole_max_triangles = 6.0e6;
   double plant_section_m = 3.0;
   double plant_reach_m = 2.0;
   /// Smallest off-screen buffer (for larger video frames than the camera's).

@@ -19,9 +19,7 @@ namespace canopy::mission {
 std::unique_ptr<evaluation::TruthViewScorer> make_truth_scorer(sim::Simulator& sim, const CameraIntrinsics& camera,
                                                                const settings::OracleParams& params) {
   const CameraIntrinsics K = evaluation::truth_render_intrinsics(camera, params.render_downsample);
-  sim::RenderOptions options;  // no shadows, no self-filter: the true scene's depth only
-  options.depth_within_range = true;
-  auto renderer = std::make_shared<sim::Renderer>(sim, K, options);
+  auto renderer = std::make_shared<sim::Renderer>(sim, K, sim::RenderOptions{false, 1, false});
   return std::make_unique<evaluation::TruthViewScorer>(K, params.depth_tolerance_m, [renderer](const Pose& T) {
     return std::move(renderer->render(T, /*show_robot=*/false, /*labels=*/false).depth_m);
   });
