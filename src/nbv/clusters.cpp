@@ -2,24 +2,9 @@
 
 #include <algorithm>
 
-#include <nanoflann.hpp>
+#include "canopy/common/point_kdtree.h"
 
 namespace canopy::nbv {
-
-namespace {
-
-// The points for nanoflann (as PointKdTree holds them).
-struct DbscanPoints {
-  const std::vector<Vec3>* pts;
-  std::size_t kdtree_get_point_count() const { return pts->size(); }
-  double kdtree_get_pt(std::size_t i, std::size_t dim) const { return (*pts)[i][static_cast<int>(dim)]; }
-  template <class BBox>
-  bool kdtree_get_bbox(BBox&) const {
-    return false;
-  }
-};
-
-}  // namespace
 
 std::vector<int> dbscan(const std::vector<Vec3>& points, double epsilon_m, int min_points, int* cluster_count) {
   std::vector<int> label(points.size(), -2);  // -2 unvisited, -1 noise
@@ -28,23 +13,11 @@ std::vector<int> dbscan(const std::vector<Vec3>& points, double epsilon_m, int m
     if (cluster_count) *cluster_count = 0;
     return {};
   }
-  // The labels depend on each point's neighbour set, not on the order a query lists it in:
-  // a cluster takes every point density-reachable from its first core point (in index order)
-  // that no earlier cluster took, whatever order its expansion visits them in. So the
-  // neighbours are not sorted by distance (PointKdTree::within's order; the same sets, the same
-  // tree: issue 47).
-  const DbscanPoints adaptor{&points};
-  using Tree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, DbscanPoints>, DbscanPoints, 3,
-                                                   std::size_t>;
-  Tree tree(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(10));
-  tree.buildIndex();
-  const double radius2 = epsilon_m * epsilon_m;
-  const nanoflann::SearchParams unsorted(32, 0.f, false);
+  const PointKdTree tree(points);
   std::vector<std::pair<std::size_t, double>> nb;
   std::vector<std::size_t> queue;
   auto neighbours = [&](std::size_t i) {
-    nb.clear();
-    tree.radiusSearch(points[i].data(), radius2, nb, unsorted);
+    tree.within(points[i], epsilon_m, &nb);  // nearest first: a deterministic order
     return nb.size();
   };
   for (std::size_t i = 0; i < points.size(); ++i) {
