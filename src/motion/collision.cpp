@@ -284,7 +284,7 @@ bool CollisionEnvironment::occupied(const Vec3& p) const {
 }
 
 // A shape (its padded geometry, at `pose`) against the map: the coarse grid first, then FCL.
-bool map_hit(const CollisionEnvironment::Impl& env, const robot::Shape& shape, const Geometry& padded, const Pose& pose,
+static bool map_hit(const CollisionEnvironment::Impl& env, const robot::Shape& shape, const Geometry& padded, const Pose& pose,
              double pad) {
   Vec3 lo, hi;
   shape_aabb(shape, pose, pad, &lo, &hi);
@@ -395,6 +395,5 @@ bool CollisionChecker::check(const BasePose& base, const ArmConfig& q, BodySet s
   }
   return hit;
 }
-
 
 }  // namespace canopy::motion

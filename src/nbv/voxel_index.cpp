@@ -223,16 +223,8 @@ bool VoxelIndex::changed_since(std::uint64_t since, const std::vector<std::uint6
   if (since < rebuilt_at_) return true;
   if (table_keys_.empty()) return false;
   for (const std::uint64_t bk : brick_keys) {
-    std::uint64_t h = slot(bk);
-    for (;;) {
-      const std::uint64_t k = table_keys_[h];
-      if (k == bk) {
-        if (brick_stamps_[table_values_[h]] > since) return true;
-        break;
-      }
-      if (k == kEmpty) break;  // absent now, so absent then: all unknown
-      h = (h + 1) & table_mask_;
-    }
+    const std::uint32_t* b = brick(bk);  // absent now, so absent then: all unknown
+    if (b && brick_stamps_[std::size_t(b - cells_.data()) / kBrickCells] > since) return true;
   }
   return false;
 }
