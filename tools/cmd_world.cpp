@@ -57,7 +57,9 @@ void add_world_command(CLI::App& app) {
     summary["classes"] = spec.classes.names;
     summary["spec"] = spec.to_json();  // every resolved parameter: the world can be rebuilt from it
     nlohmann::json plants = nlohmann::json::array();
-    for (const auto& p : world.plants) {
+    for (std::size_t i = 0; i < world.plants.size(); ++i) {
+      const std::shared_ptr<const world::Plant> plant = world.plant(i);  // generated again when not held
+      const world::Plant& p = *plant;
       int fruits = 0;
       for (const auto& part : p.parts) fruits += part.instance_id != kNoInstance;
       plants.push_back({{"index", p.index},

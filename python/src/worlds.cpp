@@ -105,7 +105,9 @@ material colour segmentation would not see, with the message `canopy world --seg
       .def_property_readonly("triangles", [](const PyWorld& w) { return w.world().triangle_count(); })
       .def_property_readonly("plants", [](const PyWorld& w) {
         py::list out;
-        for (const world::Plant& p : w.world().plants) {
+        for (std::size_t i = 0; i < w.world().plants.size(); ++i) {
+          const std::shared_ptr<const world::Plant> plant = w.world().plant(i);  // generated again when not held
+          const world::Plant& p = *plant;
           int fruits = 0;
           for (const auto& part : p.parts) fruits += part.instance_id != kNoInstance;
           out.append(py::dict(py::arg("index") = p.index, py::arg("base_position") = vec3_array(p.base_position),

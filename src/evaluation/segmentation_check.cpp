@@ -158,8 +158,8 @@ std::vector<MaterialSegmentation> check_color_segmentation(const world::World& w
   // Procedural plants: one material per part kind (fruits: per colour), its colours weighted by
   // the parts' areas.
   std::map<std::string, Surface> procedural;
-  for (const auto& plant : world.plants)
-    for (const auto& p : plant.parts) {
+  for (std::size_t i = 0; i < world.plants.size(); ++i)
+    for (const auto& p : world.plant(i)->parts) {  // a plant not held: generated again
       if (!p.material.empty() || p.texture) continue;  // an imported plant's part
       const bool fruit = p.instance_id != kNoInstance;
       const std::string name = fruit ? p.kind + " (" + p.fruit_color + ")" : p.kind;
@@ -171,7 +171,7 @@ std::vector<MaterialSegmentation> check_color_segmentation(const world::World& w
     }
   for (const auto& [name, s] : procedural) out.push_back(check(s, "procedural plants", params, classes));
   std::set<std::string> done;
-  for (const auto& plant : world.plants) {
+  for (const auto& plant : world.plants) {  // imported plants: always held
     if (plant.import_dir.empty() || !done.insert(plant.import_dir).second) continue;
     std::vector<Surface> surfaces;
     for (const auto& p : plant.parts)

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <memory>
 
 #include "canopy/common/error.h"
 #include "canopy/mapping/voxel_key.h"
@@ -21,10 +22,12 @@ std::vector<Vec3> world_occupied_voxels(const world::World& world, double res, d
     keys.erase(std::unique(keys.begin() + static_cast<std::ptrdiff_t>(from), keys.end()), keys.end());
   };
   const double step = 0.5 * res;  // Samples closer than a voxel: no voxel is skipped.
-  for (const auto& plant : world.plants) {
-    if (!(plant.base_position.x() >= plants_from_x_m && plant.base_position.x() < plants_to_x_m)) continue;
+  for (std::size_t p = 0; p < world.plants.size(); ++p) {
+    const Vec3& base = world.plants[p].base_position;
+    if (!(base.x() >= plants_from_x_m && base.x() < plants_to_x_m)) continue;
+    const std::shared_ptr<const world::Plant> plant = world.plant(p);  // generated again when not held
     const std::size_t plant_start = keys.size();
-    for (const auto& part : plant.parts) {
+    for (const auto& part : plant->parts) {
       const auto& v = part.mesh.vertices;
       for (const auto& f : part.mesh.faces) {
         const Vec3 &a = v[static_cast<size_t>(f[0])], &b = v[static_cast<size_t>(f[1])], &c = v[static_cast<size_t>(f[2])];

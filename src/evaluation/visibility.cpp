@@ -54,8 +54,8 @@ std::vector<CameraPosition> hemming_positions() {
 }
 
 RayScene::RayScene(const world::World& world) {
-  for (const auto& plant : world.plants)
-    for (const auto& part : plant.parts) add_part(part.mesh, part.instance_id);
+  for (std::size_t i = 0; i < world.plants.size(); ++i)
+    for (const auto& part : world.plant(i)->parts) add_part(part.mesh, part.instance_id);  // generated again when not held
   build();
 }
 

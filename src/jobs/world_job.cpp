@@ -11,6 +11,7 @@
 #include "canopy/common/error.h"
 #include "canopy/evaluation/segmentation_check.h"
 #include "canopy/robot/robot_description.h"
+#include "canopy/sim/scene_mjcf.h"
 
 namespace canopy::jobs {
 
@@ -44,7 +45,12 @@ world::WorldSpec load_world_spec(const std::string& path, const RobotConfig& rob
 }
 
 world::World build_world(const world::WorldSpec& spec) {
-  world::World w = world::generate_world(spec);
+  // A world too long for one rendered model (sim::SceneOptions::plant_window_min_triangles) is
+  // rendered a window at a time: its plants are held only while a window, its truth voxels or
+  // another consumer needs them (World::plant()). Smaller worlds are held whole, as always.
+  world::GenerateOptions options;
+  options.drop_plants_from_triangles = sim::SceneOptions{}.plant_window_min_triangles;
+  world::World w = world::generate_world(spec, options);
   for (const std::string& note : world::unplaced_fruit_notes(w)) spdlog::warn("world '{}': {}", spec.name, note);
   return w;
 }

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <functional>
 #include <map>
+#include <memory>
 #include <tuple>
 #include <set>
 #include <sstream>
@@ -243,22 +244,25 @@ SceneDescription make_scene_mjcf(const world::World& world, const robot::RobotDe
     return options.include_plants && plant.base_position.x() >= options.plants_from_x_m &&
            plant.base_position.x() < options.plants_to_x_m;
   };
-  for (const auto& plant : world.plants)
-    if (shown(plant))
-      for (const auto& part : plant.parts) {
-        if (part.texture) {
-          auto [it, fresh] = texture_of_file.try_emplace(part.texture_file, "plant_tex_" + std::to_string(texture_of_file.size()));
-          if (fresh) {
-            os << "    <texture name=\"" << it->second << "\" type=\"2d\" file=\"textures/" << it->second << ".png\"/>\n"
-               << "    <material name=\"" << it->second << "\" texture=\"" << it->second
-               << "\" specular=\"0.08\" shininess=\"0.1\"/>\n";
-            scene.files[it->second + ".png"] = part.texture_file;
-          }
-          write_textured_mesh_asset(os, part.name, part.mesh, part.uv);
-        } else {
-          write_mesh_asset(os, part.name, part.mesh);
+  // The plants shown, with their parts (generated again when the world does not hold them).
+  std::vector<std::shared_ptr<const world::Plant>> plants;
+  for (std::size_t i = 0; i < world.plants.size(); ++i)
+    if (shown(world.plants[i])) plants.push_back(world.plant(i));
+  for (const auto& plant : plants)
+    for (const auto& part : plant->parts) {
+      if (part.texture) {
+        auto [it, fresh] = texture_of_file.try_emplace(part.texture_file, "plant_tex_" + std::to_string(texture_of_file.size()));
+        if (fresh) {
+          os << "    <texture name=\"" << it->second << "\" type=\"2d\" file=\"textures/" << it->second << ".png\"/>\n"
+             << "    <material name=\"" << it->second << "\" texture=\"" << it->second
+             << "\" specular=\"0.08\" shininess=\"0.1\"/>\n";
+          scene.files[it->second + ".png"] = part.texture_file;
         }
+        write_textured_mesh_asset(os, part.name, part.mesh, part.uv);
+      } else {
+        write_mesh_asset(os, part.name, part.mesh);
       }
+    }
   const bool windowed = std::isfinite(options.plants_from_x_m) && std::isfinite(options.plants_to_x_m);
   os << "  </asset>\n  <worldbody>\n"
      << sun_light(spec)
@@ -294,9 +298,8 @@ SceneDescription make_scene_mjcf(const world::World& world, const robot::RobotDe
       }
     }
   }
-  for (const auto& plant : world.plants)
-    for (const auto& part : plant.parts) {
-      if (!shown(plant)) break;
+  for (const auto& plant : plants)
+    for (const auto& part : plant->parts) {
       if (part.texture)
         os << "    <geom name=\"" << part.name << "\" type=\"mesh\" mesh=\"" << part.name << "\" material=\""
            << texture_of_file.at(part.texture_file) << "\" group=\"" << kGroupPlants << "\" contype=\"0\" conaffinity=\"0\"/>\n";

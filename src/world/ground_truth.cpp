@@ -55,30 +55,33 @@ std::vector<Vec3> sample_surface_points(const TriMesh& mesh, double spacing_m, s
   return points;
 }
 
+void sample_plant_truth(const WorldSpec& spec, const Plant& plant, GroundTruth* gt) {
+  for (const auto& part : plant.parts) {
+    if (part.instance_id == kNoInstance) continue;
+    FruitTruth f;
+    f.instance_id = part.instance_id;
+    f.plant_index = plant.index;
+    f.color = part.fruit_color;
+    f.shape = part.fruit_shape;
+    f.target = part.fruit_target;
+    part.mesh.bounds(&f.bbox_min, &f.bbox_max);
+    f.center = 0.5 * (f.bbox_min + f.bbox_max);
+    f.surface_area_m2 = part.mesh.area();
+    f.volume_m3 = std::abs(part.mesh.volume());
+    // Imported plants bring their own ground truth (their folder's, placed in the world).
+    f.surface_points = part.has_truth_points
+                           ? part.truth_points
+                           : sample_surface_points(part.mesh, spec.gt_point_spacing_m,
+                                                   mix_seed(spec.seed, 1000000 + static_cast<std::uint64_t>(part.instance_id)));
+    if (part.has_truth_points) f.surface_area_m2 = part.truth_area_m2;
+    gt->fruits.push_back(std::move(f));
+  }
+}
+
 GroundTruth sample_ground_truth(const World& world) {
   GroundTruth gt;
   gt.point_spacing_m = world.spec.gt_point_spacing_m;
-  for (const auto& plant : world.plants)
-    for (const auto& part : plant.parts) {
-      if (part.instance_id == kNoInstance) continue;
-      FruitTruth f;
-      f.instance_id = part.instance_id;
-      f.plant_index = plant.index;
-      f.color = part.fruit_color;
-      f.shape = part.fruit_shape;
-      f.target = part.fruit_target;
-      part.mesh.bounds(&f.bbox_min, &f.bbox_max);
-      f.center = 0.5 * (f.bbox_min + f.bbox_max);
-      f.surface_area_m2 = part.mesh.area();
-      f.volume_m3 = std::abs(part.mesh.volume());
-      // Imported plants bring their own ground truth (their folder's, placed in the world).
-      f.surface_points = part.has_truth_points
-                             ? part.truth_points
-                             : sample_surface_points(part.mesh, gt.point_spacing_m,
-                                                     mix_seed(world.spec.seed, 1000000 + static_cast<std::uint64_t>(part.instance_id)));
-      if (part.has_truth_points) f.surface_area_m2 = part.truth_area_m2;
-      gt.fruits.push_back(std::move(f));
-    }
+  for (std::size_t i = 0; i < world.plants.size(); ++i) sample_plant_truth(world.spec, *world.plant(i), &gt);
   return gt;
 }
 

@@ -371,20 +371,68 @@ Plant place_imported(const WorldSpec& spec, const PlantAsset& asset, int index, 
 size_t World::triangle_count() const {
   size_t n = 0;
   for (const auto& p : plants)
-    for (const auto& part : p.parts) n += part.mesh.faces.size();
+    if (!p.held) {
+      n += p.triangles;
+    } else {
+      for (const auto& part : p.parts) n += part.mesh.faces.size();
+    }
   return n;
 }
 
-World generate_world(const WorldSpec& spec) {
+bool World::plants_held() const {
+  return std::all_of(plants.begin(), plants.end(), [](const Plant& p) { return p.held; });
+}
+
+std::shared_ptr<const Plant> World::plant(std::size_t i) const {
+  CANOPY_CHECK(i < plants.size(), "plant index out of range");
+  const Plant& p = plants[i];
+  if (p.held) return std::shared_ptr<const Plant>(std::shared_ptr<const Plant>(), &p);  // the world's own, not owned
+  CANOPY_CHECK(p.import_dir.empty(), "imported plants are always held");
+  return std::make_shared<const Plant>(generate_plant(spec, p.index, p.base_position, p.first_instance));
+}
+
+Plant generate_plant(const WorldSpec& spec, int index, const Vec3& base, int first_instance) {
+  int next_instance = first_instance;
+  Plant plant = make_plant(spec, index, base, &next_instance);
+  plant.first_instance = first_instance;
+  for (const auto& part : plant.parts) plant.triangles += part.mesh.faces.size();
+  return plant;
+}
+
+World generate_world(const WorldSpec& spec, const GenerateOptions& options) {
   spec.validate();
   World world;
   world.spec = spec;
+  world.truth.point_spacing_m = spec.gt_point_spacing_m;
   int next_instance = 0;
   std::map<std::string, PlantAsset> assets;  // each plant folder read once
   auto asset = [&](const PlantPlacement& p) -> const PlantAsset& {
     auto it = assets.find(p.import_dir);
     if (it == assets.end()) it = assets.emplace(p.import_dir, load_plant_asset(p.import_dir)).first;
     return it->second;
+  };
+  // Each plant's ground truth is sampled as it is made (the same fruits in the same order as
+  // sampling the whole world after); once the world holds options.drop_plants_from_triangles
+  // triangles, the procedural plants' parts are dropped (World::plant() makes them again).
+  double triangles = 0.0;
+  bool dropping = false;
+  const auto drop = [](Plant& p) {
+    if (!p.import_dir.empty()) return;
+    std::vector<PlantPart>().swap(p.parts);
+    p.held = false;
+  };
+  const auto add = [&](Plant plant) {
+    plant.triangles = 0;
+    for (const auto& part : plant.parts) plant.triangles += part.mesh.faces.size();
+    sample_plant_truth(spec, plant, &world.truth);
+    triangles += static_cast<double>(plant.triangles);
+    world.plants.push_back(std::move(plant));
+    if (!dropping && triangles >= options.drop_plants_from_triangles) {
+      dropping = true;
+      for (Plant& p : world.plants) drop(p);
+    } else if (dropping) {
+      drop(world.plants.back());
+    }
   };
   Rng layout(mix_seed(spec.seed, 1));
   for (int row = 0; row < spec.rows.rows; ++row) {
@@ -394,21 +442,27 @@ World generate_world(const WorldSpec& spec) {
       const Vec3 base(spec.rows.x_start_m + i * spec.rows.plant_spacing_m + layout.uniform(-j, j),
                       y + layout.uniform(-j, j), 0.0);
       const int index = static_cast<int>(world.plants.size());
+      const int first_instance = next_instance;
       // An imported plant in a slot stands exactly on it (the jitter is drawn all the same,
       // so the other plants do not move).
-      if (const PlantPlacement* p = spec.placement_in_slot(row, i))
-        world.plants.push_back(place_imported(spec, asset(*p), index,
-                                              Vec3(spec.rows.x_start_m + i * spec.rows.plant_spacing_m, y, 0.0),
-                                              p->yaw_rad, &next_instance));
-      else
-        world.plants.push_back(make_plant(spec, index, base, &next_instance));
+      Plant plant = [&] {
+        if (const PlantPlacement* p = spec.placement_in_slot(row, i))
+          return place_imported(spec, asset(*p), index, Vec3(spec.rows.x_start_m + i * spec.rows.plant_spacing_m, y, 0.0),
+                                p->yaw_rad, &next_instance);
+        return make_plant(spec, index, base, &next_instance);
+      }();
+      plant.first_instance = first_instance;
+      add(std::move(plant));
     }
   }
   for (const auto& p : spec.placements)
-    if (!p.in_slot)
-      world.plants.push_back(place_imported(spec, asset(p), static_cast<int>(world.plants.size()),
-                                            Vec3(p.position_m.x(), p.position_m.y(), 0.0), p.yaw_rad, &next_instance));
-  world.truth = sample_ground_truth(world);
+    if (!p.in_slot) {
+      const int first_instance = next_instance;
+      Plant plant = place_imported(spec, asset(p), static_cast<int>(world.plants.size()),
+                                   Vec3(p.position_m.x(), p.position_m.y(), 0.0), p.yaw_rad, &next_instance);
+      plant.first_instance = first_instance;
+      add(std::move(plant));
+    }
   return world;
 }
 

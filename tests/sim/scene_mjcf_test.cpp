@@ -124,5 +124,33 @@ TEST(SceneMjcf, AWindowHoldsItsPlantsOnlyAndNoWindowIsTodaysScene) {
   EXPECT_TRUE(scene.labels.count("ground"));
 }
 
+// A world that does not hold its plants (issue 49: a long world's plants are generated when a
+// window needs them) writes the same scene, whole or a window, as the world that holds them.
+TEST(SceneMjcf, AWorldThatDropsItsPlantsWritesTheSameScene) {
+  const RobotConfig cfg = default_robot_config();
+  const robot::RobotDescription robot = robot::RobotDescription::load_urdf(cfg.urdf_path);
+  world::WorldSpec spec;
+  spec.rows.plants_per_row = 6;
+  world::GenerateOptions drop;
+  drop.drop_plants_from_triangles = 0.0;
+  const world::World held = world::generate_world(spec), dropped = world::generate_world(spec, drop);
+  ASSERT_FALSE(dropped.plants_held());
+  SceneOptions window;
+  window.plants_from_x_m = 1.0;
+  window.plants_to_x_m = 2.5;
+  for (const SceneOptions& o : {SceneOptions{}, window}) {
+    const SceneDescription a = make_scene_mjcf(held, robot, cfg, o), b = make_scene_mjcf(dropped, robot, cfg, o);
+    EXPECT_GT(a.mjcf.size(), 100000u);
+    EXPECT_TRUE(a.mjcf == b.mjcf);
+    ASSERT_EQ(a.labels.size(), b.labels.size());
+    for (const auto& [name, label] : a.labels) {
+      ASSERT_TRUE(b.labels.count(name)) << name;
+      EXPECT_EQ(b.labels.at(name).class_id, label.class_id) << name;
+      EXPECT_EQ(b.labels.at(name).instance_id, label.instance_id) << name;
+    }
+    EXPECT_EQ(a.files, b.files);
+  }
+}
+
 }  // namespace
 }  // namespace canopy::sim

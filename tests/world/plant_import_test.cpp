@@ -11,6 +11,7 @@
 #include "canopy/common/error.h"
 #include "canopy/world/plant_import.h"
 #include "canopy/world/world.h"
+#include "same_plants.h"
 #include "plant_files.h"
 
 namespace canopy::world {
@@ -294,6 +295,17 @@ TEST(PlantImport, SavedFolderReadsBackAndWorldsPlaceItInSlotsAndAtPositions) {
   EXPECT_EQ(imported, 2);
   for (const auto& part : w.plants[1].parts)
     EXPECT_EQ(part.class_id, spec.classes.index_of(part.instance_id == kNoInstance ? "leaf" : "fruit"));
+  // Generated with its plants dropped: the imported plants stay held, the procedural ones are
+  // made again (issue 49), the same world.
+  GenerateOptions drop;
+  drop.drop_plants_from_triangles = 0.0;
+  const World dropped = generate_world(spec, drop);
+  ASSERT_EQ(dropped.plants.size(), w.plants.size());
+  for (std::size_t i = 0; i < w.plants.size(); ++i) {
+    EXPECT_EQ(dropped.plants[i].held, !w.plants[i].import_dir.empty()) << i;
+    canopy::test::expect_same_plant(*dropped.plant(i), w.plants[i]);
+  }
+  canopy::test::expect_same_truth(dropped.truth, w.truth);
 
   // Bad placements.
   auto load_error = [&](const std::string& text) {

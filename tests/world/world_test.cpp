@@ -8,6 +8,7 @@
 #include "canopy/common/error.h"
 #include "canopy/robot/robot_config.h"
 #include "canopy/world/world.h"
+#include "same_plants.h"
 
 namespace canopy::world {
 namespace {
@@ -99,6 +100,72 @@ TEST(WorldGeneration, DefaultWorldHasEightDistinctPlantsWithLabelledParts) {
     EXPECT_NEAR(std::abs(p.base_position.y()), spec.rows.row_offset_m, spec.rows.position_jitter_m + 1e-9);
   }
   EXPECT_EQ(signatures.size(), 8u) << "plants should differ from each other";
+}
+
+// Each plant draws from its own seed (issue 49): generated alone from its slot's base and
+// first instance id, it is the whole world's plant bit for bit, on both rows and across seeds.
+TEST(WorldGeneration, APlantGeneratedAloneIsTheWholeWorldsBitForBit) {
+  for (const std::uint64_t seed : {1u, 42u}) {
+    WorldSpec spec;  // two rows of four
+    spec.seed = seed;
+    spec.plant.trellis_strings = seed == 42u;
+    const World w = generate_world(spec);
+    ASSERT_EQ(w.plants.size(), 8u);
+    int next_instance = 0;
+    for (const Plant& p : w.plants) {
+      EXPECT_TRUE(p.held);
+      EXPECT_EQ(p.first_instance, next_instance);
+      int fruits = 0;
+      std::size_t triangles = 0;
+      for (const PlantPart& part : p.parts) {
+        fruits += part.instance_id != kNoInstance;
+        triangles += part.mesh.faces.size();
+      }
+      EXPECT_EQ(p.triangles, triangles);
+      next_instance += fruits;
+      canopy::test::expect_same_plant(generate_plant(spec, p.index, p.base_position, p.first_instance), p);
+      // The world's own plant, not a copy, when it is held.
+      EXPECT_EQ(w.plant(static_cast<std::size_t>(p.index)).get(), &p);
+    }
+  }
+}
+
+// A world generated with its plants dropped once they hold N triangles is the same world: the
+// same ground truth, counts and notes, and every plant World::plant() makes again is the held
+// world's, bit for bit. Below the threshold every plant is held.
+TEST(WorldGeneration, AWorldThatDropsItsPlantsIsTheSameWorld) {
+  WorldSpec spec;
+  spec.rows.plants_per_row = 5;
+  spec.plant.fruits_min = 14;  // crowded: some drawn fruits do not fit (the notes)
+  spec.plant.fruits_max = 24;
+  const World held = generate_world(spec);
+  ASSERT_TRUE(held.plants_held());
+  const double first_three = static_cast<double>(held.plants[0].triangles + held.plants[1].triangles + held.plants[2].triangles);
+  for (const double from : {0.0, first_three, static_cast<double>(held.triangle_count())}) {
+    GenerateOptions options;
+    options.drop_plants_from_triangles = from;
+    const World w = generate_world(spec, options);
+    ASSERT_EQ(w.plants.size(), held.plants.size());
+    for (std::size_t i = 0; i < w.plants.size(); ++i) {
+      const Plant& p = w.plants[i];
+      EXPECT_FALSE(p.held) << i;  // the plants before the threshold are dropped too
+      EXPECT_TRUE(p.parts.empty()) << i;
+      EXPECT_EQ(p.base_position, held.plants[i].base_position);
+      EXPECT_EQ(p.height_m, held.plants[i].height_m);
+      canopy::test::expect_same_plant(*w.plant(i), held.plants[i]);
+    }
+    EXPECT_FALSE(w.plants_held());
+    EXPECT_EQ(w.triangle_count(), held.triangle_count());
+    EXPECT_EQ(unplaced_fruit_notes(w), unplaced_fruit_notes(held));
+    canopy::test::expect_same_truth(w.truth, held.truth);
+    canopy::test::expect_same_truth(sample_ground_truth(w), held.truth);
+  }
+  EXPECT_FALSE(unplaced_fruit_notes(held).empty()) << "the test means a crowded world";
+  GenerateOptions above;
+  above.drop_plants_from_triangles = static_cast<double>(held.triangle_count()) + 1.0;
+  const World all = generate_world(spec, above);
+  EXPECT_TRUE(all.plants_held());
+  for (std::size_t i = 0; i < all.plants.size(); ++i) canopy::test::expect_same_plant(all.plants[i], held.plants[i]);
 }
 
 // Targets are the ripe colours (issue 10 point 2): green fruit is generated, rendered and

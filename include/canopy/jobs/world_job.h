@@ -39,7 +39,9 @@ world::WorldSpec load_world_spec(const std::string& path, const RobotConfig& rob
                                  std::optional<std::uint64_t> seed = std::nullopt);
 
 /// Generates the world of `spec` and logs a warning for each plant whose drawn fruits did not
-/// all fit (world::unplaced_fruit_notes).
+/// all fit (world::unplaced_fruit_notes). A world of sim::SceneOptions::plant_window_min_triangles
+/// triangles or more keeps its plants' parts only while they are used (world::GenerateOptions,
+/// World::plant()); smaller ones hold every plant.
 world::World build_world(const world::WorldSpec& spec);
 
 /// Checks the colours of every material of `world` and of the robot's visual shapes against the

@@ -2,6 +2,8 @@
 // A generated world: triangle meshes of every plant part with its semantic class and fruit
 // instance, plus the fruit ground truth. Free of MuJoCo; sim/ turns it into an MJCF scene.
 
+#include <cstddef>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -47,6 +49,20 @@ struct Plant {
   std::vector<PlantPart> parts;
   int fruits_drawn = 0;             ///< Procedural plants: fruits drawn from the spec's range.
   int fruits_placed = 0;            ///< ... of which fitted without overlapping (the rest are dropped).
+  int first_instance = 0;           ///< The instance id its first fruit takes (the next plant's when it has none).
+  std::size_t triangles = 0;        ///< Its parts' triangles (kept when the parts are not held).
+  /// Its parts are in `parts`. False for a procedural plant of a world generated with its
+  /// plants dropped (GenerateOptions): `parts` is empty, World::plant() generates it again.
+  bool held = true;
+};
+
+/// How generate_world keeps the plants.
+struct GenerateOptions {
+  /// Once the plants generated hold this many triangles, every procedural plant's parts are
+  /// dropped after its ground truth is sampled (its place, size, counts and first instance id
+  /// kept): a long world is then held as its ground truth and one plant at a time, and its
+  /// consumers take a plant's parts from World::plant(). Infinite: every plant held.
+  double drop_plants_from_triangles = std::numeric_limits<double>::infinity();
 };
 
 /// A generated greenhouse world.
@@ -56,7 +72,18 @@ struct World {
   GroundTruth truth;
 
   size_t triangle_count() const;
+  /// Whether every plant's parts are held (`Plant::held`).
+  bool plants_held() const;
+  /// Plant `i` with its parts: the world's own when held, else generated again from the spec,
+  /// the same plant bit for bit (generate_plant). Safe to call from several threads; the plant
+  /// generated lives as long as the pointer.
+  std::shared_ptr<const Plant> plant(std::size_t i) const;
 };
+
+/// Procedural plant `index` of `spec` standing at `base`, its fruits numbered from
+/// `first_instance`: what generate_world makes for that slot (each plant draws from its own
+/// seed), so a plant can be generated alone when it is needed.
+Plant generate_plant(const WorldSpec& spec, int index, const Vec3& base, int first_instance);
 
 /// One line per plant whose drawn fruits did not all fit without overlapping ("plant 3: 12
 /// of 20 fruits fitted"); empty when every fruit was placed.
@@ -64,8 +91,11 @@ std::vector<std::string> unplaced_fruit_notes(const World& world);
 
 /// Samples every fruit's surface uniformly by area, about spec.gt_point_spacing_m apart.
 GroundTruth sample_ground_truth(const World& world);
+/// Appends the ground truth of `plant`'s fruits to `truth` (sample_ground_truth's, one plant).
+void sample_plant_truth(const WorldSpec& spec, const Plant& plant, GroundTruth* truth);
 
-/// Generates all plants of `spec` from its seed (same seed, same world, bit for bit).
-World generate_world(const WorldSpec& spec);
+/// Generates all plants of `spec` from its seed (same seed, same world, bit for bit); with
+/// `options`, a long world's plants are dropped after their ground truth is sampled.
+World generate_world(const WorldSpec& spec, const GenerateOptions& options = {});
 
 }  // namespace canopy::world
