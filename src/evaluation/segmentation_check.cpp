@@ -158,8 +158,9 @@ std::vector<MaterialSegmentation> check_color_segmentation(const world::World& w
   // Procedural plants: one material per part kind (fruits: per colour), its colours weighted by
   // the parts' areas.
   std::map<std::string, Surface> procedural;
-  for (std::size_t i = 0; i < world.plants.size(); ++i)
-    for (const auto& p : world.plant(i)->parts) {  // a plant not held: generated again
+  for (std::size_t i = 0; i < world.plants.size(); ++i) {
+    const std::shared_ptr<const world::Plant> plant = world.plant(i);  // a plant not held: generated again
+    for (const auto& p : plant->parts) {
       if (!p.material.empty() || p.texture) continue;  // an imported plant's part
       const bool fruit = p.instance_id != kNoInstance;
       const std::string name = fruit ? p.kind + " (" + p.fruit_color + ")" : p.kind;
@@ -169,6 +170,7 @@ std::vector<MaterialSegmentation> check_color_segmentation(const world::World& w
       s.target = !fruit || p.fruit_target;
       s.flat.push_back({Rgb8{to_byte(p.rgba[0]), to_byte(p.rgba[1]), to_byte(p.rgba[2])}, std::max(p.mesh.area(), 1e-12)});
     }
+  }
   for (const auto& [name, s] : procedural) out.push_back(check(s, "procedural plants", params, classes));
   std::set<std::string> done;
   for (const auto& plant : world.plants) {  // imported plants: always held

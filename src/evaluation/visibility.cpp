@@ -54,8 +54,10 @@ std::vector<CameraPosition> hemming_positions() {
 }
 
 RayScene::RayScene(const world::World& world) {
-  for (std::size_t i = 0; i < world.plants.size(); ++i)
-    for (const auto& part : world.plant(i)->parts) add_part(part.mesh, part.instance_id);  // generated again when not held
+  for (std::size_t i = 0; i < world.plants.size(); ++i) {
+    const std::shared_ptr<const world::Plant> plant = world.plant(i);  // generated again when not held
+    for (const auto& part : plant->parts) add_part(part.mesh, part.instance_id);
+  }
   build();
 }
 
