@@ -337,6 +337,34 @@ TEST(MissionFaults, BaseDrivingIntoThePlantsFailsTheStop) {
   EXPECT_FALSE(summary_json(r)["all_stops_reached"].get<bool>());
 }
 
+// A far stop is given the drive's least time at the base's top speed on top of
+// mission.stops.timeout_s: 45 m away with 5 s of slack it is reached (a fixed 5 s, like the fixed
+// 30 s before, failed every drive over a few metres, e.g. to a compartment's far end); with no
+// slack the accelerating base cannot make it, and the log says why.
+TEST(MissionFaults, AFarStopGetsTheDrivesLeastTimeOnTopOfTheTimeout) {
+  const SmallWorld& w = small();
+  for (const double slack_s : {5.0, 0.01}) {
+    Settings s = w.settings;
+    s.mission.stops.positions_m = {0.25, 45.0};
+    s.mission.stops.timeout_s = slack_s;
+    s.mission.loop.views_per_stop = 0;
+    std::vector<std::string> log;
+    MissionCallbacks cb;
+    cb.progress = [&](const std::string& m) { log.push_back(m); };
+    const MissionResult r = Mission(w.world, s, 1, cb).run();
+    ASSERT_EQ(r.stops.size(), 2u);
+    const bool reached = slack_s > 1.0;
+    EXPECT_EQ(r.stops[1].reached_goal, reached) << slack_s;
+    EXPECT_EQ(r.stops_not_reached(), reached ? 0 : 2);  // no slack: the short first drive fails too
+    bool said = false;
+    for (const std::string& line : log) said = said || line.find("stop 2: the base did not reach x = ") != std::string::npos;
+    EXPECT_EQ(said, !reached) << slack_s;
+    if (!reached) {
+      EXPECT_GT(r.stops[1].sim_time_s, 44.0);  // it drove for the least time first
+    }
+  }
+}
+
 TEST(MissionFaults, PlannerTimeoutIsCountedAndTheMissionGoesOn) {
   const SmallWorld& w = small();
   Settings s = w.settings;
