@@ -20,7 +20,6 @@ ALLOWED = {
     "common/interrupt": "signal handlers of the process: cli.interrupt sends SIGINT and SIGTERM to every long command",
     "datasets/sequence_mapping": "mapping a recorded sequence: frame_io_round_trip_test.cpp (RecordedFrames) maps files against memory",
     "evaluation/segmentation_check": "the colour check of imported plants: world_job_test.cpp and cli.world_checks",
-    "evaluation/truth_voxels": "ground-truth voxels: collision_test.cpp, reachability_test.cpp, simulator_motion_test.cpp",
     "experiments/ablation_runner": "the free-camera ablation's runner: ablation_test.cpp and nbv_ablate_smoke",
     "experiments/experiment_report": "experiment_test.cpp (ExperimentReport); split out once issue 46 points 7 and 8 settle experiments/",
     "experiments/experiment_run": "experiment_test.cpp (ExperimentRun: failed, killed and damaged trials, resume)",
