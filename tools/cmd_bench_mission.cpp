@@ -112,6 +112,11 @@ void add_bench_mission(CLI::App& bench) {
                   l.per_view_ms(l.times.get("control")), l.rss_mb);
     }
     std::printf("(phase columns: ms per view; ratio: ms/view over the first row's; peak MB: the process's peak so far)\n");
+    for (const jobs::BenchMissionLine& l : lines)
+      if (l.stops_not_reached > 0)
+        std::printf("warning, %d plants: %d of %d stops not reached by the base (base_failed): the line covers the "
+                    "other stops only\n",
+                    l.plants, l.stops_not_reached, l.size.stops);
     std::printf("memory, MB: the process's resident set with the world, with the mission set up (simulator, renderer,\n"
                 "truth voxels), its peak after the mission; the mission's holders at its end\n");
     for (const jobs::BenchMissionLine& l : lines) {

@@ -83,12 +83,14 @@ std::vector<BenchMissionLine> bench_mission(const BenchMissionParams& params) {
       int k = 0, n = 0;
       if (m.find(": driving") != std::string::npos && std::sscanf(m.c_str(), "stop %d/%d", &k, &n) == 2 && k % 10 == 1)
         say("  stop " + std::to_string(k) + "/" + std::to_string(n));
+      if (m.find("the base did not reach") != std::string::npos) say("  " + m);
     };
     mission::Mission mission(world, s, params.seed, cb);
     line.setup_rss_mb = rss_now_mb();
     const records::MissionResult res = mission.run();
     line.held = mission.memory();
     line.views = res.successful_views();
+    line.stops_not_reached = res.stops_not_reached();
     line.wall_s = res.wall_time_s;
     line.sim_s = res.sim_time_s;
     line.times = res.times;

@@ -126,9 +126,13 @@ bool Mission::Impl::drive_to_stop(int k) {
   watch.restart();
   const sim::SimState before = sim.snapshot();
   const BasePose start = sim.base_pose();
+  // The drive's time limit: the least time of the straight drive at the base's top speed, plus
+  // mission.stops.timeout_s (a 143 m drive along a compartment needs 143 s; a fixed 30 s failed it).
+  const double distance_m = std::hypot(rec.goal.x_m - start.x_m, rec.goal.y_m - start.y_m);
+  const double limit_s = settings.mission.stops.timeout_s + distance_m / settings.motion.base.max_speed_m_s;
   DriveReport d;
   try {
-    d = drive_base(stepper, settings.motion.base, rec.goal, settings.mission.stops.timeout_s,
+    d = drive_base(stepper, settings.motion.base, rec.goal, limit_s,
                    [this](const BasePose& b) { return truth_checker.base_in_collision(b); },
                    settings.mission.record.base_check_period_s);
   } catch (const SimulationDiverged& e) {
@@ -141,6 +145,11 @@ bool Mission::Impl::drive_to_stop(int k) {
   result.base_travel_m += std::hypot(rec.reached.x_m - start.x_m, rec.reached.y_m - start.y_m);
   // A base that touched the true plants on the way failed its stop, wherever it ended.
   rec.reached_goal = d.reached && d.contacts == 0;
+  if (!d.reached)
+    progress("stop " + std::to_string(k + 1) + ": the base did not reach x = " + format_number(rec.goal.x_m, "%.3f") +
+             " m within " + format_number(limit_s, "%.1f") + " s of simulated time (" + format_number(distance_m, "%.1f") +
+             " m at most " + format_number(settings.motion.base.max_speed_m_s, "%.2f") +
+             " m/s, plus mission.stops.timeout_s); it stopped " + format_number(d.position_error_m, "%.2f") + " m away");
   rec.base_truth_contacts = d.contacts;
   rec.sim_time_s = sim.time() - t0;
   result.stops.push_back(rec);

@@ -5,10 +5,12 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <limits>
 #include <map>
+#include <vector>
 
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/png_io.h"
@@ -45,12 +47,30 @@ Vec3 closest_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3
   return a + ab * (vb * denom) + ac * (vc * denom);
 }
 
-double distance_to_mesh(const Vec3& p, const world::TriMesh& m) {
-  double best = std::numeric_limits<double>::infinity();
-  for (const auto& f : m.faces)
-    best = std::min(best, (p - closest_on_triangle(p, m.vertices[f[0]], m.vertices[f[1]], m.vertices[f[2]])).norm());
-  return best;
-}
+// The exact distance from a point to a mesh: every triangle whose bounding box lies no nearer
+// than the best distance so far is skipped (its box's distance is a lower bound of its own).
+struct MeshDistance {
+  const world::TriMesh& mesh;
+  std::vector<Eigen::AlignedBox3d> boxes;
+  explicit MeshDistance(const world::TriMesh& m) : mesh(m) {
+    boxes.reserve(m.faces.size());
+    for (const auto& f : m.faces) {
+      Eigen::AlignedBox3d b(m.vertices[f[0]]);
+      b.extend(m.vertices[f[1]]);
+      b.extend(m.vertices[f[2]]);
+      boxes.push_back(b);
+    }
+  }
+  double operator()(const Vec3& p) const {
+    double best2 = std::numeric_limits<double>::infinity();
+    for (std::size_t k = 0; k < mesh.faces.size(); ++k) {
+      if (boxes[k].squaredExteriorDistance(p) >= best2) continue;
+      const auto& f = mesh.faces[k];
+      best2 = std::min(best2, (p - closest_on_triangle(p, mesh.vertices[f[0]], mesh.vertices[f[1]], mesh.vertices[f[2]])).squaredNorm());
+    }
+    return std::sqrt(best2);
+  }
+};
 
 struct Export {
   world::World world;
@@ -80,13 +100,14 @@ const Export& exported() {
 
 TEST(DatasetExport, BackProjectedDepthLandsOnTheTrueSurface) {
   const Export& e = exported();
-  std::map<int, const world::TriMesh*> fruit_mesh;
-  world::TriMesh plants;
+  std::map<int, MeshDistance> fruit_mesh;
+  world::TriMesh plant_mesh;
   for (const world::Plant& p : e.world.plants)
     for (const world::PlantPart& part : p.parts) {
-      plants.append(part.mesh);
-      if (part.instance_id != kNoInstance) fruit_mesh[part.instance_id] = &part.mesh;
+      plant_mesh.append(part.mesh);
+      if (part.instance_id != kNoInstance) fruit_mesh.emplace(part.instance_id, MeshDistance(part.mesh));
     }
+  const MeshDistance plants(plant_mesh);
   int frames = 0;
   for (const char* file : {"transforms.json", "transforms_test.json"}) {
     const nlohmann::json t = nlohmann::json::parse(read_file((e.dir / file).string()));
@@ -127,12 +148,12 @@ TEST(DatasetExport, BackProjectedDepthLandsOnTheTrueSurface) {
           const int id = inst.at(i, j) - 1;
           if (id >= 0) {
             ASSERT_TRUE(fruit_mesh.count(id)) << "instance " << id;
-            const double d = distance_to_mesh(p, *fruit_mesh.at(id));
+            const double d = fruit_mesh.at(id)(p);
             worst_fruit = std::max(worst_fruit, d);
             ++fruit_checked;
           }
-          worst = std::max(worst, distance_to_mesh(p, plants));
-          worst_png = std::max(worst_png, distance_to_mesh(back_project(depth_mm.at(i, j) * scale), plants));
+          worst = std::max(worst, plants(p));
+          worst_png = std::max(worst_png, plants(back_project(depth_mm.at(i, j) * scale)));
           ++checked;
         }
       EXPECT_GT(checked, 20) << f["file_path"];

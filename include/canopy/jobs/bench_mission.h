@@ -38,6 +38,7 @@ struct BenchMissionParams {
 struct BenchMissionLine {
   RowSize size;
   int plants = 0, views = 0;   ///< Plants of the world; successful views.
+  int stops_not_reached = 0;   ///< Stops the base did not reach (base_failed): the figures cover the others.
   double build_s = 0.0;        ///< Generating the world.
   double wall_s = 0.0, sim_s = 0.0;
   double rss_mb = 0.0;         ///< The process's peak resident memory after it.

@@ -24,7 +24,7 @@ struct StopParams {
     a("count", count, limits::in(1, 1000), "Stops evenly spaced over the rows' plants (when positions_m is empty)");
     a("positions_m", positions_m, limits::finite(), "Arm-base x of each stop in the world; overrides count [m]");
     a("base_y_m", base_y_m, limits::finite(), "Base y at every stop (the aisle centre) [m]");
-    a("timeout_s", timeout_s, limits::positive(), "Give up driving to a stop after this much simulated time [s]");
+    a("timeout_s", timeout_s, limits::positive(), "Give up driving to a stop after this much simulated time beyond the straight drive's least time at the base's top speed [s]");
   }
 };
 
