@@ -319,6 +319,13 @@ struct CollisionEnvironment::Impl {
     if (!(first >= 0.0 && last <= 65535.0)) return false;
     return holds_keys_x(unsigned(first), unsigned(last));
   }
+  // True when the subtree holding `key` was moved out (the tree does not answer there).
+  bool dropped_at(const octomap::OcTreeKey& key) const {
+    if (!windowed || dropped.empty()) return false;
+    const unsigned ix = unsigned(key[0]) >> kWindowShift;
+    if (ix >= window_lo && ix <= window_hi) return false;
+    return dropped.count(window_code(ix, unsigned(key[1]) >> kWindowShift, unsigned(key[2]) >> kWindowShift)) > 0;
+  }
   // Puts back the dropped subtree holding `key`, if any (before the tree is changed or read there).
   void restore_at(const octomap::OcTreeKey& key) {
     if (!windowed || dropped.empty()) return;
@@ -522,7 +529,7 @@ bool CollisionEnvironment::occupied(const Vec3& p) const {
   const octomap::OcTree& tree = *impl_->octomap;
   octomap::OcTreeKey key;
   if (!p.allFinite() || !tree.coordToKeyChecked(p.x(), p.y(), p.z(), key)) return false;
-  CANOPY_CHECK(impl_->holds_keys_x(key[0], key[0]), "collision environment: x = " << p.x() << " is beyond the stretch held (keep_x)");
+  CANOPY_CHECK(!impl_->dropped_at(key), "collision environment: x = " << p.x() << " is in a subtree moved out (keep_x)");
   const octomap::OcTreeNode* n = tree.search(key);
   return n && tree.isNodeOccupied(n);
 }

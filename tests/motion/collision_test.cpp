@@ -314,6 +314,13 @@ TEST(Collision, AStretchHeldAnswersAsTheFullEnvironment) {
     most_dropped = std::max(most_dropped, held->dropped_subtrees());
     // Changes near the stop and anywhere along the row (where subtrees were dropped).
     EXPECT_LT(held->memory_bytes(), full->memory_bytes() * 3 / 4);  // both hold the same coarse grid
+    // occupied() beyond the stretch: answered where nothing was moved out, an error where it was.
+    EXPECT_FALSE(held->occupied(Vec3(x + 25.0, 0.5, 0.5)));
+    for (const Vec3& p : row)
+      if (std::abs(p.x() - x) > 5.0 && full->occupied(p)) {
+        EXPECT_ANY_THROW(held->occupied(p));
+        break;
+      }
     std::vector<Vec3> add = voxels_near(x - 2.5, x + 2.5, 3000), gone;
     for (const Vec3& v : voxels_near(-0.5, 20.0, 20)) add.push_back(v);
     for (std::size_t i = 0; gone.size() < 1500; i = (i + 7919) % row.size())

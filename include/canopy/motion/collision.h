@@ -67,11 +67,12 @@ class CollisionEnvironment {
   /// Holds only the octree's subtrees of 64 voxels a side whose x overlaps [x_lo_m, x_hi_m]
   /// (a long row's stretch near the robot, issue 49); the others are written out compactly
   /// (about 5 bytes a node) and put back, as they were, when a later keep_x() holds them again
-  /// or update() / follow_scan() changes a voxel of theirs. Queries (the checkers', occupied(),
+  /// or update() / follow_scan() changes a voxel of theirs. Queries (the checkers',
   /// clear_robot_volume()) answer as the whole environment's for anything inside the stretch
   /// held (the subtrees inside are untouched, and an inner node's occupancy is the largest of
   /// its children's, so no query inside reads the ones out); a query that reaches beyond it is
-  /// an error (CANOPY_CHECK), never a different answer. Not while another thread queries.
+  /// an error (CANOPY_CHECK), never a different answer; occupied() answers anywhere but in a
+  /// subtree moved out (an error there). Not while another thread queries.
   void keep_x(double x_lo_m, double x_hi_m);
   /// Every subtree back: the tree is the one that took every change without keep_x().
   void keep_all();
