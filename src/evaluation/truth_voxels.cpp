@@ -5,6 +5,7 @@
 #include <cstdint>
 
 #include "canopy/common/error.h"
+#include "canopy/common/radix_sort.h"
 #include "canopy/mapping/voxel_key.h"
 
 namespace canopy::evaluation {
@@ -15,10 +16,13 @@ std::vector<Vec3> world_occupied_voxels(const world::World& world, double res, d
   auto key = [res](const Vec3& p) { return mapping::grid_key(p, res); };
   // The keys of every sample, deduplicated in sorted runs (a plant's at a time, then all):
   // the same set a hash set would collect, at a fraction of its cost for millions of samples.
-  std::vector<std::uint64_t> keys;
-  const auto sort_unique = [&keys](std::size_t from) {
-    std::sort(keys.begin() + static_cast<std::ptrdiff_t>(from), keys.end());
-    keys.erase(std::unique(keys.begin() + static_cast<std::ptrdiff_t>(from), keys.end()), keys.end());
+  std::vector<std::uint64_t> keys, run, scratch;
+  const auto sort_unique = [&](std::size_t from) {  // radix sort: a window's millions of keys
+    run.assign(keys.begin() + static_cast<std::ptrdiff_t>(from), keys.end());
+    radix_sort_u64(run, scratch);
+    run.erase(std::unique(run.begin(), run.end()), run.end());
+    keys.resize(from);
+    keys.insert(keys.end(), run.begin(), run.end());
   };
   const double step = 0.5 * res;  // Samples closer than a voxel: no voxel is skipped.
   for (const auto& plant : world.plants) {
@@ -47,11 +51,9 @@ std::vector<Vec3> world_occupied_voxels(const world::World& world, double res, d
   sort_unique(0);
   std::vector<Vec3> centres;
   centres.reserve(keys.size());
+  // In the keys' order, which is the centres' lexicographic (x, y, z) order: a key packs the cell's
+  // x, y and z indices from its high bits down, and a centre's coordinate grows with its index.
   for (std::uint64_t k : keys) centres.push_back(mapping::grid_center(k, res));
-  // Deterministic order (the hash set's is not).
-  std::sort(centres.begin(), centres.end(), [](const Vec3& p, const Vec3& q) {
-    return std::lexicographical_compare(p.data(), p.data() + 3, q.data(), q.data() + 3);
-  });
   return centres;
 }
 

@@ -14,9 +14,9 @@
 #include <limits>
 
 #include "canopy/common/error.h"
+#include "canopy/common/radix_sort.h"
 #include "canopy/mapping/voxel_key.h"
 #include "canopy/mapping/voxel_ray.h"
-#include "radix_sort.h"
 
 namespace canopy::mapping {
 
@@ -238,7 +238,7 @@ void code_points(const PointCoding& c, std::size_t n, int threads, std::vector<s
   stats->outside_map = counts.outside;
   stats->beyond_range = counts.beyond;
   values->erase(std::remove(values->begin(), values->end(), kInvalid), values->end());
-  detail::radix_sort_u64(*values, *scratch, 56);  // by (code, label); run lengths ride along
+  radix_sort_u64(*values, *scratch, 56);  // by (code, label); run lengths ride along
 }
 
 // 2. Voxel filter: one ray target per voxel; a hit with the majority label when any point
@@ -420,7 +420,7 @@ void collect_free(const KeyBitGrid& box, int threads, int planes, std::uint64_t*
     });
   });
   for (std::size_t k = 0; k < ranges; ++k) free_codes->insert(free_codes->end(), (*slices)[k].begin(), (*slices)[k].end());
-  detail::radix_sort_u64(*free_codes, *scratch, 48);
+  radix_sort_u64(*free_codes, *scratch, 48);
 }
 
 // Rays too long for a dense grid: collect, sort and de-duplicate the keys, then drop the hits.
@@ -429,7 +429,7 @@ void free_by_sorting(const SemanticOcTree& map, const std::vector<RaySegment>& s
                      std::vector<std::uint64_t>* scratch) {
   for (const Segment& s : segments)
     traverse(map, s, [&](const octomap::OcTreeKey& k) { free_codes->push_back(morton_code(k)); });
-  detail::radix_sort_u64(*free_codes, *scratch, 48);
+  radix_sort_u64(*free_codes, *scratch, 48);
   free_codes->erase(std::unique(free_codes->begin(), free_codes->end()), free_codes->end());
   std::size_t w = 0, h = 0;
   for (const std::uint64_t c : *free_codes) {

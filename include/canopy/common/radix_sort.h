@@ -1,13 +1,14 @@
 #pragma once
-// LSD radix sort of 64-bit values (internal to mapping). Passes whose byte is the same in
-// every value are skipped, so sorting codes of a small region costs few passes.
+// LSD radix sort of 64-bit values (the scan inserter's voxel codes, the truth's voxel keys).
+// Passes whose byte is the same in every value are skipped, so sorting codes of a small region
+// costs few passes.
 
 #include <array>
 #include <cstdint>
 #include <cstring>
 #include <vector>
 
-namespace canopy::mapping::detail {
+namespace canopy {
 
 /// Sorts `v` ascending (stably) by its low `bits` bits; higher bits ride along unsorted;
 /// `tmp` is scratch.
@@ -40,4 +41,4 @@ inline void radix_sort_u64(std::vector<std::uint64_t>& v, std::vector<std::uint6
   if (src != v.data()) std::memcpy(v.data(), src, n * sizeof(std::uint64_t));
 }
 
-}  // namespace canopy::mapping::detail
+}  // namespace canopy
