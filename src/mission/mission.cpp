@@ -99,6 +99,12 @@ bool Mission::Impl::drive_to_stop(int k) {
   progress("stop " + std::to_string(k + 1) + "/" + std::to_string(stops_x.size()) + ": driving to x = " +
            std::to_string(rec.goal.x_m));
   Stopwatch watch;
+  // A long row's collision environment holds the map's voxels near the stop (issue 49): the
+  // arm is planned only there (a query beyond is an error, never another answer).
+  if (const double near = near_robot_m(); near > 0.0) {
+    const double x = stops_x[static_cast<std::size_t>(k)];
+    map_env->keep_x(x - near, x + near);
+  }
   // A long row's rendered model holds the plants near the robot (issue 49): the stop's, built
   // again here when the stop is out of the window (the drive's video shows the stop's window).
   if (sim.show_plants_near(rec.goal.x_m, rec.goal.x_m)) {

@@ -104,6 +104,12 @@ struct Mission::Impl {
     if (callbacks.progress) callbacks.progress(m);
   }
   void update_caption();
+  // Issue 49: the half-length of the stretch around a stop that the index and the collision
+  // environment hold (MissionCallbacks::near_robot_m); 0: the whole map.
+  double near_robot_m() const {
+    if (callbacks.near_robot_m >= 0.0) return callbacks.near_robot_m;
+    return sim.plants_windowed() ? Mission::kNearRobotM : 0.0;
+  }
   // The true plants as voxels, for the robot's contacts: the plants the rendered model holds
   // (a long row's window, issue 49: the base's contacts on a drive are counted with the plants
   // of the window it drives to; every plant of a world that fits in one window).

@@ -151,6 +151,10 @@ void Mission::Impl::nbv_loop(int k, int scan_views_count) {
       break;
     }
     scans.follow_index();  // the last scan in the map and the index; its metrics may come later
+    // A long row's index holds the bricks near the stop (issue 49; the others are read from the
+    // map). The pipeline's thread is past the index (follow_index), so it may change here.
+    if (const double near = near_robot_m(); near > 0.0)
+      index.keep_x(map, stops_x[static_cast<std::size_t>(k)] - near, stops_x[static_cast<std::size_t>(k)] + near);
     req.base = sim.base_pose();
     req.q = sim.arm_positions();
     req.T_world_camera = sim.camera_pose();

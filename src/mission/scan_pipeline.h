@@ -7,7 +7,8 @@
 // index too; settle() waits for all of it. From start() to settle() the map, the inserter, the
 // index and the evaluator belong to the other thread, which only reads the map once the
 // insertion is done and the index once it is updated: the caller may read the map after
-// follow(), the index after follow_index(), and must not change any of them before settle().
+// follow(), the index after follow_index(), and must not change any of them before settle()
+// (but the index after follow_index(): the other thread is past it).
 // The environment is the caller's throughout. Every result is the one the same calls in line
 // would give.
 //

@@ -12,6 +12,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
+#include <ostream>
+#include <unordered_map>
 
 #include "canopy/common/error.h"
 #include "canopy/common/yaml_reader.h"
@@ -142,24 +145,260 @@ struct CoarseGrid {
   }
 };
 
+namespace env_tree {  // named: CollisionEnvironment::Impl holds an EnvTree
+
+// A node's children array (protected in OctoMap's nodes; a pointer to member named through a
+// derived class reaches it legally), to unlink a subtree without OctoMap's deleteNodeChild,
+// which leaves a deleted node's own children behind.
+struct NodeChildren : octomap::OcTreeNode {
+  static constexpr auto member() { return &NodeChildren::children; }
+};
+constexpr auto kChildren = NodeChildren::member();
+
+// The environment's tree, with the node surgery that moves far subtrees out and back
+// (CollisionEnvironment::keep_x).
+class EnvTree : public octomap::OcTree {
+ public:
+  explicit EnvTree(double resolution) : octomap::OcTree(resolution) {}
+
+  // The subtrees of `window_depth` nodes wholly outside node x [lo, hi] and with children are
+  // written to `out` (by node code) and removed; inner nodes left without a child go too, and
+  // the others' values are the maximum of their children's again, as setNodeValue keeps them.
+  // Leaves (pruned blocks) are kept. Returns the nodes removed.
+  template <class Out>
+  std::size_t drop_outside(unsigned window_depth, unsigned lo, unsigned hi, Out&& out) {
+    if (!root) return 0;
+    const std::size_t before = tree_size;
+    if (drop_recurs(root, 0, 0, 0, 0, window_depth, lo, hi, out) == kEmptied) {
+      deleteNodeRecurs(root);
+      root = nullptr;
+      tree_size = 0;
+    }
+    size_changed = true;
+    return before - tree_size;
+  }
+
+  // Puts the subtree `bytes` back as the node of `window_depth` with node coordinates
+  // (ix, iy, iz), creating the path to it; the path's values are the maximum of their
+  // children's again.
+  void restore(unsigned window_depth, unsigned ix, unsigned iy, unsigned iz, const std::vector<std::uint8_t>& bytes) {
+    const unsigned shift = tree_depth - window_depth;
+    const octomap::OcTreeKey key(static_cast<octomap::key_type>(ix << shift), static_cast<octomap::key_type>(iy << shift),
+                                 static_cast<octomap::key_type>(iz << shift));
+    bool fresh = false;  // `node` made here (no children yet, not a pruned block)
+    if (!root) {
+      root = new octomap::OcTreeNode();
+      ++tree_size;
+      fresh = true;
+    }
+    std::vector<octomap::OcTreeNode*> path{root};
+    octomap::OcTreeNode* node = root;
+    for (unsigned depth = 0; depth + 1 < window_depth; ++depth) {
+      const unsigned i = octomap::computeChildIdx(key, int(tree_depth - 1 - depth));
+      if (!nodeChildExists(node, i)) {
+        CANOPY_CHECK(fresh || nodeHasChildren(node), "collision environment: a pruned block over a moved-out subtree");
+        createNodeChild(node, i);
+        fresh = true;
+      } else {
+        fresh = false;
+      }
+      node = getNodeChild(node, i);
+      path.push_back(node);
+    }
+    const unsigned i = octomap::computeChildIdx(key, int(tree_depth - window_depth));
+    CANOPY_CHECK(!nodeChildExists(node, i), "collision environment: a moved-out subtree is in the tree");
+    std::size_t at = 0;
+    read_recurs(createNodeChild(node, i), bytes, &at);
+    CANOPY_CHECK(at == bytes.size(), "collision environment: a moved-out subtree read short");
+    for (std::size_t k = path.size(); k-- > 0;) path[k]->updateOccupancyChildren();
+    size_changed = true;
+  }
+
+ private:
+  enum Dropped { kKept, kChanged, kEmptied };
+
+  template <class Out>
+  Dropped drop_recurs(octomap::OcTreeNode* node, unsigned depth, unsigned x0, unsigned y0, unsigned z0,
+                      unsigned window_depth, unsigned lo, unsigned hi, Out& out) {
+    // `node` covers keys [x0, x0 + side) per axis; its children [x0, x0 + half) and [x0 + half, x0 + side).
+    const unsigned half = 1u << (tree_depth - depth - 1), shift = tree_depth - window_depth;
+    bool changed = false;
+    for (unsigned i = 0; i < 8; ++i) {
+      if (!nodeChildExists(node, i)) continue;
+      const unsigned cx = x0 + ((i & 1) ? half : 0), cy = y0 + ((i & 2) ? half : 0), cz = z0 + ((i & 4) ? half : 0);
+      if ((cx >> shift) >= lo && ((cx + half - 1) >> shift) <= hi) continue;  // wholly inside
+      octomap::OcTreeNode* child = getNodeChild(node, i);
+      if (!nodeHasChildren(child)) continue;  // a leaf: kept
+      bool unlink = false;
+      if (depth + 1 == window_depth) {
+        std::vector<std::uint8_t> bytes;
+        write_recurs(child, &bytes);
+        out(cx >> shift, cy >> shift, cz >> shift, std::move(bytes));
+        unlink = true;
+      } else {
+        const Dropped d = drop_recurs(child, depth + 1, cx, cy, cz, window_depth, lo, hi, out);
+        if (d == kKept) continue;
+        unlink = d == kEmptied;
+      }
+      changed = true;
+      if (unlink) {
+        tree_size -= count_recurs(child);
+        deleteNodeRecurs(child);
+        (node->*kChildren)[i] = nullptr;
+      }
+    }
+    if (!changed) return kKept;
+    if (!nodeHasChildren(node)) return kEmptied;
+    node->updateOccupancyChildren();
+    return kChanged;
+  }
+  std::size_t count_recurs(const octomap::OcTreeNode* node) const {
+    std::size_t n = 1;
+    for (unsigned i = 0; i < 8; ++i)
+      if (nodeChildExists(node, i)) n += count_recurs(getNodeChild(node, i));
+    return n;
+  }
+  // Pre-order: the node's log-odds (4 bytes), the mask of its children, then the children.
+  void write_recurs(const octomap::OcTreeNode* node, std::vector<std::uint8_t>* bytes) const {
+    const float v = node->getLogOdds();
+    std::uint8_t mask = 0;
+    for (unsigned i = 0; i < 8; ++i)
+      if (nodeChildExists(node, i)) mask |= std::uint8_t(1u << i);
+    const std::size_t at = bytes->size();
+    bytes->resize(at + 5);
+    std::memcpy(bytes->data() + at, &v, 4);
+    (*bytes)[at + 4] = mask;
+    for (unsigned i = 0; i < 8; ++i)
+      if (mask & (1u << i)) write_recurs(getNodeChild(node, i), bytes);
+  }
+  void read_recurs(octomap::OcTreeNode* node, const std::vector<std::uint8_t>& bytes, std::size_t* at) {
+    CANOPY_CHECK(*at + 5 <= bytes.size(), "collision environment: a moved-out subtree read past its end");
+    float v = 0.f;
+    std::memcpy(&v, bytes.data() + *at, 4);
+    const std::uint8_t mask = bytes[*at + 4];
+    *at += 5;
+    node->setLogOdds(v);
+    for (unsigned i = 0; i < 8; ++i)
+      if (mask & (1u << i)) read_recurs(createNodeChild(node, i), bytes, at);
+  }
+};
+
+// The window's unit: subtrees of 64 voxels a side (depth 10 of OctoMap's 16).
+constexpr unsigned kWindowShift = 6;
+constexpr unsigned kWindowDepth = 16 - kWindowShift;
+inline std::uint64_t window_code(unsigned ix, unsigned iy, unsigned iz) {
+  return std::uint64_t(ix) | (std::uint64_t(iy) << 10) | (std::uint64_t(iz) << 20);
+}
+
+}  // namespace env_tree
+using env_tree::EnvTree;
+using env_tree::kWindowDepth;
+using env_tree::kWindowShift;
+using env_tree::window_code;
+
 struct CollisionEnvironment::Impl {
-  std::shared_ptr<octomap::OcTree> octomap;
+  std::shared_ptr<EnvTree> octomap;
   std::shared_ptr<fcl::OcTreed> octree;
   CoarseGrid coarse;
+  // keep_x(): the tree holds the subtrees of window node x [window_lo, window_hi] (and leaves
+  // above them); the others are in `dropped` (by window_code), written out compactly.
+  bool windowed = false;
+  unsigned window_lo = 0, window_hi = 0;
+  std::unordered_map<std::uint64_t, std::vector<std::uint8_t>> dropped;
+  std::size_t dropped_bytes = 0;
+
+  // Key x range [first, last] held whole (every voxel's subtree in the tree).
+  bool holds_keys_x(unsigned first, unsigned last) const {
+    return !windowed || ((first >> kWindowShift) >= window_lo && (last >> kWindowShift) <= window_hi);
+  }
+  // World x range [lo, hi] (a query's box) held whole, a voxel of margin included.
+  bool holds_x(double lo, double hi) const {
+    if (!windowed) return true;
+    const double res = octomap->getResolution();
+    const double first = std::floor(lo / res) - 1.0 + 32768.0, last = std::floor(hi / res) + 1.0 + 32768.0;
+    if (!(first >= 0.0 && last <= 65535.0)) return false;
+    return holds_keys_x(unsigned(first), unsigned(last));
+  }
+  // True when the subtree holding `key` was moved out (the tree does not answer there).
+  bool dropped_at(const octomap::OcTreeKey& key) const {
+    if (!windowed || dropped.empty()) return false;
+    const unsigned ix = unsigned(key[0]) >> kWindowShift;
+    if (ix >= window_lo && ix <= window_hi) return false;
+    return dropped.count(window_code(ix, unsigned(key[1]) >> kWindowShift, unsigned(key[2]) >> kWindowShift)) > 0;
+  }
+  // Puts back the dropped subtree holding `key`, if any (before the tree is changed or read there).
+  void restore_at(const octomap::OcTreeKey& key) {
+    if (!windowed || dropped.empty()) return;
+    const unsigned ix = unsigned(key[0]) >> kWindowShift;
+    if (ix >= window_lo && ix <= window_hi) return;
+    const unsigned iy = unsigned(key[1]) >> kWindowShift, iz = unsigned(key[2]) >> kWindowShift;
+    const auto it = dropped.find(window_code(ix, iy, iz));
+    if (it == dropped.end()) return;
+    octomap->restore(kWindowDepth, ix, iy, iz, it->second);
+    dropped_bytes -= it->second.size();
+    dropped.erase(it);
+  }
 };
 
 CollisionEnvironment::~CollisionEnvironment() = default;
 
 std::size_t CollisionEnvironment::memory_bytes() const {
-  return impl_->octomap->memoryUsage() + impl_->coarse.occupied.capacity();
+  return impl_->octomap->memoryUsage() + impl_->coarse.occupied.capacity() + impl_->dropped_bytes +
+         impl_->dropped.size() * 64;
 }
+
+void CollisionEnvironment::keep_x(double x_lo_m, double x_hi_m) {
+  CANOPY_CHECK(std::isfinite(x_lo_m) && std::isfinite(x_hi_m) && x_lo_m <= x_hi_m,
+               "CollisionEnvironment::keep_x: [" << x_lo_m << ", " << x_hi_m << "] is not a stretch");
+  Impl& m = *impl_;
+  auto window_x = [&](double x) {
+    const double k = std::clamp(std::floor(x / resolution_m_) + 32768.0, 0.0, 65535.0);
+    return unsigned(k) >> kWindowShift;
+  };
+  const unsigned lo = window_x(x_lo_m), hi = window_x(x_hi_m);
+  if (m.windowed && lo == m.window_lo && hi == m.window_hi) return;
+  m.windowed = true;
+  m.window_lo = lo;
+  m.window_hi = hi;
+  // Back first: the subtrees now inside.
+  std::vector<std::uint64_t> back;
+  for (const auto& [code, bytes] : m.dropped) {
+    const unsigned ix = unsigned(code & 0x3ffu);
+    if (ix >= lo && ix <= hi) back.push_back(code);
+  }
+  std::sort(back.begin(), back.end());  // one order whatever the hash table's
+  for (const std::uint64_t code : back) {
+    const auto it = m.dropped.find(code);
+    m.octomap->restore(kWindowDepth, unsigned(code & 0x3ffu), unsigned((code >> 10) & 0x3ffu),
+                       unsigned((code >> 20) & 0x3ffu), it->second);
+    m.dropped_bytes -= it->second.size();
+    m.dropped.erase(it);
+  }
+  m.octomap->drop_outside(kWindowDepth, lo, hi, [&](unsigned ix, unsigned iy, unsigned iz, std::vector<std::uint8_t> bytes) {
+    m.dropped_bytes += bytes.size();
+    bytes.shrink_to_fit();
+    m.dropped.emplace(window_code(ix, iy, iz), std::move(bytes));
+  });
+  m.octree->computeLocalAABB();
+}
+
+void CollisionEnvironment::keep_all() {
+  Impl& m = *impl_;
+  if (!m.windowed) return;
+  keep_x(-1e300, 1e300);  // every subtree back
+  m.windowed = false;
+}
+
+bool CollisionEnvironment::windowed() const { return impl_->windowed; }
+void CollisionEnvironment::write(std::ostream& out) const { impl_->octomap->write(out); }
+std::size_t CollisionEnvironment::dropped_subtrees() const { return impl_->dropped.size(); }
 
 std::shared_ptr<CollisionEnvironment> CollisionEnvironment::empty(double resolution_m) {
   if (!(std::isfinite(resolution_m) && resolution_m > 0.0))
     throw InputError("collision environment: resolution " + std::to_string(resolution_m) + " m must be > 0");
   std::shared_ptr<CollisionEnvironment> env(new CollisionEnvironment());
   env->impl_ = std::make_unique<Impl>();
-  env->impl_->octomap = std::make_shared<octomap::OcTree>(resolution_m);
+  env->impl_->octomap = std::make_shared<EnvTree>(resolution_m);
   env->impl_->coarse.cell = std::max(4.0 * resolution_m, 0.02);
   env->impl_->octree = std::make_shared<fcl::OcTreed>(env->impl_->octomap);
   env->impl_->octree->computeLocalAABB();
@@ -176,6 +415,13 @@ std::shared_ptr<const CollisionEnvironment> CollisionEnvironment::from_voxels(co
 
 void CollisionEnvironment::update(const std::vector<Vec3>& occupied, const std::vector<Vec3>& freed) {
   octomap::OcTree& tree = *impl_->octomap;
+  if (impl_->windowed) {  // a change where a subtree was moved out: back first (keep_x)
+    for (const std::vector<Vec3>* points : {&freed, &occupied})
+      for (const Vec3& c : *points) {
+        octomap::OcTreeKey key;
+        if (c.allFinite() && tree.coordToKeyChecked(c.x(), c.y(), c.z(), key)) impl_->restore_at(key);
+      }
+  }
   const float occ = tree.getClampingThresMaxLog(), free = tree.getClampingThresMinLog();
   const double h = 0.5 * resolution_m_;
   bool changed = false;
@@ -235,6 +481,8 @@ std::size_t CollisionEnvironment::clear_robot_volume(const RobotModel& model, co
     Vec3 lo, hi;
     shape_aabb(shape, poses[b], reach, &lo, &hi);
     if (!impl_->coarse.any(lo, hi)) continue;  // no voxel near this shape
+    CANOPY_CHECK(impl_->holds_x(lo.x(), hi.x()), "collision environment: the robot's volume at x = "
+                                                     << base.x_m << " reaches beyond the stretch held (keep_x)");
     for (auto it = tree.begin_leafs_bbx(octomap::point3d(lo.x(), lo.y(), lo.z()), octomap::point3d(hi.x(), hi.y(), hi.z())),
               end = tree.end_leafs_bbx();
          it != end; ++it) {
@@ -264,6 +512,8 @@ void CollisionEnvironment::follow_scan(const mapping::SemanticOcTree& map,
                                        const std::vector<std::uint8_t>& occupancy) {
   CANOPY_CHECK(occupancy.size() == updates.size(), "one occupancy byte per update");
   using T = mapping::SemanticOcTree;
+  if (impl_->windowed)  // occupied() below reads where a subtree may have been moved out: back first
+    for (const mapping::VoxelUpdate& u : updates) impl_->restore_at(mapping::morton_key(u.code));
   std::vector<Vec3> occupied_now, freed;
   for (std::size_t i = 0; i < updates.size(); ++i) {
     const bool after = occupancy[i] & T::kOccupiedAfter, hit = updates[i].label != mapping::VoxelUpdate::kFree;
@@ -279,6 +529,7 @@ bool CollisionEnvironment::occupied(const Vec3& p) const {
   const octomap::OcTree& tree = *impl_->octomap;
   octomap::OcTreeKey key;
   if (!p.allFinite() || !tree.coordToKeyChecked(p.x(), p.y(), p.z(), key)) return false;
+  CANOPY_CHECK(!impl_->dropped_at(key), "collision environment: x = " << p.x() << " is in a subtree moved out (keep_x)");
   const octomap::OcTreeNode* n = tree.search(key);
   return n && tree.isNodeOccupied(n);
 }
@@ -288,7 +539,11 @@ static bool map_hit(const CollisionEnvironment::Impl& env, const robot::Shape& s
              double pad) {
   Vec3 lo, hi;
   shape_aabb(shape, pose, pad, &lo, &hi);
-  return env.coarse.any(lo, hi) && collide(padded, pose, *env.octree, Pose::Identity());
+  if (!env.coarse.any(lo, hi)) return false;
+  // What the tree does not hold is never asked (keep_x): a shape reaching there is an error.
+  CANOPY_CHECK(env.holds_x(lo.x(), hi.x()), "collision environment: a robot shape at x = " << pose.translation().x()
+                                                << " reaches beyond the stretch held (keep_x)");
+  return collide(padded, pose, *env.octree, Pose::Identity());
 }
 
 // ----------------------------------------------------------------------------------------
@@ -339,8 +594,13 @@ bool CollisionChecker::base_in_collision(const BasePose& base) const {
     if (bodies[b].on_arm) continue;
     if (params_.check_ground && collide(*shapes_->padded[b], poses[b], *shapes_->ground, Pose::Identity()))
       return true;
-    if (environment_ && collide(*shapes_->padded[b], poses[b], *environment_->impl().octree, Pose::Identity()))
-      return true;
+    if (environment_) {
+      Vec3 lo, hi;
+      shape_aabb(bodies[b].shape, poses[b], params_.environment_padding_m, &lo, &hi);
+      CANOPY_CHECK(environment_->impl().holds_x(lo.x(), hi.x()),
+                   "collision environment: the base at x = " << base.x_m << " reaches beyond the stretch held (keep_x)");
+      if (collide(*shapes_->padded[b], poses[b], *environment_->impl().octree, Pose::Identity())) return true;
+    }
   }
   return false;
 }

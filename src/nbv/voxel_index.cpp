@@ -2,6 +2,7 @@
 
 #include "canopy/common/timer.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -79,8 +80,9 @@ VoxelInfo make_voxel_info(const mapping::SemanticOcTree& map, const mapping::Sem
   return v;
 }
 
-void VoxelIndex::grow() {
-  const std::size_t cap = table_keys_.empty() ? 1024 : table_keys_.size() * 2;
+void VoxelIndex::grow() { rehash(table_keys_.empty() ? 1024 : table_keys_.size() * 2); }
+
+void VoxelIndex::rehash(std::size_t cap) {
   table_keys_.assign(cap, kEmpty);
   table_values_.assign(cap, 0);
   table_mask_ = cap - 1;
@@ -137,11 +139,15 @@ void VoxelIndex::rebuild(const mapping::SemanticOcTree& map) {
 
   ids_.clear();
   ids_.reserve(1024);
+  dropped_stamps_.clear();  // every brick unchanged since this rebuild
+  // Every state is interned, the dropped bricks' too (keep_x(): their voxels are read from the
+  // map and answered by their states' ids).
   map.for_each_leaf([&](const octomap::OcTreeKey& key, unsigned depth, const mapping::SemanticState& state) {
     const std::uint32_t id = intern(map, state);
     const unsigned side = 1u << (16 - depth);
     if (side == 1) {
-      brick_for_insert(mapping::brick_key(key))[mapping::brick_cell(key[0], key[1], key[2])] = id;
+      if (!dropped_x(unsigned(key[0]) >> kBrickBits))
+        brick_for_insert(mapping::brick_key(key))[mapping::brick_cell(key[0], key[1], key[2])] = id;
       return;
     }
     unsigned lo[3], hi[3];  // voxel key range [lo, hi]
@@ -153,6 +159,7 @@ void VoxelIndex::rebuild(const mapping::SemanticOcTree& map) {
     for (unsigned bz = lo[2] >> kBrickBits; bz <= hi[2] >> kBrickBits; ++bz)
       for (unsigned by = lo[1] >> kBrickBits; by <= hi[1] >> kBrickBits; ++by)
         for (unsigned bx = lo[0] >> kBrickBits; bx <= hi[0] >> kBrickBits; ++bx) {
+          if (dropped_x(bx)) continue;
           const std::uint64_t bk = mapping::brick_key_of_brick(bx, by, bz);
           std::uint32_t* cells = brick_for_insert(bk);
           const unsigned x0 = std::max(lo[0], bx << kBrickBits), x1 = std::min(hi[0], (bx << kBrickBits) + kBrickSide - 1);
@@ -194,6 +201,13 @@ bool VoxelIndex::apply_updates(const mapping::SemanticOcTree& map, std::uint64_t
     const octomap::OcTreeKey key = mapping::morton_key(u.code);
     const mapping::SemanticState* s = map.find(key);
     const std::uint32_t id = s ? intern(map, *s) : 0;  // an update leaves a known voxel: s is set
+    if (dropped_x(unsigned(key[0]) >> kBrickBits)) {
+      // Not held (keep_x()): its state is interned above; whether it changed is not known, so
+      // its brick counts as changed.
+      dropped_stamps_[mapping::brick_key(key)] = generation;
+      changed = true;
+      continue;
+    }
     std::uint32_t* cells = brick_for_insert(mapping::brick_key(key));
     std::uint32_t& cell = cells[mapping::brick_cell(key[0], key[1], key[2])];
     if (cell == id) continue;
@@ -215,7 +229,97 @@ bool VoxelIndex::refresh(const mapping::SemanticOcTree& map) {
 
 std::uint32_t VoxelIndex::lookup(const octomap::OcTreeKey& key) const {
   const std::uint32_t* b = brick(mapping::brick_key(key));
-  return b ? b[mapping::brick_cell(key[0], key[1], key[2])] : 0u;
+  if (b) return b[mapping::brick_cell(key[0], key[1], key[2])];
+  return dropped_x(unsigned(key[0]) >> kBrickBits) ? map_id(key[0], key[1], key[2]) : 0u;
+}
+
+std::uint32_t VoxelIndex::map_id(unsigned x, unsigned y, unsigned z) const {
+  const mapping::SemanticState* s = map_->find(octomap::OcTreeKey(static_cast<octomap::key_type>(x),
+                                                                  static_cast<octomap::key_type>(y),
+                                                                  static_cast<octomap::key_type>(z)));
+  if (!s) return 0u;
+  const auto it = ids_.find(detail::StateBytes(*s));
+  CANOPY_CHECK(it != ids_.end(), "VoxelIndex: a state of the map was never interned");
+  return it->second;
+}
+
+void VoxelIndex::drop_outside() {
+  std::vector<std::uint32_t> cells;
+  std::vector<std::uint64_t> keys, stamps;
+  for (std::size_t i = 0; i < brick_keys_.size(); ++i) {
+    const std::uint64_t bk = brick_keys_[i];
+    if (dropped_x(brick_x(bk))) {
+      if (brick_stamps_[i] > rebuilt_at_) dropped_stamps_[bk] = brick_stamps_[i];
+      continue;
+    }
+    keys.push_back(bk);
+    stamps.push_back(brick_stamps_[i]);
+    cells.insert(cells.end(), cells_.begin() + std::ptrdiff_t(i * kBrickCells),
+                 cells_.begin() + std::ptrdiff_t((i + 1) * kBrickCells));
+  }
+  if (keys.size() == brick_keys_.size()) return;
+  // New vectors: their capacity is what the window holds, not what the row once held.
+  cells_ = std::move(cells);
+  brick_keys_ = std::move(keys);
+  brick_stamps_ = std::move(stamps);
+  std::size_t cap = 1024;
+  while ((brick_keys_.size() + 1) * 2 > cap) cap *= 2;
+  rehash(cap);
+}
+
+void VoxelIndex::admit(const mapping::SemanticOcTree& map, unsigned lo, unsigned hi) {
+  const std::size_t before = brick_keys_.size();
+  const octomap::OcTreeKey klo(static_cast<octomap::key_type>(lo << kBrickBits), 0, 0),
+      khi(static_cast<octomap::key_type>(std::min(0xffffu, (hi << kBrickBits) + kBrickSide - 1)), 0xffff, 0xffff);
+  map.for_each_voxel_in_keys_if(
+      klo, khi, [](const mapping::SemanticState&) { return true; },
+      [&](const octomap::OcTreeKey& key, const mapping::SemanticState& state) {
+        const unsigned bx = unsigned(key[0]) >> kBrickBits;
+        if (bx < lo || bx > hi) return;  // a pruned block's voxels beyond the stretch
+        brick_for_insert(mapping::brick_key(key))[mapping::brick_cell(key[0], key[1], key[2])] = intern(map, state);
+      });
+  // The bricks come back as they were: their stamps kept when dropped, else unchanged since the rebuild.
+  for (std::size_t i = before; i < brick_keys_.size(); ++i) {
+    const auto it = dropped_stamps_.find(brick_keys_[i]);
+    brick_stamps_[i] = it == dropped_stamps_.end() ? rebuilt_at_ : it->second;
+    if (it != dropped_stamps_.end()) dropped_stamps_.erase(it);
+  }
+}
+
+void VoxelIndex::keep_x(const mapping::SemanticOcTree& map, double x_lo_m, double x_hi_m) {
+  CANOPY_CHECK(std::isfinite(x_lo_m) && std::isfinite(x_hi_m) && x_lo_m <= x_hi_m,
+               "VoxelIndex::keep_x: [" << x_lo_m << ", " << x_hi_m << "] is not a stretch");
+  const double res = map.getResolution();
+  auto brick_x_of = [&](double x) {
+    const double k = std::clamp(std::floor(x / res) + 32768.0, 0.0, 65535.0);
+    return unsigned(k) >> kBrickBits;
+  };
+  const unsigned lo = brick_x_of(x_lo_m), hi = brick_x_of(x_hi_m);
+  const bool current = map_ == &map && revision_ == map.revision() && resolution_ == res;
+  const bool was = windowed_;
+  const unsigned old_lo = window_lo_, old_hi = window_hi_;
+  windowed_ = true;
+  window_lo_ = lo;
+  window_hi_ = hi;
+  if (!current) return;  // the next refresh() rebuilds within the stretch
+  if (was && lo == old_lo && hi == old_hi) return;
+  drop_outside();
+  if (!was) return;  // every brick was held
+  if (hi < old_lo || lo > old_hi) {
+    admit(map, lo, hi);
+  } else {
+    if (lo < old_lo) admit(map, lo, old_lo - 1);
+    if (hi > old_hi) admit(map, old_hi + 1, hi);
+  }
+}
+
+void VoxelIndex::keep_all(const mapping::SemanticOcTree& map) {
+  if (!windowed_) return;
+  windowed_ = false;
+  if (!(map_ == &map && revision_ == map.revision() && resolution_ == map.getResolution())) return;
+  if (window_lo_ > 0) admit(map, 0, window_lo_ - 1);
+  if (window_hi_ < 0xffffu >> kBrickBits) admit(map, window_hi_ + 1, 0xffffu >> kBrickBits);
+  dropped_stamps_.clear();
 }
 
 bool VoxelIndex::changed_since(std::uint64_t since, const std::vector<std::uint64_t>& brick_keys) const {
@@ -223,8 +327,12 @@ bool VoxelIndex::changed_since(std::uint64_t since, const std::vector<std::uint6
   if (since < rebuilt_at_) return true;
   if (table_keys_.empty()) return false;
   for (const std::uint64_t bk : brick_keys) {
-    const std::uint32_t* b = brick(bk);  // absent now, so absent then: all unknown
+    const std::uint32_t* b = brick(bk);  // absent now, so absent then: all unknown (unless dropped)
     if (b && brick_stamps_[std::size_t(b - cells_.data()) / kBrickCells] > since) return true;
+    if (!b && dropped_x(brick_x(bk))) {
+      const auto it = dropped_stamps_.find(bk);
+      if (it != dropped_stamps_.end() && it->second > since) return true;
+    }
   }
   return false;
 }
@@ -236,7 +344,8 @@ std::size_t VoxelIndex::max_voxels(double length_m) const {
 
 std::size_t VoxelIndex::memory_bytes() const {
   return palette_.capacity() * sizeof(VoxelInfo) + cells_.capacity() * sizeof(std::uint32_t) +
-         brick_keys_.capacity() * 8 + table_keys_.capacity() * 8 + table_values_.capacity() * 4;
+         brick_keys_.capacity() * 8 + brick_stamps_.capacity() * 8 + table_keys_.capacity() * 8 +
+         table_values_.capacity() * 4 + dropped_stamps_.size() * 32;
 }
 
 std::size_t VoxelIndex::cast(const Vec3& origin_d, const Vec3& end_d, const Vec3& target, RayVoxel* out,
@@ -255,6 +364,7 @@ std::size_t VoxelIndex::cast(const Vec3& origin_d, const Vec3& end_d, const Vec3
   std::size_t n = 0;
   std::uint64_t cached_bk = kEmpty;
   const std::uint32_t* cached = nullptr;
+  bool dropped = false;
   const double res = resolution_;
   const double tx0 = target.x(), ty0 = target.y(), tz0 = target.z();
   const bool inside = mapping::walk_ray(*map_, origin, end, [&](unsigned x, unsigned y, unsigned z) {
@@ -262,9 +372,10 @@ std::size_t VoxelIndex::cast(const Vec3& origin_d, const Vec3& end_d, const Vec3
     if (bk != cached_bk) {
       cached_bk = bk;
       cached = brick(bk);
+      dropped = !cached && dropped_x(x >> kBrickBits);
       if (bricks) bricks->push_back(bk);
     }
-    const std::uint32_t id = cached ? cached[mapping::brick_cell(x, y, z)] : 0u;
+    const std::uint32_t id = cached ? cached[mapping::brick_cell(x, y, z)] : dropped ? map_id(x, y, z) : 0u;
     const double cx = mapping::key_center(x, res) - tx0;
     const double cy = mapping::key_center(y, res) - ty0;
     const double cz = mapping::key_center(z, res) - tz0;

@@ -7,6 +7,7 @@
 #include <array>
 #include <random>
 #include <set>
+#include <sstream>
 #include <thread>
 
 #include "canopy/common/error.h"
@@ -282,6 +283,78 @@ TEST(Collision, FirstHitAnswersAsTheFullReport) {
   }
   EXPECT_GT(hits, n / 10);  // both answers compared
   EXPECT_LT(hits, n * 9 / 10);
+}
+
+// keep_x() (issue 49): an environment that holds only the subtrees of a stretch of x, moved
+// along a 20 m row of voxels and back, answers every query of the robot at the stretch's centre
+// as the full environment that took the same changes (in_collision, the report's pairs, the
+// voxels clear_robot_volume frees), takes changes where it dropped subtrees, and keep_all()
+// gives back the full environment's tree bit for bit.
+TEST(Collision, AStretchHeldAnswersAsTheFullEnvironment) {
+  const double res = 0.015;
+  std::mt19937 rng(31);
+  std::uniform_real_distribution<double> uy(0.35, 0.95), uz(0.05, 1.4), u01(0.0, 1.0);
+  auto full = CollisionEnvironment::empty(res), held = CollisionEnvironment::empty(res);
+  const CollisionChecker a(model(), CollisionParams{}, full), b(model(), CollisionParams{}, held);
+  auto voxels_near = [&](double x0, double x1, int n) {
+    std::vector<Vec3> v;
+    std::uniform_real_distribution<double> ux(x0, x1);
+    for (int i = 0; i < n; ++i) v.push_back(Vec3(ux(rng), (u01(rng) < 0.5 ? 1 : -1) * uy(rng), uz(rng)));
+    return v;
+  };
+  const std::vector<Vec3> row = voxels_near(-0.5, 20.0, 120000);
+  full->update(row, {});
+  held->update(row, {});
+  const double stops[] = {0.5, 4.5, 9.5, 14.5, 19.5, 7.0, 0.8, 15.0};
+  std::uniform_real_distribution<double> dq(-1.5, 1.5);
+  int hits = 0, states = 0;
+  std::size_t most_dropped = 0;
+  for (const double x : stops) {
+    held->keep_x(x - 3.0, x + 3.0);
+    most_dropped = std::max(most_dropped, held->dropped_subtrees());
+    // Changes near the stop and anywhere along the row (where subtrees were dropped).
+    EXPECT_LT(held->memory_bytes(), full->memory_bytes() * 3 / 4);  // both hold the same coarse grid
+    // occupied() beyond the stretch: answered where nothing was moved out, an error where it was.
+    EXPECT_FALSE(held->occupied(Vec3(x + 25.0, 0.5, 0.5)));
+    for (const Vec3& p : row)
+      if (std::abs(p.x() - x) > 5.0 && full->occupied(p)) {
+        EXPECT_ANY_THROW(held->occupied(p));
+        break;
+      }
+    std::vector<Vec3> add = voxels_near(x - 2.5, x + 2.5, 3000), gone;
+    for (const Vec3& v : voxels_near(-0.5, 20.0, 20)) add.push_back(v);
+    for (std::size_t i = 0; gone.size() < 1500; i = (i + 7919) % row.size())
+      if (std::abs(row[i].x() - x) < 2.5 || gone.size() % 100 == 0) gone.push_back(row[i]);
+    full->update(add, gone);
+    held->update(add, gone);
+    EXPECT_EQ(full->voxel_count(), held->voxel_count());
+    for (int k = 0; k < 200; ++k) {
+      ArmConfig q = model().config().home;
+      for (double& v : q) v += dq(rng);
+      const BasePose base{x - 0.3, 0.0, 0.0};
+      const CollisionReport ra = a.report(base, q), rb = b.report(base, q);
+      ASSERT_EQ(ra.pairs, rb.pairs) << "stop " << x << " state " << k;
+      ASSERT_EQ(a.in_collision(base, q), b.in_collision(base, q));
+      ASSERT_EQ(a.in_collision(base, q, BodySet::kArmOnly), b.in_collision(base, q, BodySet::kArmOnly));
+      ASSERT_EQ(a.base_in_collision(base), b.base_in_collision(base));
+      hits += ra.in_collision;
+      ++states;
+      if (k % 20 == 0) {
+        ASSERT_EQ(full->clear_robot_volume(model(), base, q, 0.01), held->clear_robot_volume(model(), base, q, 0.01));
+      }
+    }
+    EXPECT_LT(held->memory_bytes(), full->memory_bytes());
+  }
+  EXPECT_GT(most_dropped, 20u);
+  EXPECT_GT(hits, states / 10);
+  EXPECT_LT(hits, states * 9 / 10);
+  held->keep_all();
+  EXPECT_EQ(held->dropped_subtrees(), 0u);
+  std::ostringstream ta, tb;
+  full->write(ta);
+  held->write(tb);
+  EXPECT_EQ(ta.str(), tb.str());
+  EXPECT_GT(ta.str().size(), 100000u);
 }
 
 }  // namespace

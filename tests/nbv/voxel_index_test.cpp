@@ -227,3 +227,112 @@ TEST(VoxelIndex, IncrementalUpdatesEqualARebuild) {
   const std::uint64_t stale = map.revision() - 1;
   EXPECT_FALSE(inc.apply_updates(map, stale, {}));
 }
+
+// keep_x() (issue 49): an index that holds only the bricks of a stretch of x, moved along a
+// long map and back, answers every lookup and every cast as the full index built incrementally
+// from the same batches, with the same palette ids (dropped voxels read from the map), and its
+// changed_since() says "changed" whenever the full one does (and exactly as it inside the
+// stretch); keep_all() gives back an index equal to the full one everywhere.
+TEST(VoxelIndex, AStretchHeldAnswersAsTheFullIndex) {
+  mapping::SemanticOcTree map = nbv_test::scanned_map(2);
+  VoxelIndex full(map), held(map);
+  Rng rng(11);
+  // Batches along 6 m of x; the stretch held moves forward, then back over what it dropped.
+  const double centres[] = {0.5, 1.5, 2.5, 3.5, 4.5, 5.5, 3.0, 1.0, 5.0, 0.3};
+  std::vector<RayVoxel> a(4096), b(4096);
+  std::vector<std::uint64_t> bricks_a, bricks_b;
+  std::size_t dropped_seen = 0, compared = 0, known = 0, changed_both = 0;
+  for (int step = 0; step < 10; ++step) {
+    const double c = centres[step];
+    held.keep_x(map, c - 0.6, c + 0.6);
+    ASSERT_TRUE(held.windowed());
+    const std::uint64_t since_full = full.generation(), since_held = held.generation();
+    std::vector<mapping::VoxelUpdate> u;
+    for (int i = 0; i < 2500; ++i) {
+      // mostly near the stretch, a few anywhere (updates where bricks were dropped)
+      const double x = i % 10 == 0 ? rng.uniform(0.0, 6.0) : c + rng.uniform(-0.5, 0.5);
+      octomap::OcTreeKey k;
+      ASSERT_TRUE(map.key_of(Vec3(x, rng.uniform(-0.15, 0.45), rng.uniform(0.85, 1.25)), &k));
+      const double r = rng.uniform(0.0, 1.0);
+      u.push_back({mapping::morton_code(k), r < 0.5 ? mapping::VoxelUpdate::kFree : std::uint8_t(r < 0.8 ? 2 : 1)});
+    }
+    std::sort(u.begin(), u.end(), [](const auto& p, const auto& q) { return p.code < q.code; });
+    u.erase(std::unique(u.begin(), u.end(), [](const auto& p, const auto& q) { return p.code == q.code; }), u.end());
+    const std::uint64_t before = map.revision();
+    map.apply_sorted_updates(u);
+    ASSERT_TRUE(full.apply_updates(map, before, u));
+    ASSERT_TRUE(held.apply_updates(map, before, u));
+    dropped_seen = std::max(dropped_seen, held.dropped_bricks());
+    EXPECT_LT(held.brick_count(), full.brick_count());
+    // Lookups over the whole 6 m (a coarse grid), inside and outside the stretch.
+    for (double x = -0.1; x <= 6.1; x += 0.0275)
+      for (double y = -0.15; y <= 0.45; y += 0.04)
+        for (double z = 0.85; z <= 1.25; z += 0.04) {
+          octomap::OcTreeKey k;
+          ASSERT_TRUE(map.key_of(Vec3(x, y, z), &k));
+          const std::uint32_t ia = full.lookup(k), ib = held.lookup(k);
+          ASSERT_EQ(ia, ib) << "x " << x;
+          known += ia != 0;
+          ++compared;
+        }
+    // Casts from near the stretch to anywhere, and their bricks' changes since the batch.
+    for (int r = 0; r < 300; ++r) {
+      const Vec3 o(c + rng.uniform(-0.5, 0.5), rng.uniform(-0.6, 0.6), rng.uniform(0.7, 1.4));
+      const Vec3 e(rng.uniform(-0.1, 6.1), rng.uniform(-0.15, 0.45), rng.uniform(0.85, 1.25));
+      bricks_a.clear();
+      bricks_b.clear();
+      const std::size_t na = full.cast(o, e, e, a.data(), a.size(), nullptr, nullptr, &bricks_a);
+      const std::size_t nb = held.cast(o, e, e, b.data(), b.size(), nullptr, nullptr, &bricks_b);
+      ASSERT_EQ(na, nb);
+      ASSERT_EQ(bricks_a, bricks_b);
+      for (std::size_t i = 0; i < na; ++i) {
+        ASSERT_EQ(a[i].id, b[i].id);
+        ASSERT_EQ(a[i].dist2_m2, b[i].dist2_m2);
+      }
+      std::size_t walked = 0;
+      if (nb > 0)
+        held.walk(o, e, b.size(), [&](const VoxelInfo& v) {
+          EXPECT_EQ(&v, b[walked].info);
+          return ++walked < nb;
+        });
+      const bool ca = full.changed_since(since_full, bricks_a), cb = held.changed_since(since_held, bricks_b);
+      if (ca) {
+        EXPECT_TRUE(cb);
+      }
+      changed_both += ca && cb;
+      std::vector<std::uint64_t> near;
+      for (const std::uint64_t bk : bricks_a) {
+        const double bx = (double(bk & 0x1fffu) * 8.0 - 32768.0) * map.getResolution();
+        if (bx > c - 0.4 && bx < c + 0.4) near.push_back(bk);
+      }
+      EXPECT_EQ(full.changed_since(since_full, near), held.changed_since(since_held, near));
+    }
+  }
+  EXPECT_GT(dropped_seen, 100u);
+  EXPECT_GT(known, compared / 100);
+  EXPECT_GT(changed_both, 100u);
+  held.keep_all(map);
+  EXPECT_FALSE(held.windowed());
+  EXPECT_EQ(held.brick_count(), full.brick_count());
+  EXPECT_EQ(held.dropped_bricks(), 0u);
+  for (double x = -0.1; x <= 6.1; x += 0.0275)
+    for (double y = -0.15; y <= 0.45; y += 0.04)
+      for (double z = 0.85; z <= 1.25; z += 0.04) {
+        octomap::OcTreeKey k;
+        ASSERT_TRUE(map.key_of(Vec3(x, y, z), &k));
+        ASSERT_EQ(full.lookup(k), held.lookup(k));
+      }
+  // A rebuild within a stretch (the next refresh() after a batch the index did not see) holds
+  // the stretch's bricks and still answers everywhere.
+  VoxelIndex rebuilt;
+  rebuilt.keep_x(map, 2.0, 3.0);
+  rebuilt.rebuild(map);
+  const VoxelIndex fresh(map);
+  EXPECT_LT(rebuilt.brick_count(), fresh.brick_count() / 2);
+  for (double x = -0.1; x <= 6.1; x += 0.0275)
+    for (double y = -0.15; y <= 0.45; y += 0.04) {
+      octomap::OcTreeKey k;
+      ASSERT_TRUE(map.key_of(Vec3(x, y, 1.05), &k));
+      ASSERT_EQ(fresh.lookup(k), rebuilt.lookup(k));
+    }
+}

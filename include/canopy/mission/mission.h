@@ -72,6 +72,12 @@ struct MissionCallbacks {
   /// Records each successful view's map changes, fruit coverage and thumbnails for the report
   /// (replay.h), beside the mission without slowing it; null records nothing.
   records::MapReplay* replay = nullptr;
+  /// The half-length [m] of the stretch of x around each stop for which the planner's voxel
+  /// index and the arm planner's collision environment hold their voxels (issue 49; both
+  /// answer as the whole map's either way, see VoxelIndex::keep_x and
+  /// CollisionEnvironment::keep_x). Negative: Mission::kNearRobotM when the simulator renders
+  /// the plants per window (a long row), else the whole map; 0: the whole map. For tests.
+  double near_robot_m = -1.0;
 };
 
 /// Approximate heap bytes of a mission's largest holders beside the world and the simulator
@@ -88,6 +94,9 @@ struct MissionMemory {
 /// The mission controller.
 class Mission {
  public:
+  /// The stretch's half-length on a long row (MissionCallbacks::near_robot_m): the camera's
+  /// range and the arm's reach from the stop, with room to spare.
+  static constexpr double kNearRobotM = 3.0;
   /// The method is settings.method; `seed` seeds segmentation noise, the planner's draws and OMPL.
   Mission(const world::World& world, const settings::Settings& settings, std::uint64_t seed, MissionCallbacks callbacks = {});
   ~Mission();

@@ -4,6 +4,7 @@
 // voxel centres, not the ground truth) and against themselves (non-adjacent links only).
 // FCL stays inside collision.cpp; this header is FCL-free.
 
+#include <iosfwd>
 #include <memory>
 #include <string>
 #include <vector>
@@ -63,6 +64,23 @@ class CollisionEnvironment {
   /// none of the others, so they are not looked at.
   void follow_scan(const mapping::SemanticOcTree& map, const std::vector<mapping::VoxelUpdate>& updates,
                    const std::vector<std::uint8_t>& occupancy);
+  /// Holds only the octree's subtrees of 64 voxels a side whose x overlaps [x_lo_m, x_hi_m]
+  /// (a long row's stretch near the robot, issue 49); the others are written out compactly
+  /// (about 5 bytes a node) and put back, as they were, when a later keep_x() holds them again
+  /// or update() / follow_scan() changes a voxel of theirs. Queries (the checkers',
+  /// clear_robot_volume()) answer as the whole environment's for anything inside the stretch
+  /// held (the subtrees inside are untouched, and an inner node's occupancy is the largest of
+  /// its children's, so no query inside reads the ones out); a query that reaches beyond it is
+  /// an error (CANOPY_CHECK), never a different answer; occupied() answers anywhere but in a
+  /// subtree moved out (an error there). Not while another thread queries.
+  void keep_x(double x_lo_m, double x_hi_m);
+  /// Every subtree back: the tree is the one that took every change without keep_x().
+  void keep_all();
+  bool windowed() const;
+  /// Subtrees written out by keep_x().
+  std::size_t dropped_subtrees() const;
+  /// The tree in OctoMap's full format (values included), for tests.
+  void write(std::ostream& out) const;
   /// True when the voxel containing `p` is occupied.
   bool occupied(const Vec3& p) const;
   /// Frees every occupied voxel whose cube overlaps the robot's shapes (inflated by

@@ -96,6 +96,23 @@ class VoxelIndex {
   bool apply_updates(const mapping::SemanticOcTree& map, std::uint64_t revision_before,
                      const std::vector<mapping::VoxelUpdate>& updates);
 
+  /// Holds bricks only for the voxels whose x key lies in [x_lo_m, x_hi_m] (widened to whole
+  /// bricks; a long row's stretch near the robot, issue 49) and drops the others, so that the
+  /// index's memory is bounded by the stretch, not by the row mapped. Every answer stays the
+  /// full index's: a voxel of a dropped brick is read from the map (one tree search, and its
+  /// state's palette id, as every state in the map is interned), changed_since() keeps the
+  /// dropped bricks' stamps, and a brick that comes back into the stretch is filled from the
+  /// map again. Updates outside the stretch intern their states and stamp their bricks as
+  /// changed (a change reported that was none only costs a cache). When the index is not
+  /// current for `map`, only the stretch is set (the next refresh() builds within it).
+  void keep_x(const mapping::SemanticOcTree& map, double x_lo_m, double x_hi_m);
+  /// Holds every brick again (filled from the map, as keep_x() fills a stretch).
+  void keep_all(const mapping::SemanticOcTree& map);
+  /// True while keep_x() bounds the bricks held.
+  bool windowed() const { return windowed_; }
+  /// Bricks dropped by keep_x() whose stamps are kept (changed_since()).
+  std::size_t dropped_bricks() const { return dropped_stamps_.size(); }
+
   /// Palette id of the voxel with `key` (0 when unknown).
   std::uint32_t lookup(const octomap::OcTreeKey& key) const;
   const VoxelInfo& info(std::uint32_t id) const { return palette_[id]; }
@@ -144,6 +161,16 @@ class VoxelIndex {
   std::uint32_t* brick_for_insert(std::uint64_t brick_key);
   const std::uint32_t* brick(std::uint64_t brick_key) const;
   void grow();
+  void rehash(std::size_t cap);
+  // True when bricks of brick x `bx` are not held (keep_x()): their voxels are read from the map.
+  bool dropped_x(unsigned bx) const { return windowed_ && (bx < window_lo_ || bx > window_hi_); }
+  static unsigned brick_x(std::uint64_t brick_key) { return unsigned(brick_key & 0x1fffu); }
+  // Palette id of a voxel of a dropped brick: its state in the map (0 when unknown).
+  std::uint32_t map_id(unsigned x, unsigned y, unsigned z) const;
+  // Fills the bricks of brick x [lo, hi] (held, absent) from the map; stamps them as they were.
+  void admit(const mapping::SemanticOcTree& map, unsigned lo, unsigned hi);
+  // Drops the bricks the window does not hold, keeping their stamps.
+  void drop_outside();
   std::uint64_t slot(std::uint64_t brick_key) const {
     return (brick_key * 0x9E3779B97F4A7C15ULL) >> table_shift_;
   }
@@ -164,6 +191,11 @@ class VoxelIndex {
   double build_ms_ = 0.0;
   double update_ms_ = 0.0;
   std::unordered_map<detail::StateBytes, std::uint32_t, detail::StateHash> ids_;  // state -> palette id
+  // keep_x(): bricks held only for brick x in [window_lo_, window_hi_]; the dropped bricks'
+  // stamps (absent: unchanged since the last rebuild, or never known).
+  bool windowed_ = false;
+  unsigned window_lo_ = 0, window_hi_ = 0;
+  std::unordered_map<std::uint64_t, std::uint64_t> dropped_stamps_;
 };
 
 template <class Visit>
@@ -180,14 +212,16 @@ bool VoxelIndex::walk(const Vec3& origin_d, const Vec3& end_d, std::size_t capac
   bool have_brick = false;
   std::uint64_t cached_bk = 0;
   const std::uint32_t* cached = nullptr;
+  bool dropped = false;
   return mapping::walk_ray(*map_, origin, end, [&](unsigned x, unsigned y, unsigned z) {
     const std::uint64_t bk = mapping::brick_key(x, y, z);
     if (!have_brick || bk != cached_bk) {
       have_brick = true;
       cached_bk = bk;
       cached = brick(bk);
+      dropped = !cached && dropped_x(x >> kBrickBits);
     }
-    if (!visit(palette_[cached ? cached[mapping::brick_cell(x, y, z)] : 0u])) return false;
+    if (!visit(palette_[cached ? cached[mapping::brick_cell(x, y, z)] : dropped ? map_id(x, y, z) : 0u])) return false;
     return ++n < capacity;
   });
 }
