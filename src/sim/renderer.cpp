@@ -345,7 +345,7 @@ void Renderer::robot_over_kept_world(const Pose& T_world_camera, const std::stri
 }
 
 void Renderer::pass(const Pose& T_world_camera, bool world, bool show_robot, const std::string& caption, bool depth,
-                    const std::array<int, 4>* rect) {
+                    const std::array<int, 4>* rect, bool depth_only) {
   Impl& r = *impl_;
   const mjModel* m = sim_.render_model();
   const int W = intrinsics_.width_px, H = intrinsics_.height_px;
@@ -401,10 +401,49 @@ void Renderer::pass(const Pose& T_world_camera, bool world, bool show_robot, con
   r.scene.flags[mjRND_SKYBOX] = world;
   r.scene.flags[mjRND_SEGMENT] = 0;
   r.scene.flags[mjRND_IDCOLOR] = 0;
+  // Lighting only shades the colours (llvmpipe computes it per vertex on the calling thread);
+  // the geometry, depth test and depth values do not depend on it.
+  const int lights = r.scene.nlight;
+  if (depth_only) r.scene.nlight = 0;
   mjr_render(viewport, &r.scene, &r.context);
+  r.scene.nlight = lights;
   // The caption where it falls in the whole frame (only the viewport's part is read back).
   if (!caption.empty()) mjr_overlay(mjFONT_NORMAL, mjGRID_TOPLEFT, whole, caption.c_str(), nullptr, &r.context);
-  mjr_readPixels(r.rgb.data(), depth ? r.depth.data() : nullptr, viewport, &r.context);
+  mjr_readPixels(depth_only ? nullptr : r.rgb.data(), depth ? r.depth.data() : nullptr, viewport, &r.context);
+}
+
+Image<float> Renderer::render_depth(const Pose& T_world_camera) {
+  sim_.update_kinematics();
+  if (!T_world_camera.matrix().allFinite()) throw InputError("camera pose: not finite (NaN or inf)");
+  Impl& r = *impl_;
+  std::unique_lock<std::mutex> lock(gl_mutex());
+  r.make_current();
+  follow_model();
+  video_.forget_world();  // the GL buffers are reused
+  pass(T_world_camera, true, false, "", true, nullptr, /*depth_only=*/true);
+  lock.unlock();  // decoding touches only this renderer's buffers
+  return decode_depth();
+}
+
+Image<float> Renderer::decode_depth() {
+  const Impl& r = *impl_;
+  const int W = intrinsics_.width_px, H = intrinsics_.height_px;
+  const mjModel* m = sim_.render_model();
+  const double near_m = m->vis.map.znear * m->stat.extent;
+  const double far_m = m->vis.map.zfar * m->stat.extent;
+  const double near_over_far = near_m / far_m;
+  const double noise_k = intrinsics_.depth_noise_k;
+  Image<float> out(W, H, 0.f);
+  for (int y = 0; y < H; ++y) {
+    const int src_row = H - 1 - y;  // OpenGL rows are bottom-up
+    for (int x = 0; x < W; ++x) {
+      const double d = r.depth[static_cast<size_t>(src_row) * W + x];
+      double z = d >= 1.0 ? far_m : near_m / (1.0 - d * (1.0 - near_over_far));
+      if (noise_k > 0.0 && d < 1.0) z += noise_k * z * z * noise_rng_.normal();
+      if (z >= intrinsics_.min_range_m && z <= intrinsics_.max_range_m) out.at(x, y) = static_cast<float>(z);
+    }
+  }
+  return out;
 }
 
 LabelledFrame Renderer::draw(const Pose& T_world_camera, bool show_robot, bool labels, const std::string& caption,

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <string>
 
 #include "canopy/common/camera.h"
@@ -143,6 +144,56 @@ TEST(RenderCulling, ShadowedChaseViewsAreIdenticalWithAndWithoutCulling) {
     EXPECT_TRUE(ca.data == cb.data) << "pose " << k;
   }
   EXPECT_GE(fewer, 3);
+}
+
+// The depth-only truth render (unlit, only the depth read back) draws the very depth of a full
+// render without the robot: bit for bit, at the camera's size and a quarter of it (the
+// oracle's truth renders), with depth noise too (the same draws), the robot anywhere.
+TEST(RenderCulling, DepthOnlyRenderIsTheFullRendersDepthBitForBit) {
+  DefaultWorld& w = scene();
+  const CameraIntrinsics& K = w.world.spec.camera;
+  CameraIntrinsics quarter = K;
+  quarter.width_px = K.width_px / 4;
+  quarter.height_px = K.height_px / 4;
+  quarter.fx_px = K.fx_px / 4;
+  quarter.fy_px = K.fy_px / 4;
+  quarter.cx_px = K.cx_px / 4;
+  quarter.cy_px = K.cy_px / 4;
+  quarter.depth_noise_k = 0.0;
+  CameraIntrinsics noisy = K;
+  noisy.depth_noise_k = 0.01;
+  const RobotConfig cfg = default_robot_config();
+  for (const CameraIntrinsics& C : {K, quarter, noisy}) {
+    Renderer depth_only(w.sim, C, RenderOptions{false, 7, false}), full(w.sim, C, RenderOptions{false, 7, false});
+    Rng rng(11);
+    long seen = 0;
+    for (int k = 0; k < 10; ++k) {
+      const BasePose base{-0.6 + 0.45 * k, rng.uniform(-0.05, 0.05), rng.uniform(-0.2, 0.2)};
+      ArmConfig q = cfg.home;
+      if (k % 3 != 0)
+        for (auto& v : q) v = rng.uniform(-M_PI, M_PI);
+      w.sim.set_robot_state(base, q);
+      // The wrist camera's pose, and one looking at a plant from the aisle.
+      const world::Plant& plant = w.world.plants[std::size_t(k) % w.world.plants.size()];
+      const Vec3 target = plant.base_position + Vec3(0, 0, rng.uniform(0.3, 0.9));
+      const Pose poses[2] = {w.sim.camera_pose(),
+                             look_at(target + Vec3(rng.uniform(-0.3, 0.3), rng.uniform(0.25, 0.6) * (k % 2 ? 1 : -1),
+                                                   rng.uniform(-0.2, 0.3)),
+                                     target)};
+      for (const Pose& T : poses) {
+        const Image<float> a = depth_only.render_depth(T);
+        const Image<float> b = full.render(T, false, false).depth_m;
+        ASSERT_EQ(a.data.size(), b.data.size());
+        long differ = 0;
+        for (std::size_t i = 0; i < a.data.size(); ++i) {
+          differ += std::memcmp(&a.data[i], &b.data[i], sizeof(float)) != 0;
+          seen += a.data[i] > 0.f;
+        }
+        EXPECT_EQ(differ, 0) << C.width_px << " px, pose " << k;
+      }
+    }
+    EXPECT_GT(seen, 20 * long(C.width_px) * C.height_px / 100) << C.width_px << " px: too little in range to compare";
+  }
 }
 
 // Cameras looking down at the ground where leaves outside the view cast their shadows (the

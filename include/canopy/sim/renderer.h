@@ -50,6 +50,11 @@ class Renderer {
   /// Any camera pose; `show_robot` chooses whether robot geoms are drawn; `labels` adds the
   /// segmentation pass.
   LabelledFrame render(const Pose& T_world_camera, bool show_robot, bool labels = true);
+  /// The planar depth [m] alone (0 = nothing in the camera's valid range) of the world without
+  /// the robot: render(T, false, false).depth_m bit for bit, cheaper (a truth render, e.g. the
+  /// oracle's). Drawn unlit (lights change only colours; the depth test and values are the same)
+  /// and only the depth read back.
+  Image<float> render_depth(const Pose& T_world_camera);
   /// RGB only, with `caption` drawn in the top-left corner (MuJoCo's overlay font), for videos.
   Image<Rgb8> render_captioned(const Pose& T_world_camera, bool show_robot, const std::string& caption);
   /// A video frame (RGB with `caption`, robot shown) that looks as render_captioned's, made
@@ -94,8 +99,12 @@ class Renderer {
   /// buffers, raw depth too when `depth`. With `rect` ({left, bottom, width, height}, OpenGL
   /// rows) only that part of the frame is drawn and read back (an off-centre frustum), into
   /// the buffers' first width x height values. The caller holds the GL lock.
+  /// `depth_only`: drawn without lights and only the depth read back (the RGB buffer is not).
   void pass(const Pose& T_world_camera, bool world, bool show_robot, const std::string& caption, bool depth,
-            const std::array<int, 4>* rect = nullptr);
+            const std::array<int, 4>* rect = nullptr, bool depth_only = false);
+  /// The planar depth [m] of the raw depth buffer read back last (rows top-down), noised as
+  /// the camera says; 0 outside the valid range.
+  Image<float> decode_depth();
   /// The robot's part of the still-camera video frame (render_video_frame); GL lock held.
   void robot_over_kept_world(const Pose& T_world_camera, const std::string& caption);
 
