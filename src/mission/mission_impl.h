@@ -110,6 +110,10 @@ struct Mission::Impl {
     if (callbacks.near_robot_m >= 0.0) return callbacks.near_robot_m;
     return sim.plants_windowed() ? Mission::kNearRobotM : 0.0;
   }
+  // Issue 49: the map holds its subtrees within twice that of the stop, the rest moved out as
+  // compact bytes (SemanticOcTree::keep_x); the index's reads beyond its own stretch land in
+  // the map's, and a read beyond the map's is an internal error, never another answer.
+  double map_near_m() const { return 2.0 * near_robot_m(); }
   // The true plants as voxels, for the robot's contacts: the plants the rendered model holds
   // (a long row's window, issue 49: the base's contacts on a drive are counted with the plants
   // of the window it drives to; every plant of a world that fits in one window).
