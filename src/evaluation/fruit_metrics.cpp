@@ -188,7 +188,7 @@ namespace {
 // The squared distance within which a voxel centre lies on a true fruit: half a voxel
 // diagonal plus the sample spacing.
 double on_fruit_reach2(double resolution_m, double point_spacing_m) {
-  const double reach = 0.5 * std::sqrt(3.0) * resolution_m + point_spacing_m;
+  const double reach = TrueFruitSurface::reach_m(resolution_m, point_spacing_m);
   return reach * reach;
 }
 }  // namespace
@@ -206,6 +206,10 @@ TrueFruitSurface::TrueFruitSurface(const PointKdTree& target_points, double poin
     : tree_(&target_points), resolution_m_(resolution_m), reach2_(on_fruit_reach2(resolution_m, point_spacing_m)) {}
 
 TrueFruitSurface::~TrueFruitSurface() = default;
+
+double TrueFruitSurface::reach_m(double resolution_m, double point_spacing_m) {
+  return 0.5 * std::sqrt(3.0) * resolution_m + point_spacing_m;
+}
 
 bool TrueFruitSurface::on_fruit(const Vec3& c) const {
   std::size_t i = 0;

@@ -4,7 +4,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
+#include "canopy/common/error.h"
 #include "canopy/common/point_kdtree.h"
 #include "canopy/evaluation/fruit_metrics.h"
 #include "canopy/mapping/voxel_key.h"
@@ -53,34 +55,77 @@ constexpr double kSlack = 1e-9;
 
 }  // namespace
 
-IncrementalEvaluator::IncrementalEvaluator(const world::GroundTruth& truth, const MetricsParams& params)
-    : truth_(truth), params_(params) {
-  std::vector<Vec3> points;  // every target surface point, fruit by fruit: the tree keeps them
+IncrementalEvaluator::IncrementalEvaluator(const world::GroundTruth& truth, const MetricsParams& params,
+                                           double window_pad_m)
+    : truth_(truth), params_(params), window_pad_m_(window_pad_m) {
+  CANOPY_CHECK(window_pad_m > 0.0, "IncrementalEvaluator: window_pad_m " << window_pad_m << " is not > 0");
+  first_point_.push_back(0);
   for (const world::FruitTruth& f : truth.fruits) {
     if (!f.target) {
       ++metrics_.non_target_fruits;
       continue;
     }
-    const auto index = static_cast<std::uint32_t>(fruits_.size());
     fruits_.push_back(&f);
     centroids_.push_back(surface_centroid(f));
+    first_point_.push_back(first_point_.back() + f.surface_points.size());
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
     for (const Vec3& p : f.surface_points) {
-      points.push_back(p);
-      point_fruit_.push_back(index);
+      lo = std::min(lo, p.x());
+      hi = std::max(hi, p.x());
     }
+    fruit_x_lo_.push_back(lo);
+    fruit_x_hi_.push_back(hi);
     FruitMetrics fm;
     fm.instance_id = f.instance_id;
     fm.plant_index = f.plant_index;
     fm.points = f.surface_points.size();
     metrics_.fruits.push_back(fm);
   }
-  point_covered_.assign(points.size(), 0);
-  point_tree_ = std::make_unique<PointKdTree>(std::move(points));
+  CANOPY_CHECK(first_point_.back() <= std::numeric_limits<std::uint32_t>::max(),
+               "IncrementalEvaluator: " << first_point_.back() << " true points are more than it indexes");
+  point_covered_.assign(first_point_.back(), 0);
 }
 
-const std::vector<Vec3>& IncrementalEvaluator::points() const { return point_tree_->points(); }
-
 IncrementalEvaluator::~IncrementalEvaluator() = default;
+
+std::uint32_t IncrementalEvaluator::fruit_of(std::size_t i) const {
+  return static_cast<std::uint32_t>(std::upper_bound(first_point_.begin(), first_point_.end(), i) - first_point_.begin() - 1);
+}
+
+const Vec3& IncrementalEvaluator::point(std::size_t i) const {
+  const std::uint32_t f = fruit_of(i);
+  return fruits_[f]->surface_points[i - first_point_[f]];
+}
+
+std::size_t IncrementalEvaluator::window_points() const { return window_index_.size(); }
+
+void IncrementalEvaluator::hold_x(double lo, double hi) {
+  if (window_tree_ && lo >= window_lo_ && hi <= window_hi_) return;
+  window_lo_ = lo - window_pad_m_;
+  window_hi_ = hi + window_pad_m_;
+  // Every point with x in the window belongs to a fruit whose extent reaches into it.
+  std::vector<Vec3> held;
+  window_index_.clear();
+  for (std::size_t f = 0; f < fruits_.size(); ++f) {
+    if (fruit_x_hi_[f] < window_lo_ || fruit_x_lo_[f] > window_hi_) continue;
+    const std::vector<Vec3>& pts = fruits_[f]->surface_points;
+    held.insert(held.end(), pts.begin(), pts.end());
+    for (std::size_t j = 0; j < pts.size(); ++j) window_index_.push_back(static_cast<std::uint32_t>(first_point_[f] + j));
+  }
+  window_index_.shrink_to_fit();
+  surface_.reset();
+  window_tree_ = std::make_unique<PointKdTree>(std::move(held));
+  surface_ = std::make_unique<TrueFruitSurface>(*window_tree_, truth_.point_spacing_m, resolution_);
+  ++window_builds_;
+}
+
+void IncrementalEvaluator::points_within(const Vec3& q, double radius, std::vector<std::uint32_t>* out) {
+  CANOPY_CHECK(q.x() - radius >= window_lo_ && q.x() + radius <= window_hi_,
+               "IncrementalEvaluator: a search at x = " << q.x() << " beyond the points held");
+  std::vector<std::pair<std::size_t, double>> near;
+  window_tree_->within(q, radius, &near);
+  for (const auto& n : near) out->push_back(window_index_[n.first]);
+}
 
 std::size_t IncrementalEvaluator::memory_bytes() const {
   // A k-d tree of n points: its copy of them and about one index and a node's share each.
@@ -88,23 +133,51 @@ std::size_t IncrementalEvaluator::memory_bytes() const {
   const std::size_t hashed = 8 + 2 * sizeof(void*);  // an unordered_map entry and its bucket, at least
   std::size_t component_codes = 0;
   for (const auto& entry : components_) component_codes += entry.second.codes.capacity() * sizeof(std::uint64_t);
-  return point_fruit_.capacity() * 4 + point_covered_.capacity() + centroids_.capacity() * sizeof(Vec3) +
-         tree(points().size()) + fruit_keys_.capacity() * 16 +
-         voxels_.size() * (8 + 1 + hashed) + component_of_.size() * (8 + 4 + hashed) + component_codes;
+  return point_covered_.capacity() + (first_point_.capacity() + centroids_.capacity() * 3 + fruit_x_lo_.capacity() * 2) * 8 +
+         tree(window_points()) + window_index_.capacity() * 4 + fruit_boxes_.capacity() * sizeof(KeyBox) +
+         box_cells_.capacity() * 16 + voxels_.size() * (8 + 1 + hashed) + component_of_.size() * (8 + 4 + hashed) +
+         component_codes;
 }
 
 void IncrementalEvaluator::index_fruit_boxes(const SemanticOcTree& map) {
-  fruit_keys_.clear();
+  fruit_boxes_.clear();
+  box_cells_.clear();
   const double res = map.getResolution();
   const Vec3 half = Vec3::Constant(params_.entropy_box_m / 2.0 + res);
   const Vec3 radius = Vec3::Constant(params_.prototype_entropy_radius_m + res);
-  for (std::uint32_t i = 0; i < fruits_.size(); ++i) {
-    const auto add = [&](const octomap::OcTreeKey& k) { fruit_keys_.emplace_back(mapping::morton_code(k), i); };
-    for_each_key_overlapping(fruits_[i]->center - half, fruits_[i]->center + half, res, add);
-    for_each_key_overlapping(centroids_[i] - radius, centroids_[i] + radius, res, add);
+  const auto add = [&](const Vec3& lo, const Vec3& hi) {
+    KeyBox b;
+    for (int a = 0; a < 3; ++a) {
+      b.lo[a] = axis_key(lo[a], res);
+      b.hi[a] = axis_key(hi[a], res);
+    }
+    const auto box = static_cast<std::uint32_t>(fruit_boxes_.size());
+    fruit_boxes_.push_back(b);
+    for (int z = b.lo[2] >> kBoxCellShift; z <= b.hi[2] >> kBoxCellShift; ++z)
+      for (int y = b.lo[1] >> kBoxCellShift; y <= b.hi[1] >> kBoxCellShift; ++y)
+        for (int x = b.lo[0] >> kBoxCellShift; x <= b.hi[0] >> kBoxCellShift; ++x)
+          box_cells_.emplace_back(std::uint64_t(x) | std::uint64_t(y) << 16 | std::uint64_t(z) << 32, box);
+  };
+  for (std::size_t i = 0; i < fruits_.size(); ++i) {
+    add(fruits_[i]->center - half, fruits_[i]->center + half);
+    add(centroids_[i] - radius, centroids_[i] + radius);
   }
-  std::sort(fruit_keys_.begin(), fruit_keys_.end());
-  fruit_keys_.erase(std::unique(fruit_keys_.begin(), fruit_keys_.end()), fruit_keys_.end());
+  std::sort(box_cells_.begin(), box_cells_.end());
+  box_cells_.shrink_to_fit();
+}
+
+void IncrementalEvaluator::mark_dirty_fruits(std::uint64_t code, std::vector<char>* dirty) const {
+  const octomap::OcTreeKey k = mapping::morton_key(code);
+  const std::uint64_t cell = std::uint64_t(k[0] >> kBoxCellShift) | std::uint64_t(k[1] >> kBoxCellShift) << 16 |
+                             std::uint64_t(k[2] >> kBoxCellShift) << 32;
+  const auto range = std::equal_range(box_cells_.begin(), box_cells_.end(), std::make_pair(cell, std::uint32_t(0)),
+                                      [](const auto& a, const auto& b) { return a.first < b.first; });
+  for (auto it = range.first; it != range.second; ++it) {
+    const KeyBox& b = fruit_boxes_[it->second];
+    bool inside = true;
+    for (int a = 0; a < 3; ++a) inside = inside && b.lo[a] <= int(k[a]) && int(k[a]) <= b.hi[a];
+    if (inside) (*dirty)[it->second / 2] = 1;
+  }
 }
 
 std::uint8_t IncrementalEvaluator::classify(const SemanticOcTree& map, const octomap::OcTreeKey&,
@@ -153,10 +226,10 @@ std::uint8_t IncrementalEvaluator::covered_flags(const SemanticOcTree& map, cons
 }
 
 void IncrementalEvaluator::rescore_point(const SemanticOcTree& map, std::size_t i) {
-  const std::uint8_t now = covered_flags(map, points()[i]);
+  const std::uint8_t now = covered_flags(map, point(i));
   const std::uint8_t old = point_covered_[i];
   if (now == old) return;
-  FruitMetrics& fm = metrics_.fruits[point_fruit_[i]];
+  FruitMetrics& fm = metrics_.fruits[fruit_of(i)];
   fm.paper.covered += std::size_t((now & kPaper) != 0) - std::size_t((old & kPaper) != 0);
   fm.prototype.covered += std::size_t((now & kPrototype) != 0) - std::size_t((old & kPrototype) != 0);
   point_covered_[i] = now;
@@ -165,7 +238,9 @@ void IncrementalEvaluator::rescore_point(const SemanticOcTree& map, std::size_t 
 void IncrementalEvaluator::score_all(const SemanticOcTree& map) {
   map_ = &map;
   resolution_ = map.getResolution();
-  surface_ = std::make_unique<TrueFruitSurface>(*point_tree_, truth_.point_spacing_m, resolution_);
+  reach_m_ = std::max(params_.coverage_distance_m, TrueFruitSurface::reach_m(resolution_, truth_.point_spacing_m)) + kSlack;
+  window_tree_.reset();  // built again at this resolution when first needed
+  surface_.reset();
   index_fruit_boxes(map);
   voxels_.clear();
   paper_voxels_ = prototype_voxels_ = paper_on_fruit_ = prototype_on_fruit_ = 0;
@@ -178,18 +253,26 @@ void IncrementalEvaluator::score_all(const SemanticOcTree& map) {
   // Only a point within the coverage distance of a fruit voxel can be covered: those are scored,
   // every other point is uncovered (the same reach as update()'s), so the first scoring costs
   // the map's fruit voxels, not the world's points.
-  std::vector<std::uint32_t> near_points;
-  std::vector<std::pair<std::size_t, double>> near;
-  const double reach = params_.coverage_distance_m + kSlack;
+  struct Found {
+    std::uint64_t code;
+    std::uint8_t flags;
+    Vec3 centre;
+  };
+  std::vector<Found> found;
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
   map.for_each_voxel_if([&](const SemanticState& s) { return SemanticOcTree::is_class_voxel(s, target); },
                          [&](const octomap::OcTreeKey& key, const SemanticState& s) {
-                           const Vec3 centre = map.center_of(key);
-                           const std::uint8_t flags = classify(map, key, &s);
-                           set_voxel(mapping::morton_code(key), flags, centre);
-                           if (!flags) return;
-                           point_tree_->within(centre, reach, &near);
-                           for (const auto& n : near) near_points.push_back(static_cast<std::uint32_t>(n.first));
+                           found.push_back({mapping::morton_code(key), classify(map, key, &s), map.center_of(key)});
+                           lo = std::min(lo, found.back().centre.x());
+                           hi = std::max(hi, found.back().centre.x());
                          });
+  if (!found.empty()) hold_x(lo - reach_m_, hi + reach_m_);
+  std::vector<std::uint32_t> near_points;
+  const double reach = params_.coverage_distance_m + kSlack;
+  for (const Found& f : found) {
+    set_voxel(f.code, f.flags, f.centre);
+    if (f.flags) points_within(f.centre, reach, &near_points);
+  }
   for (FruitMetrics& fm : metrics_.fruits) fm.paper.covered = fm.prototype.covered = 0;
   std::fill(point_covered_.begin(), point_covered_.end(), 0);
   std::sort(near_points.begin(), near_points.end());
@@ -197,7 +280,7 @@ void IncrementalEvaluator::score_all(const SemanticOcTree& map) {
   for (std::uint32_t i : near_points) rescore_point(map, i);
   for (std::size_t i = 0; i < fruits_.size(); ++i)
     score_fruit_entropy(map, *fruits_[i], centroids_[i], params_, &metrics_.fruits[i]);
-  last_points_ = points().size();
+  last_points_ = point_covered_.size();
   last_fruits_ = fruits_.size();
 }
 
@@ -208,22 +291,29 @@ const MapMetrics& IncrementalEvaluator::update(const SemanticOcTree& map, const 
     return metrics_;
   }
   std::vector<char> fruit_dirty(fruits_.size(), 0);
-  std::vector<std::uint32_t> dirty_points;
-  std::vector<std::pair<std::size_t, double>> near;
-  const double reach = params_.coverage_distance_m + kSlack;
+  // The voxels whose class flags change, in the updates' order; then the points near them
+  // (the window first made to hold their stretch).
+  std::vector<std::pair<std::uint64_t, std::uint8_t>> flips;
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
   for (const mapping::VoxelUpdate& u : changed) {
-    auto range = std::equal_range(fruit_keys_.begin(), fruit_keys_.end(), std::make_pair(u.code, std::uint32_t(0)),
-                                  [](const auto& a, const auto& b) { return a.first < b.first; });
-    for (auto it = range.first; it != range.second; ++it) fruit_dirty[it->second] = 1;
+    mark_dirty_fruits(u.code, &fruit_dirty);
     const octomap::OcTreeKey key = mapping::morton_key(u.code);
     const std::uint8_t now = classify(map, key, map.find(key));
     const auto it = voxels_.find(u.code);
     const std::uint8_t old = it == voxels_.end() ? 0 : std::uint8_t(it->second & (kPaper | kPrototype));
     if (now == old) continue;
-    const Vec3 centre = map.center_of(key);
-    set_voxel(u.code, now, centre);
-    point_tree_->within(centre, reach, &near);
-    for (const auto& n : near) dirty_points.push_back(static_cast<std::uint32_t>(n.first));
+    flips.emplace_back(u.code, now);
+    const double x = map.center_of(key).x();
+    lo = std::min(lo, x);
+    hi = std::max(hi, x);
+  }
+  if (!flips.empty()) hold_x(lo - reach_m_, hi + reach_m_);
+  std::vector<std::uint32_t> dirty_points;
+  const double reach = params_.coverage_distance_m + kSlack;
+  for (const auto& [code, now] : flips) {
+    const Vec3 centre = map.center_of(mapping::morton_key(code));
+    set_voxel(code, now, centre);
+    points_within(centre, reach, &dirty_points);
   }
   std::sort(dirty_points.begin(), dirty_points.end());
   dirty_points.erase(std::unique(dirty_points.begin(), dirty_points.end()), dirty_points.end());

@@ -31,8 +31,9 @@ world::GroundTruth two_fruits() {
 
 // Random hits (fruit, leaf) and pass-throughs (free_in_10 of 10 updates) in a box around the
 // fruits: fruit voxels appear, change class, lose their prototype status and vanish again.
-std::vector<VoxelUpdate> random_batch(const SemanticOcTree& map, std::mt19937& rng, int n, int free_in_10) {
-  std::uniform_real_distribution<double> x(0.3, 0.65), y(0.12, 0.28), z(0.92, 1.12);
+std::vector<VoxelUpdate> random_batch(const SemanticOcTree& map, std::mt19937& rng, int n, int free_in_10,
+                                      double x_lo = 0.3, double x_hi = 0.65) {
+  std::uniform_real_distribution<double> x(x_lo, x_hi), y(0.12, 0.28), z(0.92, 1.12);
   std::uniform_int_distribution<int> kind(0, 9);
   std::vector<VoxelUpdate> u;
   for (int i = 0; i < n; ++i) {
@@ -83,6 +84,38 @@ TEST(IncrementalEvaluator, EqualsTheFullEvaluationAfterEveryRandomBatch) {
     EXPECT_TRUE(lost_voxels);
     EXPECT_GT(inc.metrics().paper.covered, 0u);
   }
+}
+
+// A row of fruits 4 m long scanned stretch by stretch, with a window pad of 5 cm: the k-d tree
+// of true points is built again and again, holds a few fruits at a time, and every figure still
+// equals the full evaluation's (and a fresh evaluator's first scoring of the whole map).
+TEST(IncrementalEvaluator, AWindowOfPointsMovingAlongARowGivesTheFullEvaluation) {
+  world::GroundTruth truth;
+  for (int i = 0; i < 12; ++i)
+    truth.fruits.push_back(synth::sphere_truth(Vec3(0.3 + 0.35 * i, 0.2, 1.0 + 0.02 * (i % 3)), 0.04, 0.003, 20 + i));
+  std::size_t all_points = 0;
+  for (const auto& f : truth.fruits) all_points += f.surface_points.size();
+  MetricsParams params;
+  SemanticOcTree map(SemanticMapParams{}, SemanticClasses{});
+  IncrementalEvaluator inc(truth, params, 0.05);
+  std::mt19937 rng(5);
+  std::size_t most_held = 0;
+  for (int batch = 0; batch < 48; ++batch) {
+    // Forward along the row and back, each batch a 0.5 m stretch; the last ones clear voxels.
+    const int step = batch < 24 ? batch : 47 - batch;
+    const double x0 = 0.1 + 0.16 * step;
+    const std::vector<VoxelUpdate> u = random_batch(map, rng, 500, batch < 36 ? 3 : 8, x0, x0 + 0.5);
+    map.apply_sorted_updates(u);
+    const MapMetrics& got = inc.update(map, u);
+    SCOPED_TRACE("batch " + std::to_string(batch));
+    expect_same_metrics(got, evaluate_map(map, truth, params));
+    most_held = std::max(most_held, inc.window_points());
+  }
+  EXPECT_GT(inc.metrics().paper.covered, 0u);
+  EXPECT_GE(inc.window_builds(), 10u);
+  EXPECT_LT(most_held, all_points / 2);
+  IncrementalEvaluator fresh(truth, params, 0.05);
+  expect_same_metrics(fresh.update(map, {}), evaluate_map(map, truth, params));
 }
 
 TEST(IncrementalEvaluator, RescoresOnlyWhatAScanCanChange) {

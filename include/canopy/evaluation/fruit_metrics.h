@@ -127,6 +127,9 @@ class TrueFruitSurface {
   TrueFruitSurface& operator=(const TrueFruitSurface&) = delete;
   bool on_fruit(const Vec3& voxel_centre) const;
   double resolution_m() const { return resolution_m_; }
+  /// The farthest a sample can be from a voxel centre and still put it on a fruit: on_fruit()
+  /// reads no sample farther than this.
+  static double reach_m(double resolution_m, double point_spacing_m);
 
  private:
   std::unique_ptr<PointKdTree> owned_;  ///< Built by the first constructor.

@@ -14,6 +14,13 @@
 //    is computed as fruit_clusters computes it (members in grid-cell order).
 // The result equals evaluate_map() bit for bit, except MapMetrics::counts (the map's leaf
 // counts need a full pass: call SemanticOcTree::counts() when they are wanted).
+//
+// Memory is bounded by the stretch a scan reaches, not by the world (issue 49): the true
+// surface points are read from the truth, not copied; a k-d tree holds only the points of the
+// fruits along the stretch of x the updates reach (plus window_pad_m each side) and is built
+// again when an update reaches beyond it (every query then lies inside it with its whole
+// radius, so its answers are the whole tree's); the fruits' entropy boxes are kept as key
+// ranges on a coarse grid, not as every key in them.
 
 #include <cstdint>
 #include <map>
@@ -37,8 +44,12 @@ class TrueFruitSurface;
 /// Keeps a map's metrics up to date from the voxel updates applied to it.
 class IncrementalEvaluator {
  public:
-  /// Keeps references to `truth` (it must outlive the evaluator).
-  IncrementalEvaluator(const world::GroundTruth& truth, const MetricsParams& params);
+  /// Points held beyond the stretch an update reaches, each side along x (m).
+  static constexpr double kWindowPadM = 2.0;
+  /// Keeps references to `truth` (it must outlive the evaluator). `window_pad_m` > 0: see
+  /// kWindowPadM (tests pass a small one to move the window often).
+  IncrementalEvaluator(const world::GroundTruth& truth, const MetricsParams& params,
+                       double window_pad_m = kWindowPadM);
   ~IncrementalEvaluator();
   IncrementalEvaluator(const IncrementalEvaluator&) = delete;
   IncrementalEvaluator& operator=(const IncrementalEvaluator&) = delete;
@@ -58,8 +69,11 @@ class IncrementalEvaluator {
   /// Surface points and fruits scored again by the last update() (for benchmarks and tests).
   std::size_t last_rescored_points() const { return last_points_; }
   std::size_t last_rescored_fruits() const { return last_fruits_; }
-  /// Approximate heap use: the truth's points and their trees, the fruits' entropy keys and
-  /// the fruit voxels (`canopy bench mission`).
+  /// True surface points in the k-d tree now, and how often it was built (tests, benchmarks).
+  std::size_t window_points() const;
+  std::size_t window_builds() const { return window_builds_; }
+  /// Approximate heap use: the points' flags, the window's tree, the fruits' entropy boxes
+  /// and the fruit voxels (`canopy bench mission`; the truth's points are the world's).
   std::size_t memory_bytes() const;
 
  private:
@@ -71,8 +85,21 @@ class IncrementalEvaluator {
   std::uint8_t covered_flags(const SemanticOcTree& map, const Vec3& p) const;
   void rescore_point(const SemanticOcTree& map, std::size_t i);
   void finish(const SemanticOcTree& map);
-  const std::vector<Vec3>& points() const;
+  /// Target surface point i (fruit by fruit, in truth order) and the index of its fruit.
+  const Vec3& point(std::size_t i) const;
+  std::uint32_t fruit_of(std::size_t i) const;
+  /// The window's tree holds every point with lo <= x <= hi (built again when it does not).
+  void hold_x(double lo, double hi);
+  /// Indices (into point()) of the points within `radius` of `q`, appended; q +- radius held.
+  void points_within(const Vec3& q, double radius, std::vector<std::uint32_t>* out);
+  void mark_dirty_fruits(std::uint64_t code, std::vector<char>* dirty) const;
   void update_components(const SemanticOcTree& map);
+
+  /// A fruit's entropy box as the (clamped) key range its voxels fill; two per fruit.
+  struct KeyBox {
+    int lo[3], hi[3];
+  };
+  static constexpr int kBoxCellShift = 4;  ///< Grid cells of 16 keys a side index the boxes.
 
   /// A connected component (26-neighbourhood) of the rule's fruit voxels.
   struct Component {
@@ -87,16 +114,22 @@ class IncrementalEvaluator {
   std::uint64_t revision_ = 0;
   double resolution_ = 0.0;
 
+  double window_pad_m_;
   std::vector<const world::FruitTruth*> fruits_;  ///< Target fruits, in truth order.
   std::vector<Vec3> centroids_;
-  std::vector<std::uint32_t> point_fruit_;        ///< Index into fruits_ of each point (point_tree_'s).
+  std::vector<std::size_t> first_point_;          ///< fruits_.size() + 1 offsets into point().
+  std::vector<double> fruit_x_lo_, fruit_x_hi_;   ///< Each fruit's points' extent along x.
   std::vector<std::uint8_t> point_covered_;       ///< kPaper | kPrototype.
-  /// All target surface points, fruit by fruit (points()), held once: the coverage's
-  /// neighbours and surface_'s on-fruit test both search this tree.
-  std::unique_ptr<PointKdTree> point_tree_;
+  /// The window: the points of the fruits reaching into [window_lo_, window_hi_] (indices into
+  /// point() beside them); the coverage's neighbours and surface_'s on-fruit test search it.
+  double window_lo_ = 0.0, window_hi_ = -1.0;
+  std::unique_ptr<PointKdTree> window_tree_;
+  std::vector<std::uint32_t> window_index_;
+  std::size_t window_builds_ = 0;
   std::unique_ptr<TrueFruitSurface> surface_;
-  /// (Morton code, fruit) for every voxel key in a fruit's entropy boxes, sorted.
-  std::vector<std::pair<std::uint64_t, std::uint32_t>> fruit_keys_;
+  double reach_m_ = 0.0;  ///< The farthest either search reads from its query.
+  std::vector<KeyBox> fruit_boxes_;                                ///< 2 i, 2 i + 1: fruit i's.
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> box_cells_;  ///< (cell, box), sorted.
 
   std::unordered_map<std::uint64_t, std::uint8_t> voxels_;  ///< Fruit voxels: kPaper [| kPrototype] | kOnFruit.
   std::size_t paper_voxels_ = 0, prototype_voxels_ = 0;
