@@ -100,11 +100,11 @@ TEST(IncrementalEvaluator, AWindowOfPointsMovingAlongARowGivesTheFullEvaluation)
   IncrementalEvaluator inc(truth, params, 0.05);
   std::mt19937 rng(5);
   std::size_t most_held = 0;
-  for (int batch = 0; batch < 48; ++batch) {
+  for (int batch = 0; batch < 32; ++batch) {
     // Forward along the row and back, each batch a 0.5 m stretch; the last ones clear voxels.
-    const int step = batch < 24 ? batch : 47 - batch;
-    const double x0 = 0.1 + 0.16 * step;
-    const std::vector<VoxelUpdate> u = random_batch(map, rng, 500, batch < 36 ? 3 : 8, x0, x0 + 0.5);
+    const int step = batch < 16 ? batch : 31 - batch;
+    const double x0 = 0.1 + 0.24 * step;
+    const std::vector<VoxelUpdate> u = random_batch(map, rng, 500, batch < 24 ? 3 : 8, x0, x0 + 0.5);
     map.apply_sorted_updates(u);
     const MapMetrics& got = inc.update(map, u);
     SCOPED_TRACE("batch " + std::to_string(batch));
