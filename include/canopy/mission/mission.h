@@ -115,7 +115,8 @@ class Mission {
   std::vector<Pose> scan_views(int k, bool extra) const;
   const records::MissionResult& result() const;
   /// The map, whole: on a long row its far part, kept compactly during the mission
-  /// (SemanticOcTree::keep_x), is put back first (so memory() then counts it whole).
+  /// (SemanticOcTree::keep_x), is put back first (so memory() then counts it whole). From a
+  /// callback while run() runs, the map as held (a read of its far part is an internal error).
   const mapping::SemanticOcTree& map() const;
   /// What its largest holders use now (after run(): at the end).
   MissionMemory memory() const;
