@@ -6,8 +6,12 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
 
 #include "canopy/common/error.h"
+#include "canopy/common/zstd_bytes.h"
 
 namespace canopy::mapping {
 
@@ -28,7 +32,8 @@ void copy_children(SemanticNode* d, const SemanticNode* s) {
 
 SemanticOcTree::SemanticOcTree(const SemanticOcTree& other)
     : Base(other.params_.resolution_m), params_(other.params_), classes_(other.classes_), rule_(other.rule_),
-      unseen_entropy_(other.unseen_entropy_), revision_(other.revision_) {
+      unseen_entropy_(other.unseen_entropy_), revision_(other.revision_), windowed_(other.windowed_),
+      window_lo_(other.window_lo_), window_hi_(other.window_hi_), moved_(other.moved_), moved_bytes_(other.moved_bytes_) {
   if (other.root) {
     copy_children(create_root(), other.root);
     tree_size = other.tree_size;
@@ -38,9 +43,14 @@ SemanticOcTree::SemanticOcTree(const SemanticOcTree& other)
 
 SemanticOcTree::SemanticOcTree(SemanticOcTree&& other) noexcept
     : Base(other.params_.resolution_m), params_(other.params_), classes_(other.classes_), rule_(other.rule_),
-      unseen_entropy_(other.unseen_entropy_), revision_(other.revision_) {
+      unseen_entropy_(other.unseen_entropy_), revision_(other.revision_), windowed_(other.windowed_),
+      window_lo_(other.window_lo_), window_hi_(other.window_hi_), moved_(std::move(other.moved_)),
+      moved_bytes_(other.moved_bytes_) {
   swapContent(other);
   size_changed = true;
+  other.moved_.clear();
+  other.moved_bytes_ = 0;
+  other.windowed_ = false;
 }
 
 SemanticNode* SemanticOcTree::create_root() {
@@ -202,6 +212,7 @@ UpdateCounts SemanticOcTree::apply_sorted_updates(const std::vector<VoxelUpdate>
   if (updates.empty()) return counts;
   std::uint8_t* occ = occupancy ? occupancy->data() : nullptr;
   ++revision_;
+  put_back_updated(updates);  // a change where a subtree was moved out (keep_x): it comes back first
   if (!root) create_root();  // counted in tree_size by create_root
   const std::size_t n = updates.size();
   const unsigned span_depth = morton_common_depth(updates.front().code, updates.back().code);
@@ -299,23 +310,42 @@ UpdateCounts SemanticOcTree::apply_sorted_updates(const std::vector<VoxelUpdate>
   return counts;
 }
 
+namespace {
+// Counts of the leaves under `node` at `depth`; stubs (moved out) are skipped.
+void count_leaves(const SemanticNode* node, unsigned depth, int target, std::uint8_t stub, VoxelCounts* c) {
+  if (!node->has_children()) {
+    const SemanticState& s = node->state();
+    if (s.count == stub) return;
+    const std::size_t side = std::size_t(1) << (kOctreeDepth - depth);
+    const std::size_t n = side * side * side;
+    ++c->leaves;
+    c->voxels += n;
+    if (s.occupancy_logodds() > 0.f) {
+      c->occupied += n;
+      if (s.most_likely_class() == target) c->target += n;
+    } else {
+      c->free += n;
+    }
+    return;
+  }
+  for (unsigned i = 0; i < 8; ++i)
+    if (const SemanticNode* ch = node->child(i)) count_leaves(ch, depth + 1, target, stub, c);
+}
+}  // namespace
+
 VoxelCounts SemanticOcTree::counts() const {
   VoxelCounts c;
   c.nodes = tree_size;
-  c.memory_bytes = memoryUsage();
-  const int target = classes_.target_index();
-  for_each_leaf([&](const octomap::OcTreeKey&, unsigned depth, const SemanticState& s) {
-    const std::size_t side = std::size_t(1) << (kOctreeDepth - depth);
-    const std::size_t n = side * side * side;
-    ++c.leaves;
-    c.voxels += n;
-    if (s.occupancy_logodds() > 0.f) {
-      c.occupied += n;
-      if (s.most_likely_class() == target) c.target += n;
-    } else {
-      c.free += n;
-    }
-  });
+  c.memory_bytes = memory_bytes();
+  if (root) count_leaves(root, 0, classes_.target_index(), kMovedOutMark, &c);
+  for (const auto& [code, m] : moved_) {
+    c.nodes += m.counts.nodes - 1;  // its stub is in tree_size
+    c.leaves += m.counts.leaves;
+    c.voxels += m.counts.voxels;
+    c.occupied += m.counts.occupied;
+    c.free += m.counts.free;
+    c.target += m.counts.target;
+  }
   return c;
 }
 
@@ -333,11 +363,181 @@ bool same_subtree(const SemanticOcTree& a, const SemanticNode* x, const Semantic
 }  // namespace
 
 bool SemanticOcTree::identical(const SemanticOcTree& other) const {
+  if (!moved_.empty() || !other.moved_.empty()) moved_out_walk();
   if (!(params_ == other.params_) || classes_.names != other.classes_.names || classes_.target != other.classes_.target)
     return false;
   if (tree_size != other.tree_size) return false;
   if ((root == nullptr) != (other.root == nullptr)) return false;
   return root == nullptr || same_subtree(*this, root, other, other.root);
+}
+
+
+// --- The far part kept compactly (keep_x, issue 49) ---------------------------------------
+
+void SemanticNode::delete_children() {
+  if (!children) return;
+  for (unsigned i = 0; i < 8; ++i) {
+    if (auto* c = static_cast<SemanticNode*>(children[i])) {
+      c->delete_children();
+      delete c;
+    }
+  }
+  delete[] children;
+  children = nullptr;
+}
+
+void SemanticOcTree::moved_out_read(const octomap::OcTreeKey& key) const {
+  CANOPY_CHECK(false, "semantic map: voxel key (" << key[0] << ", " << key[1] << ", " << key[2] << "), x = "
+                                                  << keyToCoord(key[0]) << " m, is in a subtree moved out (keep_x)");
+  std::abort();  // not reached
+}
+
+void SemanticOcTree::moved_out_walk() const {
+  CANOPY_CHECK(false, "semantic map: a walk over the whole tree while " << moved_.size()
+                                                                        << " subtrees are moved out (keep_x)");
+  std::abort();  // not reached
+}
+
+namespace {
+constexpr unsigned kMovedShift = 3 * (kOctreeDepth - SemanticOcTree::kMovedDepth);  // window code = morton >> this
+static_assert(sizeof(SemanticState) == 20, "a moved-out node's state is its 20 bytes");
+
+// Pre-order: the node's state (20 bytes as held), the mask of its children, then the children.
+void write_moved(const SemanticNode* node, unsigned depth, const int target, std::string* bytes, VoxelCounts* c) {
+  std::uint8_t mask = 0;
+  for (unsigned i = 0; i < 8; ++i)
+    if (node->child(i)) mask |= std::uint8_t(1u << i);
+  const std::size_t at = bytes->size();
+  bytes->resize(at + sizeof(SemanticState) + 1);
+  std::memcpy(bytes->data() + at, &node->state(), sizeof(SemanticState));
+  (*bytes)[at + sizeof(SemanticState)] = static_cast<char>(mask);
+  ++c->nodes;
+  if (mask == 0) {
+    const SemanticState& s = node->state();
+    const std::size_t side = std::size_t(1) << (kOctreeDepth - depth);
+    const std::size_t n = side * side * side;
+    ++c->leaves;
+    c->voxels += n;
+    if (s.occupancy_logodds() > 0.f) {
+      c->occupied += n;
+      if (s.most_likely_class() == target) c->target += n;
+    } else {
+      c->free += n;
+    }
+    return;
+  }
+  for (unsigned i = 0; i < 8; ++i)
+    if (mask & (1u << i)) write_moved(node->child(i), depth + 1, target, bytes, c);
+}
+
+std::size_t read_moved(SemanticNode* node, const std::string& bytes, std::size_t* at) {
+  CANOPY_CHECK(*at + sizeof(SemanticState) + 1 <= bytes.size(), "semantic map: a moved-out subtree read past its end");
+  std::memcpy(&node->state(), bytes.data() + *at, sizeof(SemanticState));
+  const auto mask = static_cast<std::uint8_t>(bytes[*at + sizeof(SemanticState)]);
+  *at += sizeof(SemanticState) + 1;
+  std::size_t nodes = 1;
+  for (unsigned i = 0; i < 8; ++i)
+    if (mask & (1u << i)) nodes += read_moved(node->make_child(i), bytes, at);
+  return nodes;
+}
+}  // namespace
+
+SemanticNode* SemanticOcTree::window_node(std::uint64_t code) const {
+  SemanticNode* node = root;
+  for (unsigned d = 0; node && d < kMovedDepth; ++d)
+    node = node->child(static_cast<unsigned>(code >> (3 * (kMovedDepth - 1 - d))) & 7u);
+  return node;
+}
+
+void SemanticOcTree::move_out(SemanticNode* node, std::uint64_t code) {
+  MovedOut m;
+  std::string raw;
+  write_moved(node, kMovedDepth, classes_.target_index(), &raw, &m.counts);
+  m.bytes = zstd_compress(raw, 1);
+  m.bytes.shrink_to_fit();
+  node->delete_children();
+  node->state() = SemanticState{};
+  node->state().count = kMovedOutMark;
+  tree_size -= m.counts.nodes - 1;  // the stub stays
+  size_changed = true;
+  moved_bytes_ += m.bytes.size();
+  moved_.emplace(code, std::move(m));
+}
+
+void SemanticOcTree::put_back(std::uint64_t code) {
+  const auto it = moved_.find(code);
+  CANOPY_CHECK(it != moved_.end(), "semantic map: no subtree moved out at window code " << code);
+  SemanticNode* node = window_node(code);
+  CANOPY_CHECK(node && !node->has_children() && node->state().count == kMovedOutMark,
+               "semantic map: the stub of a moved-out subtree is gone");
+  const std::string raw = zstd_decompress(it->second.bytes, "a moved-out map subtree");
+  std::size_t at = 0;
+  const std::size_t nodes = read_moved(node, raw, &at);
+  CANOPY_CHECK(at == raw.size() && nodes == it->second.counts.nodes, "semantic map: a moved-out subtree read short");
+  tree_size += nodes - 1;
+  size_changed = true;
+  moved_bytes_ -= it->second.bytes.size();
+  moved_.erase(it);
+}
+
+void SemanticOcTree::move_out_recurs(SemanticNode* node, unsigned depth, std::uint64_t code, unsigned lo, unsigned hi) {
+  // `node` at `depth` covers window x [ix << s, ((ix + 1) << s) - 1], s = kMovedDepth - depth.
+  const unsigned s = kMovedDepth - depth;
+  const unsigned ix = detail::compact3(code);
+  const unsigned first = ix << s, last = ((ix + 1) << s) - 1;
+  if (first >= lo && last <= hi) return;  // wholly inside
+  if (!node->has_children()) return;      // a leaf (or a stub): kept
+  if (depth == kMovedDepth) {
+    move_out(node, code);
+    return;
+  }
+  for (unsigned i = 0; i < 8; ++i)
+    if (SemanticNode* c = node->child(i)) move_out_recurs(c, depth + 1, (code << 3) | i, lo, hi);
+}
+
+void SemanticOcTree::keep_x(double x_lo_m, double x_hi_m) {
+  CANOPY_CHECK(std::isfinite(x_lo_m) && std::isfinite(x_hi_m) && x_lo_m <= x_hi_m,
+               "SemanticOcTree::keep_x: [" << x_lo_m << ", " << x_hi_m << "] is not a stretch");
+  const double res = getResolution();
+  auto window_x = [&](double x) {
+    const double k = std::clamp(std::floor(x / res) + double(tree_max_val), 0.0, 65535.0);
+    return unsigned(k) >> (kOctreeDepth - kMovedDepth);
+  };
+  const unsigned lo = window_x(x_lo_m), hi = window_x(x_hi_m);
+  windowed_ = true;
+  window_lo_ = lo;
+  window_hi_ = hi;
+  std::vector<std::uint64_t> back;
+  for (const auto& [code, m] : moved_) {
+    const unsigned ix = detail::compact3(code);
+    if (ix >= lo && ix <= hi) back.push_back(code);
+  }
+  std::sort(back.begin(), back.end());
+  for (const std::uint64_t code : back) put_back(code);
+  if (root) move_out_recurs(root, 0, 0, lo, hi);
+}
+
+void SemanticOcTree::keep_all() {
+  std::vector<std::uint64_t> back;
+  for (const auto& [code, m] : moved_) back.push_back(code);
+  std::sort(back.begin(), back.end());
+  for (const std::uint64_t code : back) put_back(code);
+  windowed_ = false;
+}
+
+void SemanticOcTree::put_back_updated(const std::vector<VoxelUpdate>& updates) {
+  if (moved_.empty()) return;
+  std::uint64_t last = ~std::uint64_t(0);
+  for (const VoxelUpdate& u : updates) {
+    const std::uint64_t code = u.code >> kMovedShift;
+    if (code == last) continue;
+    last = code;
+    if (moved_.count(code)) put_back(code);
+  }
+}
+
+std::size_t SemanticOcTree::memory_bytes() const {
+  return memoryUsage() + moved_bytes_ + moved_.size() * (sizeof(MovedOut) + 32);
 }
 
 }  // namespace canopy::mapping

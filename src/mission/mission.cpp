@@ -105,6 +105,9 @@ bool Mission::Impl::drive_to_stop(int k) {
     const double x = stops_x[static_cast<std::size_t>(k)];
     map_env->keep_x(x - near, x + near);
   }
+  // And the map its part near the stop (its far part compact), unless the last scan is still
+  // being mapped (then at the stop's first settle).
+  hold_map_near(k, false);
   // A long row's rendered model holds the plants near the robot (issue 49): the stop's, built
   // again here when the stop is out of the window (the drive's video shows the stop's window).
   if (sim.show_plants_near(rec.goal.x_m, rec.goal.x_m)) {
@@ -182,6 +185,11 @@ void Mission::Impl::note_failed_attempts() {
 MissionResult Mission::Impl::run() {
   if (renderer_warm.valid()) renderer_warm.get();
   elapsed_.restart();
+  struct Running {
+    bool& flag;
+    explicit Running(bool& f) : flag(f) { flag = true; }
+    ~Running() { flag = false; }
+  } in_run(running);
   try {
     for (int k = 0; k < static_cast<int>(stops_x.size()); ++k) {
       const double t0 = sim.time();
@@ -221,6 +229,7 @@ MissionResult Mission::Impl::run() {
     result.final_metrics = evaluator.metrics();
     result.final_metrics.counts = map.counts();
   } else {
+    map.keep_all();  // the whole map evaluated
     result.final_metrics = evaluation::evaluate_map(map, world.truth, settings.mapping.metrics);
   }
   result.zero_coverage_reason =
@@ -268,11 +277,16 @@ ViewRecord Mission::attempt(const nbv::PlannedView& view, ViewPhase phase) {
 }
 std::vector<Pose> Mission::scan_views(int k, bool extra) const { return impl_->scan_views(k, extra); }
 const MissionResult& Mission::result() const { return impl_->result; }
-const mapping::SemanticOcTree& Mission::map() const { return impl_->map; }
+const mapping::SemanticOcTree& Mission::map() const {
+  // A long row's far part comes back first (SemanticOcTree::keep_x): the map is the whole one;
+  // not while the mission runs (a callback's map: the scan pipeline may be reading it).
+  if (!impl_->running) impl_->map.keep_all();
+  return impl_->map;
+}
 MissionMemory Mission::memory() const {
   const Impl& m = *impl_;
   MissionMemory out;
-  out.map = m.map.memoryUsage();
+  out.map = m.map.memory_bytes();
   out.nbv_index = m.index.memory_bytes();
   out.planning_env = m.map_env->memory_bytes();
   out.truth_env = m.truth_checker.environment() ? m.truth_checker.environment()->memory_bytes() : 0;

@@ -34,6 +34,18 @@ ViewRecord& Mission::Impl::close_record(ViewRecord& rec, FailureCause cause, con
   return rec;
 }
 
+void Mission::Impl::hold_map_near(int k, bool wait) {
+  const double near = map_near_m();
+  if (near <= 0.0 || map_held_stop == k) return;
+  if (scans.busy()) {
+    if (!wait) return;
+    settle();
+  }
+  const double x = stops_x[static_cast<std::size_t>(k)];
+  map.keep_x(x - near, x + near);
+  map_held_stop = k;
+}
+
 void Mission::Impl::settle() {
   if (!scans.busy()) return;
   const PhaseTimes t = scans.settle();
@@ -184,6 +196,7 @@ ViewRecord Mission::Impl::attempt(const nbv::PlannedView& view, ViewPhase phase)
   {
     ScopedPhase phase_time(rec.times, to_string(WallPhase::kMapping));
     settle();  // the last scan's mapping ends before the map changes
+    hold_map_near(current_stop, false);  // (idle now)
     if (callbacks.replay) {
       callbacks.replay->record_frame(frame, &look->mapped_labels);
       const sim::RobotLinks robot = sim.robot_links();

@@ -75,6 +75,9 @@ struct Mission::Impl {
 
   MissionResult result;
   int current_stop = 0;
+  // True while run() runs: Mission::map() then leaves a long row's far part out (a callback's
+  // read of it is an internal error), as the scan pipeline may be reading the map.
+  bool running = false;
   int current_attempt = 0;
   std::string caption_text;
   evaluation::IncrementalEvaluator evaluator;  // the metrics after each view (reads the ground truth)
@@ -110,6 +113,10 @@ struct Mission::Impl {
     if (callbacks.near_robot_m >= 0.0) return callbacks.near_robot_m;
     return sim.plants_windowed() ? Mission::kNearRobotM : 0.0;
   }
+  // Issue 49: the map holds its subtrees within twice that of the stop, the rest moved out as
+  // compact bytes (SemanticOcTree::keep_x); the index's reads beyond its own stretch land in
+  // the map's, and a read beyond the map's is an internal error, never another answer.
+  double map_near_m() const { return 2.0 * near_robot_m(); }
   // The true plants as voxels, for the robot's contacts: the plants the rendered model holds
   // (a long row's window, issue 49: the base's contacts on a drive are counted with the plants
   // of the window it drives to; every plant of a world that fits in one window).
@@ -138,6 +145,11 @@ struct Mission::Impl {
   // Waits for the last scan's mapping (scan_pipeline.h) and completes the records that waited
   // for its metrics.
   void settle();
+  // The map held near stop k (SemanticOcTree::keep_x; map_near_m() > 0), once per stop: now when
+  // the scan pipeline is idle or `wait`, else at the next settle (the last scan's mapping reads
+  // and changes the map; waiting for it before a drive would change which moves overlap).
+  void hold_map_near(int k, bool wait);
+  int map_held_stop = -1;
 
   // A move may start before the last scan is in the map (mission.loop.overlap_moves): with no
   // video or test hook to see it, when the scan's environment is not followed yet, and only as

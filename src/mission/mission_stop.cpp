@@ -151,6 +151,7 @@ void Mission::Impl::nbv_loop(int k, int scan_views_count) {
       break;
     }
     scans.follow_index();  // the last scan in the map and the index; its metrics may come later
+    hold_map_near(k, true);  // a stop without a scan yet: the map near it before the planner reads it
     // A long row's index holds the bricks near the stop (issue 49; the others are read from the
     // map). The pipeline's thread is past the index (follow_index), so it may change here.
     if (const double near = near_robot_m(); near > 0.0)

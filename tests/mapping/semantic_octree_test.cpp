@@ -1,8 +1,11 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <random>
 
+#include "canopy/common/error.h"
+#include "canopy/mapping/map_io.h"
 #include "canopy/mapping/semantic_octree.h"
 
 using namespace canopy;
@@ -235,4 +238,131 @@ TEST(SemanticOcTree, ReportedOccupancyEqualsLookupsBeforeAndAfter) {
     EXPECT_GT(flips, 1000u);  // the scenes exercise both changes and unchanged voxels
     EXPECT_GT(both, 1000u);
   }
+}
+
+// Issue 49: keep_x() moves the subtrees wholly outside a stretch of x out as compact bytes.
+// Against a map that took the same scans whole: every count, every update's counters, every read
+// and box walk inside the stretch equal; a read inside a moved-out subtree (find, the whole walk,
+// the root) is an internal error; after keep_all() (or on a copy) the map is the whole one node
+// for node, in the map file's bytes too.
+TEST(SemanticOcTree, AMapWithItsFarPartMovedOutIsTheWholeMap) {
+  const double res = SemanticMapParams{}.resolution_m;
+  auto key_x = [&](double x) { return static_cast<unsigned>(std::floor(x / res) + 32768.0); };
+  std::mt19937 rng(11);
+  // A scan near x_m: free voxels and hits of three classes within +-2 m, and a solid block of
+  // one class's hits (saturating into pruned blocks over the scans).
+  auto scan = [&](double x_m) {
+    std::vector<VoxelUpdate> batch;
+    const unsigned cx = key_x(x_m);
+    for (int i = 0; i < 40000; ++i) {
+      const octomap::OcTreeKey k(static_cast<octomap::key_type>(cx - 133 + rng() % 267),
+                                 static_cast<octomap::key_type>(32700 + rng() % 100),
+                                 static_cast<octomap::key_type>(32760 + rng() % 40));
+      const std::uint8_t label = rng() % 3 == 0 ? VoxelUpdate::kFree : static_cast<std::uint8_t>(rng() % 3);
+      batch.push_back({morton_code(k), label});
+    }
+    const unsigned bx = (cx & ~15u);
+    for (unsigned z = 0; z < 16; ++z)
+      for (unsigned y = 0; y < 16; ++y)
+        for (unsigned x = 0; x < 16; ++x)
+          batch.push_back({morton_code(octomap::OcTreeKey(static_cast<octomap::key_type>(bx + x),
+                                                          static_cast<octomap::key_type>(32816 + y),
+                                                          static_cast<octomap::key_type>(32768 + z))),
+                           static_cast<std::uint8_t>(kFruitId)});
+    std::sort(batch.begin(), batch.end(), [](auto& a, auto& b) { return a.code < b.code; });
+    batch.erase(std::unique(batch.begin(), batch.end(), [](auto& a, auto& b) { return a.code == b.code; }),
+                batch.end());
+    return batch;
+  };
+  auto same_counts = [](const VoxelCounts& a, const VoxelCounts& b) {
+    EXPECT_EQ(a.leaves, b.leaves);
+    EXPECT_EQ(a.voxels, b.voxels);
+    EXPECT_EQ(a.occupied, b.occupied);
+    EXPECT_EQ(a.free, b.free);
+    EXPECT_EQ(a.target, b.target);
+    EXPECT_EQ(a.nodes, b.nodes);
+  };
+  SemanticOcTree whole = make_tree(2), held = make_tree(2);
+  std::vector<double> stops;
+  for (double x = 0.0; x <= 20.0; x += 1.0) stops.push_back(x);
+  for (double x = 18.0; x >= 0.0; x -= 3.0) stops.push_back(x);  // back over what was moved out
+  std::size_t most_moved = 0, thrown = 0, smaller = 0;
+  for (std::size_t s = 0; s < stops.size(); ++s) {
+    const double c = stops[s];
+    held.keep_x(c - 3.0, c + 3.0);
+    most_moved = std::max(most_moved, held.moved_out());
+    same_counts(held.counts(), whole.counts());
+    smaller += held.memory_bytes() < whole.memory_bytes();
+    const unsigned lo = key_x(c - 3.0) >> 6, hi = key_x(c + 3.0) >> 6;
+    // Reads inside the stretch: the whole map's.
+    for (int i = 0; i < 3000; ++i) {
+      const octomap::OcTreeKey k(static_cast<octomap::key_type>((lo << 6) + rng() % ((hi - lo + 1) << 6)),
+                                 static_cast<octomap::key_type>(32690 + rng() % 140),
+                                 static_cast<octomap::key_type>(32750 + rng() % 40));
+      const SemanticState* a = held.find(k);
+      const SemanticState* b = whole.find(k);
+      ASSERT_EQ(a == nullptr, b == nullptr);
+      if (a) {
+        EXPECT_EQ(*a, *b);
+      }
+    }
+    // A box walk inside the stretch: the whole map's, voxel for voxel.
+    const octomap::OcTreeKey box_lo(static_cast<octomap::key_type>(lo << 6), 32690, 32750),
+        box_hi(static_cast<octomap::key_type>(((hi + 1) << 6) - 1), 32840, 32790);
+    std::vector<std::pair<std::uint64_t, std::uint8_t>> wa, wb;
+    auto all = [](const SemanticState&) { return true; };
+    held.for_each_voxel_in_keys_if(box_lo, box_hi, all, [&](const octomap::OcTreeKey& k, const SemanticState& st) {
+      wa.emplace_back(morton_code(k), st.count);
+    });
+    whole.for_each_voxel_in_keys_if(box_lo, box_hi, all, [&](const octomap::OcTreeKey& k, const SemanticState& st) {
+      wb.emplace_back(morton_code(k), st.count);
+    });
+    EXPECT_EQ(wa, wb);
+    // Reads inside a moved-out subtree: internal errors, never "unknown".
+    if (held.moved_out() > 0) {
+      EXPECT_THROW(held.getRoot(), InternalError);
+      EXPECT_THROW(held.for_each_leaf([](const octomap::OcTreeKey&, unsigned, const SemanticState&) {}), InternalError);
+      int tried = 0;
+      whole.for_each_leaf([&](const octomap::OcTreeKey& k, unsigned depth, const SemanticState&) {
+        if (depth != 16 || tried >= 20) return;
+        const unsigned w = unsigned(k[0]) >> 6;
+        if (w >= lo && w <= hi) return;
+        ++tried;
+        EXPECT_THROW(held.find(k), InternalError);
+      });
+      thrown += tried;
+    }
+    // The scan: here, and now and then far behind (its subtrees come back first).
+    std::vector<VoxelUpdate> batch = scan(c);
+    UpdateCounts ua = held.apply_sorted_updates(batch), ub = whole.apply_sorted_updates(batch);
+    EXPECT_EQ(ua.applied, ub.applied);
+    EXPECT_EQ(ua.saturated, ub.saturated);
+    EXPECT_EQ(ua.created, ub.created);
+    EXPECT_EQ(ua.pruned, ub.pruned);
+    if (s % 4 == 3) {
+      batch = scan(c - 8.0);
+      ua = held.apply_sorted_updates(batch);
+      ub = whole.apply_sorted_updates(batch);
+      EXPECT_EQ(ua.applied, ub.applied);
+      EXPECT_EQ(ua.created, ub.created);
+      EXPECT_EQ(ua.pruned, ub.pruned);
+    }
+    same_counts(held.counts(), whole.counts());
+    EXPECT_EQ(held.revision(), whole.revision());
+  }
+  EXPECT_GT(most_moved, 10u);
+  EXPECT_GT(thrown, 100u);
+  EXPECT_GT(smaller, stops.size() / 2);
+  // A copy of the held map, put back whole, and the held map itself: the whole map.
+  SemanticOcTree copy(held);
+  EXPECT_GT(copy.moved_out(), 0u);
+  copy.keep_all();
+  EXPECT_TRUE(copy.identical(whole));
+  held.keep_all();
+  EXPECT_EQ(held.moved_out(), 0u);
+  EXPECT_TRUE(held.identical(whole));
+  EXPECT_EQ(serialize_map(held), serialize_map(whole));
+  const VoxelCounts a = held.counts(), b = whole.counts();
+  same_counts(a, b);
+  EXPECT_EQ(a.memory_bytes, b.memory_bytes);
 }

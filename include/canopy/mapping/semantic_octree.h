@@ -12,9 +12,11 @@
 
 #include <cstdint>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "canopy/common/classes.h"
+#include "canopy/common/error.h"
 #include "canopy/common/types.h"
 #include "canopy/mapping/map_params.h"
 #include "canopy/mapping/semantic_state.h"
@@ -42,6 +44,8 @@ class SemanticNode : public octomap::OcTreeDataNode<SemanticState> {
   void expand();
   /// Replaces eight identical leaf children by this node (8 nodes deleted); false if not.
   bool collapse();
+  /// Deletes every node below this one (the caller fixes the tree's node count).
+  void delete_children();
 };
 
 /// One voxel update of a scan: a Morton-ordered key and what was seen there.
@@ -89,15 +93,20 @@ class SemanticOcTree : protected octomap::OcTreeBaseImpl<SemanticNode, octomap::
   using Base::getTreeDepth;
   using Base::keyToCoord;
   using Base::memoryUsage;
-  using Base::search;
   using Base::size;
-  /// Root node (read-only).
-  const SemanticNode* getRoot() const { return root; }
+  /// Root node (read-only); the tree must be whole (nothing moved out by keep_x()).
+  const SemanticNode* getRoot() const {
+    if (!moved_.empty()) [[unlikely]] moved_out_walk();
+    return root;
+  }
   bool nodeHasChildren(const SemanticNode* node) const { return Base::nodeHasChildren(node); }
   const SemanticNode* getNodeChild(const SemanticNode* node, unsigned int i) const { return Base::getNodeChild(node, i); }
   /// Removes every voxel (the map becomes all unknown).
   void clear() {
     Base::clear();
+    moved_.clear();
+    moved_bytes_ = 0;
+    windowed_ = false;
     ++revision_;
   }
 
@@ -116,10 +125,13 @@ class SemanticOcTree : protected octomap::OcTreeBaseImpl<SemanticNode, octomap::
   std::uint64_t revision() const { return revision_; }
 
   // --- Queries (const, thread-safe between updates) ------------------------------------
-  /// State of the voxel with `key`, or nullptr when it is unknown.
+  /// State of the voxel with `key`, or nullptr when it is unknown. A key inside a subtree moved
+  /// out by keep_x() is an internal error (CheckFailure), never "unknown".
   const SemanticState* find(const octomap::OcTreeKey& key) const {
     const SemanticNode* n = search(key);
-    return n ? &n->state() : nullptr;
+    if (!n) return nullptr;
+    if (n->state().count == kMovedOutMark) [[unlikely]] moved_out_read(key);
+    return &n->state();
   }
   /// State of the voxel containing `p_world`, or nullptr when unknown or outside the tree.
   const SemanticState* find(const Vec3& p_world) const;
@@ -176,8 +188,31 @@ class SemanticOcTree : protected octomap::OcTreeBaseImpl<SemanticNode, octomap::
     };
     if (root) for_each_leaf_in_keys_recurs(root, octomap::OcTreeKey(tree_max_val, tree_max_val, tree_max_val), 0, lo, hi, leaf);
   }
-  /// Leaf and voxel counts (target = classes().target_index()).
+  /// Leaf and voxel counts (target = classes().target_index()), the moved-out subtrees' included
+  /// (keep_x()); memory_bytes is memory_bytes().
   VoxelCounts counts() const;
+  /// Heap use: the tree's nodes (memoryUsage()) and the moved-out subtrees' bytes.
+  std::size_t memory_bytes() const;
+
+  // --- The far part kept compactly (issue 49) --------------------------------------------
+  /// Moves every subtree of 64 voxels a side (tree depth 10) that has children and lies wholly
+  /// outside x [x_lo_m, x_hi_m] out of the tree, as compressed bytes beside its counts, and
+  /// puts back, as they were, the moved-out subtrees that the stretch holds again. A moved-out
+  /// subtree's node stays in the tree as a childless stub whose state no voxel can have, so the
+  /// nodes around it answer and change as in the whole tree (a stub is never equal to a leaf,
+  /// so no parent is pruned over it). A read that reaches a stub (find(), the leaf walks,
+  /// getRoot()) is an internal error; an update there puts its subtree back first, so updates
+  /// are the whole tree's. counts() and memory_bytes() cover everything. Not thread-safe: call
+  /// it between updates, with no reader running.
+  void keep_x(double x_lo_m, double x_hi_m);
+  /// Every subtree back: the tree is the one that took every change without keep_x().
+  void keep_all();
+  /// Subtrees moved out now.
+  std::size_t moved_out() const { return moved_.size(); }
+  /// Bytes of the moved-out subtrees (compressed).
+  std::size_t moved_out_bytes() const { return moved_bytes_; }
+  /// The depth of the subtrees keep_x() moves (64 voxels a side).
+  static constexpr unsigned kMovedDepth = 10;
 
   // --- Updates ---------------------------------------------------------------------------
   /// Applies one hit of class `c` to the voxel `key` (creating it when unknown).
@@ -193,7 +228,8 @@ class SemanticOcTree : protected octomap::OcTreeBaseImpl<SemanticNode, octomap::
                                     std::vector<std::uint8_t>* occupancy = nullptr);
   static constexpr std::uint8_t kOccupiedBefore = 1, kOccupiedAfter = 2;
 
-  /// True when both trees have identical structure, payloads, params and classes.
+  /// True when both trees have identical structure, payloads, params and classes (both whole:
+  /// nothing moved out).
   bool identical(const SemanticOcTree& other) const;
 
   /// For map_io: the root pointer and node creation (file loading builds the tree directly).
@@ -201,6 +237,7 @@ class SemanticOcTree : protected octomap::OcTreeBaseImpl<SemanticNode, octomap::
   SemanticNode* create_root();
   /// After building the tree node by node: sets the node count and the revision.
   void set_loaded_state(std::size_t nodes, std::uint64_t revision) {
+    CANOPY_CHECK(moved_.empty(), "SemanticOcTree: loaded over moved-out subtrees");
     tree_size = nodes;
     size_changed = true;
     revision_ = revision;
@@ -232,6 +269,7 @@ class SemanticOcTree : protected octomap::OcTreeBaseImpl<SemanticNode, octomap::
       if (last < int(lo[a]) || first > int(hi[a])) return;
     }
     if (!nodeHasChildren(node)) {
+      if (node->state().count == kMovedOutMark) [[unlikely]] moved_out_read(key);
       f(key, depth, node->state());
       return;
     }
@@ -243,6 +281,24 @@ class SemanticOcTree : protected octomap::OcTreeBaseImpl<SemanticNode, octomap::
       for_each_leaf_in_keys_recurs(getNodeChild(node, i), k, depth + 1, lo, hi, f);
     }
   }
+  // A stub's state (keep_x()): a count no voxel has (at most SemanticState::kSlots).
+  static constexpr std::uint8_t kMovedOutMark = 0xfe;
+  // A moved-out subtree: its nodes pre-order (state, children mask), zstd-compressed, and its
+  // counts (nodes: the subtree's, its root included).
+  struct MovedOut {
+    std::string bytes;
+    VoxelCounts counts;
+  };
+  [[noreturn]] void moved_out_read(const octomap::OcTreeKey& key) const;
+  [[noreturn]] void moved_out_walk() const;
+  // The depth-10 node with window code `code` (morton code >> 18), or nullptr.
+  SemanticNode* window_node(std::uint64_t code) const;
+  void move_out(SemanticNode* node, std::uint64_t code);
+  void put_back(std::uint64_t code);
+  void move_out_recurs(SemanticNode* node, unsigned depth, std::uint64_t code, unsigned lo, unsigned hi);
+  // Puts back the moved-out subtrees that a sorted batch of updates reaches.
+  void put_back_updated(const std::vector<VoxelUpdate>& updates);
+
   void apply_range(SemanticNode* top, unsigned top_depth, const VoxelUpdate* begin, const VoxelUpdate* end,
                    bool collapse_top, bool top_is_fresh, UpdateCounts& counts, std::uint8_t* occupancy);
 
@@ -251,6 +307,12 @@ class SemanticOcTree : protected octomap::OcTreeBaseImpl<SemanticNode, octomap::
   UpdateRule rule_;
   double unseen_entropy_ = 0.0;
   std::uint64_t revision_ = 0;
+  // keep_x(): window x [window_lo_, window_hi_] (64-voxel units) held; the moved-out subtrees
+  // by window code.
+  bool windowed_ = false;
+  unsigned window_lo_ = 0, window_hi_ = 0;
+  std::unordered_map<std::uint64_t, MovedOut> moved_;
+  std::size_t moved_bytes_ = 0;
 };
 
 }  // namespace canopy::mapping

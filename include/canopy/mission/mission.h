@@ -83,7 +83,7 @@ struct MissionCallbacks {
 /// Approximate heap bytes of a mission's largest holders beside the world and the simulator
 /// (`canopy bench mission`; the kernel's peak is the whole process's).
 struct MissionMemory {
-  std::size_t map = 0;           ///< The semantic octree.
+  std::size_t map = 0;           ///< The semantic octree (its far part's compact bytes included).
   std::size_t nbv_index = 0;     ///< The next-best-view voxel index (nbv/voxel_index.h).
   std::size_t planning_env = 0;  ///< The arm planner's collision environment (the map's occupied voxels).
   std::size_t truth_env = 0;     ///< The true plants' voxels, for the robot's contacts.
@@ -114,6 +114,9 @@ class Mission {
   /// The predefined camera poses of stop k in the world (extra: predefined scanning's).
   std::vector<Pose> scan_views(int k, bool extra) const;
   const records::MissionResult& result() const;
+  /// The map, whole: on a long row its far part, kept compactly during the mission
+  /// (SemanticOcTree::keep_x), is put back first (so memory() then counts it whole). From a
+  /// callback while run() runs, the map as held (a read of its far part is an internal error).
   const mapping::SemanticOcTree& map() const;
   /// What its largest holders use now (after run(): at the end).
   MissionMemory memory() const;
