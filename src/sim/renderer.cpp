@@ -421,16 +421,15 @@ Image<float> Renderer::render_depth(const Pose& T_world_camera) {
   follow_model();
   video_.forget_world();  // the GL buffers are reused
   pass(T_world_camera, true, false, "", true, nullptr, /*depth_only=*/true);
+  const mjModel* m = sim_.render_model();
+  const double near_m = m->vis.map.znear * m->stat.extent, far_m = m->vis.map.zfar * m->stat.extent;
   lock.unlock();  // decoding touches only this renderer's buffers
-  return decode_depth();
+  return decode_depth(near_m, far_m);
 }
 
-Image<float> Renderer::decode_depth() {
+Image<float> Renderer::decode_depth(double near_m, double far_m) {
   const Impl& r = *impl_;
   const int W = intrinsics_.width_px, H = intrinsics_.height_px;
-  const mjModel* m = sim_.render_model();
-  const double near_m = m->vis.map.znear * m->stat.extent;
-  const double far_m = m->vis.map.zfar * m->stat.extent;
   const double near_over_far = near_m / far_m;
   const double noise_k = intrinsics_.depth_noise_k;
   Image<float> out(W, H, 0.f);
@@ -472,20 +471,14 @@ LabelledFrame Renderer::draw(const Pose& T_world_camera, bool show_robot, bool l
       std::memcpy(static_cast<void*>(&f.rgb.at(0, y)), &r.rgb[3 * static_cast<size_t>(H - 1 - y) * W], 3 * static_cast<size_t>(W));
     return f;
   }
-  f.depth_m = Image<float>(W, H, 0.f);
+  f.depth_m = decode_depth(near_m, far_m);
   f.class_id = Image<std::uint8_t>(W, H, 0);
   f.instance = Image<std::int32_t>(W, H, kNoInstance);
-  const double near_over_far = near_m / far_m;
-  const double noise_k = intrinsics_.depth_noise_k;
   for (int y = 0; y < H; ++y) {
     const int src_row = H - 1 - y;  // OpenGL rows are bottom-up
     for (int x = 0; x < W; ++x) {
       const size_t s = static_cast<size_t>(src_row) * W + x;
       f.rgb.at(x, y) = Rgb8{r.rgb[3 * s], r.rgb[3 * s + 1], r.rgb[3 * s + 2]};
-      const double d = r.depth[s];
-      double z = d >= 1.0 ? far_m : near_m / (1.0 - d * (1.0 - near_over_far));
-      if (noise_k > 0.0 && d < 1.0) z += noise_k * z * z * noise_rng_.normal();
-      if (z >= intrinsics_.min_range_m && z <= intrinsics_.max_range_m) f.depth_m.at(x, y) = static_cast<float>(z);
       if (labels) {
         const int segid = r.seg[3 * s] + 256 * r.seg[3 * s + 1] + 65536 * r.seg[3 * s + 2] - 1;
         if (segid >= 0 && segid < r.scene.ngeom) {

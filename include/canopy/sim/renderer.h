@@ -103,8 +103,9 @@ class Renderer {
   void pass(const Pose& T_world_camera, bool world, bool show_robot, const std::string& caption, bool depth,
             const std::array<int, 4>* rect = nullptr, bool depth_only = false);
   /// The planar depth [m] of the raw depth buffer read back last (rows top-down), noised as
-  /// the camera says; 0 outside the valid range.
-  Image<float> decode_depth();
+  /// the camera says (one draw per valid pixel, row by row); 0 outside the valid range.
+  /// `near_m`, `far_m`: the clip planes of the model drawn (taken under the GL lock).
+  Image<float> decode_depth(double near_m, double far_m);
   /// The robot's part of the still-camera video frame (render_video_frame); GL lock held.
   void robot_over_kept_world(const Pose& T_world_camera, const std::string& caption);
 
