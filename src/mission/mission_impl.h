@@ -116,7 +116,9 @@ struct Mission::Impl {
   // Issue 49: the map holds its subtrees within twice that of the stop, the rest moved out as
   // compact bytes (SemanticOcTree::keep_x); the index's reads beyond its own stretch land in
   // the map's, and a read beyond the map's is an internal error, never another answer.
-  double map_near_m() const { return 2.0 * near_robot_m(); }
+  // A per-view callback (a video's map inset, an MCAP's map cloud, Python's on_view) may walk
+  // the whole map (Mission::map()) after every view: with one, the map is kept whole.
+  double map_near_m() const { return callbacks.on_view ? 0.0 : 2.0 * near_robot_m(); }
   // The true plants as voxels, for the robot's contacts: the plants the rendered model holds
   // (a long row's window, issue 49: the base's contacts on a drive are counted with the plants
   // of the window it drives to; every plant of a world that fits in one window).

@@ -67,7 +67,9 @@ struct MissionCallbacks {
   /// Called before every simulation step of a view's move (tests inject faults here).
   std::function<void(sim::Simulator& sim, int attempt)> before_step;
   /// Called after every successful view with its frame, while the simulator is in that state
-  /// (before the view's map metrics are known: they are computed beside the next move).
+  /// (before the view's map metrics are known: they are computed beside the next move). It may
+  /// read the whole map (Mission::map()): with it set, a long row's map is kept whole (the
+  /// index and the collision environment are still held near the robot).
   std::function<void(const records::ViewRecord& view, const LabelledFrame& frame, const sim::Simulator& sim)> on_view;
   /// Records each successful view's map changes, fruit coverage and thumbnails for the report
   /// (replay.h), beside the mission without slowing it; null records nothing.
