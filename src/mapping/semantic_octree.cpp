@@ -311,21 +311,24 @@ UpdateCounts SemanticOcTree::apply_sorted_updates(const std::vector<VoxelUpdate>
 }
 
 namespace {
+// A leaf at `depth` with state `s` added to `c` (its voxels: the block it stands for).
+void count_leaf(const SemanticState& s, unsigned depth, int target, VoxelCounts* c) {
+  const std::size_t side = std::size_t(1) << (kOctreeDepth - depth);
+  const std::size_t n = side * side * side;
+  ++c->leaves;
+  c->voxels += n;
+  if (s.occupancy_logodds() > 0.f) {
+    c->occupied += n;
+    if (s.most_likely_class() == target) c->target += n;
+  } else {
+    c->free += n;
+  }
+}
+
 // Counts of the leaves under `node` at `depth`; stubs (moved out) are skipped.
 void count_leaves(const SemanticNode* node, unsigned depth, int target, std::uint8_t stub, VoxelCounts* c) {
   if (!node->has_children()) {
-    const SemanticState& s = node->state();
-    if (s.count == stub) return;
-    const std::size_t side = std::size_t(1) << (kOctreeDepth - depth);
-    const std::size_t n = side * side * side;
-    ++c->leaves;
-    c->voxels += n;
-    if (s.occupancy_logodds() > 0.f) {
-      c->occupied += n;
-      if (s.most_likely_class() == target) c->target += n;
-    } else {
-      c->free += n;
-    }
+    if (node->state().count != stub) count_leaf(node->state(), depth, target, c);
     return;
   }
   for (unsigned i = 0; i < 8; ++i)
@@ -413,17 +416,7 @@ void write_moved(const SemanticNode* node, unsigned depth, const int target, std
   (*bytes)[at + sizeof(SemanticState)] = static_cast<char>(mask);
   ++c->nodes;
   if (mask == 0) {
-    const SemanticState& s = node->state();
-    const std::size_t side = std::size_t(1) << (kOctreeDepth - depth);
-    const std::size_t n = side * side * side;
-    ++c->leaves;
-    c->voxels += n;
-    if (s.occupancy_logodds() > 0.f) {
-      c->occupied += n;
-      if (s.most_likely_class() == target) c->target += n;
-    } else {
-      c->free += n;
-    }
+    count_leaf(node->state(), depth, target, c);
     return;
   }
   for (unsigned i = 0; i < 8; ++i)
