@@ -92,11 +92,6 @@ std::uint32_t IncrementalEvaluator::fruit_of(std::size_t i) const {
   return static_cast<std::uint32_t>(std::upper_bound(first_point_.begin(), first_point_.end(), i) - first_point_.begin() - 1);
 }
 
-const Vec3& IncrementalEvaluator::point(std::size_t i) const {
-  const std::uint32_t f = fruit_of(i);
-  return fruits_[f]->surface_points[i - first_point_[f]];
-}
-
 std::size_t IncrementalEvaluator::window_points() const { return window_index_.size(); }
 
 void IncrementalEvaluator::hold_x(double lo, double hi) {
@@ -122,9 +117,8 @@ void IncrementalEvaluator::hold_x(double lo, double hi) {
 void IncrementalEvaluator::points_within(const Vec3& q, double radius, std::vector<std::uint32_t>* out) {
   CANOPY_CHECK(q.x() - radius >= window_lo_ && q.x() + radius <= window_hi_,
                "IncrementalEvaluator: a search at x = " << q.x() << " beyond the points held");
-  std::vector<std::pair<std::size_t, double>> near;
-  window_tree_->within(q, radius, &near);
-  for (const auto& n : near) out->push_back(window_index_[n.first]);
+  window_tree_->within(q, radius, &near_);
+  for (const auto& n : near_) out->push_back(window_index_[n.first]);
 }
 
 std::size_t IncrementalEvaluator::memory_bytes() const {
@@ -226,10 +220,11 @@ std::uint8_t IncrementalEvaluator::covered_flags(const SemanticOcTree& map, cons
 }
 
 void IncrementalEvaluator::rescore_point(const SemanticOcTree& map, std::size_t i) {
-  const std::uint8_t now = covered_flags(map, point(i));
+  const std::uint32_t f = fruit_of(i);  // one search for the point and its fruit's figures
+  const std::uint8_t now = covered_flags(map, fruits_[f]->surface_points[i - first_point_[f]]);
   const std::uint8_t old = point_covered_[i];
   if (now == old) return;
-  FruitMetrics& fm = metrics_.fruits[fruit_of(i)];
+  FruitMetrics& fm = metrics_.fruits[f];
   fm.paper.covered += std::size_t((now & kPaper) != 0) - std::size_t((old & kPaper) != 0);
   fm.prototype.covered += std::size_t((now & kPrototype) != 0) - std::size_t((old & kPrototype) != 0);
   point_covered_[i] = now;

@@ -85,12 +85,11 @@ class IncrementalEvaluator {
   std::uint8_t covered_flags(const SemanticOcTree& map, const Vec3& p) const;
   void rescore_point(const SemanticOcTree& map, std::size_t i);
   void finish(const SemanticOcTree& map);
-  /// Target surface point i (fruit by fruit, in truth order) and the index of its fruit.
-  const Vec3& point(std::size_t i) const;
+  /// The index of target surface point i's fruit (points fruit by fruit, in truth order).
   std::uint32_t fruit_of(std::size_t i) const;
   /// The window's tree holds every point with lo <= x <= hi (built again when it does not).
   void hold_x(double lo, double hi);
-  /// Indices (into point()) of the points within `radius` of `q`, appended; q +- radius held.
+  /// Indices (fruit by fruit, in truth order) of the points within `radius` of `q`, appended; q +- radius held.
   void points_within(const Vec3& q, double radius, std::vector<std::uint32_t>* out);
   void mark_dirty_fruits(std::uint64_t code, std::vector<char>* dirty) const;
   void update_components(const SemanticOcTree& map);
@@ -117,14 +116,15 @@ class IncrementalEvaluator {
   double window_pad_m_;
   std::vector<const world::FruitTruth*> fruits_;  ///< Target fruits, in truth order.
   std::vector<Vec3> centroids_;
-  std::vector<std::size_t> first_point_;          ///< fruits_.size() + 1 offsets into point().
+  std::vector<std::size_t> first_point_;          ///< fruits_.size() + 1 offsets: fruit f's points are [first_point_[f], first_point_[f + 1]).
   std::vector<double> fruit_x_lo_, fruit_x_hi_;   ///< Each fruit's points' extent along x.
   std::vector<std::uint8_t> point_covered_;       ///< kPaper | kPrototype.
   /// The window: the points of the fruits reaching into [window_lo_, window_hi_] (indices into
-  /// point() beside them); the coverage's neighbours and surface_'s on-fruit test search it.
+  /// the points, fruit by fruit, beside them); the coverage's neighbours and surface_'s on-fruit test search it.
   double window_lo_ = 0.0, window_hi_ = -1.0;
   std::unique_ptr<PointKdTree> window_tree_;
   std::vector<std::uint32_t> window_index_;
+  std::vector<std::pair<std::size_t, double>> near_;  ///< points_within()'s search, reused.
   std::size_t window_builds_ = 0;
   std::unique_ptr<TrueFruitSurface> surface_;
   double reach_m_ = 0.0;  ///< The farthest either search reads from its query.
