@@ -4,7 +4,7 @@
 set -euo pipefail
 
 PACKAGES=(
-  build-essential cmake ninja-build ccache pkg-config
+  build-essential cmake ninja-build ccache pkg-config lld
   libmujoco-dev libqhull-dev libosmesa6-dev
   libeigen3-dev liboctomap-dev libompl-dev libfcl-dev liburdfdom-dev
   libboost-serialization-dev libboost-filesystem-dev libboost-system-dev
