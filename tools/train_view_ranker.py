@@ -221,6 +221,8 @@ def main():
     ap.add_argument("--evaluate", nargs="*", default=[], help="experiment folders to rank the model on (any worlds)")
     ap.add_argument("--holdout", type=int, nargs="*", default=[],
                     help="tuning world seeds kept out of training and ranked instead (model selection)")
+    ap.add_argument("--methods", nargs="*", default=[],
+                    help="train on the rounds of these trial labels only (e.g. ours shape reveal: the round-0 model)")
     ap.add_argument("--objective", default="rank:pairwise")
     ap.add_argument("--trees", type=int, default=100)
     ap.add_argument("--depth", type=int, default=4)
@@ -248,6 +250,11 @@ def main():
     if not args.runs or not args.out:
         fail("give the tuning runs to train on and --out (or --model with --evaluate)")
     rounds, names, scores_names = read_rounds(args.runs, tuning_only=True)
+    if args.methods:
+        missing = sorted(set(args.methods) - {r["method"] for r in rounds})
+        if missing:
+            fail(f"--methods: no rounds of {', '.join(missing)} in the training runs")
+        rounds = [r for r in rounds if r["method"] in args.methods]
     held = [r for r in rounds if r["world_seed"] in args.holdout]
     train_rounds = [r for r in rounds if r["world_seed"] not in args.holdout]
     if not train_rounds:
@@ -256,7 +263,7 @@ def main():
     booster.save_model(args.out)
     n_rows = sum(len(r["truth"]) for r in train_rounds)
     print(f"trained on {len(train_rounds)} rounds, {n_rows} candidates, {len(names)} features "
-          f"({len({r['trial'] for r in train_rounds})} trials); model {os.path.getsize(args.out)} bytes: {args.out}")
+          f"({len({(r['run'], r['trial']) for r in train_rounds})} trials); model {os.path.getsize(args.out)} bytes: {args.out}")
     finish(booster, names, held, scores_names, args)
 
 

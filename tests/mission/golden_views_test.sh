@@ -10,6 +10,8 @@
 # has its hashes in one of the two files (checked when the script runs on golden_views.sha256).
 # reveal's and shape's were retaken for issue 47's fair budgets (the mission's exploration planner
 # fills the stops they ended early; ours, frontier, predefined, global and the oracles unchanged).
+# learned's were retaken on 6 December 2026 when its model was trained again from that day's
+# tuning data (docs/learned.md: the shipped model was no longer what the documented command gave).
 set -euo pipefail
 canopy="$1"
 here="$(cd "$(dirname "$0")" && pwd)"
