@@ -149,7 +149,7 @@ TEST(Experiment, TheShippedExperimentsLoad) {
   // their tuning worlds others (below 1000: the learned scorer trains only there).
   const std::map<std::string, std::size_t> shape_files = {
       {"fig3_shape", 20},  {"shape_fig3", 100},    {"shape_dense", 40},         {"fig3_dense", 140},
-      {"shape_dev", 36},   {"ranker_tuning", 18},  {"ranker_tuning_dense", 18}};
+      {"shape_dev", 36},   {"ranker_tuning", 24},  {"ranker_tuning_dense", 24}};
   for (const auto& [name, trials] : shape_files) {
     const Experiment e = Experiment::load("experiments/" + name + ".yaml", default_robot_config());
     EXPECT_EQ(e.trials().size(), trials) << name;
