@@ -222,7 +222,7 @@ def main():
     ap.add_argument("--holdout", type=int, nargs="*", default=[],
                     help="tuning world seeds kept out of training and ranked instead (model selection)")
     ap.add_argument("--methods", nargs="*", default=[],
-                    help="train on the rounds of these trial labels only (e.g. ours shape reveal: the round-0 model)")
+                    help="train on the rounds of these trial labels only (e.g. ours shape reveal: the shipped model)")
     ap.add_argument("--objective", default="rank:pairwise")
     ap.add_argument("--trees", type=int, default=100)
     ap.add_argument("--depth", type=int, default=4)
