@@ -1,13 +1,17 @@
 #include "canopy/sim/scene_mjcf.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <functional>
 #include <map>
 #include <memory>
 #include <tuple>
 #include <set>
 #include <sstream>
+#include <vector>
 
 #include "canopy/common/error.h"
 #include "canopy/common/value_text.h"
@@ -206,6 +210,46 @@ void write_textured_mesh_asset(std::ostream& os, const std::string& name, const 
   os << "\"/>\n";
 }
 
+// A mesh of the scene: one plant part, or with merging, a plant's untextured parts of one class
+// and colour that are no fruit instance (its petioles, its stems), as one mesh named after the
+// first of them. MuJoCo 2.2.2's compiler finds each geom's mesh by a scan of every mesh's name,
+// so a model's compile is quadratic in its meshes (a compartment window's 23 k parts); merging
+// halves them, and changes neither a pixel's class nor its colour.
+struct DrawnPart {
+  std::string name;
+  const world::PlantPart* part = nullptr;           // the first (its colour, class, texture)
+  std::shared_ptr<const world::TriMesh> merged;     // null: the part's own mesh
+};
+
+std::vector<DrawnPart> drawn_parts(const std::vector<std::shared_ptr<const world::Plant>>& plants, bool merge) {
+  std::vector<DrawnPart> out;
+  for (const auto& plant : plants) {
+    // key: class and colour bits; value: the index of its entry in `out` and its mesh so far
+    std::map<std::array<std::uint32_t, 4>, std::pair<std::size_t, std::shared_ptr<world::TriMesh>>> groups;
+    for (const auto& part : plant->parts) {
+      if (!merge || part.texture || part.instance_id != kNoInstance) {
+        out.push_back(DrawnPart{part.name, &part, nullptr});
+        continue;
+      }
+      std::array<std::uint32_t, 4> key{static_cast<std::uint32_t>(part.class_id), 0, 0, 0};
+      for (int c = 0; c < 3; ++c) std::memcpy(&key[static_cast<std::size_t>(c) + 1], &part.rgba[c], sizeof(float));
+      auto [it, fresh] = groups.try_emplace(key, out.size(), nullptr);
+      if (fresh) {
+        out.push_back(DrawnPart{part.name, &part, nullptr});
+        continue;
+      }
+      DrawnPart& d = out[it->second.first];
+      if (!it->second.second) {  // a second part: the group becomes a merged mesh
+        it->second.second = std::make_shared<world::TriMesh>(d.part->mesh);
+        d.name += "_merged";
+      }
+      it->second.second->append(part.mesh);
+      d.merged = it->second.second;
+    }
+  }
+  return out;
+}
+
 }  // namespace
 
 std::string frame_site_name(const std::string& link) { return std::string(kRobotPrefix) + "frame/" + link; }
@@ -248,8 +292,10 @@ SceneDescription make_scene_mjcf(const world::World& world, const robot::RobotDe
   std::vector<std::shared_ptr<const world::Plant>> plants;
   for (std::size_t i = 0; i < world.plants.size(); ++i)
     if (shown(world.plants[i])) plants.push_back(world.plant(i));
-  for (const auto& plant : plants)
-    for (const auto& part : plant->parts) {
+  const std::vector<DrawnPart> drawn = drawn_parts(plants, options.merge_plant_parts);
+  for (const DrawnPart& d : drawn) {
+    const world::PlantPart& part = *d.part;
+    {
       if (part.texture) {
         auto [it, fresh] = texture_of_file.try_emplace(part.texture_file, "plant_tex_" + std::to_string(texture_of_file.size()));
         if (fresh) {
@@ -260,9 +306,10 @@ SceneDescription make_scene_mjcf(const world::World& world, const robot::RobotDe
         }
         write_textured_mesh_asset(os, part.name, part.mesh, part.uv);
       } else {
-        write_mesh_asset(os, part.name, part.mesh);
+        write_mesh_asset(os, d.name, d.merged ? *d.merged : part.mesh);
       }
     }
+  }
   const bool windowed = std::isfinite(options.plants_from_x_m) && std::isfinite(options.plants_to_x_m);
   os << "  </asset>\n  <worldbody>\n"
      << sun_light(spec)
@@ -298,17 +345,17 @@ SceneDescription make_scene_mjcf(const world::World& world, const robot::RobotDe
       }
     }
   }
-  for (const auto& plant : plants)
-    for (const auto& part : plant->parts) {
-      if (part.texture)
-        os << "    <geom name=\"" << part.name << "\" type=\"mesh\" mesh=\"" << part.name << "\" material=\""
-           << texture_of_file.at(part.texture_file) << "\" group=\"" << kGroupPlants << "\" contype=\"0\" conaffinity=\"0\"/>\n";
-      else
-        os << "    <geom name=\"" << part.name << "\" type=\"mesh\" mesh=\"" << part.name << "\" material=\"plant\" rgba=\""
-           << part.rgba[0] << " " << part.rgba[1] << " " << part.rgba[2] << " 1\" group=\"" << kGroupPlants
-           << "\" contype=\"0\" conaffinity=\"0\"/>\n";
-      scene.labels[part.name] = GeomLabel{part.class_id, part.instance_id, false};
-    }
+  for (const DrawnPart& d : drawn) {
+    const world::PlantPart& part = *d.part;
+    if (part.texture)
+      os << "    <geom name=\"" << d.name << "\" type=\"mesh\" mesh=\"" << d.name << "\" material=\""
+         << texture_of_file.at(part.texture_file) << "\" group=\"" << kGroupPlants << "\" contype=\"0\" conaffinity=\"0\"/>\n";
+    else
+      os << "    <geom name=\"" << d.name << "\" type=\"mesh\" mesh=\"" << d.name << "\" material=\"plant\" rgba=\""
+         << part.rgba[0] << " " << part.rgba[1] << " " << part.rgba[2] << " 1\" group=\"" << kGroupPlants
+         << "\" contype=\"0\" conaffinity=\"0\"/>\n";
+    scene.labels[d.name] = GeomLabel{part.class_id, part.instance_id, false};
+  }
   RobotWriter(robot, cfg, spec.class_of("robot"), spec.camera.fovy_deg(), &scene).write(os);
   os << "  </worldbody>\n  <actuator>\n";
   const auto& bj = cfg.base_joints;

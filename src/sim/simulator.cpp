@@ -243,6 +243,7 @@ Simulator::CompiledWindow Simulator::compile_window(int first, int end) const {
   SceneOptions window = options_;
   window.plants_from_x_m = section_x(first);
   window.plants_to_x_m = section_x(end);
+  window.merge_plant_parts = true;  // a window's compile is quadratic in its meshes
   const robot::RobotDescription description = robot::RobotDescription::load_urdf(robot_config_.urdf_path);
   SceneDescription rendered = make_scene_mjcf(*world_, description, robot_config_, window);
   CompiledWindow out;

@@ -199,7 +199,9 @@ TEST(Renderer, AWindowBuiltAgainRendersAsAFreshOneAndAsTheWholeRowInRange) {
   o.plant_reach_m = 0.5;
   o.plant_window_min_triangles = 0.0;
   const RobotConfig cfg = default_robot_config();
-  Simulator moved(w, cfg, o), fresh(w_at_12, cfg, o), whole(w, cfg);
+  SceneOptions whole_merged;  // a window's parts are merged (SceneOptions::merge_plant_parts)
+  whole_merged.merge_plant_parts = true;
+  Simulator moved(w, cfg, o), fresh(w_at_12, cfg, o), whole(w, cfg, whole_merged);
   Renderer moved_renderer(moved, spec.camera);  // made before the move: it follows the model
   const LabelledFrame before = moved_renderer.render_free_camera(look_at(Vec3(1.0, 0.2, 0.6), Vec3(1.2, 0.75, 0.6)));
   EXPECT_GT(std::count(before.class_id.data.begin(), before.class_id.data.end(), 0), 0);
@@ -233,6 +235,54 @@ TEST(Renderer, AWindowBuiltAgainRendersAsAFreshOneAndAsTheWholeRowInRange) {
   }
   EXPECT_GT(plant_pixels, 1000);
   EXPECT_GT(compared, plant_pixels);
+}
+
+// Merged plant parts (SceneOptions::merge_plant_parts, a window's): about half the meshes of the
+// default preset's plants, and the same picture: every pixel's class and fruit instance, its
+// depth within 0.1 mm and its colour within one level, but for a few pixels on edges (vertices
+// re-centred per mesh in floats move an edge by a rounding).
+TEST(Renderer, MergedPlantPartsRenderTheSameClassesDepthsAndColours) {
+  world::WorldSpec spec;
+  spec.rows.rows = 1;
+  spec.rows.plants_per_row = 3;
+  const world::World w = world::generate_world(spec);
+  const RobotConfig cfg = default_robot_config();
+  SceneOptions merged;
+  merged.merge_plant_parts = true;
+  const robot::RobotDescription robot = robot::RobotDescription::load_urdf(cfg.urdf_path);
+  const auto count = [](const std::string& text, const std::string& what) {
+    std::size_t n = 0;
+    for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+    return n;
+  };
+  const std::string plain_text = make_scene_mjcf(w, robot, cfg).mjcf, merged_text = make_scene_mjcf(w, robot, cfg, merged).mjcf;
+  std::size_t parts = 0;
+  for (const auto& plant : w.plants) parts += plant.parts.size();
+  EXPECT_EQ(count(plain_text, "<mesh name="), parts);
+  EXPECT_LT(count(merged_text, "<mesh name="), parts * 6 / 10);
+  EXPECT_EQ(count(merged_text, "<mesh name="), count(merged_text, "type=\"mesh\""));
+  Simulator plain_sim(w, cfg), merged_sim(w, cfg, merged);
+  Renderer plain(plain_sim, spec.camera), merged_renderer(merged_sim, spec.camera);
+  std::size_t pixels = 0, plant = 0, fruit = 0, off = 0;
+  for (int i = 0; i < 4; ++i) {
+    const Pose T = look_at(Vec3(-0.2 + 0.4 * i, 0.1, 0.5 + 0.15 * i), Vec3(0.1 + 0.3 * i, 0.75, 0.6 + 0.1 * i));
+    const LabelledFrame a = plain.render_free_camera(T), b = merged_renderer.render_free_camera(T);
+    for (std::size_t p = 0; p < a.depth_m.data.size(); ++p) {
+      ++pixels;
+      const bool same = a.class_id.data[p] == b.class_id.data[p] && a.instance.data[p] == b.instance.data[p] &&
+                        std::abs(a.depth_m.data[p] - b.depth_m.data[p]) <= 1e-4f &&
+                        std::abs(int(a.rgb.data[p].r) - int(b.rgb.data[p].r)) <= 1 &&
+                        std::abs(int(a.rgb.data[p].g) - int(b.rgb.data[p].g)) <= 1 &&
+                        std::abs(int(a.rgb.data[p].b) - int(b.rgb.data[p].b)) <= 1;
+      off += !same;
+      plant += a.class_id.data[p] == spec.class_of("leaf") || a.class_id.data[p] == spec.class_of("petiole") ||
+               a.class_id.data[p] == spec.class_of("stem");
+      fruit += a.instance.data[p] != kNoInstance;
+    }
+  }
+  EXPECT_GT(plant, pixels / 10);
+  EXPECT_GT(fruit, 100u);
+  EXPECT_LE(off, pixels / 1000) << off << " of " << pixels << " pixels differ";
 }
 
 }  // namespace
