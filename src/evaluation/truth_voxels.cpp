@@ -11,53 +11,102 @@
 
 namespace canopy::evaluation {
 
-std::vector<Vec3> world_occupied_voxels(const world::World& world, double res, double plants_from_x_m,
-                                        double plants_to_x_m) {
+namespace {
+
+void check_resolution(double res) {
   if (!(std::isfinite(res) && res > 0.0)) throw InputError("world voxels: resolution must be > 0");
+}
+
+bool in_window(const world::World& world, std::size_t p, double from_x_m, double to_x_m) {
+  const Vec3& base = world.plants[p].base_position;
+  return base.x() >= from_x_m && base.x() < to_x_m;
+}
+
+// The keys (sorted, each once) of every sample of a plant's surfaces, samples closer than a
+// voxel so that no voxel is skipped. Radix-sorted: a plant's hundreds of thousands of keys.
+std::vector<std::uint64_t> plant_keys(const world::Plant& plant, double res, std::vector<std::uint64_t>* scratch) {
   auto key = [res](const Vec3& p) { return mapping::grid_key(p, res); };
-  // The keys of every sample, deduplicated in sorted runs (a plant's at a time, then all):
-  // the same set a hash set would collect, at a fraction of its cost for millions of samples.
-  std::vector<std::uint64_t> keys, run, scratch;
-  const auto sort_unique = [&](std::size_t from) {  // radix sort: a window's millions of keys
-    run.assign(keys.begin() + static_cast<std::ptrdiff_t>(from), keys.end());
-    radix_sort_u64(run, scratch);
-    run.erase(std::unique(run.begin(), run.end()), run.end());
-    keys.resize(from);
-    keys.insert(keys.end(), run.begin(), run.end());
-  };
-  const double step = 0.5 * res;  // Samples closer than a voxel: no voxel is skipped.
-  for (std::size_t p = 0; p < world.plants.size(); ++p) {
-    const Vec3& base = world.plants[p].base_position;
-    if (!(base.x() >= plants_from_x_m && base.x() < plants_to_x_m)) continue;
-    const std::shared_ptr<const world::Plant> plant = world.plant(p);  // generated again when not held
-    const std::size_t plant_start = keys.size();
-    for (const auto& part : plant->parts) {
-      const auto& v = part.mesh.vertices;
-      for (const auto& f : part.mesh.faces) {
-        const Vec3 &a = v[static_cast<size_t>(f[0])], &b = v[static_cast<size_t>(f[1])], &c = v[static_cast<size_t>(f[2])];
-        const double longest = std::max({(b - a).norm(), (c - a).norm(), (c - b).norm()});
-        const int n = std::max(1, static_cast<int>(std::ceil(longest / step)));
-        std::uint64_t last = 0;
-        bool any = false;
-        for (int i = 0; i <= n; ++i)
-          for (int j = 0; j <= n - i; ++j) {
-            const std::uint64_t k = key(a + (b - a) * (double(i) / n) + (c - a) * (double(j) / n));
-            if (any && k == last) continue;  // neighbouring samples mostly share a voxel
-            keys.push_back(k);
-            last = k;
-            any = true;
-          }
-      }
+  std::vector<std::uint64_t> keys;
+  const double step = 0.5 * res;
+  for (const auto& part : plant.parts) {
+    const auto& v = part.mesh.vertices;
+    for (const auto& f : part.mesh.faces) {
+      const Vec3 &a = v[static_cast<size_t>(f[0])], &b = v[static_cast<size_t>(f[1])], &c = v[static_cast<size_t>(f[2])];
+      const double longest = std::max({(b - a).norm(), (c - a).norm(), (c - b).norm()});
+      const int n = std::max(1, static_cast<int>(std::ceil(longest / step)));
+      std::uint64_t last = 0;
+      bool any = false;
+      for (int i = 0; i <= n; ++i)
+        for (int j = 0; j <= n - i; ++j) {
+          const std::uint64_t k = key(a + (b - a) * (double(i) / n) + (c - a) * (double(j) / n));
+          if (any && k == last) continue;  // neighbouring samples mostly share a voxel
+          keys.push_back(k);
+          last = k;
+          any = true;
+        }
     }
-    sort_unique(plant_start);
   }
-  sort_unique(0);
+  radix_sort_u64(keys, *scratch);
+  keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+  return keys;
+}
+
+// The plants' keys together, each once, as voxel centres: in the keys' order, which is the
+// centres' lexicographic (x, y, z) order (a key packs the cell's x, y and z indices from its
+// high bits down, and a centre's coordinate grows with its index).
+std::vector<Vec3> centres_of(std::vector<std::uint64_t> keys, double res, std::vector<std::uint64_t>* scratch) {
+  radix_sort_u64(keys, *scratch);
+  keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
   std::vector<Vec3> centres;
   centres.reserve(keys.size());
-  // In the keys' order, which is the centres' lexicographic (x, y, z) order: a key packs the cell's
-  // x, y and z indices from its high bits down, and a centre's coordinate grows with its index.
   for (std::uint64_t k : keys) centres.push_back(mapping::grid_center(k, res));
   return centres;
+}
+
+}  // namespace
+
+std::vector<Vec3> world_occupied_voxels(const world::World& world, double res, double plants_from_x_m,
+                                        double plants_to_x_m) {
+  check_resolution(res);
+  std::vector<std::uint64_t> keys, scratch;
+  for (std::size_t p = 0; p < world.plants.size(); ++p) {
+    if (!in_window(world, p, plants_from_x_m, plants_to_x_m)) continue;
+    const std::vector<std::uint64_t> own = plant_keys(*world.plant(p), res, &scratch);  // generated again when not held
+    keys.insert(keys.end(), own.begin(), own.end());
+  }
+  return centres_of(std::move(keys), res, &scratch);
+}
+
+WindowVoxels::WindowVoxels(const world::World& world, double resolution_m) : world_(world), resolution_m_(resolution_m) {
+  check_resolution(resolution_m);
+}
+
+std::vector<Vec3> WindowVoxels::voxels(double plants_from_x_m, double plants_to_x_m) {
+  // Unbounded: every plant, once (a world built whole), nothing kept.
+  if (!(std::isfinite(plants_from_x_m) && std::isfinite(plants_to_x_m)))
+    return world_occupied_voxels(world_, resolution_m_, plants_from_x_m, plants_to_x_m);
+  std::lock_guard<std::mutex> lock(mutex_);
+  std::map<std::size_t, Keys> now;
+  std::vector<std::uint64_t> keys, scratch;
+  for (std::size_t p = 0; p < world_.plants.size(); ++p) {
+    if (!in_window(world_, p, plants_from_x_m, plants_to_x_m)) continue;
+    const Keys* held = nullptr;
+    for (const auto* window : {&last_, &before_})
+      if (const auto it = window->find(p); !held && it != window->end()) held = &it->second;
+    Keys own = held ? *held : plant_keys(*world_.plant(p), resolution_m_, &scratch);  // generated again when not held
+    keys.insert(keys.end(), own.begin(), own.end());
+    now.emplace(p, std::move(own));
+  }
+  before_ = std::move(last_);
+  last_ = std::move(now);
+  return centres_of(std::move(keys), resolution_m_, &scratch);
+}
+
+std::size_t WindowVoxels::plants_held() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  std::size_t n = last_.size();
+  for (const auto& [p, keys] : before_) n += !last_.count(p);
+  return n;
 }
 
 std::vector<Vec3> world_fruit_centres(const world::World& world) {

@@ -18,7 +18,7 @@ Mission::Impl::Impl(const world::World& w, const Settings& s, std::uint64_t miss
       model(motion::RobotModel::load(sim.robot_config())), workspace(model, s.motion.workspace),
       map_env(motion::CollisionEnvironment::empty(s.mapping.map.resolution_m)),
       map_checker(model, s.motion.collision, map_env), planner(map_checker, s.motion.planner, s.motion.trajectory),
-      truth_checker(model, s.motion.collision, truth_environment()),
+      truth_voxels(w, s.mission.record.truth_voxel_m), truth_checker(model, s.motion.collision, truth_environment()),
       map(map_params(s), w.spec.classes), inserter(map), extractor(extractor_params(s, mission_seed), w.spec.classes),
       stepper(sim, callbacks.video_period_s, video_tick(), callbacks.stop_requested),
       stops_x(stop_positions(s.mission.stops, w.spec)), evaluator(w.truth, s.mapping.metrics) {
@@ -53,7 +53,7 @@ std::shared_ptr<const motion::CollisionEnvironment> Mission::Impl::truth_environ
 std::shared_ptr<const motion::CollisionEnvironment> Mission::Impl::truth_environment(double from_x_m,
                                                                                      double to_x_m) const {
   const double res = settings.mission.record.truth_voxel_m;
-  return motion::CollisionEnvironment::from_voxels(evaluation::world_occupied_voxels(world, res, from_x_m, to_x_m), res);
+  return motion::CollisionEnvironment::from_voxels(truth_voxels.voxels(from_x_m, to_x_m), res);
 }
 
 void Mission::Impl::prepare_next_window(int k) {

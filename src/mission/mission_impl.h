@@ -12,6 +12,7 @@
 
 #include "canopy/common/random.h"
 #include "canopy/evaluation/incremental_evaluator.h"
+#include "canopy/evaluation/truth_voxels.h"
 #include "canopy/mapping/scan_inserter.h"
 #include "canopy/mission/mission.h"
 #include "canopy/mission/oracle/candidate_audit.h"
@@ -57,6 +58,8 @@ struct Mission::Impl {
   std::shared_ptr<motion::CollisionEnvironment> map_env;
   motion::CollisionChecker map_checker;
   motion::ArmPlanner planner;
+  // The true plants' voxels per window, each plant's kept while windows overlap (issue 49).
+  mutable evaluation::WindowVoxels truth_voxels;
   motion::CollisionChecker truth_checker;
   mapping::SemanticOcTree map;
   mapping::ScanInserter inserter;

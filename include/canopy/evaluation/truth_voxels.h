@@ -3,7 +3,11 @@
 // with the true plants, `canopy reach` and the motion benchmarks. The planning libraries never
 // see it; they plan against the map.
 
+#include <cstddef>
+#include <cstdint>
 #include <limits>
+#include <map>
+#include <mutex>
 #include <vector>
 
 #include "canopy/common/types.h"
@@ -18,6 +22,27 @@ namespace canopy::evaluation {
 std::vector<Vec3> world_occupied_voxels(const world::World& world, double resolution_m,
                                         double plants_from_x_m = -std::numeric_limits<double>::infinity(),
                                         double plants_to_x_m = std::numeric_limits<double>::infinity());
+
+/// world_occupied_voxels of the windows of a long row (issue 49: the mission's truth voxels per
+/// rendered window), which overlap: each plant's voxels are kept from the last two windows asked,
+/// so a window samples the surfaces of its new plants only. The same voxels, in the same order,
+/// as world_occupied_voxels with the same arguments; an unbounded window keeps nothing. Any
+/// thread (one asks at a time).
+class WindowVoxels {
+ public:
+  WindowVoxels(const world::World& world, double resolution_m);
+  std::vector<Vec3> voxels(double plants_from_x_m, double plants_to_x_m);
+  /// Plants whose voxels are held (at most those of the last two windows asked).
+  std::size_t plants_held() const;
+
+ private:
+  using Keys = std::vector<std::uint64_t>;
+  const world::World& world_;
+  double resolution_m_;
+  mutable std::mutex mutex_;
+  std::map<std::size_t, Keys> last_, before_;  // plant index -> its voxels' keys, sorted
+};
+
 /// Fruit centres of `world` (ground truth), in instance order.
 std::vector<Vec3> world_fruit_centres(const world::World& world);
 
