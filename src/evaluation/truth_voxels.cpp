@@ -3,7 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <memory>
+#include <queue>
+#include <utility>
 
 #include "canopy/common/error.h"
 #include "canopy/common/radix_sort.h"
@@ -48,6 +51,7 @@ std::vector<std::uint64_t> plant_keys(const world::Plant& plant, double res, std
   }
   radix_sort_u64(keys, *scratch);
   keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+  keys.shrink_to_fit();  // kept per plant (WindowVoxels): the samples were several times more
   return keys;
 }
 
@@ -87,19 +91,43 @@ std::vector<Vec3> WindowVoxels::voxels(double plants_from_x_m, double plants_to_
     return world_occupied_voxels(world_, resolution_m_, plants_from_x_m, plants_to_x_m);
   std::lock_guard<std::mutex> lock(mutex_);
   std::map<std::size_t, Keys> now;
-  std::vector<std::uint64_t> keys, scratch;
+  std::vector<std::uint64_t> scratch;
   for (std::size_t p = 0; p < world_.plants.size(); ++p) {
     if (!in_window(world_, p, plants_from_x_m, plants_to_x_m)) continue;
-    const Keys* held = nullptr;
-    for (const auto* window : {&last_, &before_})
-      if (const auto it = window->find(p); !held && it != window->end()) held = &it->second;
-    Keys own = held ? *held : plant_keys(*world_.plant(p), resolution_m_, &scratch);  // generated again when not held
-    keys.insert(keys.end(), own.begin(), own.end());
-    now.emplace(p, std::move(own));
+    auto held = last_.extract(p);  // moved, not copied: the windows' keys are held once
+    if (held.empty()) held = before_.extract(p);
+    if (held.empty()) {
+      now.emplace(p, plant_keys(*world_.plant(p), resolution_m_, &scratch));  // generated again when not held
+    } else {
+      now.insert(std::move(held));
+    }
   }
+  std::vector<std::uint64_t>().swap(scratch);
   before_ = std::move(last_);
   last_ = std::move(now);
-  return centres_of(std::move(keys), resolution_m_, &scratch);
+  // The plants' sorted keys merged (each once) straight into centres: the same as sorting
+  // them together, without a second copy of the window's keys.
+  using Head = std::pair<std::uint64_t, std::pair<const Keys*, std::size_t>>;  // key, (run, next index)
+  std::priority_queue<Head, std::vector<Head>, std::greater<Head>> heads;
+  std::size_t total = 0;
+  for (const auto& [p, keys] : last_) {
+    total += keys.size();
+    if (!keys.empty()) heads.push({keys[0], {&keys, 1}});
+  }
+  std::vector<Vec3> centres;
+  centres.reserve(total);
+  bool any = false;
+  std::uint64_t previous = 0;
+  while (!heads.empty()) {
+    const auto [key, run] = heads.top();
+    heads.pop();
+    if (!any || key != previous) centres.push_back(mapping::grid_center(key, resolution_m_));
+    any = true;
+    previous = key;
+    if (run.second < run.first->size()) heads.push({(*run.first)[run.second], {run.first, run.second + 1}});
+  }
+  centres.shrink_to_fit();
+  return centres;
 }
 
 std::size_t WindowVoxels::plants_held() const {

@@ -395,6 +395,12 @@ void SemanticOcTree::moved_out_read(const octomap::OcTreeKey& key) const {
   std::abort();  // not reached
 }
 
+std::string SemanticOcTree::moved_out_bytes(std::uint64_t code) const {
+  const auto it = moved_.find(code);
+  CANOPY_CHECK(it != moved_.end(), "semantic map: a stub without its moved-out subtree at window code " << code);
+  return zstd_decompress(it->second.bytes, "a moved-out map subtree");
+}
+
 void SemanticOcTree::moved_out_walk() const {
   CANOPY_CHECK(false, "semantic map: a walk over the whole tree while " << moved_.size()
                                                                         << " subtrees are moved out (keep_x)");

@@ -141,8 +141,9 @@ void VoxelIndex::rebuild(const mapping::SemanticOcTree& map) {
   ids_.reserve(1024);
   dropped_stamps_.clear();  // every brick unchanged since this rebuild
   // Every state is interned, the dropped bricks' too (keep_x(): their voxels are read from the
-  // map and answered by their states' ids).
-  map.for_each_leaf([&](const octomap::OcTreeKey& key, unsigned depth, const mapping::SemanticState& state) {
+  // map and answered by their states' ids), and those of the map's moved-out subtrees (the
+  // map's keep_x(): read again when it puts them back).
+  map.for_each_leaf_all([&](const octomap::OcTreeKey& key, unsigned depth, const mapping::SemanticState& state) {
     const std::uint32_t id = intern(map, state);
     const unsigned side = 1u << (16 - depth);
     if (side == 1) {

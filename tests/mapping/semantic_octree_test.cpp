@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <tuple>
+#include <vector>
 
 #include "canopy/common/error.h"
 #include "canopy/mapping/map_io.h"
@@ -286,7 +288,7 @@ TEST(SemanticOcTree, AMapWithItsFarPartMovedOutIsTheWholeMap) {
   std::vector<double> stops;
   for (double x = 0.0; x <= 20.0; x += 1.0) stops.push_back(x);
   for (double x = 18.0; x >= 0.0; x -= 3.0) stops.push_back(x);  // back over what was moved out
-  std::size_t most_moved = 0, thrown = 0, smaller = 0;
+  std::size_t most_moved = 0, thrown = 0, smaller = 0, walked_all = 0;
   for (std::size_t s = 0; s < stops.size(); ++s) {
     const double c = stops[s];
     held.keep_x(c - 3.0, c + 3.0);
@@ -332,6 +334,24 @@ TEST(SemanticOcTree, AMapWithItsFarPartMovedOutIsTheWholeMap) {
       });
       thrown += tried;
     }
+    // The walk that decodes the moved-out subtrees: the whole map's, leaf for leaf (at two stops).
+    if (held.moved_out() > 0 && s % 13 == 12) {
+      std::vector<std::tuple<std::uint64_t, unsigned, SemanticState>> la, lb;
+      held.for_each_leaf_all([&](const octomap::OcTreeKey& k, unsigned depth, const SemanticState& st) {
+        la.emplace_back(morton_code(k), depth, st);
+      });
+      whole.for_each_leaf([&](const octomap::OcTreeKey& k, unsigned depth, const SemanticState& st) {
+        lb.emplace_back(morton_code(k), depth, st);
+      });
+      ASSERT_EQ(la.size(), lb.size());
+      for (std::size_t i = 0; i < la.size(); ++i) {
+        ASSERT_EQ(std::get<0>(la[i]), std::get<0>(lb[i])) << i;
+        ASSERT_EQ(std::get<1>(la[i]), std::get<1>(lb[i])) << i;
+        ASSERT_EQ(std::get<2>(la[i]), std::get<2>(lb[i])) << i;
+      }
+      walked_all += la.size();
+      EXPECT_GT(held.moved_out(), 0u);  // still moved out: the walk changed nothing
+    }
     // The scan: here, and now and then far behind (its subtrees come back first).
     std::vector<VoxelUpdate> batch = scan(c);
     UpdateCounts ua = held.apply_sorted_updates(batch), ub = whole.apply_sorted_updates(batch);
@@ -352,6 +372,7 @@ TEST(SemanticOcTree, AMapWithItsFarPartMovedOutIsTheWholeMap) {
   }
   EXPECT_GT(most_moved, 10u);
   EXPECT_GT(thrown, 100u);
+  EXPECT_GT(walked_all, 10000u);
   EXPECT_GT(smaller, stops.size() / 2);
   // A copy of the held map, put back whole, and the held map itself: the whole map.
   SemanticOcTree copy(held);

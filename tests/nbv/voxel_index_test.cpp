@@ -335,4 +335,22 @@ TEST(VoxelIndex, AStretchHeldAnswersAsTheFullIndex) {
       ASSERT_TRUE(map.key_of(Vec3(x, y, 1.05), &k));
       ASSERT_EQ(fresh.lookup(k), rebuilt.lookup(k));
     }
+  // And over a map whose far part is moved out (its keep_x(): a long row's mission, when the
+  // palette outgrows its bound): the rebuild decodes the moved-out subtrees (their states are
+  // interned, as they are read again when the map puts them back) and answers as before.
+  map.keep_x(2.0, 3.0);
+  ASSERT_GT(map.moved_out(), 0u);
+  VoxelIndex over_moved;
+  over_moved.keep_x(map, 2.2, 2.8);
+  over_moved.rebuild(map);
+  std::size_t compared_moved = 0;
+  for (double x = 2.0; x <= 3.0; x += 0.0125)
+    for (double y = -0.15; y <= 0.45; y += 0.02) {
+      octomap::OcTreeKey k;
+      ASSERT_TRUE(map.key_of(Vec3(x, y, 1.05), &k));
+      ASSERT_EQ(fresh.lookup(k), over_moved.lookup(k)) << "x " << x;
+      compared_moved += fresh.lookup(k) != 0;
+    }
+  EXPECT_GT(compared_moved, 100u);
+  EXPECT_GT(map.moved_out(), 0u);
 }

@@ -11,6 +11,7 @@
 #include <octomap/OcTreeDataNode.h>
 
 #include <cstdint>
+#include <cstring>
 #include <string>
 #include <unordered_map>
 #include <vector>
@@ -168,6 +169,13 @@ class SemanticOcTree : protected octomap::OcTreeBaseImpl<SemanticNode, octomap::
     const octomap::OcTreeKey lo(0, 0, 0), hi(0xffff, 0xffff, 0xffff);
     if (root) for_each_leaf_in_keys_recurs(root, octomap::OcTreeKey(tree_max_val, tree_max_val, tree_max_val), 0, lo, hi, f);
   }
+  /// for_each_leaf over the whole tree, the subtrees moved out by keep_x() included: each is
+  /// decompressed for the walk (the tree is not changed), so f sees the leaves, keys, depths
+  /// and order of the tree without keep_x(). One subtree's bytes held at a time.
+  template <typename F>
+  void for_each_leaf_all(F&& f) const {
+    if (root) for_each_leaf_all_recurs(root, octomap::OcTreeKey(tree_max_val, tree_max_val, tree_max_val), 0, 0, f);
+  }
   /// Calls f(key, state) for every finest-level voxel of every leaf whose state passes
   /// keep(state); pruned blocks are expanded into their voxels (only when kept, so large free
   /// blocks cost nothing when the predicate rejects them).
@@ -259,6 +267,49 @@ class SemanticOcTree : protected octomap::OcTreeBaseImpl<SemanticNode, octomap::
                                static_cast<octomap::key_type>(key[2] + z)),
             s);
   }
+  template <typename F>
+  void for_each_leaf_all_recurs(const SemanticNode* node, const octomap::OcTreeKey& key, unsigned depth,
+                                std::uint64_t code, F& f) const {
+    if (!nodeHasChildren(node)) {
+      if (node->state().count == kMovedOutMark) [[unlikely]] {
+        const std::string raw = moved_out_bytes(code);
+        std::size_t at = 0;
+        walk_moved(raw, &at, key, depth, f);
+        return;
+      }
+      f(key, depth, node->state());
+      return;
+    }
+    const unsigned short half = static_cast<unsigned short>(tree_max_val >> (depth + 1));
+    for (unsigned i = 0; i < 8; ++i) {
+      if (!nodeChildExists(node, i)) continue;
+      octomap::OcTreeKey k = key;
+      octomap::computeChildKey(i, half, key, k);
+      for_each_leaf_all_recurs(getNodeChild(node, i), k, depth + 1, (code << 3) | i, f);
+    }
+  }
+  // A moved-out subtree's nodes as write_moved wrote them (pre-order: state, children mask).
+  template <typename F>
+  void walk_moved(const std::string& raw, std::size_t* at, const octomap::OcTreeKey& key, unsigned depth, F& f) const {
+    CANOPY_CHECK(*at + sizeof(SemanticState) + 1 <= raw.size(), "semantic map: a moved-out subtree read past its end");
+    SemanticState state;
+    std::memcpy(&state, raw.data() + *at, sizeof(SemanticState));
+    const auto mask = static_cast<std::uint8_t>(raw[*at + sizeof(SemanticState)]);
+    *at += sizeof(SemanticState) + 1;
+    if (mask == 0) {
+      f(key, depth, static_cast<const SemanticState&>(state));
+      return;
+    }
+    const unsigned short half = static_cast<unsigned short>(tree_max_val >> (depth + 1));
+    for (unsigned i = 0; i < 8; ++i) {
+      if (!(mask & (1u << i))) continue;
+      octomap::OcTreeKey k = key;
+      octomap::computeChildKey(i, half, key, k);
+      walk_moved(raw, at, k, depth + 1, f);
+    }
+  }
+  // The decompressed bytes of the subtree moved out at window code `code`.
+  std::string moved_out_bytes(std::uint64_t code) const;
   template <typename F>
   void for_each_leaf_in_keys_recurs(const SemanticNode* node, const octomap::OcTreeKey& key, unsigned depth,
                                     const octomap::OcTreeKey& lo, const octomap::OcTreeKey& hi, F& f) const {

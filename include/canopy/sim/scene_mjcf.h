@@ -56,10 +56,10 @@ struct SceneOptions {
   double plants_to_x_m = std::numeric_limits<double>::infinity();
   /// Each plant's untextured parts of one class and colour that are no fruit instance (its
   /// petioles, its stems) drawn as one mesh: the same classes and colours, about half the
-  /// meshes of the dense preset's plants, and a model compiled about 3x faster (MuJoCo 2.2.2's
-  /// compile is quadratic in its meshes). Vertices are re-centred per mesh in floats, so pixels
-  /// may differ from the unmerged scene's in their last bits. Off: the scene as it always was;
-  /// the Simulator's windows of a long row (plant_window_m) are always merged.
+  /// meshes (MuJoCo 2.2.2's compile is quadratic in them: a compartment window's compile about
+  /// half the CPU, docs/performance.md). Vertices are re-centred per mesh in floats, so a pixel
+  /// may differ from the unmerged scene's by a rounding (none did in the test's 640,000). Off:
+  /// the scene as it always was; the Simulator's windows of a long row are always merged.
   bool merge_plant_parts = false;
   /// The rendered model per section (issue 49; Simulator): plants are grouped by their base x
   /// in sections of plant_section_m from the first plant's, and with plant_window_m > 0 the
