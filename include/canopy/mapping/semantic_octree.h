@@ -267,6 +267,24 @@ class SemanticOcTree : protected octomap::OcTreeBaseImpl<SemanticNode, octomap::
                                static_cast<octomap::key_type>(key[2] + z)),
             s);
   }
+  // The children present in `mask` (bit i: child i) of the node with key `key` at `depth`:
+  // g(i, child key), in child order (the walks' depth-first order).
+  template <typename G>
+  void for_each_child_key(std::uint8_t mask, const octomap::OcTreeKey& key, unsigned depth, G&& g) const {
+    const unsigned short half = static_cast<unsigned short>(tree_max_val >> (depth + 1));
+    for (unsigned i = 0; i < 8; ++i) {
+      if (!(mask & (1u << i))) continue;
+      octomap::OcTreeKey k = key;
+      octomap::computeChildKey(i, half, key, k);
+      g(i, k);
+    }
+  }
+  std::uint8_t child_mask(const SemanticNode* node) const {
+    std::uint8_t mask = 0;
+    for (unsigned i = 0; i < 8; ++i)
+      if (nodeChildExists(node, i)) mask |= std::uint8_t(1u << i);
+    return mask;
+  }
   template <typename F>
   void for_each_leaf_all_recurs(const SemanticNode* node, const octomap::OcTreeKey& key, unsigned depth,
                                 std::uint64_t code, F& f) const {
@@ -280,13 +298,9 @@ class SemanticOcTree : protected octomap::OcTreeBaseImpl<SemanticNode, octomap::
       f(key, depth, node->state());
       return;
     }
-    const unsigned short half = static_cast<unsigned short>(tree_max_val >> (depth + 1));
-    for (unsigned i = 0; i < 8; ++i) {
-      if (!nodeChildExists(node, i)) continue;
-      octomap::OcTreeKey k = key;
-      octomap::computeChildKey(i, half, key, k);
+    for_each_child_key(child_mask(node), key, depth, [&](unsigned i, const octomap::OcTreeKey& k) {
       for_each_leaf_all_recurs(getNodeChild(node, i), k, depth + 1, (code << 3) | i, f);
-    }
+    });
   }
   // A moved-out subtree's nodes as write_moved wrote them (pre-order: state, children mask).
   template <typename F>
@@ -300,13 +314,7 @@ class SemanticOcTree : protected octomap::OcTreeBaseImpl<SemanticNode, octomap::
       f(key, depth, static_cast<const SemanticState&>(state));
       return;
     }
-    const unsigned short half = static_cast<unsigned short>(tree_max_val >> (depth + 1));
-    for (unsigned i = 0; i < 8; ++i) {
-      if (!(mask & (1u << i))) continue;
-      octomap::OcTreeKey k = key;
-      octomap::computeChildKey(i, half, key, k);
-      walk_moved(raw, at, k, depth + 1, f);
-    }
+    for_each_child_key(mask, key, depth, [&](unsigned, const octomap::OcTreeKey& k) { walk_moved(raw, at, k, depth + 1, f); });
   }
   // The decompressed bytes of the subtree moved out at window code `code`.
   std::string moved_out_bytes(std::uint64_t code) const;
@@ -324,13 +332,9 @@ class SemanticOcTree : protected octomap::OcTreeBaseImpl<SemanticNode, octomap::
       f(key, depth, node->state());
       return;
     }
-    const unsigned short half = static_cast<unsigned short>(tree_max_val >> (depth + 1));
-    for (unsigned i = 0; i < 8; ++i) {
-      if (!nodeChildExists(node, i)) continue;
-      octomap::OcTreeKey k = key;
-      octomap::computeChildKey(i, half, key, k);
+    for_each_child_key(child_mask(node), key, depth, [&](unsigned i, const octomap::OcTreeKey& k) {
       for_each_leaf_in_keys_recurs(getNodeChild(node, i), k, depth + 1, lo, hi, f);
-    }
+    });
   }
   // A stub's state (keep_x()): a count no voxel has (at most SemanticState::kSlots).
   static constexpr std::uint8_t kMovedOutMark = 0xfe;
