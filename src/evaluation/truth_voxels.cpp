@@ -55,15 +55,32 @@ std::vector<std::uint64_t> plant_keys(const world::Plant& plant, double res, std
   return keys;
 }
 
-// The plants' keys together, each once, as voxel centres: in the keys' order, which is the
-// centres' lexicographic (x, y, z) order (a key packs the cell's x, y and z indices from its
-// high bits down, and a centre's coordinate grows with its index).
-std::vector<Vec3> centres_of(std::vector<std::uint64_t> keys, double res, std::vector<std::uint64_t>* scratch) {
-  radix_sort_u64(keys, *scratch);
-  keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+// The plants' sorted keys merged (each key once) straight into voxel centres, without a copy of
+// them all: in the keys' order, which is the centres' lexicographic (x, y, z) order (a key packs
+// the cell's x, y and z indices from its high bits down, and a centre's coordinate grows with
+// its index).
+std::vector<Vec3> centres_of(const std::map<std::size_t, std::vector<std::uint64_t>>& runs, double res) {
+  using Run = std::vector<std::uint64_t>;
+  using Head = std::pair<std::uint64_t, std::pair<const Run*, std::size_t>>;  // key, (run, next index)
+  std::priority_queue<Head, std::vector<Head>, std::greater<Head>> heads;
+  std::size_t total = 0;
+  for (const auto& [p, keys] : runs) {
+    total += keys.size();
+    if (!keys.empty()) heads.push({keys[0], {&keys, 1}});
+  }
   std::vector<Vec3> centres;
-  centres.reserve(keys.size());
-  for (std::uint64_t k : keys) centres.push_back(mapping::grid_center(k, res));
+  centres.reserve(total);
+  bool any = false;
+  std::uint64_t previous = 0;
+  while (!heads.empty()) {
+    const auto [key, run] = heads.top();
+    heads.pop();
+    if (!any || key != previous) centres.push_back(mapping::grid_center(key, res));
+    any = true;
+    previous = key;
+    if (run.second < run.first->size()) heads.push({(*run.first)[run.second], {run.first, run.second + 1}});
+  }
+  centres.shrink_to_fit();
   return centres;
 }
 
@@ -72,13 +89,12 @@ std::vector<Vec3> centres_of(std::vector<std::uint64_t> keys, double res, std::v
 std::vector<Vec3> world_occupied_voxels(const world::World& world, double res, double plants_from_x_m,
                                         double plants_to_x_m) {
   check_resolution(res);
-  std::vector<std::uint64_t> keys, scratch;
-  for (std::size_t p = 0; p < world.plants.size(); ++p) {
-    if (!in_window(world, p, plants_from_x_m, plants_to_x_m)) continue;
-    const std::vector<std::uint64_t> own = plant_keys(*world.plant(p), res, &scratch);  // generated again when not held
-    keys.insert(keys.end(), own.begin(), own.end());
-  }
-  return centres_of(std::move(keys), res, &scratch);
+  std::map<std::size_t, std::vector<std::uint64_t>> keys;
+  std::vector<std::uint64_t> scratch;
+  for (std::size_t p = 0; p < world.plants.size(); ++p)
+    if (in_window(world, p, plants_from_x_m, plants_to_x_m))
+      keys.emplace(p, plant_keys(*world.plant(p), res, &scratch));  // generated again when not held
+  return centres_of(keys, res);
 }
 
 WindowVoxels::WindowVoxels(const world::World& world, double resolution_m) : world_(world), resolution_m_(resolution_m) {
@@ -105,29 +121,7 @@ std::vector<Vec3> WindowVoxels::voxels(double plants_from_x_m, double plants_to_
   std::vector<std::uint64_t>().swap(scratch);
   before_ = std::move(last_);
   last_ = std::move(now);
-  // The plants' sorted keys merged (each once) straight into centres: the same as sorting
-  // them together, without a second copy of the window's keys.
-  using Head = std::pair<std::uint64_t, std::pair<const Keys*, std::size_t>>;  // key, (run, next index)
-  std::priority_queue<Head, std::vector<Head>, std::greater<Head>> heads;
-  std::size_t total = 0;
-  for (const auto& [p, keys] : last_) {
-    total += keys.size();
-    if (!keys.empty()) heads.push({keys[0], {&keys, 1}});
-  }
-  std::vector<Vec3> centres;
-  centres.reserve(total);
-  bool any = false;
-  std::uint64_t previous = 0;
-  while (!heads.empty()) {
-    const auto [key, run] = heads.top();
-    heads.pop();
-    if (!any || key != previous) centres.push_back(mapping::grid_center(key, resolution_m_));
-    any = true;
-    previous = key;
-    if (run.second < run.first->size()) heads.push({(*run.first)[run.second], {run.first, run.second + 1}});
-  }
-  centres.shrink_to_fit();
-  return centres;
+  return centres_of(last_, resolution_m_);
 }
 
 std::size_t WindowVoxels::plants_held() const {

@@ -8,6 +8,7 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <optional>
 #include <tuple>
 #include <set>
 #include <sstream>
@@ -217,34 +218,33 @@ void write_textured_mesh_asset(std::ostream& os, const std::string& name, const 
 // halves them, and changes neither a pixel's class nor its colour.
 struct DrawnPart {
   std::string name;
-  const world::PlantPart* part = nullptr;           // the first (its colour, class, texture)
-  std::shared_ptr<const world::TriMesh> merged;     // null: the part's own mesh
+  const world::PlantPart* part = nullptr;  // the first (its colour, class, texture)
+  std::optional<world::TriMesh> merged;    // empty: the part's own mesh
+  const world::TriMesh& mesh() const { return merged ? *merged : part->mesh; }
 };
 
 std::vector<DrawnPart> drawn_parts(const std::vector<std::shared_ptr<const world::Plant>>& plants, bool merge) {
   std::vector<DrawnPart> out;
   for (const auto& plant : plants) {
-    // key: class and colour bits; value: the index of its entry in `out` and its mesh so far
-    std::map<std::array<std::uint32_t, 4>, std::pair<std::size_t, std::shared_ptr<world::TriMesh>>> groups;
+    std::map<std::array<std::uint32_t, 4>, std::size_t> group_of;  // class and colour bits -> entry in `out`
     for (const auto& part : plant->parts) {
       if (!merge || part.texture || part.instance_id != kNoInstance) {
-        out.push_back(DrawnPart{part.name, &part, nullptr});
+        out.push_back(DrawnPart{part.name, &part, std::nullopt});
         continue;
       }
       std::array<std::uint32_t, 4> key{static_cast<std::uint32_t>(part.class_id), 0, 0, 0};
       for (int c = 0; c < 3; ++c) std::memcpy(&key[static_cast<std::size_t>(c) + 1], &part.rgba[c], sizeof(float));
-      auto [it, fresh] = groups.try_emplace(key, out.size(), nullptr);
+      const auto [it, fresh] = group_of.try_emplace(key, out.size());
       if (fresh) {
-        out.push_back(DrawnPart{part.name, &part, nullptr});
+        out.push_back(DrawnPart{part.name, &part, std::nullopt});
         continue;
       }
-      DrawnPart& d = out[it->second.first];
-      if (!it->second.second) {  // a second part: the group becomes a merged mesh
-        it->second.second = std::make_shared<world::TriMesh>(d.part->mesh);
+      DrawnPart& d = out[it->second];
+      if (!d.merged) {  // a second part: the group becomes a merged mesh
+        d.merged = d.part->mesh;
         d.name += "_merged";
       }
-      it->second.second->append(part.mesh);
-      d.merged = it->second.second;
+      d.merged->append(part.mesh);
     }
   }
   return out;
@@ -295,19 +295,17 @@ SceneDescription make_scene_mjcf(const world::World& world, const robot::RobotDe
   const std::vector<DrawnPart> drawn = drawn_parts(plants, options.merge_plant_parts);
   for (const DrawnPart& d : drawn) {
     const world::PlantPart& part = *d.part;
-    {
-      if (part.texture) {
-        auto [it, fresh] = texture_of_file.try_emplace(part.texture_file, "plant_tex_" + std::to_string(texture_of_file.size()));
-        if (fresh) {
-          os << "    <texture name=\"" << it->second << "\" type=\"2d\" file=\"textures/" << it->second << ".png\"/>\n"
-             << "    <material name=\"" << it->second << "\" texture=\"" << it->second
-             << "\" specular=\"0.08\" shininess=\"0.1\"/>\n";
-          scene.files[it->second + ".png"] = part.texture_file;
-        }
-        write_textured_mesh_asset(os, part.name, part.mesh, part.uv);
-      } else {
-        write_mesh_asset(os, d.name, d.merged ? *d.merged : part.mesh);
+    if (part.texture) {
+      auto [it, fresh] = texture_of_file.try_emplace(part.texture_file, "plant_tex_" + std::to_string(texture_of_file.size()));
+      if (fresh) {
+        os << "    <texture name=\"" << it->second << "\" type=\"2d\" file=\"textures/" << it->second << ".png\"/>\n"
+           << "    <material name=\"" << it->second << "\" texture=\"" << it->second
+           << "\" specular=\"0.08\" shininess=\"0.1\"/>\n";
+        scene.files[it->second + ".png"] = part.texture_file;
       }
+      write_textured_mesh_asset(os, part.name, part.mesh, part.uv);
+    } else {
+      write_mesh_asset(os, d.name, d.mesh());
     }
   }
   const bool windowed = std::isfinite(options.plants_from_x_m) && std::isfinite(options.plants_to_x_m);
