@@ -21,7 +21,6 @@ set(canopy_test_costs
   Mission.OverlappedMovesGiveTheSameViewsAsMovesInLine         12
   cli.reliability                                              10
   cli.import_plant                                             10
-  SemanticOcTree.AMapWithItsFarPartMovedOutIsTheWholeMap       10
   cli.textured_plant                                           9
   python.reliability                                           9
   Mission.TheIndexAndEnvironmentNearTheRobotGiveTheSameMission 9

@@ -256,7 +256,7 @@ TEST(SemanticOcTree, AMapWithItsFarPartMovedOutIsTheWholeMap) {
   auto scan = [&](double x_m) {
     std::vector<VoxelUpdate> batch;
     const unsigned cx = key_x(x_m);
-    for (int i = 0; i < 40000; ++i) {
+    for (int i = 0; i < 12000; ++i) {
       const octomap::OcTreeKey k(static_cast<octomap::key_type>(cx - 133 + rng() % 267),
                                  static_cast<octomap::key_type>(32700 + rng() % 100),
                                  static_cast<octomap::key_type>(32760 + rng() % 40));
