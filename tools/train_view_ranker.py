@@ -6,7 +6,7 @@ planner scored with its view features (nbv/view_features.h: columns f:<name>) an
 (the uncovered true fruit surface points it sees). One round is one query; the model orders its
 candidates (XGBoost learning to rank, gradient-boosted trees).
 
-    python3 tools/train_view_ranker.py runs/ranker_default runs/ranker_dense --out models/view_ranker.json
+    python3 tools/train_view_ranker.py runs/ranker_default runs/ranker_dense --out models/nbv/view_ranker.json
 
 Only tuning worlds train: a trial whose world seed is 1000 or more (the evaluation worlds) is
 refused, one line and exit 2. --evaluate RUN... ranks the model against the truth on other runs
@@ -17,6 +17,11 @@ view, and the top view's share of the round's best truth; means over rounds, one
 --model FILE ranks a model already trained instead of training one (no training runs then):
 
     python3 tools/train_view_ranker.py --model models/nbv/view_ranker.json --evaluate runs/learned_eval
+
+--cv chooses the model's settings on the tuning worlds alone: for each world seed, a model trained
+on the other seeds' rounds ranks that seed's rounds (docs/learned.md, "Choosing the model"):
+
+    python3 tools/train_view_ranker.py runs/ranker_default runs/ranker_dense --methods ours shape reveal --cv
 """
 import argparse
 import csv
@@ -174,15 +179,54 @@ def train(rounds, names, args):
     d = xgb.DMatrix(X, label=y, feature_names=names, missing=np.nan)
     d.set_group([len(r["truth"]) for r in rounds])
     params = {"objective": args.objective, "eta": args.eta, "max_depth": args.depth, "min_child_weight": 1.0,
-              "subsample": 0.8, "colsample_bytree": 0.8, "seed": 1, "nthread": args.threads,
+              "subsample": 0.8, "colsample_bytree": 0.8, "seed": args.seed, "nthread": args.threads,
               "eval_metric": "ndcg@5"}
     return xgb.train(params, d, num_boost_round=args.trees)
 
 
 def predict(booster, rounds, names):
+    """Each round's model scores (one matrix for every round: the same numbers as round by round)."""
     import xgboost as xgb
+    if not rounds:
+        return
+    y = booster.predict(xgb.DMatrix(np.concatenate([r["X"] for r in rounds]), feature_names=names, missing=np.nan))
+    at = 0
     for r in rounds:
-        r["model"] = booster.predict(xgb.DMatrix(r["X"], feature_names=names, missing=np.nan))
+        r["model"] = y[at:at + len(r["truth"])]
+        at += len(r["truth"])
+
+
+def cross_validate(rounds, names, args):
+    """Model selection on the tuning worlds: for each world seed, a model trained on the other seeds'
+    rounds (of --methods) ranks that seed's rounds (every method's); per run folder and P_gt, the
+    rounds' mean Spearman rho, top-1, top-5 and truth share, for the rounds of each method alone and all."""
+    seeds = sorted({r["world_seed"] for r in rounds})
+    if len(seeds) < 2:
+        fail("--cv needs rounds of two tuning worlds or more")
+    for s in seeds:
+        train_rounds = [r for r in rounds if r["world_seed"] != s and (not args.methods or r["method"] in args.methods)]
+        if not train_rounds:
+            fail(f"--cv: no round to train on without world {s}")
+        predict(train(train_rounds, names, args), [r for r in rounds if r["world_seed"] == s], names)
+    out = [f"### Cross-validation by tuning world ({', '.join(map(str, seeds))}): objective {args.objective}, "
+           f"{args.trees} trees of depth {args.depth}, eta {args.eta}, seed {args.seed}", "",
+           "| runs | P_gt | rounds of | rounds | Spearman ρ | top-1 | top-5 | truth share |", "|---|---|---|---|---|---|---|---|"]
+    shares = {}
+    for run in sorted({r["run"] for r in rounds}):
+        for p_gt in sorted({r["p_gt"] for r in rounds}, reverse=True):
+            cell = [r for r in rounds if r["run"] == run and r["p_gt"] == p_gt]
+            for method in sorted({r["method"] for r in cell}) + ["all"]:
+                a = Agreement()
+                for r in cell:
+                    if method in ("all", r["method"]):
+                        a.add(r["model"], r["truth"])
+                n, rho, top1, top5, _, share, _ = a.row()
+                if n:
+                    out.append(f"| {run} | {p_gt:g} | {method} | {n} | {rho:.3f} | {top1:.1%} | {top5:.1%} | {share:.3f} |")
+                    shares.setdefault(method, []).append(share)
+    out += ["", "Mean truth share over the conditions: " +
+            ", ".join(f"{m} {np.mean(v):.3f}" for m, v in sorted(shares.items())), ""]
+    return "\n".join(out)
 
 
 def ranking_table(rounds, names, scores_names, title, with_model):
@@ -224,9 +268,12 @@ def main():
     ap.add_argument("--methods", nargs="*", default=[],
                     help="train on the rounds of these trial labels only (e.g. ours shape reveal: the shipped model)")
     ap.add_argument("--objective", default="rank:pairwise")
-    ap.add_argument("--trees", type=int, default=100)
-    ap.add_argument("--depth", type=int, default=4)
-    ap.add_argument("--eta", type=float, default=0.1)
+    ap.add_argument("--trees", type=int, default=300)
+    ap.add_argument("--depth", type=int, default=6)
+    ap.add_argument("--eta", type=float, default=0.05)
+    ap.add_argument("--seed", type=int, default=1, help="XGBoost's seed (its row and column subsampling)")
+    ap.add_argument("--cv", action="store_true",
+                    help="cross-validate by tuning world instead of training a model (model selection; --table writes it)")
     ap.add_argument("--threads", type=int, default=1, help="1: the same model, byte for byte, from the same data")
     ap.add_argument("--table", help="write the ranking tables (markdown) here")
     args = ap.parse_args()
@@ -247,13 +294,22 @@ def main():
             fail(f"{args.model}: the model names no features")
         finish(booster, names, [], [], args)
         return
-    if not args.runs or not args.out:
-        fail("give the tuning runs to train on and --out (or --model with --evaluate)")
+    if not args.runs or not (args.out or args.cv):
+        fail("give the tuning runs to train on and --out or --cv (or --model with --evaluate)")
     rounds, names, scores_names = read_rounds(args.runs, tuning_only=True)
+    missing = sorted(set(args.methods) - {r["method"] for r in rounds})
+    if missing:
+        fail(f"--methods: no rounds of {', '.join(missing)} in the training runs")
+    if args.cv:
+        if args.out or args.holdout or args.evaluate:
+            fail("--cv cross-validates on the tuning runs: give neither --out, --holdout nor --evaluate")
+        text = cross_validate(rounds, names, args)
+        if args.table:
+            with open(args.table, "w") as f:
+                f.write(text)
+        print(text)
+        return
     if args.methods:
-        missing = sorted(set(args.methods) - {r["method"] for r in rounds})
-        if missing:
-            fail(f"--methods: no rounds of {', '.join(missing)} in the training runs")
         rounds = [r for r in rounds if r["method"] in args.methods]
     held = [r for r in rounds if r["world_seed"] in args.holdout]
     train_rounds = [r for r in rounds if r["world_seed"] not in args.holdout]

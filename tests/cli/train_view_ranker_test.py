@@ -1,0 +1,92 @@
+#!/usr/bin/env python3
+"""tools/train_view_ranker.py's cross-validation (--cv) and refusals on synthetic candidate audits.
+
+Three tuning worlds, two planners' trials each, rounds of 20 candidates whose truth grows with one
+feature ("signal") and ignores the other ("noise"). A model trained on two worlds ranks the third
+world's rounds by the signal, so every condition's truth share and Spearman rho are near 1; the
+text is the same when run twice (fixed seed). An evaluation world (seed >= 1000) among the runs,
+or --cv beside --out, is one line and exit 2.
+Usage: train_view_ranker_test.py SOURCE_DIR"""
+import csv
+import json
+import os
+import pathlib
+import re
+import subprocess
+import sys
+import tempfile
+
+import numpy as np
+
+script = pathlib.Path(sys.argv[1]) / "tools" / "train_view_ranker.py"
+failures = []
+
+
+def check(ok, what):
+    if not ok:
+        failures.append(what)
+        print("FAIL:", what)
+
+
+def write_run(root, name, worlds):
+    rng = np.random.default_rng(7)
+    run = pathlib.Path(root) / name
+    for world in worlds:
+        for label in ("shape", "learned"):
+            trial_id = f"{label}_pgt1_world{world}_seed1"
+            folder = run / "trials" / trial_id
+            (folder / "mission").mkdir(parents=True)
+            (folder / "trial.json").write_text(json.dumps(
+                {"status": "ok", "trial": {"id": trial_id, "label": label, "method": label, "p_gt": 1.0,
+                                           "world_seed": world, "seed": 1}}))
+            with open(folder / "mission" / "candidates.csv", "w", newline="") as f:
+                w = csv.writer(f)
+                w.writerow(["stop", "round", "planner_gain", "truth", "uvc", "f:signal", "f:noise"])
+                for rnd in range(30):
+                    signal = rng.uniform(0.0, 1.0, 20)
+                    truth = np.round(1000.0 * signal ** 2)
+                    for s, t in zip(signal, truth):
+                        w.writerow([0, rnd, rng.uniform(), int(t), rng.uniform(), f"{s:.6f}", f"{rng.uniform():.6f}"])
+    return str(run)
+
+
+def run(*args):
+    return subprocess.run([sys.executable, str(script), *args], capture_output=True, text=True)
+
+
+with tempfile.TemporaryDirectory() as tmp:
+    runs = write_run(tmp, "synthetic", [1, 2, 3])
+    small = ["--trees", "20", "--depth", "3", "--eta", "0.3"]
+    first = run(runs, "--cv", *small)
+    check(first.returncode == 0, f"--cv exits 0 (got {first.returncode}: {first.stderr.strip()})")
+    rows = [l for l in first.stdout.splitlines() if l.startswith("| synthetic |")]
+    check(len(rows) == 3, f"one row per planner and 'all' ({len(rows)} rows)")
+    for row in rows:
+        cells = [c.strip() for c in row.strip("|").split("|")]
+        rounds, rho, share = int(cells[3]), float(cells[4]), float(cells[7])
+        check(rounds == (90 if cells[2] != "all" else 180), f"{cells[2]}: the rounds of three worlds ({rounds})")
+        check(rho > 0.95, f"{cells[2]}: rho {rho} near 1 for a truth that grows with a feature")
+        check(share > 0.95, f"{cells[2]}: truth share {share} near 1")
+    check(re.search(r"Mean truth share over the conditions: all 0\.9\d\d", first.stdout) is not None,
+          "the mean truth share line")
+    again = run(runs, "--cv", *small)
+    check(again.stdout == first.stdout, "the same text when run twice")
+    table = pathlib.Path(tmp) / "cv.md"
+    written = run(runs, "--cv", *small, "--table", str(table))
+    check(written.returncode == 0 and table.read_text().strip() == first.stdout.strip(), "--table writes the text")
+
+    both = run(runs, "--cv", "--out", str(pathlib.Path(tmp) / "m.json"))
+    check(both.returncode == 2 and len(both.stderr.strip().splitlines()) == 1 and "--cv" in both.stderr,
+          f"--cv with --out: one line, exit 2 (got {both.returncode}: {both.stderr.strip()})")
+    evaluation = write_run(tmp, "evaluation", [1001])
+    refused = run(runs, evaluation, "--cv", *small)
+    check(refused.returncode == 2 and len(refused.stderr.strip().splitlines()) == 1 and
+          "evaluation world" in refused.stderr, f"an evaluation world: one line, exit 2 (got {refused.stderr.strip()})")
+    one = write_run(tmp, "one_world", [1])
+    alone = run(one, "--cv", *small)
+    check(alone.returncode == 2 and "two tuning worlds" in alone.stderr, f"one world: refused ({alone.stderr.strip()})")
+
+if failures:
+    print(f"{len(failures)} failure(s)")
+    sys.exit(1)
+print("train_view_ranker: all checks passed")
