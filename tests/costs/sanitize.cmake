@@ -10,7 +10,7 @@ set(canopy_test_costs
   mission_cli                                                             42
   Mission.TheIndexAndEnvironmentNearTheRobotGiveTheSameMission            39
   cli.reliability                                                         38
-  SemanticOcTree.AMapWithItsFarPartMovedOutIsTheWholeMap                  35
+  SemanticOcTree.AMapWithItsFarPartMovedOutIsTheWholeMap                  14
   IncrementalEvaluator.EqualsTheFullEvaluationAfterEveryRandomBatch       33
   cli.import_plant                                                        29
   Mission.PredefinedReplacesFailedScriptedViews                           29
