@@ -18,6 +18,7 @@
 #include "canopy/mission/oracle/oracle_planners.h"
 #include "canopy/records/candidates_csv.h"
 #include "canopy/nbv/gains.h"
+#include "canopy/nbv/planners/learned/learned_params.h"
 #include "canopy/world/world_spec.h"
 
 namespace canopy::mission {
@@ -198,6 +199,41 @@ TEST(Oracle, OraclePlannersRunInAMissionAndSayTheyReadTheTruth) {
   nbv::ViewPlannerSettings ps;
   ps.method.name = "oracle";
   EXPECT_THROW(nbv::make_view_planner(ps), InputError);
+}
+
+// mission.oracle.candidates "learned": the oracle scores learned's candidates (spheres of
+// nbv.learned.radii_m around the fitted fruit centres) instead of ours' (spheres of
+// nbv.candidates.sphere.radius_m, 0.4 m). The reach test moves a view along its line in steps of
+// 1 cm, so a view's distance to its target keeps its sphere's radius modulo 1 cm: 0.335 m (5 mm)
+// for learned's, 0.4 m (0 mm) for ours'.
+TEST(Oracle, OracleOnLearnedsCandidatesScoresThemByTheTruth) {
+  const OracleWorld w;
+  for (const char* set : {"ours", "learned"}) {
+    Settings s = w.settings;
+    s.method.name = "oracle";
+    s.mission.oracle.candidates = set;
+    s.nbv.planner<nbv::LearnedParams>().radii_m = {0.335};
+    ASSERT_DOUBLE_EQ(s.motion.workspace.shift_step_m, 0.01);
+    ASSERT_DOUBLE_EQ(s.nbv.candidates.sphere.radius_m, 0.4);
+    Mission m(w.world, s, 1);
+    const MissionResult r = m.run();
+    int nbv_ok = 0;
+    double before = 0.0;
+    for (const ViewRecord& v : r.views) {
+      if (v.phase == ViewPhase::kInitial && v.success) before = v.coverage;
+      if (v.phase != ViewPhase::kNbv || v.source != "oracle") continue;
+      const double d_mm = 1000.0 * (v.T_goal.translation() - v.target).norm();
+      const double residue = std::fmod(d_mm + 0.5, 10.0) - 0.5;  // in [-0.5, 9.5)
+      EXPECT_NEAR(residue, std::string(set) == "learned" ? 5.0 : 0.0, 1e-3) << set << " view " << v.attempt;
+      if (!v.success) continue;
+      ++nbv_ok;
+      EXPECT_GT(v.gain, 0.0);
+    }
+    EXPECT_GE(nbv_ok, 1) << set;
+    EXPECT_GT(r.final_metrics.coverage, before) << set;
+  }
+  Settings bad = w.settings;
+  EXPECT_THROW(bad.set("mission.oracle.candidates", "mine", "--set"), InputError);
 }
 
 TEST(Oracle, CandidateAuditScoresEveryCandidateByEveryGainAndTheTruth) {

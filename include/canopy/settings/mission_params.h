@@ -142,6 +142,7 @@ struct OracleParams {
   int any_polar_count = 7;
   int any_azimuth_count = 16;
   int any_scored = 60;
+  std::string candidates = "ours";
 
   template <class A>
   void visit(A& a) {
@@ -156,6 +157,9 @@ struct OracleParams {
     a("any_azimuth_count", any_azimuth_count, limits::in(1, 360), "oracle_any: azimuths per sphere");
     a("any_scored", any_scored, limits::in(1, 100000),
       "oracle_any: views rendered per round (those with the most uncovered points in their frustum)");
+    a.one_of("candidates", candidates, {"ours", "learned"},
+             "oracle: the candidates it scores: ours' (clusters, spheres, ours' filter) or learned's (spheres of "
+             "nbv.learned.radii_m around the shape fit's fruit centres), each through the reach test");
   }
 };
 

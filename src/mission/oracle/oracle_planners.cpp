@@ -11,6 +11,8 @@
 #include "canopy/mission/mission.h"
 #include "canopy/nbv/clusters.h"
 #include "canopy/nbv/failed_views.h"
+#include "canopy/nbv/fruit_shapes.h"
+#include "canopy/nbv/planners/learned/learned_params.h"
 #include "canopy/nbv/planners/ours/ours.h"
 #include "canopy/sim/renderer.h"
 
@@ -69,7 +71,9 @@ class OraclePlanner : public nbv::ViewPlanner {
       ScopedPhase phase(batch.times, "truth");
       scorer_->set_points(evaluation::uncovered_target_points(*req.map, context_->world->truth, context_->metrics));
     }
-    std::vector<TruthView> views = any_ ? dense_views(req, &batch) : ours_views(req, &batch);
+    std::vector<TruthView> views = any_                         ? dense_views(req, &batch)
+                                   : context_->oracle.candidates == "learned" ? learned_views(req, &batch)
+                                                                              : ours_views(req, &batch);
     if (views.empty()) {
       batch.finished = true;
       if (batch.reason.empty()) batch.reason = "no candidate left";
@@ -96,7 +100,7 @@ class OraclePlanner : public nbv::ViewPlanner {
     for (const evaluation::TruthScore& t : best)
       batch.views.push_back(nbv::planned_view(views[t.view].candidate, double(t.score), any_ ? "oracle_any" : "oracle"));
     for (const nbv::PlannedView& v : batch.views) failed_.offered(v.T_world_camera);
-    if (!any_) mark_done(views);
+    if (!any_ && context_->oracle.candidates == "ours") mark_done(views);
     batch.finished = batch.views.empty();
     if (batch.finished) batch.reason = "no candidate sees an uncovered fruit point (ground truth)";
     return batch;
@@ -119,6 +123,36 @@ class OraclePlanner : public nbv::ViewPlanner {
            nbv::ours_candidates(clusters_[c], int(c), settings_.params.candidates, filter, &batch->filtered))
         out.push_back({k.candidate, 0, 0});
     batch->candidates = out.size();
+    return out;
+  }
+
+  // learned's candidates (planners/learned): spheres of nbv.learned.radii_m around the fitted
+  // centres of the stop's fruits (the shape fit of nbv.learned.fit), neither taken nor failed
+  // and reachable; no map test of what a view could add (the truth decides).
+  std::vector<TruthView> learned_views(const nbv::ViewRequest& req, nbv::ViewBatch* batch) {
+    const nbv::LearnedParams& lp = settings_.params.planner<nbv::LearnedParams>();
+    std::vector<nbv::FittedFruit> fruits;
+    {
+      ScopedPhase phase(batch->times, "clustering");
+      fruits = nbv::fit_fruits(*req.map, settings_.params.cluster, lp.fit, &req.region, 0.1, nullptr, &fits_);
+    }
+    batch->clusters = fruits.size();
+    std::vector<TruthView> out;
+    const std::vector<Vec3> centres = nbv::fitted_centres(fruits);
+    for (std::size_t i = 0; i < centres.size(); ++i)
+      for (const double r : lp.radii_m) {
+        nbv::CandidateParams cp = settings_.params.candidates;
+        cp.sphere.radius_m = r;
+        ScopedPhase phase(batch->times, "filtering");
+        for (nbv::Candidate& c : nbv::sample_candidates(centres[i], int(i), cp)) {
+          if (offerable(&c, req, failed_))
+            out.push_back({c, 0, 0});
+          else
+            ++batch->filtered;
+        }
+      }
+    batch->candidates = out.size();
+    if (fruits.empty()) batch->reason = "no fruit clusters in reach";
     return out;
   }
 
@@ -195,6 +229,7 @@ class OraclePlanner : public nbv::ViewPlanner {
   nbv::DoneClusters done_;
   nbv::FailedViews failed_{nbv::ViewRules{}};
   std::vector<nbv::Cluster> clusters_;
+  nbv::ShapeFitCache fits_;
   std::unique_ptr<evaluation::TruthViewScorer> scorer_;
 };
 

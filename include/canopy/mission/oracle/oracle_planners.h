@@ -7,7 +7,9 @@
 //  - oracle: ours' clusters, candidates, workspace filter and reach test (nbv::ours'
 //    selection, the same functions ours runs), and the taken-view rule, each candidate scored
 //    by the truth; greedy: the best views of the round, tried in order until one succeeds. It
-//    bounds what any gain can do with ours' candidates.
+//    bounds what any gain can do with ours' candidates. With OracleParams::candidates
+//    "learned" it scores learned's candidates instead (spheres around the shape fit's fruit
+//    centres): what a perfect ranker could do with learned's candidate set.
 //  - oracle_any: a dense set of views around every target fruit of the stop with uncovered
 //    points (OracleParams::any_*), the workspace and reach test; it bounds what the candidate
 //    generator can do.
