@@ -140,6 +140,9 @@ def condition_tables(preset, p_gt, trials, under_test, out):
         out.append("| " + " | ".join(row) + " |")
     out.append("")
     others = [l for l in labels if l != under_test and not l.startswith("oracle")]
+    if not others:
+        out.append(f"(no other map-only method in {preset}, P_gt {p_gt:g}: no goal to check)\n")
+        return None
     verdict = {}
     goal_cells = {}
     lines = []
