@@ -14,6 +14,7 @@
 #include "canopy/nbv/fruit_shapes.h"
 #include "canopy/nbv/planners/learned/learned_params.h"
 #include "canopy/nbv/planners/ours/ours.h"
+#include "canopy/nbv/view_features.h"
 #include "canopy/sim/renderer.h"
 
 namespace canopy::mission {
@@ -134,7 +135,8 @@ class OraclePlanner : public nbv::ViewPlanner {
     std::vector<nbv::FittedFruit> fruits;
     {
       ScopedPhase phase(batch->times, "clustering");
-      fruits = nbv::fit_fruits(*req.map, settings_.params.cluster, lp.fit, &req.region, 0.1, nullptr, &fits_);
+      fruits = nbv::fit_fruits(*req.map, settings_.params.cluster, lp.fit, &req.region, nbv::ViewFeatureParams{}.margin_m,
+                               nullptr, &fits_);
     }
     batch->clusters = fruits.size();
     std::vector<TruthView> out;
