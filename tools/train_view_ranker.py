@@ -104,10 +104,31 @@ def read_rounds(runs, tuning_only):
                 truth = np.array([float(r[ci["truth"]]) for r in rs])
                 planner = np.array([float(r[ci["planner_gain"]]) for r in rs])
                 S = np.array([[float(r[ci[n]]) for n in snames] for r in rs]) if snames else np.zeros((len(rs), 0))
-                rounds.append({"X": X, "truth": truth, "planner": planner, "scores": S, "run": world,
+                cluster = np.array([int(r[ci["cluster"]]) for r in rs])
+                rounds.append({"X": X, "truth": truth, "planner": planner, "scores": S, "cluster": cluster, "run": world,
                                "method": spec["label"], "p_gt": spec["p_gt"], "world_seed": seed,
                                "trial": spec["id"]})
     return rounds, names, scores_names
+
+
+FRUIT_SUFFIX = "@fruit"
+
+
+def fruit_maxima(X, cluster):
+    """Each candidate's fruit maxima: per feature, the largest value over the round's candidates
+    aimed at the same fruit (`cluster`), NaN ignored (NaN when all are): as nbv::ViewRanker computes them."""
+    F = np.empty_like(X)
+    for c in np.unique(cluster):
+        m = cluster == c
+        F[m] = np.fmax.reduce(X[m], axis=0)
+    return F
+
+
+def add_fruit_maxima(rounds, names):
+    """The features with each one's fruit maximum beside them (names + <name>@fruit)."""
+    for r in rounds:
+        r["X"] = np.hstack([r["X"], fruit_maxima(r["X"], r["cluster"])])
+    return names + [n + FRUIT_SUFFIX for n in names]
 
 
 def average_ranks(v):
@@ -276,6 +297,9 @@ def main():
                     help="cross-validate by tuning world instead of training a model (model selection; --table writes it)")
     ap.add_argument("--threads", type=int, default=1, help="1: the same model, byte for byte, from the same data")
     ap.add_argument("--table", help="write the ranking tables (markdown) here")
+    ap.add_argument("--fruit-maxima", action="store_true",
+                    help="also each feature's largest value over the round's candidates aimed at the same fruit "
+                         "(<name>@fruit; nbv::ViewRanker computes them for a model that names them)")
     args = ap.parse_args()
 
     if args.model:
@@ -297,6 +321,8 @@ def main():
     if not args.runs or not (args.out or args.cv):
         fail("give the tuning runs to train on and --out or --cv (or --model with --evaluate)")
     rounds, names, scores_names = read_rounds(args.runs, tuning_only=True)
+    if args.fruit_maxima:
+        names = add_fruit_maxima(rounds, names)
     missing = sorted(set(args.methods) - {r["method"] for r in rounds})
     if missing:
         fail(f"--methods: no rounds of {', '.join(missing)} in the training runs")
@@ -331,6 +357,8 @@ def finish(booster, names, held, scores_names, args):
         tables.append(ranking_table(held, names, scores_names, f"Held-out tuning worlds {args.holdout}", True))
     for run in args.evaluate:
         ev, ev_names, ev_scores = read_rounds([run], tuning_only=False)
+        if names == ev_names + [n + FRUIT_SUFFIX for n in ev_names]:
+            ev_names = add_fruit_maxima(ev, ev_names)
         if ev_names != names:
             fail(f"{run}: its features differ from the model's")
         predict(booster, ev, names)

@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <map>
 
 #include "canopy/common/error.h"
 #include "canopy/nbv/view_features.h"
@@ -40,13 +41,18 @@ ViewRanker::ViewRanker(const std::string& path) : path_(path) {
   XGBoosterSetParam(h, "nthread", "1");
   bst_ulong n = 0;
   const char** names = nullptr;
-  const std::vector<std::string>& want = view_feature_names();
+  std::vector<std::string> want = view_feature_names();
+  const std::size_t base = want.size();
   std::string problem;
   if (XGBoosterGetStrFeatureInfo(h, "feature_name", &n, &names) != 0 || n == 0) {
     problem = "it states no feature names";
-  } else if (n != want.size()) {
-    problem = "it reads " + std::to_string(n) + " features, this canopy computes " + std::to_string(want.size());
+  } else if (n != base && n != 2 * base) {
+    problem = "it reads " + std::to_string(n) + " features, this canopy computes " + std::to_string(base) + " (or " +
+              std::to_string(2 * base) + " with their fruit maxima)";
   } else {
+    fruit_maxima_ = n == 2 * base;
+    if (fruit_maxima_)
+      for (std::size_t i = 0; i < base; ++i) want.push_back(want[i] + "@fruit");
     for (bst_ulong i = 0; i < n && problem.empty(); ++i)
       if (want[i] != names[i])
         problem = "feature " + std::to_string(i) + " is '" + names[i] + "', this canopy computes '" + want[i] + "'";
@@ -62,13 +68,37 @@ ViewRanker::~ViewRanker() {
   if (booster_) XGBoosterFree(static_cast<BoosterHandle>(booster_));
 }
 
-std::vector<float> ViewRanker::score(const std::vector<float>& features, std::size_t rows) const {
-  const std::size_t cols = view_feature_names().size();
-  CANOPY_CHECK(features.size() == rows * cols, "one feature vector per row");
+std::vector<float> ViewRanker::score(const std::vector<float>& features, std::size_t rows,
+                                     const std::vector<int>& fruit) const {
+  const std::size_t base = view_feature_names().size();
+  CANOPY_CHECK(features.size() == rows * base, "one feature vector per row");
   std::vector<float> out(rows, 0.f);
   if (rows == 0) return out;
+  const std::vector<float>* input = &features;
+  std::vector<float> wide;
+  std::size_t cols = base;
+  if (fruit_maxima_) {
+    CANOPY_CHECK(fruit.size() == rows, "a model reading fruit maxima needs each row's fruit");
+    // Each feature's largest value over the rows of the same fruit, NaN ignored (NaN when all are).
+    std::map<int, std::vector<float>> maxima;
+    for (std::size_t r = 0; r < rows; ++r) {
+      auto [it, fresh] = maxima.try_emplace(fruit[r], base, std::nanf(""));
+      for (std::size_t c = 0; c < base; ++c) {
+        const float v = features[r * base + c];
+        if (!std::isnan(v) && (std::isnan(it->second[c]) || v > it->second[c])) it->second[c] = v;
+      }
+    }
+    cols = 2 * base;
+    wide.reserve(rows * cols);
+    for (std::size_t r = 0; r < rows; ++r) {
+      wide.insert(wide.end(), features.begin() + std::ptrdiff_t(r * base), features.begin() + std::ptrdiff_t((r + 1) * base));
+      const std::vector<float>& m = maxima.at(fruit[r]);
+      wide.insert(wide.end(), m.begin(), m.end());
+    }
+    input = &wide;
+  }
   DMatrixHandle m = nullptr;
-  CANOPY_CHECK(XGDMatrixCreateFromMat(features.data(), bst_ulong(rows), bst_ulong(cols), std::nanf(""), &m) == 0,
+  CANOPY_CHECK(XGDMatrixCreateFromMat(input->data(), bst_ulong(rows), bst_ulong(cols), std::nanf(""), &m) == 0,
                "XGDMatrixCreateFromMat: " + last_error());
   bst_ulong n = 0;
   const float* result = nullptr;

@@ -45,6 +45,32 @@ TEST(ViewRanker, AModelTrainedToRankByAFeatureOrdersViewsByIt) {
   EXPECT_TRUE(ranker.score({}, 0).empty());
 }
 
+// A model that names the fruit maxima (<name>@fruit, train_view_ranker.py --fruit-maxima) gets
+// them computed from the round's rows: trained to rank by one feature's fruit maximum, it orders
+// the rows by the largest value of that feature among the rows of the same fruit (NaN ignored),
+// whatever the row's own value.
+TEST(ViewRanker, AModelReadingFruitMaximaGetsThemFromTheRound) {
+  const std::size_t by = 7;
+  std::vector<std::string> names = view_feature_names();
+  const std::size_t cols = names.size();
+  for (std::size_t c = 0; c < cols; ++c) names.push_back(names[c] + "@fruit");
+  const ViewRanker ranker(train_model("by_fruit_maximum.json", cols + by, names));
+  EXPECT_TRUE(ranker.fruit_maxima());
+  EXPECT_FALSE(ViewRanker(train_model("by_feature_too.json", by)).fruit_maxima());
+  // Fruit 4: own values 1 and 9 (maximum 9); fruit 2: 5 and 5; fruit 8: missing and 3 (maximum 3).
+  const std::vector<int> fruit = {4, 2, 8, 4, 2, 8};
+  const std::vector<float> own = {1.f, 5.f, std::nanf(""), 9.f, 5.f, 3.f};
+  std::vector<float> rows(6 * cols, 5.f);
+  for (std::size_t r = 0; r < 6; ++r) rows[r * cols + by] = own[r];
+  const std::vector<float> s = ranker.score(rows, 6, fruit);
+  ASSERT_EQ(s.size(), 6u);
+  for (std::size_t hi : {0u, 3u})
+    for (std::size_t lo : {1u, 4u}) EXPECT_GT(s[hi], s[lo]) << hi << " over " << lo;
+  for (std::size_t hi : {1u, 4u})
+    for (std::size_t lo : {2u, 5u}) EXPECT_GT(s[hi], s[lo]) << hi << " over " << lo;
+  EXPECT_THROW(ranker.score(rows, 6), InternalError);  // no fruit per row
+}
+
 TEST(ViewRanker, MissingCorruptOrMismatchedModelsAreRefusedNamingTheFile) {
   const std::string missing = (fs::path(testing::TempDir()) / "no_model.json").string();
   EXPECT_NE(refusal(missing).find("'" + missing + "': no such file"), std::string::npos) << refusal(missing);
@@ -57,10 +83,15 @@ TEST(ViewRanker, MissingCorruptOrMismatchedModelsAreRefusedNamingTheFile) {
   EXPECT_NE(refusal(shorter).find("reads " + std::to_string(other.size()) + " features"), std::string::npos)
       << refusal(shorter);
   other = view_feature_names();
+  for (const std::string& n : view_feature_names()) other.push_back(n + "@max");  // 72 names, not the fruit maxima'
+  const std::string wrong_suffix = train_model("wrong_suffix.json", 0, other);
+  EXPECT_NE(refusal(wrong_suffix).find("is '" + view_feature_names()[0] + "@max'"), std::string::npos)
+      << refusal(wrong_suffix);
+  other = view_feature_names();
   other[3] = "renamed";
   const std::string renamed = train_model("renamed.json", 0, other);
   EXPECT_NE(refusal(renamed).find("feature 3 is 'renamed'"), std::string::npos) << refusal(renamed);
-  for (const std::string& p : {missing, corrupt, shorter, renamed})
+  for (const std::string& p : {missing, corrupt, shorter, renamed, wrong_suffix})
     EXPECT_EQ(refusal(p).find('\n'), std::string::npos) << "one line";
 }
 

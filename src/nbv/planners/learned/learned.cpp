@@ -70,7 +70,9 @@ class LearnedPlanner : public RoundPlanner {
     std::vector<float> score;
     {
       ScopedPhase phase(batch.times, "scoring");
-      score = ranker_.score(rows, kept.size());
+      std::vector<int> fruit;
+      for (const Candidate& c : kept) fruit.push_back(c.cluster);
+      score = ranker_.score(rows, kept.size(), fruit);
     }
     CANOPY_CHECK(rows.size() == kept.size() * width, "one feature row per kept candidate");
     std::vector<std::size_t> order(kept.size());
