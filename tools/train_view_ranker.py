@@ -104,7 +104,7 @@ def read_rounds(runs, tuning_only):
                 truth = np.array([float(r[ci["truth"]]) for r in rs])
                 planner = np.array([float(r[ci["planner_gain"]]) for r in rs])
                 S = np.array([[float(r[ci[n]]) for n in snames] for r in rs]) if snames else np.zeros((len(rs), 0))
-                cluster = np.array([int(r[ci["cluster"]]) for r in rs])
+                cluster = np.array([int(r[ci["cluster"]]) for r in rs]) if "cluster" in ci else None
                 rounds.append({"X": X, "truth": truth, "planner": planner, "scores": S, "cluster": cluster, "run": world,
                                "method": spec["label"], "p_gt": spec["p_gt"], "world_seed": seed,
                                "trial": spec["id"]})
@@ -127,6 +127,8 @@ def fruit_maxima(X, cluster):
 def add_fruit_maxima(rounds, names):
     """The features with each one's fruit maximum beside them (names + <name>@fruit)."""
     for r in rounds:
+        if r["cluster"] is None:
+            fail(f"trial {r['trial']}: its candidates.csv has no cluster column (recorded by an older canopy)")
         r["X"] = np.hstack([r["X"], fruit_maxima(r["X"], r["cluster"])])
     return names + [n + FRUIT_SUFFIX for n in names]
 

@@ -5,7 +5,8 @@ Three tuning worlds, two planners' trials each, rounds of 20 candidates whose tr
 feature ("signal") and ignores the other ("noise"). A model trained on two worlds ranks the third
 world's rounds by the signal, so every condition's truth share and Spearman rho are near 1; the
 text is the same when run twice (fixed seed). An evaluation world (seed >= 1000) among the runs,
-or --cv beside --out, is one line and exit 2.
+or --cv beside --out, is one line and exit 2. --fruit-maxima trains a model that also names each
+feature's fruit maximum (equal to a slow reference), which --model --evaluate reads back.
 Usage: train_view_ranker_test.py SOURCE_DIR"""
 import csv
 import json
@@ -41,12 +42,12 @@ def write_run(root, name, worlds):
                                            "world_seed": world, "seed": 1}}))
             with open(folder / "mission" / "candidates.csv", "w", newline="") as f:
                 w = csv.writer(f)
-                w.writerow(["stop", "round", "planner_gain", "truth", "uvc", "f:signal", "f:noise"])
+                w.writerow(["stop", "round", "cluster", "planner_gain", "truth", "uvc", "f:signal", "f:noise"])
                 for rnd in range(30):
                     signal = rng.uniform(0.0, 1.0, 20)
                     truth = np.round(1000.0 * signal ** 2)
-                    for s, t in zip(signal, truth):
-                        w.writerow([0, rnd, rng.uniform(), int(t), rng.uniform(), f"{s:.6f}", f"{rng.uniform():.6f}"])
+                    for i, (s, t) in enumerate(zip(signal, truth)):
+                        w.writerow([0, rnd, i % 4, rng.uniform(), int(t), rng.uniform(), f"{s:.6f}", f"{rng.uniform():.6f}"])
     return str(run)
 
 
@@ -85,6 +86,23 @@ with tempfile.TemporaryDirectory() as tmp:
     one = write_run(tmp, "one_world", [1])
     alone = run(one, "--cv", *small)
     check(alone.returncode == 2 and "two tuning worlds" in alone.stderr, f"one world: refused ({alone.stderr.strip()})")
+
+    # --fruit-maxima: each feature's largest value over the round's candidates of the same fruit.
+    sys.path.insert(0, str(script.parent))
+    import train_view_ranker as tvr
+    X = np.array([[1.0, np.nan], [4.0, 2.0], [np.nan, np.nan], [3.0, np.nan], [2.0, 5.0]], dtype=np.float32)
+    fruit = np.array([7, 3, 7, 3, 7])
+    slow = np.array([[max((X[j, c] for j in range(5) if fruit[j] == fruit[i] and not np.isnan(X[j, c])),
+                          default=np.nan) for c in range(2)] for i in range(5)], dtype=np.float32)
+    check(np.array_equal(tvr.fruit_maxima(X, fruit), slow, equal_nan=True), "fruit maxima equal the slow reference")
+    model = pathlib.Path(tmp) / "fruit.json"
+    trained = run(runs, "--fruit-maxima", "--out", str(model), *small)
+    names = json.loads(model.read_text())["learner"]["feature_names"] if model.is_file() else []
+    check(trained.returncode == 0 and names == ["signal", "noise", "signal@fruit", "noise@fruit"],
+          f"--fruit-maxima names the maxima ({trained.returncode}: {names} {trained.stderr.strip()})")
+    ranked = run("--model", str(model), "--evaluate", evaluation)
+    check(ranked.returncode == 0 and "learned (model)" in ranked.stdout,
+          f"--model reads a fruit-maxima model back ({ranked.returncode}: {ranked.stderr.strip()})")
 
 if failures:
     print(f"{len(failures)} failure(s)")
