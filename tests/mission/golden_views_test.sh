@@ -12,7 +12,8 @@
 # fills the stops they ended early; ours, frontier, predefined, global and the oracles unchanged).
 # learned's were retaken on 6 December 2026 when its model was trained again from that day's
 # tuning data (docs/learned.md: the shipped model was no longer what the documented command gave),
-# and on 7 December 2026 for its deeper model (300 trees of depth 6, chosen on the tuning worlds).
+# and on 7 December 2026 for its deeper model (300 trees of depth 6, chosen on the tuning worlds),
+# then for its model that also reads each feature's fruit maximum (the same day, issue 47).
 set -euo pipefail
 canopy="$1"
 here="$(cd "$(dirname "$0")" && pwd)"

@@ -97,7 +97,7 @@ TEST(ViewRanker, MissingCorruptOrMismatchedModelsAreRefusedNamingTheFile) {
 
 TEST(ViewRanker, TheShippedModelReadsThisCanopysFeatures) {
   const ViewRanker ranker(find_data_file(LearnedParams{}.model));
-  const std::vector<float> s = ranker.score(std::vector<float>(view_feature_names().size(), 0.f), 1);
+  const std::vector<float> s = ranker.score(std::vector<float>(view_feature_names().size(), 0.f), 1, {0});
   ASSERT_EQ(s.size(), 1u);
   EXPECT_TRUE(std::isfinite(s[0]));
 }
