@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <set>
 #include <sstream>
 
@@ -170,6 +171,30 @@ struct OracleWorld {
   }
 };
 
+// Runs the mission of `s` on `w`'s world and checks what every oracle does: each successful NBV
+// view is `source`'s and one the truth says sees uncovered points, at least one succeeds (a view
+// that leaves the wrist touching the chassis stops the arm: start_in_collision, a controller limit
+// the experiments report), and the coverage grows past the initial scan's. `each` sees every NBV
+// view of `source`, successful or not.
+void expect_an_oracle_mission(const OracleWorld& w, const Settings& s, const std::string& source,
+                              const std::function<void(const ViewRecord&)>& each = {}) {
+  Mission m(w.world, s, 1);
+  const MissionResult r = m.run();
+  int nbv_ok = 0;
+  double before = 0.0;
+  for (const ViewRecord& v : r.views) {
+    if (v.phase == ViewPhase::kInitial && v.success) before = v.coverage;
+    if (v.phase != ViewPhase::kNbv) continue;
+    if (each && v.source == source) each(v);
+    if (!v.success) continue;
+    ++nbv_ok;
+    EXPECT_EQ(v.source, source);
+    EXPECT_GT(v.gain, 0.0);
+  }
+  EXPECT_GE(nbv_ok, 1) << source;
+  EXPECT_GT(r.final_metrics.coverage, before) << source;
+}
+
 TEST(Oracle, OraclePlannersRunInAMissionAndSayTheyReadTheTruth) {
   const OracleWorld w;
   for (const char* name : {"oracle", "oracle_any"}) {
@@ -179,21 +204,7 @@ TEST(Oracle, OraclePlannersRunInAMissionAndSayTheyReadTheTruth) {
     EXPECT_NE(e->description.find("GROUND TRUTH"), std::string::npos);
     Settings s = w.settings;
     s.method.name = name;
-    Mission m(w.world, s, 1);
-    const MissionResult r = m.run();
-    int nbv_ok = 0;
-    double before = 0.0;
-    for (const ViewRecord& v : r.views) {
-      if (v.phase == ViewPhase::kInitial && v.success) before = v.coverage;
-      if (v.phase != ViewPhase::kNbv || !v.success) continue;
-      ++nbv_ok;
-      EXPECT_EQ(v.source, name);
-      EXPECT_GT(v.gain, 0.0);  // a view the truth says sees uncovered points
-    }
-    // At least one: a view that leaves the wrist touching the chassis stops the arm
-    // (start_in_collision, a controller limit the experiments report).
-    EXPECT_GE(nbv_ok, 1) << name;
-    EXPECT_GT(r.final_metrics.coverage, before) << name;
+    expect_an_oracle_mission(w, s, name);
   }
   // Outside a mission there is no truth to read.
   nbv::ViewPlannerSettings ps;
@@ -215,22 +226,11 @@ TEST(Oracle, OracleOnLearnedsCandidatesScoresThemByTheTruth) {
     s.nbv.planner<nbv::LearnedParams>().radii_m = {0.335};
     ASSERT_DOUBLE_EQ(s.motion.workspace.shift_step_m, 0.01);
     ASSERT_DOUBLE_EQ(s.nbv.candidates.sphere.radius_m, 0.4);
-    Mission m(w.world, s, 1);
-    const MissionResult r = m.run();
-    int nbv_ok = 0;
-    double before = 0.0;
-    for (const ViewRecord& v : r.views) {
-      if (v.phase == ViewPhase::kInitial && v.success) before = v.coverage;
-      if (v.phase != ViewPhase::kNbv || v.source != "oracle") continue;
+    expect_an_oracle_mission(w, s, "oracle", [&](const ViewRecord& v) {
       const double d_mm = 1000.0 * (v.T_goal.translation() - v.target).norm();
       const double residue = std::fmod(d_mm + 0.5, 10.0) - 0.5;  // in [-0.5, 9.5)
       EXPECT_NEAR(residue, std::string(set) == "learned" ? 5.0 : 0.0, 1e-3) << set << " view " << v.attempt;
-      if (!v.success) continue;
-      ++nbv_ok;
-      EXPECT_GT(v.gain, 0.0);
-    }
-    EXPECT_GE(nbv_ok, 1) << set;
-    EXPECT_GT(r.final_metrics.coverage, before) << set;
+    });
   }
   Settings bad = w.settings;
   EXPECT_THROW(bad.set("mission.oracle.candidates", "mine", "--set"), InputError);
