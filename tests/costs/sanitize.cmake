@@ -25,6 +25,7 @@ set(canopy_test_costs
   McapFramesFoxglove.ZedRecordingMapsAsItsFrames                          19
   SimulatorWindow.APreparedWindowIsTheModelBuiltOnArrivalBitForBit        19
   Oracle.OraclePlannersRunInAMissionAndSayTheyReadTheTruth                19
+  Oracle.OracleOnLearnedsCandidatesScoresThemByTheTruth                   11
   McapFramesFoxglove.RealSenseRecordingMapsAsItsFrames                    18
   cli.frames                                                              18
   Mission.SameSeedSameViews                                               18
