@@ -14,6 +14,25 @@
 
 namespace canopy::nbv {
 
+/// Every candidate on a sphere of each radius of `radii_m` around each of `centres` (target id:
+/// the centre's index; `params`' other settings), in that order, passed to `each(candidate)`; the
+/// sampling timed as `times`' "candidates" phase. The candidate set of reveal, shape and learned
+/// (and of the oracle on learned's candidates).
+template <class Each>
+void for_each_sphere_candidate(const std::vector<Vec3>& centres, const std::vector<double>& radii_m,
+                               CandidateParams params, PhaseTimes* times, Each&& each) {
+  for (std::size_t i = 0; i < centres.size(); ++i)
+    for (const double r : radii_m) {
+      params.sphere.radius_m = r;
+      std::vector<Candidate> cands;
+      {
+        ScopedPhase phase(*times, "candidates");
+        cands = sample_candidates(centres[i], int(i), params);
+      }
+      for (Candidate& cand : cands) each(cand);
+    }
+}
+
 class RoundPlanner : public ViewPlanner {
  public:
   void taken(const Pose& T) override {
@@ -44,27 +63,17 @@ class RoundPlanner : public ViewPlanner {
   template <class Score>
   void for_each_candidate(const std::vector<Vec3>& centres, const std::vector<double>& radii_m, const ViewRequest& req,
                           ViewBatch* batch, Score&& score) {
-    for (std::size_t i = 0; i < centres.size(); ++i)
-      for (const double r : radii_m) {
-        CandidateParams cp = candidates_;
-        cp.sphere.radius_m = r;
-        std::vector<Candidate> cands;
-        {
-          ScopedPhase phase(batch->times, "candidates");
-          cands = sample_candidates(centres[i], int(i), cp);
-        }
-        for (Candidate& cand : cands) {
-          {
-            ScopedPhase phase(batch->times, "filtering");
-            if (!offerable(&cand, req, failed_)) {
-              ++batch->filtered;
-              continue;
-            }
-          }
-          ScopedPhase phase(batch->times, "scoring");
-          score(cand);
+    for_each_sphere_candidate(centres, radii_m, candidates_, &batch->times, [&](Candidate& cand) {
+      {
+        ScopedPhase phase(batch->times, "filtering");
+        if (!offerable(&cand, req, failed_)) {
+          ++batch->filtered;
+          return;
         }
       }
+      ScopedPhase phase(batch->times, "scoring");
+      score(cand);
+    });
   }
 
   FailedViews failed_;

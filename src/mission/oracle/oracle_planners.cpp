@@ -14,6 +14,7 @@
 #include "canopy/nbv/fruit_shapes.h"
 #include "canopy/nbv/planners/learned/learned_params.h"
 #include "canopy/nbv/planners/ours/ours.h"
+#include "canopy/nbv/round_planner.h"
 #include "canopy/nbv/view_features.h"
 #include "canopy/sim/renderer.h"
 
@@ -40,8 +41,8 @@ struct TruthView {
 class OraclePlanner : public nbv::ViewPlanner {
  public:
   OraclePlanner(const nbv::ViewPlannerSettings& s, const MissionContext* context, bool any)
-      : ViewPlanner(s.params.views), settings_(s), any_(any), context_(context), done_(s.params.views),
-        failed_(s.params.views) {
+      : ViewPlanner(s.params.views), settings_(s), any_(any), context_(context),
+        learned_set_(!any && context->oracle.candidates == "learned"), done_(s.params.views), failed_(s.params.views) {
     if (!context_->world || !context_->sim)
       throw InputError(std::string("method ") + name() + " reads the ground truth: its mission has no world");
   }
@@ -72,9 +73,9 @@ class OraclePlanner : public nbv::ViewPlanner {
       ScopedPhase phase(batch.times, "truth");
       scorer_->set_points(evaluation::uncovered_target_points(*req.map, context_->world->truth, context_->metrics));
     }
-    std::vector<TruthView> views = any_                         ? dense_views(req, &batch)
-                                   : context_->oracle.candidates == "learned" ? learned_views(req, &batch)
-                                                                              : ours_views(req, &batch);
+    std::vector<TruthView> views = any_            ? dense_views(req, &batch)
+                                   : learned_set_ ? learned_views(req, &batch)
+                                                  : ours_views(req, &batch);
     if (views.empty()) {
       batch.finished = true;
       if (batch.reason.empty()) batch.reason = "no candidate left";
@@ -101,7 +102,7 @@ class OraclePlanner : public nbv::ViewPlanner {
     for (const evaluation::TruthScore& t : best)
       batch.views.push_back(nbv::planned_view(views[t.view].candidate, double(t.score), any_ ? "oracle_any" : "oracle"));
     for (const nbv::PlannedView& v : batch.views) failed_.offered(v.T_world_camera);
-    if (!any_ && context_->oracle.candidates == "ours") mark_done(views);
+    if (!any_ && !learned_set_) mark_done(views);
     batch.finished = batch.views.empty();
     if (batch.finished) batch.reason = "no candidate sees an uncovered fruit point (ground truth)";
     return batch;
@@ -140,19 +141,14 @@ class OraclePlanner : public nbv::ViewPlanner {
     }
     batch->clusters = fruits.size();
     std::vector<TruthView> out;
-    const std::vector<Vec3> centres = nbv::fitted_centres(fruits);
-    for (std::size_t i = 0; i < centres.size(); ++i)
-      for (const double r : lp.radii_m) {
-        nbv::CandidateParams cp = settings_.params.candidates;
-        cp.sphere.radius_m = r;
-        ScopedPhase phase(batch->times, "filtering");
-        for (nbv::Candidate& c : nbv::sample_candidates(centres[i], int(i), cp)) {
-          if (offerable(&c, req, failed_))
-            out.push_back({c, 0, 0});
-          else
-            ++batch->filtered;
-        }
-      }
+    nbv::for_each_sphere_candidate(nbv::fitted_centres(fruits), lp.radii_m, settings_.params.candidates, &batch->times,
+                                   [&](nbv::Candidate& c) {
+                                     ScopedPhase phase(batch->times, "filtering");
+                                     if (offerable(&c, req, failed_))
+                                       out.push_back({c, 0, 0});
+                                     else
+                                       ++batch->filtered;
+                                   });
     batch->candidates = out.size();
     if (fruits.empty()) batch->reason = "no fruit clusters in reach";
     return out;
@@ -228,6 +224,7 @@ class OraclePlanner : public nbv::ViewPlanner {
   nbv::ViewPlannerSettings settings_;
   bool any_;
   const MissionContext* context_ = nullptr;
+  bool learned_set_ = false;  // oracle (not oracle_any) on learned's candidates: mission.oracle.candidates
   nbv::DoneClusters done_;
   nbv::FailedViews failed_{nbv::ViewRules{}};
   std::vector<nbv::Cluster> clusters_;
