@@ -226,12 +226,24 @@ def cross_validate(rounds, names, args):
     seeds = sorted({r["world_seed"] for r in rounds})
     if len(seeds) < 2:
         fail("--cv needs rounds of two tuning worlds or more")
-    for s in seeds:
-        train_rounds = [r for r in rounds if r["world_seed"] != s and (not args.methods or r["method"] in args.methods)]
+    held = args.cv_hold or seeds
+    unknown = sorted(set(held) - set(seeds))
+    if unknown:
+        fail(f"--cv-hold: no rounds of world {', '.join(map(str, unknown))} in the runs")
+    trained_on = []
+    for s in held:
+        others = [o for o in seeds if o != s]
+        if args.train_worlds:
+            if args.train_worlds > len(others):
+                fail(f"--train-worlds {args.train_worlds}: only {len(others)} other worlds to train on without world {s}")
+            others = others[:args.train_worlds]
+        trained_on.append(f"{s} by {'+'.join(map(str, others))}")
+        train_rounds = [r for r in rounds if r["world_seed"] in others and (not args.methods or r["method"] in args.methods)]
         if not train_rounds:
             fail(f"--cv: no round to train on without world {s}")
         predict(train(train_rounds, names, args), [r for r in rounds if r["world_seed"] == s], names)
-    out = [f"### Cross-validation by tuning world ({', '.join(map(str, seeds))}): objective {args.objective}, "
+    rounds = [r for r in rounds if r["world_seed"] in held]
+    out = [f"### Cross-validation by tuning world ({', '.join(trained_on)}): objective {args.objective}, "
            f"{args.trees} trees of depth {args.depth}, eta {args.eta}, seed {args.seed}", "",
            "| runs | P_gt | rounds of | rounds | Spearman ρ | top-1 | top-5 | truth share |", "|---|---|---|---|---|---|---|---|"]
     shares = {}
@@ -297,6 +309,10 @@ def main():
     ap.add_argument("--seed", type=int, default=1, help="XGBoost's seed (its row and column subsampling)")
     ap.add_argument("--cv", action="store_true",
                     help="cross-validate by tuning world instead of training a model (model selection; --table writes it)")
+    ap.add_argument("--cv-hold", type=int, nargs="*", default=[],
+                    help="with --cv: rank only these world seeds, each by a model trained without it (default: every seed)")
+    ap.add_argument("--train-worlds", type=int, default=0,
+                    help="with --cv: train each fold on the N lowest other world seeds only (a learning curve; default: all)")
     ap.add_argument("--threads", type=int, default=1, help="1: the same model, byte for byte, from the same data")
     ap.add_argument("--table", help="write the ranking tables (markdown) here")
     ap.add_argument("--fruit-maxima", action="store_true",
@@ -328,6 +344,10 @@ def main():
     missing = sorted(set(args.methods) - {r["method"] for r in rounds})
     if missing:
         fail(f"--methods: no rounds of {', '.join(missing)} in the training runs")
+    if (args.cv_hold or args.train_worlds) and not args.cv:
+        fail("--cv-hold and --train-worlds go with --cv")
+    if args.train_worlds < 0:
+        fail("--train-worlds: give a positive number of worlds")
     if args.cv:
         if args.out or args.holdout or args.evaluate:
             fail("--cv cross-validates on the tuning runs: give neither --out, --holdout nor --evaluate")

@@ -83,6 +83,19 @@ with tempfile.TemporaryDirectory() as tmp:
     refused = run(runs, evaluation, "--cv", *small)
     check(refused.returncode == 2 and len(refused.stderr.strip().splitlines()) == 1 and
           "evaluation world" in refused.stderr, f"an evaluation world: one line, exit 2 (got {refused.stderr.strip()})")
+    # A learning curve: rank world 1 only, by a model trained on the lowest other world alone.
+    curve = run(runs, "--cv", *small, "--cv-hold", "1", "--train-worlds", "1")
+    check(curve.returncode == 0 and "(1 by 2)" in curve.stdout,
+          f"--cv-hold 1 --train-worlds 1: world 1 by world 2 ({curve.returncode}: {curve.stderr.strip()} {curve.stdout[:200]})")
+    curve_rows = [l for l in curve.stdout.splitlines() if l.startswith("| synthetic |") and "| all |" in l]
+    check(len(curve_rows) == 1 and int(curve_rows[0].split("|")[4]) == 60,
+          f"only world 1's rounds are ranked ({curve_rows})")
+    for bad, what in ((["--cv-hold", "7"], "no rounds of world 7"), (["--train-worlds", "3"], "only 2 other worlds")):
+        r = run(runs, "--cv", *small, *bad)
+        check(r.returncode == 2 and len(r.stderr.strip().splitlines()) == 1 and what in r.stderr,
+              f"{bad}: one line naming it, exit 2 (got {r.returncode}: {r.stderr.strip()})")
+    r = run(runs, "--out", str(pathlib.Path(tmp) / "m.json"), "--train-worlds", "1")
+    check(r.returncode == 2 and "go with --cv" in r.stderr, f"--train-worlds without --cv refused ({r.stderr.strip()})")
     one = write_run(tmp, "one_world", [1])
     alone = run(one, "--cv", *small)
     check(alone.returncode == 2 and "two tuning worlds" in alone.stderr, f"one world: refused ({alone.stderr.strip()})")
