@@ -147,16 +147,17 @@ TEST(Experiment, TheShippedExperimentsLoad) {
   EXPECT_EQ(Experiment::load("experiments/small.yaml", default_robot_config()).trials().size(), 12u);
   // The shape planner's and the learned scorer's files: their evaluation worlds are Fig. 3's,
   // their tuning worlds others (below 1000: the learned scorer trains only there; ranker_tuning
-  // records ours', shape's, reveal's and learned's rounds on 3 worlds x 2 P_gt).
+  // records ours', shape's, reveal's and learned's rounds on 3 worlds x 2 P_gt; ranker_more those of
+  // ours, shape and reveal on 6 more worlds x 2 P_gt).
   const std::map<std::string, std::size_t> shape_files = {
       {"fig3_shape", 20},  {"shape_fig3", 100},    {"shape_dense", 40},         {"fig3_dense", 140},
       {"shape_dev", 36},   {"ranker_tuning", 24},  {"ranker_tuning_dense", 24}, {"learned_only_eval", 20},
-      {"learned_only_eval_dense", 20}};
+      {"learned_only_eval_dense", 20},             {"ranker_more", 36},         {"ranker_more_dense", 36}};
   for (const auto& [name, trials] : shape_files) {
     const Experiment e = Experiment::load("experiments/" + name + ".yaml", default_robot_config());
     EXPECT_EQ(e.trials().size(), trials) << name;
     ASSERT_FALSE(e.world_seeds.empty()) << name;
-    const bool tuning = name == "shape_dev" || name.rfind("ranker_tuning", 0) == 0;
+    const bool tuning = name == "shape_dev" || name.rfind("ranker_", 0) == 0;
     for (std::uint64_t w : e.world_seeds) {
       if (tuning) EXPECT_LT(w, 1000u) << name;
       else EXPECT_GT(w, 1000u) << name;

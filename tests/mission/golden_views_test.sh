@@ -13,7 +13,8 @@
 # learned's were retaken on 6 December 2026 when its model was trained again from that day's
 # tuning data (docs/learned.md: the shipped model was no longer what the documented command gave),
 # and on 7 December 2026 for its deeper model (300 trees of depth 6, chosen on the tuning worlds),
-# then for its model that also reads each feature's fruit maximum (the same day, issue 47).
+# then for its model that also reads each feature's fruit maximum (the same day, issue 47), and
+# again for that model trained on nine tuning worlds instead of three (the same day).
 set -euo pipefail
 canopy="$1"
 here="$(cd "$(dirname "$0")" && pwd)"
