@@ -22,6 +22,9 @@ view, and the top view's share of the round's best truth; means over rounds, one
 on the other seeds' rounds ranks that seed's rounds (docs/learned.md, "Choosing the model"):
 
     python3 tools/train_view_ranker.py runs/ranker_default runs/ranker_dense --methods ours shape reveal --cv
+
+--cv-hold SEEDS ranks only those worlds, and --train-worlds N trains each of their models on the N
+lowest other world seeds only: a learning curve (docs/learned.md, "Is data the limit?").
 """
 import argparse
 import csv
@@ -319,6 +322,10 @@ def main():
                     help="also each feature's largest value over the round's candidates aimed at the same fruit "
                          "(<name>@fruit; nbv::ViewRanker computes them for a model that names them)")
     args = ap.parse_args()
+    if (args.cv_hold or args.train_worlds) and not args.cv:
+        fail("--cv-hold and --train-worlds go with --cv")
+    if args.train_worlds < 0:
+        fail("--train-worlds: give a positive number of worlds")
 
     if args.model:
         if args.runs or args.out or args.holdout or not args.evaluate:
@@ -344,10 +351,6 @@ def main():
     missing = sorted(set(args.methods) - {r["method"] for r in rounds})
     if missing:
         fail(f"--methods: no rounds of {', '.join(missing)} in the training runs")
-    if (args.cv_hold or args.train_worlds) and not args.cv:
-        fail("--cv-hold and --train-worlds go with --cv")
-    if args.train_worlds < 0:
-        fail("--train-worlds: give a positive number of worlds")
     if args.cv:
         if args.out or args.holdout or args.evaluate:
             fail("--cv cross-validates on the tuning runs: give neither --out, --holdout nor --evaluate")
