@@ -229,7 +229,7 @@ def cross_validate(rounds, names, args):
     seeds = sorted({r["world_seed"] for r in rounds})
     if len(seeds) < 2:
         fail("--cv needs rounds of two tuning worlds or more")
-    held = args.cv_hold or seeds
+    held = sorted(set(args.cv_hold)) or seeds  # a seed named twice is ranked once
     unknown = sorted(set(held) - set(seeds))
     if unknown:
         fail(f"--cv-hold: no rounds of world {', '.join(map(str, unknown))} in the runs")
