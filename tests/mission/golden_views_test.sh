@@ -14,7 +14,8 @@
 # tuning data (docs/learned.md: the shipped model was no longer what the documented command gave),
 # and on 7 December 2026 for its deeper model (300 trees of depth 6, chosen on the tuning worlds),
 # then for its model that also reads each feature's fruit maximum (the same day, issue 47), and
-# again for that model trained on nine tuning worlds instead of three (the same day).
+# again for that model trained on nine tuning worlds instead of three (the same day), and for
+# the same data and inputs trained with rank:ndcg instead of rank:pairwise (the same day).
 set -euo pipefail
 canopy="$1"
 here="$(cd "$(dirname "$0")" && pwd)"
