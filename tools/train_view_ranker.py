@@ -325,7 +325,7 @@ def main():
     if (args.cv_hold or args.train_worlds) and not args.cv:
         fail("--cv-hold and --train-worlds go with --cv")
     if args.train_worlds < 0:
-        fail("--train-worlds: give a positive number of worlds")
+        fail("--train-worlds: give a number of worlds, 0 or more (0: every other world)")
 
     if args.model:
         if args.runs or args.out or args.holdout or not args.evaluate:
