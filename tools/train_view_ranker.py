@@ -25,6 +25,8 @@ on the other seeds' rounds ranks that seed's rounds (docs/learned.md, "Choosing 
 
 --cv-hold SEEDS ranks only those worlds, and --train-worlds N trains each of their models on the N
 lowest other world seeds only: a learning curve (docs/learned.md, "Is data the limit?").
+--drop-features NAME... trains without some recorded features (an ablation). A model reads its
+features by name: --evaluate runs may record more features than it names.
 """
 import argparse
 import csv
@@ -210,12 +212,16 @@ def train(rounds, names, args):
     return xgb.train(params, d, num_boost_round=args.trees)
 
 
-def predict(booster, rounds, names):
-    """Each round's model scores (one matrix for every round: the same numbers as round by round)."""
+def predict(booster, rounds, names, cols=None):
+    """Each round's model scores (one matrix for every round: the same numbers as round by round);
+    `cols`: the columns of the rounds' features the model's `names` are (all, in order, when None)."""
     import xgboost as xgb
     if not rounds:
         return
-    y = booster.predict(xgb.DMatrix(np.concatenate([r["X"] for r in rounds]), feature_names=names, missing=np.nan))
+    X = np.concatenate([r["X"] for r in rounds])
+    if cols is not None:
+        X = X[:, cols]
+    y = booster.predict(xgb.DMatrix(X, feature_names=names, missing=np.nan))
     at = 0
     for r in rounds:
         r["model"] = y[at:at + len(r["truth"])]
@@ -318,6 +324,8 @@ def main():
                     help="with --cv: train each fold on the N lowest other world seeds only (a learning curve; default: all)")
     ap.add_argument("--threads", type=int, default=1, help="1: the same model, byte for byte, from the same data")
     ap.add_argument("--table", help="write the ranking tables (markdown) here")
+    ap.add_argument("--drop-features", nargs="*", default=[], metavar="NAME",
+                    help="train without these recorded features (and their fruit maxima): an ablation")
     ap.add_argument("--fruit-maxima", action="store_true",
                     help="also each feature's largest value over the round's candidates aimed at the same fruit "
                          "(<name>@fruit; nbv::ViewRanker computes them for a model that names them)")
@@ -346,6 +354,16 @@ def main():
     if not args.runs or not (args.out or args.cv):
         fail("give the tuning runs to train on and --out or --cv (or --model with --evaluate)")
     rounds, names, scores_names = read_rounds(args.runs, tuning_only=True)
+    if args.drop_features:
+        unknown = sorted(set(args.drop_features) - set(names))
+        if unknown:
+            fail(f"--drop-features: no feature {unknown[0]} in the runs' candidates.csv")
+        keep = [i for i, n in enumerate(names) if n not in args.drop_features]
+        if not keep:
+            fail("--drop-features: no feature left to train on")
+        for r in rounds:
+            r["X"] = r["X"][:, keep]
+        names = [names[i] for i in keep]
     if args.fruit_maxima:
         names = add_fruit_maxima(rounds, names)
     missing = sorted(set(args.methods) - {r["method"] for r in rounds})
@@ -382,12 +400,15 @@ def finish(booster, names, held, scores_names, args):
         tables.append(ranking_table(held, names, scores_names, f"Held-out tuning worlds {args.holdout}", True))
     for run in args.evaluate:
         ev, ev_names, ev_scores = read_rounds([run], tuning_only=False)
-        if names == ev_names + [n + FRUIT_SUFFIX for n in ev_names]:
+        if any(n.endswith(FRUIT_SUFFIX) for n in names):
             ev_names = add_fruit_maxima(ev, ev_names)
-        if ev_names != names:
-            fail(f"{run}: its features differ from the model's")
-        predict(booster, ev, names)
-        tables.append(ranking_table(ev, names, ev_scores, f"{run}: every audited round of {', '.join(sorted({r['method'] for r in ev}))}", True))
+        # The model reads its features by name, as nbv::ViewRanker does (an audit may record more).
+        at = {n: i for i, n in enumerate(ev_names)}
+        missing = [n for n in names if n not in at]
+        if missing:
+            fail(f"{run}: no feature {missing[0]} in its candidates.csv, which the model reads (recorded by another canopy)")
+        predict(booster, ev, names, [at[n] for n in names])
+        tables.append(ranking_table(ev, ev_names, ev_scores, f"{run}: every audited round of {', '.join(sorted({r['method'] for r in ev}))}", True))
     text = "\n".join(tables)
     if args.table:
         with open(args.table, "w") as f:

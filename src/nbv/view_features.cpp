@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
+#include <tuple>
 
 #include "canopy/common/error.h"
 #include "canopy/nbv/view_evaluator.h"
@@ -63,7 +65,29 @@ const char* const kOtherFeatures[] = {
     "unseen_side_cos",        // cos(angle) of the view direction and the fruit's unseen side
     "move_m",                 // camera translation from the camera now
     "move_deg",               // camera rotation from the camera now
+    // The target fruit's evidence (its voxels' class log-odds, what lies inside its fit):
+    "fruit_logodds_mean",     // its voxels' mean fruit log-odds (how often hit as fruit; saturates)
+    "fruit_logodds_min",      // its weakest voxel's fruit log-odds
+    "fruit_other_logodds",    // its voxels' mean log-odds of their strongest other class (hit as leaf...)
+    "fruit_inside_unknown",   // the share of voxels inside its fitted ellipsoid never observed
+    "fruit_inside_free",      // ... observed free (the fit is refuted there)
+    "fruit_inside_other",     // ... occupied by another class (a leaf in front of or inside it)
+    "fruit_around_unknown",   // the share of unknown voxels in the shell out to 1.5 times its fit
+    "fruit_size_ratio",       // its fit's volume over the prior's, cube root
+    "fruit_elongation",       // its fit's longest semi-axis over its shortest
+    "fruit_neighbours",       // other fitted fruits whose centre lies within 0.15 m of its centre
+    "fruit_unseen_share",     // its unseen predicted points over all fruits' of the stop region
 };
+
+// The evidence features of a fruit: the last kEvidenceFeatures of kOtherFeatures.
+constexpr std::size_t kEvidenceFeatures = 11;
+static_assert(std::size(kOtherFeatures) >= kEvidenceFeatures, "the evidence features end kOtherFeatures");
+// Fitted fruits whose centres lie this close count as neighbours [m].
+constexpr double kNeighbourM = 0.15;
+// The shell around a fruit's fit reaches this multiple of its semi-axes.
+constexpr double kAroundScale = 1.5;
+// A fit whose shell reaches farther than this from its centre is not walked (evidence missing) [m].
+constexpr double kMaxReachM = 0.3;
 
 // Surface area of an ellipsoid (Knud Thomsen's approximation, within 1.1 %).
 double ellipsoid_area(const Vec3& s) {
@@ -111,7 +135,83 @@ struct ViewFeatures::Fruit {
   double seen = 0.0;
   int unseen_points = 0;
   Vec3 unseen_side = Vec3::Zero();  // from the seen voxels' centroid to the fitted centre (unit; 0 when unknown)
+  // Evidence (the kEvidenceFeatures features, in order).
+  std::array<float, kEvidenceFeatures> evidence{};
 };
+
+namespace {
+
+// The evidence features of fruit `f` among `fruits` (kOtherFeatures' fruit_logodds_mean ..
+// fruit_unseen_share, in order): its voxels' class log-odds in `map`, the voxels inside and
+// around its fit as `index` has them.
+std::array<float, kEvidenceFeatures> fruit_evidence(const mapping::SemanticOcTree& map, const VoxelIndex& index,
+                                     const std::vector<FittedFruit>& fruits, std::size_t f, int unseen_points,
+                                     std::size_t all_unseen_points, const mapping::ShapeFitParams& fit) {
+  const FittedFruit& fr = fruits[f];
+  const int target = map.classes().target_index();
+  double sum = 0.0, other_sum = 0.0;
+  float lo = std::numeric_limits<float>::quiet_NaN();
+  int n = 0;
+  for (const Vec3& c : fr.points) {
+    const mapping::SemanticState* s = map.find(c);
+    if (!s) continue;
+    const float l = s->class_logodds(target);
+    float other = s->others;
+    for (int i = 0; i < s->count; ++i)
+      if (s->class_id[std::size_t(i)] != target) other = std::max(other, s->logodds[std::size_t(i)]);
+    sum += l;
+    other_sum += other;
+    lo = n == 0 ? l : std::min(lo, l);
+    ++n;
+  }
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  // The voxels inside the fit and in the shell around it.
+  const mapping::FruitShape& shape = fr.shape;
+  int inside = 0, unknown = 0, free = 0, other = 0, around = 0, around_unknown = 0;
+  octomap::OcTreeKey k0, k1;
+  const Vec3 reach = shape.semi_axes * kAroundScale;
+  if (shape.semi_axes.minCoeff() > 0.0 && reach.maxCoeff() <= kMaxReachM && map.key_of(shape.centre - reach, &k0) &&
+      map.key_of(shape.centre + reach, &k1)) {
+    for (int x = k0[0]; x <= int(k1[0]); ++x)
+      for (int y = k0[1]; y <= int(k1[1]); ++y)
+        for (int z = k0[2]; z <= int(k1[2]); ++z) {
+          const octomap::OcTreeKey k(static_cast<octomap::key_type>(x), static_cast<octomap::key_type>(y),
+                                     static_cast<octomap::key_type>(z));
+          const octomap::point3d c = map.keyToCoord(k);
+          const Vec3 p(c.x(), c.y(), c.z());
+          if (!shape.inside(p, kAroundScale)) continue;
+          const VoxelInfo& info = index.info(index.lookup(k));
+          if (!shape.inside(p)) {
+            ++around;
+            around_unknown += !info.known;
+            continue;
+          }
+          ++inside;
+          if (!info.known) ++unknown;
+          else if (!(info.p_occ > 0.5f)) ++free;
+          else if (!info.is_target) ++other;
+        }
+  }
+  const auto share = [&](int a, int b) { return b > 0 ? float(double(a) / b) : nan; };
+  const Vec3& a = shape.semi_axes;
+  const double prior = fit.prior_horizontal_m * fit.prior_horizontal_m * fit.prior_vertical_m;
+  int neighbours = 0;
+  for (std::size_t g = 0; g < fruits.size(); ++g)
+    neighbours += g != f && (fruits[g].shape.centre - shape.centre).norm() < kNeighbourM;
+  return {n > 0 ? float(sum / n) : nan,
+          lo,
+          n > 0 ? float(other_sum / n) : nan,
+          share(unknown, inside),
+          share(free, inside),
+          share(other, inside),
+          share(around_unknown, around),
+          a.minCoeff() > 0.0 ? float(std::cbrt(a.prod() / prior)) : nan,
+          a.minCoeff() > 0.0 ? float(a.maxCoeff() / a.minCoeff()) : nan,
+          float(neighbours),
+          all_unseen_points > 0 ? float(double(unseen_points) / double(all_unseen_points)) : 0.f};
+}
+
+}  // namespace
 
 ViewFeatures::ViewFeatures(const CameraIntrinsics& intrinsics, const NbvParams& nbv, const ViewFeatureParams& params)
     : intrinsics_(intrinsics), nbv_(nbv), params_(params) {
@@ -194,6 +294,7 @@ void ViewFeatures::begin_round(const mapping::SemanticOcTree& map, const VoxelIn
     }
     const double total = ellipsoid_area(fr.shape.semi_axes) / (params_.spacing_m * params_.spacing_m);
     fi.seen = total > 0.0 ? std::clamp(1.0 - fi.unseen_points / total, 0.0, 1.0) : 0.0;
+    fi.evidence = fruit_evidence(map, index, fruits_, f, fi.unseen_points, points_.size(), params_.fit);
   }
 }
 
@@ -367,6 +468,14 @@ void ViewFeatures::compute_rest(const Pose& T, const Vec3& target, std::vector<f
                           : std::nanf(""));
   out->push_back(static_cast<float>((eye - T_now_.translation()).norm()));
   out->push_back(static_cast<float>(Eigen::AngleAxisd(T_now_.linear().transpose() * T.linear()).angle() * 180.0 / M_PI));
+
+  // The target fruit's evidence.
+  if (own >= 0) {
+    const auto& e = fruit_info_[static_cast<std::size_t>(own)].evidence;
+    out->insert(out->end(), e.begin(), e.end());
+  } else {
+    out->insert(out->end(), std::tuple_size_v<decltype(Fruit::evidence)>, std::nanf(""));
+  }
   CANOPY_CHECK(out->size() == view_feature_names().size(), "one value per feature name");
 }
 

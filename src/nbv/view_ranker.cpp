@@ -41,21 +41,27 @@ ViewRanker::ViewRanker(const std::string& path) : path_(path) {
   XGBoosterSetParam(h, "nthread", "1");
   bst_ulong n = 0;
   const char** names = nullptr;
-  std::vector<std::string> want = view_feature_names();
-  const std::size_t base = want.size();
+  const std::vector<std::string>& known = view_feature_names();
+  std::map<std::string, std::size_t> index;
+  for (std::size_t i = 0; i < known.size(); ++i) index.emplace(known[i], i);
+  const std::string suffix = "@fruit";
   std::string problem;
-  if (XGBoosterGetStrFeatureInfo(h, "feature_name", &n, &names) != 0 || n == 0) {
-    problem = "it states no feature names";
-  } else if (n != base && n != 2 * base) {
-    problem = "it reads " + std::to_string(n) + " features, this canopy computes " + std::to_string(base) + " (or " +
-              std::to_string(2 * base) + " with their fruit maxima)";
-  } else {
-    fruit_maxima_ = n == 2 * base;
-    if (fruit_maxima_)
-      for (std::size_t i = 0; i < base; ++i) want.push_back(want[i] + "@fruit");
-    for (bst_ulong i = 0; i < n && problem.empty(); ++i)
-      if (want[i] != names[i])
-        problem = "feature " + std::to_string(i) + " is '" + names[i] + "', this canopy computes '" + want[i] + "'";
+  if (XGBoosterGetStrFeatureInfo(h, "feature_name", &n, &names) != 0 || n == 0) problem = "it states no feature names";
+  std::map<std::string, bst_ulong> named;
+  for (bst_ulong i = 0; i < n && problem.empty(); ++i) {
+    std::string name = names[i];
+    if (!named.emplace(name, i).second) {
+      problem = "feature " + std::to_string(i) + " '" + name + "' is named twice";
+      break;
+    }
+    const bool maximum = name.size() > suffix.size() && name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0;
+    if (maximum) name.resize(name.size() - suffix.size());
+    const auto it = index.find(name);
+    if (it == index.end())
+      problem = "feature " + std::to_string(i) + " is '" + names[i] + "', which this canopy does not compute";
+    else
+      columns_.push_back({it->second, maximum});
+    fruit_maxima_ = fruit_maxima_ || maximum;
   }
   if (!problem.empty()) {
     XGBoosterFree(h);
@@ -74,13 +80,10 @@ std::vector<float> ViewRanker::score(const std::vector<float>& features, std::si
   CANOPY_CHECK(features.size() == rows * base, "one feature vector per row");
   std::vector<float> out(rows, 0.f);
   if (rows == 0) return out;
-  const std::vector<float>* input = &features;
-  std::vector<float> wide;
-  std::size_t cols = base;
+  // Each feature's largest value over the rows of the same fruit, NaN ignored (NaN when all are).
+  std::map<int, std::vector<float>> maxima;
   if (fruit_maxima_) {
     CANOPY_CHECK(fruit.size() == rows, "a model reading fruit maxima needs each row's fruit");
-    // Each feature's largest value over the rows of the same fruit, NaN ignored (NaN when all are).
-    std::map<int, std::vector<float>> maxima;
     for (std::size_t r = 0; r < rows; ++r) {
       auto [it, fresh] = maxima.try_emplace(fruit[r], base, std::nanf(""));
       for (std::size_t c = 0; c < base; ++c) {
@@ -88,17 +91,17 @@ std::vector<float> ViewRanker::score(const std::vector<float>& features, std::si
         if (!std::isnan(v) && (std::isnan(it->second[c]) || v > it->second[c])) it->second[c] = v;
       }
     }
-    cols = 2 * base;
-    wide.reserve(rows * cols);
-    for (std::size_t r = 0; r < rows; ++r) {
-      wide.insert(wide.end(), features.begin() + std::ptrdiff_t(r * base), features.begin() + std::ptrdiff_t((r + 1) * base));
-      const std::vector<float>& m = maxima.at(fruit[r]);
-      wide.insert(wide.end(), m.begin(), m.end());
-    }
-    input = &wide;
+  }
+  // The model's columns, in its order.
+  const std::size_t cols = columns_.size();
+  std::vector<float> input;
+  input.reserve(rows * cols);
+  for (std::size_t r = 0; r < rows; ++r) {
+    const std::vector<float>* m = fruit_maxima_ ? &maxima.at(fruit[r]) : nullptr;
+    for (const Column& c : columns_) input.push_back(c.fruit_maximum ? (*m)[c.feature] : features[r * base + c.feature]);
   }
   DMatrixHandle m = nullptr;
-  CANOPY_CHECK(XGDMatrixCreateFromMat(input->data(), bst_ulong(rows), bst_ulong(cols), std::nanf(""), &m) == 0,
+  CANOPY_CHECK(XGDMatrixCreateFromMat(input.data(), bst_ulong(rows), bst_ulong(cols), std::nanf(""), &m) == 0,
                "XGDMatrixCreateFromMat: " + last_error());
   bst_ulong n = 0;
   const float* result = nullptr;

@@ -6,7 +6,8 @@ feature ("signal") and ignores the other ("noise"). A model trained on two world
 world's rounds by the signal, so every condition's truth share and Spearman rho are near 1; the
 text is the same when run twice (fixed seed). An evaluation world (seed >= 1000) among the runs,
 or --cv beside --out, is one line and exit 2. --fruit-maxima trains a model that also names each
-feature's fruit maximum (equal to a slow reference), which --model --evaluate reads back.
+feature's fruit maximum (equal to a slow reference), which --model --evaluate reads back;
+--drop-features trains on fewer features, and such a model reads a run recording more by name.
 Usage: train_view_ranker_test.py SOURCE_DIR"""
 import csv
 import json
@@ -116,6 +117,23 @@ with tempfile.TemporaryDirectory() as tmp:
     ranked = run("--model", str(model), "--evaluate", evaluation)
     check(ranked.returncode == 0 and "learned (model)" in ranked.stdout,
           f"--model reads a fruit-maxima model back ({ranked.returncode}: {ranked.stderr.strip()})")
+
+    # --drop-features: a model without "noise" names only "signal" (and its maximum); it reads its
+    # features by name from a run that records both, and still ranks by the signal.
+    model = pathlib.Path(tmp) / "dropped.json"
+    trained = run(runs, "--drop-features", "noise", "--fruit-maxima", "--out", str(model), *small)
+    names = json.loads(model.read_text())["learner"]["feature_names"] if model.is_file() else []
+    check(trained.returncode == 0 and names == ["signal", "signal@fruit"],
+          f"--drop-features noise: the model names signal only ({trained.returncode}: {names} {trained.stderr.strip()})")
+    ranked = run("--model", str(model), "--evaluate", evaluation)
+    rho = [float(line.split("|")[4]) for line in ranked.stdout.splitlines() if "| learned (model) |" in line]
+    check(ranked.returncode == 0 and rho and min(rho) > 0.9,
+          f"a model naming fewer features ranks a run by name ({ranked.returncode}: rho {rho} {ranked.stderr.strip()})")
+    for bad, what in ((["--drop-features", "nothing"], "no feature nothing"),
+                      (["--drop-features", "signal", "noise"], "no feature left")):
+        r = run(runs, *bad, "--out", str(pathlib.Path(tmp) / "bad.json"), *small)
+        check(r.returncode == 2 and len(r.stderr.strip().splitlines()) == 1 and what in r.stderr,
+              f"{' '.join(bad)}: one line, exit 2 ({r.returncode}: {r.stderr.strip()})")
 
 if failures:
     print(f"{len(failures)} failure(s)")

@@ -240,3 +240,89 @@ TEST(ViewFeatures, KeptRayFeaturesEqualFreshOnesAsTheMapChanges) {
   }
   EXPECT_GT(kept.rays_kept(), views.size() / 2);
 }
+
+// The evidence features (fruit_logodds_mean .. fruit_unseen_share) on fruits built voxel by
+// voxel: the front halves of spherical shells of fruit voxels, the lower quarter hit 3 times,
+// the upper 5 times.
+// Their log-odds are the hits (psi = 1 a hit, first hit included), the strongest other class's
+// is the "others" bucket (phi = -0.1 a hit); inside a fit never observed the voxels are unknown,
+// observed free they are free, a leaf voxel inside counts as another class; two fruits 0.14 m
+// apart are each other's neighbour, one 0.5 m away is nobody's; the fruits' unseen shares sum to one.
+TEST(ViewFeatures, ReadAFruitsEvidenceFromItsVoxelsAndItsFit) {
+  mapping::SemanticMapParams p;
+  p.threads = 1;
+  const double r = 0.03;
+  const Vec3 a(0.5, 0.0, 1.0), b = a + Vec3(0.0, 0.14, 0.0), far = a + Vec3(0.0, -0.5, 0.0);
+  const auto build = [&](bool interior_free, bool leaf_inside) {
+    mapping::SemanticOcTree map(p, SemanticClasses{});
+    const int fruit = map.classes().target_index(), leaf = 1;
+    const double res = map.getResolution();
+    for (const Vec3& c : {a, b, far}) {
+      octomap::OcTreeKey k0, k1;
+      EXPECT_TRUE(map.key_of(c - Vec3::Constant(2 * r), &k0) && map.key_of(c + Vec3::Constant(2 * r), &k1));
+      for (int x = k0[0]; x <= k1[0]; ++x)
+        for (int y = k0[1]; y <= k1[1]; ++y)
+          for (int z = k0[2]; z <= k1[2]; ++z) {
+            const octomap::OcTreeKey k{std::uint16_t(x), std::uint16_t(y), std::uint16_t(z)};
+            const octomap::point3d q = map.keyToCoord(k);
+            const Vec3 v(q.x(), q.y(), q.z());
+            const double d = (v - c).norm();
+            if (std::abs(d - r) <= res / 2 && v.x() <= c.x()) {  // the front half: the back unseen
+              for (int h = 0; h < (v.z() < c.z() ? 3 : 5); ++h) map.update_hit(k, fruit);
+            } else if (d < r - res / 2 && interior_free) {
+              map.update_free(k);
+            }
+          }
+      if (leaf_inside) {
+        octomap::OcTreeKey k;
+        EXPECT_TRUE(map.key_of(c, &k));
+        map.update_hit(k, leaf);
+      }
+    }
+    return map;
+  };
+  const Eigen::AlignedBox3d region(Vec3(0.2, -0.8, 0.6), Vec3(0.8, 0.4, 1.4));
+  CameraIntrinsics K;
+  const auto evidence = [&](const mapping::SemanticOcTree& map) {
+    VoxelIndex index(map);
+    ViewFeatures features(K, NbvParams{}, ViewFeatureParams{});
+    features.begin_round(map, index, region, synth::look_at(Vec3(0.1, 0.0, 1.0), a));
+    EXPECT_EQ(features.fruits().size(), 3u);
+    std::vector<std::vector<float>> out;
+    for (const Vec3& c : {a, b, far}) {
+      out.emplace_back();
+      features.compute(synth::look_at(c - Vec3(0.4, 0.0, 0.0), c), c, &out.back());
+    }
+    return out;
+  };
+  const auto unknown = evidence(build(false, false));
+  const auto known = evidence(build(true, false));
+  const auto leafy = evidence(build(true, true));
+  for (const auto& f : unknown) {
+    EXPECT_GT(f[feature("fruit_logodds_mean")], 3.5f);
+    EXPECT_LT(f[feature("fruit_logodds_mean")], 4.5f);
+    EXPECT_FLOAT_EQ(f[feature("fruit_logodds_min")], 3.f);
+    EXPECT_GT(f[feature("fruit_other_logodds")], -0.5f - 1e-5f);
+    EXPECT_LT(f[feature("fruit_other_logodds")], -0.3f + 1e-5f);
+    EXPECT_GT(f[feature("fruit_inside_unknown")], 0.3f);
+    EXPECT_EQ(f[feature("fruit_inside_free")], 0.f);
+    EXPECT_EQ(f[feature("fruit_inside_other")], 0.f);
+    EXPECT_GT(f[feature("fruit_around_unknown")], 0.5f);
+    EXPECT_GE(f[feature("fruit_elongation")], 1.f);
+    EXPECT_GT(f[feature("fruit_size_ratio")], 0.f);
+  }
+  EXPECT_EQ(unknown[0][feature("fruit_neighbours")], 1.f);
+  EXPECT_EQ(unknown[1][feature("fruit_neighbours")], 1.f);
+  EXPECT_EQ(unknown[2][feature("fruit_neighbours")], 0.f);
+  float shares = 0.f;
+  for (const auto& f : unknown) shares += f[feature("fruit_unseen_share")];
+  EXPECT_NEAR(shares, 1.f, 1e-5f);
+  for (std::size_t i = 0; i < 3; ++i) {
+    EXPECT_NEAR(known[i][feature("fruit_inside_unknown")] + known[i][feature("fruit_inside_free")],
+                unknown[i][feature("fruit_inside_unknown")], 1e-5f);  // free where unknown was
+    EXPECT_GT(known[i][feature("fruit_inside_free")], 0.1f);
+    EXPECT_EQ(known[i][feature("fruit_inside_other")], 0.f);
+    EXPECT_GT(leafy[i][feature("fruit_inside_other")], 0.f);
+    EXPECT_EQ(unknown[i][feature("fruit_logodds_mean")], known[i][feature("fruit_logodds_mean")]);
+  }
+}
