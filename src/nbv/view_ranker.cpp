@@ -7,6 +7,7 @@
 #include <cmath>
 #include <filesystem>
 #include <map>
+#include <set>
 
 #include "canopy/common/error.h"
 #include "canopy/nbv/view_features.h"
@@ -47,10 +48,10 @@ ViewRanker::ViewRanker(const std::string& path) : path_(path) {
   const std::string suffix = "@fruit";
   std::string problem;
   if (XGBoosterGetStrFeatureInfo(h, "feature_name", &n, &names) != 0 || n == 0) problem = "it states no feature names";
-  std::map<std::string, bst_ulong> named;
+  std::set<std::string> named;
   for (bst_ulong i = 0; i < n && problem.empty(); ++i) {
     std::string name = names[i];
-    if (!named.emplace(name, i).second) {
+    if (!named.insert(name).second) {
       problem = "feature " + std::to_string(i) + " '" + name + "' is named twice";
       break;
     }

@@ -79,7 +79,7 @@ expect_error "holds 1001 numbers, at most 1000" mission --world worlds/small.yam
 printf '{"learner": [1, 2' > "$tmp/corrupt_model.json"
 sed 's/"shape_seen"/"shape_sen"/' models/nbv/view_ranker.json > "$tmp/renamed_model.json"
 for model in "$tmp/missing_model.json:no such file" "$tmp/corrupt_model.json:not an XGBoost model" \
-  "$tmp/renamed_model.json:feature 17 is 'shape_sen', this canopy computes 'shape_seen'"; do
+  "$tmp/renamed_model.json:feature 17 is 'shape_sen', which this canopy does not compute"; do
   file="${model%%:*}"
   expect_error "view ranker model '$file': ${model#*:}" mission --world worlds/small.yaml --method learned \
     --set "nbv.learned.model=$file"
