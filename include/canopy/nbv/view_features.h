@@ -2,10 +2,12 @@
 // The features of a candidate view that a learned view scorer reads (issue 47): every gain of
 // the registry over the cheap ray sets, the shape fit's predicted unseen surface in view and how
 // much of it is blocked, the fit's quality, how consistently the target fruit's voxels were
-// labelled fruit, how much of it is seen already, and the view's geometry (distance and angle to
-// the target, the move from the camera now). Map only, no ground truth: the candidate audit
+// labelled fruit, how much of it is seen already, the view's geometry (distance and angle to
+// the target, the move from the camera now), and the target fruit's evidence (its voxels' class
+// log-odds, what lies inside and around its fit). Map only, no ground truth: the candidate audit
 // records them beside the truth (training data), a planner computes the same at planning.
-// One feature set, one order (view_feature_names()): a model trained on them states that order.
+// One feature set, one order (view_feature_names()); a model names the ones it reads
+// (nbv/view_ranker.h reads them by name).
 
 #include <Eigen/Geometry>
 
