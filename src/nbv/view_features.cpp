@@ -5,8 +5,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <iterator>
 #include <limits>
-#include <tuple>
 
 #include "canopy/common/error.h"
 #include "canopy/nbv/view_evaluator.h"
@@ -65,7 +65,11 @@ const char* const kOtherFeatures[] = {
     "unseen_side_cos",        // cos(angle) of the view direction and the fruit's unseen side
     "move_m",                 // camera translation from the camera now
     "move_deg",               // camera rotation from the camera now
-    // The target fruit's evidence (its voxels' class log-odds, what lies inside its fit):
+};
+
+// The target fruit's evidence (its voxels' class log-odds, what lies inside and around its fit),
+// after the others.
+const char* const kEvidenceFeatures[] = {
     "fruit_logodds_mean",     // its voxels' mean fruit log-odds (how often hit as fruit; saturates)
     "fruit_logodds_min",      // its weakest voxel's fruit log-odds
     "fruit_other_logodds",    // its voxels' mean log-odds of their strongest other class (hit as leaf...)
@@ -79,9 +83,7 @@ const char* const kOtherFeatures[] = {
     "fruit_unseen_share",     // its unseen predicted points over all fruits' of the stop region
 };
 
-// The evidence features of a fruit: the last kEvidenceFeatures of kOtherFeatures.
-constexpr std::size_t kEvidenceFeatures = 11;
-static_assert(std::size(kOtherFeatures) >= kEvidenceFeatures, "the evidence features end kOtherFeatures");
+using Evidence = std::array<float, std::size(kEvidenceFeatures)>;
 // Fitted fruits whose centres lie this close count as neighbours [m].
 constexpr double kNeighbourM = 0.15;
 // The shell around a fruit's fit reaches this multiple of its semi-axes.
@@ -125,6 +127,7 @@ const std::vector<std::string>& view_feature_names() {
     for (const char* rays : kFeatureRaySets)
       for (const FeatureGain& g : feature_gains()) n.push_back(g.name + "@" + rays);
     for (const char* f : kOtherFeatures) n.push_back(f);
+    for (const char* f : kEvidenceFeatures) n.push_back(f);
     return n;
   }();
   return names;
@@ -135,35 +138,34 @@ struct ViewFeatures::Fruit {
   double seen = 0.0;
   int unseen_points = 0;
   Vec3 unseen_side = Vec3::Zero();  // from the seen voxels' centroid to the fitted centre (unit; 0 when unknown)
-  // Evidence (the kEvidenceFeatures features, in order).
-  std::array<float, kEvidenceFeatures> evidence{};
+  Evidence evidence{};  // kEvidenceFeatures, in order
 };
 
 namespace {
 
-// The evidence features of fruit `f` among `fruits` (kOtherFeatures' fruit_logodds_mean ..
-// fruit_unseen_share, in order): its voxels' class log-odds in `map`, the voxels inside and
-// around its fit as `index` has them.
-std::array<float, kEvidenceFeatures> fruit_evidence(const mapping::SemanticOcTree& map, const VoxelIndex& index,
-                                     const std::vector<FittedFruit>& fruits, std::size_t f, int unseen_points,
-                                     std::size_t all_unseen_points, const mapping::ShapeFitParams& fit) {
-  const FittedFruit& fr = fruits[f];
-  const int target = map.classes().target_index();
-  double sum = 0.0, other_sum = 0.0;
-  float lo = std::numeric_limits<float>::quiet_NaN();
-  int n = 0;
-  for (const Vec3& c : fr.points) {
-    const mapping::SemanticState* s = map.find(c);
-    if (!s) continue;
-    const float l = s->class_logodds(target);
-    float other = s->others;
-    for (int i = 0; i < s->count; ++i)
-      if (s->class_id[std::size_t(i)] != target) other = std::max(other, s->logodds[std::size_t(i)]);
-    sum += l;
-    other_sum += other;
-    lo = n == 0 ? l : std::min(lo, l);
-    ++n;
+// A fruit's voxels' class log-odds, summed voxel by voxel.
+struct LogoddsSums {
+  double fruit = 0.0, other = 0.0;  // the fruit class's; the strongest other class's (or "others")
+  float lowest = std::numeric_limits<float>::quiet_NaN();  // the lowest fruit log-odds
+  int voxels = 0;
+  void add(const mapping::SemanticState& s, int target) {
+    const float l = s.class_logodds(target);
+    float o = s.others;
+    for (int i = 0; i < s.count; ++i)
+      if (s.class_id[std::size_t(i)] != target) o = std::max(o, s.logodds[std::size_t(i)]);
+    fruit += l;
+    other += o;
+    lowest = voxels == 0 ? l : std::min(lowest, l);
+    ++voxels;
   }
+};
+
+// The evidence features of fruit `f` among `fruits` (kEvidenceFeatures, in order): its voxels'
+// class log-odds (`logodds`), the voxels inside and around its fit as `index` has them.
+Evidence fruit_evidence(const mapping::SemanticOcTree& map, const VoxelIndex& index, const std::vector<FittedFruit>& fruits,
+                        std::size_t f, const LogoddsSums& logodds, int unseen_points, std::size_t all_unseen_points,
+                        const mapping::ShapeFitParams& fit) {
+  const FittedFruit& fr = fruits[f];
   const float nan = std::numeric_limits<float>::quiet_NaN();
   // The voxels inside the fit and in the shell around it.
   const mapping::FruitShape& shape = fr.shape;
@@ -198,9 +200,10 @@ std::array<float, kEvidenceFeatures> fruit_evidence(const mapping::SemanticOcTre
   int neighbours = 0;
   for (std::size_t g = 0; g < fruits.size(); ++g)
     neighbours += g != f && (fruits[g].shape.centre - shape.centre).norm() < kNeighbourM;
-  return {n > 0 ? float(sum / n) : nan,
-          lo,
-          n > 0 ? float(other_sum / n) : nan,
+  const int n = logodds.voxels;
+  return {n > 0 ? float(logodds.fruit / n) : nan,
+          logodds.lowest,
+          n > 0 ? float(logodds.other / n) : nan,
           share(unknown, inside),
           share(free, inside),
           share(other, inside),
@@ -234,7 +237,8 @@ void ViewFeatures::begin_round(const mapping::SemanticOcTree& map, const VoxelIn
   std::vector<Vec3> confirmed;
   fruits_ = fit_fruits(map, nbv_.cluster, params_.fit, &region, params_.margin_m, &confirmed, &cache_);
   points_ = unseen_surface(fruits_, confirmed, params_.spacing_m, params_.covered_m);
-  const int fruit_cat = map.classes().target_index() + 1;  // prob[] holds free first
+  const int target = map.classes().target_index();
+  const int fruit_cat = target + 1;  // prob[] holds free first
   // Predicted points: refuted in a voxel known free; in another class's surface refuted by
   // shape's rule (weights_) or counted by the voxel's fruit probability (fruit_weights_).
   std::vector<PredictedPoint> kept;
@@ -275,10 +279,12 @@ void ViewFeatures::begin_round(const mapping::SemanticOcTree& map, const VoxelIn
     double consistency = 0.0;
     int n = 0;
     Vec3 centroid = Vec3::Zero();
+    LogoddsSums logodds;
     for (const Vec3& c : fr.points) {
       centroid += c;
       octomap::OcTreeKey k;
       if (!map.key_of(c, &k)) continue;
+      if (const mapping::SemanticState* s = map.find(k)) logodds.add(*s, target);
       const VoxelInfo& info = index.info(index.lookup(k));
       const float occupied = 1.f - info.prob[0];
       if (occupied > 0.f) {
@@ -294,7 +300,7 @@ void ViewFeatures::begin_round(const mapping::SemanticOcTree& map, const VoxelIn
     }
     const double total = ellipsoid_area(fr.shape.semi_axes) / (params_.spacing_m * params_.spacing_m);
     fi.seen = total > 0.0 ? std::clamp(1.0 - fi.unseen_points / total, 0.0, 1.0) : 0.0;
-    fi.evidence = fruit_evidence(map, index, fruits_, f, fi.unseen_points, points_.size(), params_.fit);
+    fi.evidence = fruit_evidence(map, index, fruits_, f, logodds, fi.unseen_points, points_.size(), params_.fit);
   }
 }
 
@@ -474,7 +480,7 @@ void ViewFeatures::compute_rest(const Pose& T, const Vec3& target, std::vector<f
     const auto& e = fruit_info_[static_cast<std::size_t>(own)].evidence;
     out->insert(out->end(), e.begin(), e.end());
   } else {
-    out->insert(out->end(), std::tuple_size_v<decltype(Fruit::evidence)>, std::nanf(""));
+    out->insert(out->end(), std::size(kEvidenceFeatures), std::nanf(""));
   }
   CANOPY_CHECK(out->size() == view_feature_names().size(), "one value per feature name");
 }

@@ -58,11 +58,14 @@ ViewRanker::ViewRanker(const std::string& path) : path_(path) {
     const bool maximum = name.size() > suffix.size() && name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0;
     if (maximum) name.resize(name.size() - suffix.size());
     const auto it = index.find(name);
-    if (it == index.end())
+    if (it == index.end()) {
       problem = "feature " + std::to_string(i) + " is '" + names[i] + "', which this canopy does not compute";
-    else
-      columns_.push_back({it->second, maximum});
-    fruit_maxima_ = fruit_maxima_ || maximum;
+    } else if (maximum) {
+      columns_.push_back({maxima_of_.size(), true});  // its slot among the fruit maxima
+      maxima_of_.push_back(it->second);
+    } else {
+      columns_.push_back({it->second, false});
+    }
   }
   if (!problem.empty()) {
     XGBoosterFree(h);
@@ -81,15 +84,16 @@ std::vector<float> ViewRanker::score(const std::vector<float>& features, std::si
   CANOPY_CHECK(features.size() == rows * base, "one feature vector per row");
   std::vector<float> out(rows, 0.f);
   if (rows == 0) return out;
-  // Each feature's largest value over the rows of the same fruit, NaN ignored (NaN when all are).
+  // The largest value of each feature the model reads the maximum of, over the rows of the same
+  // fruit, NaN ignored (NaN when all are).
   std::map<int, std::vector<float>> maxima;
-  if (fruit_maxima_) {
+  if (fruit_maxima()) {
     CANOPY_CHECK(fruit.size() == rows, "a model reading fruit maxima needs each row's fruit");
     for (std::size_t r = 0; r < rows; ++r) {
-      auto [it, fresh] = maxima.try_emplace(fruit[r], base, std::nanf(""));
-      for (std::size_t c = 0; c < base; ++c) {
-        const float v = features[r * base + c];
-        if (!std::isnan(v) && (std::isnan(it->second[c]) || v > it->second[c])) it->second[c] = v;
+      std::vector<float>& m = maxima.try_emplace(fruit[r], maxima_of_.size(), std::nanf("")).first->second;
+      for (std::size_t j = 0; j < maxima_of_.size(); ++j) {
+        const float v = features[r * base + maxima_of_[j]];
+        if (!std::isnan(v) && (std::isnan(m[j]) || v > m[j])) m[j] = v;
       }
     }
   }
@@ -98,8 +102,8 @@ std::vector<float> ViewRanker::score(const std::vector<float>& features, std::si
   std::vector<float> input;
   input.reserve(rows * cols);
   for (std::size_t r = 0; r < rows; ++r) {
-    const std::vector<float>* m = fruit_maxima_ ? &maxima.at(fruit[r]) : nullptr;
-    for (const Column& c : columns_) input.push_back(c.fruit_maximum ? (*m)[c.feature] : features[r * base + c.feature]);
+    const std::vector<float>* m = fruit_maxima() ? &maxima.at(fruit[r]) : nullptr;
+    for (const Column& c : columns_) input.push_back(c.fruit_maximum ? (*m)[c.index] : features[r * base + c.index]);
   }
   DMatrixHandle m = nullptr;
   CANOPY_CHECK(XGDMatrixCreateFromMat(input.data(), bst_ulong(rows), bst_ulong(cols), std::nanf(""), &m) == 0,

@@ -33,19 +33,20 @@ class ViewRanker {
   std::vector<float> score(const std::vector<float>& features, std::size_t rows,
                            const std::vector<int>& fruit = {}) const;
   /// True when the model reads fruit maxima (<name>@fruit).
-  bool fruit_maxima() const { return fruit_maxima_; }
+  bool fruit_maxima() const { return !maxima_of_.empty(); }
   /// The features the model reads.
   std::size_t inputs() const { return columns_.size(); }
   const std::string& path() const { return path_; }
 
  private:
   struct Column {
-    std::size_t feature = 0;     // in view_feature_names()
-    bool fruit_maximum = false;  // its fruit maximum instead of its own value
+    std::size_t index = 0;       // in view_feature_names(), or in maxima_of_ when fruit_maximum
+    bool fruit_maximum = false;  // a fruit maximum instead of a row's own value
   };
   std::string path_;
-  std::vector<Column> columns_;  // the model's inputs, in its order
-  bool fruit_maxima_ = false;
+  std::vector<Column> columns_;         // the model's inputs, in its order
+  std::vector<std::size_t> maxima_of_;  // the features whose fruit maximum it reads
+
   void* booster_ = nullptr;  // BoosterHandle (the C API's handles are void*)
 };
 
