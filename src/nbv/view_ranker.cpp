@@ -24,22 +24,58 @@ std::string last_error() {
   return e.size() > 200 ? e.substr(0, 200) + "..." : e;
 }
 
-}  // namespace
+[[noreturn]] void refuse(const std::string& what, const std::string& path, const std::string& problem) {
+  throw InputError(what + " '" + path + "': " + problem);
+}
 
-ViewRanker::ViewRanker(const std::string& path) : path_(path) {
+// Loads the model at `path`, single-threaded; `what` names it in a refusal.
+void* load(const std::string& path, const std::string& what) {
   std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec))
-    throw InputError("view ranker model '" + path + "': no such file");
+  if (!std::filesystem::is_regular_file(path, ec)) refuse(what, path, "no such file");
   BoosterHandle h = nullptr;
-  if (XGBoosterCreate(nullptr, 0, &h) != 0) throw InputError("view ranker model '" + path + "': " + last_error());
-  booster_ = h;
+  if (XGBoosterCreate(nullptr, 0, &h) != 0) refuse(what, path, last_error());
   if (XGBoosterLoadModel(h, path.c_str()) != 0) {
     const std::string e = last_error();
     XGBoosterFree(h);
-    booster_ = nullptr;
-    throw InputError("view ranker model '" + path + "': not an XGBoost model (" + e + ")");
+    refuse(what, path, "not an XGBoost model (" + e + ")");
   }
   XGBoosterSetParam(h, "nthread", "1");
+  return h;
+}
+
+// The model's attribute `key` ("" when it has none).
+std::string attribute(void* booster, const char* key) {
+  const char* out = nullptr;
+  int found = 0;
+  if (XGBoosterGetAttr(static_cast<BoosterHandle>(booster), key, &out, &found) != 0 || !found || !out) return "";
+  return out;
+}
+
+// The model's scores of `rows` rows of `cols` inputs (NaN: missing).
+std::vector<float> predict(void* booster, const std::vector<float>& input, std::size_t rows, std::size_t cols) {
+  std::vector<float> out(rows, 0.f);
+  if (rows == 0) return out;
+  DMatrixHandle m = nullptr;
+  CANOPY_CHECK(XGDMatrixCreateFromMat(input.data(), bst_ulong(rows), bst_ulong(cols), std::nanf(""), &m) == 0,
+               "XGDMatrixCreateFromMat: " + last_error());
+  bst_ulong n = 0;
+  const float* result = nullptr;
+  const int rc = XGBoosterPredict(static_cast<BoosterHandle>(booster), m, 0, 0, 0, &n, &result);
+  if (rc == 0)
+    for (std::size_t i = 0; i < rows && i < n; ++i) out[i] = result[i];
+  XGDMatrixFree(m);
+  CANOPY_CHECK(rc == 0 && n == rows, "XGBoosterPredict: " + last_error());
+  return out;
+}
+
+const char* const kRanker = "view ranker model";
+const char* const kFruitModel = "fruit-value model";
+
+}  // namespace
+
+void ViewRanker::BoosterFree::operator()(void* booster) const { XGBoosterFree(static_cast<BoosterHandle>(booster)); }
+
+std::vector<ViewRanker::Column> ViewRanker::read_inputs(void* booster, const std::string& path, bool ranker) {
   bst_ulong n = 0;
   const char** names = nullptr;
   const std::vector<std::string>& known = view_feature_names();
@@ -47,45 +83,68 @@ ViewRanker::ViewRanker(const std::string& path) : path_(path) {
   for (std::size_t i = 0; i < known.size(); ++i) index.emplace(known[i], i);
   const std::string suffix = "@fruit";
   std::string problem;
-  if (XGBoosterGetStrFeatureInfo(h, "feature_name", &n, &names) != 0 || n == 0) problem = "it states no feature names";
+  if (XGBoosterGetStrFeatureInfo(static_cast<BoosterHandle>(booster), "feature_name", &n, &names) != 0 || n == 0)
+    problem = "it states no feature names";
   std::set<std::string> named;
+  std::vector<Column> columns;
   for (bst_ulong i = 0; i < n && problem.empty(); ++i) {
     std::string name = names[i];
+    const std::string which = "feature " + std::to_string(i) + " '" + names[i] + "'";
     if (!named.insert(name).second) {
-      problem = "feature " + std::to_string(i) + " '" + name + "' is named twice";
+      problem = which + " is named twice";
       break;
+    }
+    if (ranker && name == kFruitValue) {
+      columns.push_back({0, Source::kFruitValue});
+      continue;
     }
     const bool maximum = name.size() > suffix.size() && name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0;
     if (maximum) name.resize(name.size() - suffix.size());
     const auto it = index.find(name);
     if (it == index.end()) {
       problem = "feature " + std::to_string(i) + " is '" + names[i] + "', which this canopy does not compute";
+    } else if (!maximum && !ranker) {
+      problem = which + " is not a fruit maximum (<name>@fruit), the only inputs of a fruit-value model";
     } else if (maximum) {
-      columns_.push_back({maxima_of_.size(), true});  // its slot among the fruit maxima
-      maxima_of_.push_back(it->second);
+      std::size_t slot = 0;  // its slot among the fruit maxima, shared with the other model
+      while (slot < maxima_of_.size() && maxima_of_[slot] != it->second) ++slot;
+      if (slot == maxima_of_.size()) maxima_of_.push_back(it->second);
+      columns.push_back({slot, Source::kFruitMaximum});
     } else {
-      columns_.push_back({it->second, false});
+      columns.push_back({it->second, Source::kOwn});
     }
   }
-  if (!problem.empty()) {
-    XGBoosterFree(h);
-    booster_ = nullptr;
-    throw InputError("view ranker model '" + path + "': " + problem + " (train it again: docs/learned.md)");
-  }
+  if (!problem.empty()) refuse(ranker ? kRanker : kFruitModel, path, problem + " (train it again: docs/learned.md)");
+  return columns;
 }
 
-ViewRanker::~ViewRanker() {
-  if (booster_) XGBoosterFree(static_cast<BoosterHandle>(booster_));
+ViewRanker::ViewRanker(const std::string& path) : path_(path), booster_(load(path, kRanker)) {
+  columns_ = read_inputs(booster_.get(), path, true);
+  bool reads_fruit_value = false;
+  for (const Column& c : columns_) reads_fruit_value |= c.source == Source::kFruitValue;
+  if (!reads_fruit_value) return;
+  const std::string file = attribute(booster_.get(), "canopy_fruit_value");
+  if (file.empty() || file.find('/') != std::string::npos || file == "." || file == "..")
+    refuse(kRanker, path, std::string("it reads ") + kFruitValue +
+                              " but names no fruit-value model file beside it (train it again: docs/learned.md)");
+  fruit_path_ = (std::filesystem::path(path).parent_path() / file).string();
+  fruit_booster_ = Booster(load(fruit_path_, kFruitModel));
+  fruit_columns_ = read_inputs(fruit_booster_.get(), fruit_path_, false);
+  const std::string pair = attribute(booster_.get(), "canopy_pair");
+  if (pair.empty() || pair != attribute(fruit_booster_.get(), "canopy_pair"))
+    refuse(kRanker, path, "it was not trained with the fruit-value model '" + fruit_path_ +
+                              "' (train both again: docs/learned.md)");
 }
+
+ViewRanker::~ViewRanker() = default;
 
 std::vector<float> ViewRanker::score(const std::vector<float>& features, std::size_t rows,
                                      const std::vector<int>& fruit) const {
   const std::size_t base = view_feature_names().size();
   CANOPY_CHECK(features.size() == rows * base, "one feature vector per row");
-  std::vector<float> out(rows, 0.f);
-  if (rows == 0) return out;
-  // The largest value of each feature the model reads the maximum of, over the rows of the same
-  // fruit, NaN ignored (NaN when all are).
+  if (rows == 0) return {};
+  // The largest value of each feature either model reads the maximum of, over the rows of the
+  // same fruit, NaN ignored (NaN when all are).
   std::map<int, std::vector<float>> maxima;
   if (fruit_maxima()) {
     CANOPY_CHECK(fruit.size() == rows, "a model reading fruit maxima needs each row's fruit");
@@ -97,25 +156,31 @@ std::vector<float> ViewRanker::score(const std::vector<float>& features, std::si
       }
     }
   }
+  // The fruit-value model's estimate for each fruit, from its maxima (one row per fruit).
+  std::map<int, float> value;
+  if (fruit_value()) {
+    std::vector<float> input;
+    input.reserve(maxima.size() * fruit_columns_.size());
+    for (const auto& [id, m] : maxima)
+      for (const Column& c : fruit_columns_) input.push_back(m[c.index]);
+    const std::vector<float> v = predict(fruit_booster_.get(), input, maxima.size(), fruit_columns_.size());
+    std::size_t i = 0;
+    for (const auto& entry : maxima) value.emplace(entry.first, v[i++]);
+  }
   // The model's columns, in its order.
-  const std::size_t cols = columns_.size();
   std::vector<float> input;
-  input.reserve(rows * cols);
+  input.reserve(rows * columns_.size());
   for (std::size_t r = 0; r < rows; ++r) {
     const std::vector<float>* m = fruit_maxima() ? &maxima.at(fruit[r]) : nullptr;
-    for (const Column& c : columns_) input.push_back(c.fruit_maximum ? (*m)[c.index] : features[r * base + c.index]);
+    for (const Column& c : columns_) {
+      switch (c.source) {
+        case Source::kOwn: input.push_back(features[r * base + c.index]); break;
+        case Source::kFruitMaximum: input.push_back((*m)[c.index]); break;
+        case Source::kFruitValue: input.push_back(value.at(fruit[r])); break;
+      }
+    }
   }
-  DMatrixHandle m = nullptr;
-  CANOPY_CHECK(XGDMatrixCreateFromMat(input.data(), bst_ulong(rows), bst_ulong(cols), std::nanf(""), &m) == 0,
-               "XGDMatrixCreateFromMat: " + last_error());
-  bst_ulong n = 0;
-  const float* result = nullptr;
-  const int rc = XGBoosterPredict(static_cast<BoosterHandle>(booster_), m, 0, 0, 0, &n, &result);
-  if (rc == 0)
-    for (std::size_t i = 0; i < rows && i < n; ++i) out[i] = result[i];
-  XGDMatrixFree(m);
-  CANOPY_CHECK(rc == 0 && n == rows, "XGBoosterPredict: " + last_error());
-  return out;
+  return predict(booster_.get(), input, rows, columns_.size());
 }
 
 }  // namespace canopy::nbv

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "canopy/nbv/view_features.h"
@@ -16,10 +17,13 @@
 namespace canopy::nbv_test {
 
 // Trains a small model on random rows (features uniform in [0, scale)) whose relevance is
-// feature `by` (scaled to 0..10) and saves it under `names` (the view features unless given);
-// returns its path.
+// feature `by` (scaled to 0..10) and saves it under `names` (the view features unless given),
+// with `attributes` (key, value) set; returns its path. `objective` "reg:squarederror" fits the
+// relevance itself (a fruit-value model's estimate on the same 0..10 scale).
 inline std::string train_model(const std::string& file, std::size_t by, std::vector<std::string> names = {},
-                               float scale = 10.f) {
+                               float scale = 10.f,
+                               const std::vector<std::pair<std::string, std::string>>& attributes = {},
+                               const char* objective = "rank:pairwise") {
   if (names.empty()) names = nbv::view_feature_names();
   const std::size_t cols = names.size(), rows = 2000;
   std::mt19937 rng(1);
@@ -39,12 +43,13 @@ inline std::string train_model(const std::string& file, std::size_t by, std::vec
   EXPECT_EQ(XGDMatrixSetStrFeatureInfo(m, "feature_name", c_names.data(), c_names.size()), 0);
   BoosterHandle b = nullptr;
   EXPECT_EQ(XGBoosterCreate(&m, 1, &b), 0);
-  XGBoosterSetParam(b, "objective", "rank:pairwise");
+  XGBoosterSetParam(b, "objective", objective);
   XGBoosterSetParam(b, "max_depth", "4");
   XGBoosterSetParam(b, "nthread", "1");
   for (int i = 0; i < 30; ++i) EXPECT_EQ(XGBoosterUpdateOneIter(b, i, m), 0);
   // The C API keeps the matrix's names out of the model unless told (Python's train does it).
   EXPECT_EQ(XGBoosterSetStrFeatureInfo(b, "feature_name", c_names.data(), c_names.size()), 0);
+  for (const auto& [key, value] : attributes) EXPECT_EQ(XGBoosterSetAttr(b, key.c_str(), value.c_str()), 0);
   const std::string path = (std::filesystem::path(testing::TempDir()) / file).string();
   EXPECT_EQ(XGBoosterSaveModel(b, path.c_str()), 0);
   XGBoosterFree(b);

@@ -93,6 +93,71 @@ TEST(ViewRanker, AModelNamingSomeFeaturesInItsOwnOrderReadsThoseByName) {
   for (std::size_t r = 1; r < 5; ++r) EXPECT_GT(s[r], s[r - 1]) << r;
 }
 
+// A model reading fruit_value (train_view_ranker.py --fruit-value) gets it from the fruit-value
+// model named beside it, fed each fruit's maxima: a ranker trained to rank by fruit_value, paired
+// with a fruit-value model fitted to one feature's fruit maximum, orders the rows by that maximum,
+// whatever their own values.
+TEST(ViewRanker, AModelReadingFruitValueGetsItFromItsFruitValueModel) {
+  const std::size_t by = 7;
+  const std::vector<std::string>& all = view_feature_names();
+  std::vector<std::string> maxima;
+  for (const std::string& n : all) maxima.push_back(n + "@fruit");
+  const std::string fruit_model =
+      train_model("fv_fruit.json", by, maxima, 10.f, {{"canopy_pair", "p1"}}, "reg:squarederror");
+  const ViewRanker ranker(train_model("fv_ranker.json", 0, {ViewRanker::kFruitValue, all[by]}, 10.f,
+                                      {{"canopy_pair", "p1"}, {"canopy_fruit_value", "fv_fruit.json"}}));
+  EXPECT_TRUE(ranker.fruit_value());
+  EXPECT_TRUE(ranker.fruit_maxima());  // the fruit-value model's inputs
+  EXPECT_EQ(ranker.inputs(), 2u);
+  EXPECT_EQ(fs::path(ranker.fruit_value_path()), fs::path(fruit_model));
+  // Fruit 4: own values 1 and 9 (maximum 9); fruit 2: 5 and 5; fruit 8: missing and 1 (maximum 1).
+  const std::vector<int> fruit = {4, 2, 8, 4, 2, 8};
+  const std::vector<float> own = {1.f, 5.f, std::nanf(""), 9.f, 5.f, 1.f};
+  const std::size_t cols = all.size();
+  std::vector<float> rows(6 * cols, 5.f);
+  for (std::size_t r = 0; r < 6; ++r) rows[r * cols + by] = own[r];
+  const std::vector<float> s = ranker.score(rows, 6, fruit);
+  ASSERT_EQ(s.size(), 6u);
+  for (std::size_t hi : {0u, 3u})
+    for (std::size_t lo : {1u, 4u}) EXPECT_GT(s[hi], s[lo]) << hi << " over " << lo;
+  for (std::size_t hi : {1u, 4u})
+    for (std::size_t lo : {2u, 5u}) EXPECT_GT(s[hi], s[lo]) << hi << " over " << lo;
+  EXPECT_THROW(ranker.score(rows, 6), InternalError);  // no fruit per row
+  EXPECT_FALSE(ViewRanker(train_model("no_fv.json", by)).fruit_value());
+}
+
+// A ranker reading fruit_value without naming its fruit-value model, naming one that is not
+// there, or one trained with another ranker, and a fruit-value model reading a row's own feature
+// (not a fruit maximum), are refused with one line naming the file.
+TEST(ViewRanker, FruitValueModelsThatAreMissingOrNotTheRankersAreRefused) {
+  const std::vector<std::string>& all = view_feature_names();
+  const std::vector<std::string> ranker_inputs = {ViewRanker::kFruitValue, all[0]};
+  const std::string dir = fs::path(testing::TempDir()).string();
+  train_model("fv_a.json", 0, {all[0] + "@fruit", all[1] + "@fruit"}, 10.f, {{"canopy_pair", "a"}}, "reg:squarederror");
+  train_model("fv_own.json", 0, {all[0] + "@fruit", all[1]}, 10.f, {{"canopy_pair", "o"}}, "reg:squarederror");
+  const std::string unnamed = train_model("fv_unnamed.json", 0, ranker_inputs, 10.f, {{"canopy_pair", "a"}});
+  EXPECT_NE(refusal(unnamed).find("'" + unnamed + "': it reads fruit_value but names no fruit-value model file"),
+            std::string::npos)
+      << refusal(unnamed);
+  const std::string gone = train_model("fv_gone.json", 0, ranker_inputs, 10.f,
+                                       {{"canopy_pair", "a"}, {"canopy_fruit_value", "fv_not_there.json"}});
+  EXPECT_NE(refusal(gone).find("fruit-value model '" + (fs::path(dir) / "fv_not_there.json").string() +
+                               "': no such file"),
+            std::string::npos)
+      << refusal(gone);
+  const std::string other = train_model("fv_other.json", 0, ranker_inputs, 10.f,
+                                        {{"canopy_pair", "b"}, {"canopy_fruit_value", "fv_a.json"}});
+  EXPECT_NE(refusal(other).find("'" + other + "': it was not trained with the fruit-value model"), std::string::npos)
+      << refusal(other);
+  const std::string own = train_model("fv_reads_own.json", 0, ranker_inputs, 10.f,
+                                      {{"canopy_pair", "o"}, {"canopy_fruit_value", "fv_own.json"}});
+  EXPECT_NE(refusal(own).find("feature 1 '" + all[1] + "' is not a fruit maximum"), std::string::npos) << refusal(own);
+  const std::string paired = train_model("fv_paired.json", 0, ranker_inputs, 10.f,
+                                         {{"canopy_pair", "a"}, {"canopy_fruit_value", "fv_a.json"}});
+  EXPECT_EQ(refusal(paired), "");
+  for (const std::string& p : {unnamed, gone, other, own}) EXPECT_EQ(refusal(p).find('\n'), std::string::npos) << "one line";
+}
+
 TEST(ViewRanker, MissingCorruptOrMismatchedModelsAreRefusedNamingTheFile) {
   const std::string missing = (fs::path(testing::TempDir()) / "no_model.json").string();
   EXPECT_NE(refusal(missing).find("'" + missing + "': no such file"), std::string::npos) << refusal(missing);

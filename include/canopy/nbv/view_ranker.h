@@ -8,6 +8,13 @@
 // silent fallback. A model may also read a feature's fruit maximum (`<name>@fruit`,
 // tools/train_view_ranker.py --fruit-maxima): the largest value of that feature over the round's
 // candidates aimed at the same fruit, computed here from the round's rows.
+//
+// A model may read `fruit_value` (train_view_ranker.py --fruit-value): a second model's estimate
+// of how much of the round's best view a view of that fruit can reach, from the fruit's maxima.
+// The ranker names that fruit-value model (its attribute canopy_fruit_value: a file beside the
+// ranker) and both carry the same canopy_pair attribute, written when they were trained together;
+// a missing fruit-value model, one trained with another ranker, or one reading anything but fruit
+// maxima is refused like the ranker itself.
 
 #include <cstddef>
 #include <memory>
@@ -18,9 +25,9 @@ namespace canopy::nbv {
 
 class ViewRanker {
  public:
-  /// Loads the model at `path` (XGBoost JSON or UBJSON); throws InputError naming the file when
-  /// it is missing, unreadable as a model, or names a feature that is neither one of
-  /// view_feature_names() nor one's fruit maximum (`<name>@fruit`), or one twice.
+  /// Loads the model at `path` (XGBoost JSON or UBJSON), and its fruit-value model when it reads
+  /// `fruit_value`; throws InputError naming the file when either is missing, unreadable as a
+  /// model, names a feature it cannot read, or one twice, or when they were not trained together.
   explicit ViewRanker(const std::string& path);
   ~ViewRanker();
   ViewRanker(const ViewRanker&) = delete;
@@ -29,25 +36,43 @@ class ViewRanker {
   /// Scores of `rows` candidates whose features lie row after row in `features` (rows x
   /// view_feature_names().size() floats; NaN: missing). Higher is better; only the order
   /// within a round means anything. One thread. `fruit` holds each row's fruit (its candidate's
-  /// target: Candidate::cluster), needed when fruit_maxima(); the rows are one round's.
+  /// target: Candidate::cluster), needed when fruit_maxima() (always so with a fruit-value model); the rows are one round's.
   std::vector<float> score(const std::vector<float>& features, std::size_t rows,
                            const std::vector<int>& fruit = {}) const;
-  /// True when the model reads fruit maxima (<name>@fruit).
+  /// True when the model, or its fruit-value model, reads fruit maxima (<name>@fruit).
   bool fruit_maxima() const { return !maxima_of_.empty(); }
+  /// True when the model reads fruit_value (from its fruit-value model).
+  bool fruit_value() const { return fruit_booster_ != nullptr; }
   /// The features the model reads.
   std::size_t inputs() const { return columns_.size(); }
   const std::string& path() const { return path_; }
+  /// The fruit-value model's file ("" when the model reads no fruit_value).
+  const std::string& fruit_value_path() const { return fruit_path_; }
+
+  /// The input a model reads for the fruit-value model's estimate.
+  static constexpr const char* kFruitValue = "fruit_value";
+
+  struct BoosterFree {
+    void operator()(void* booster) const;
+  };
 
  private:
+  enum class Source { kOwn, kFruitMaximum, kFruitValue };
   struct Column {
-    std::size_t index = 0;       // in view_feature_names(), or in maxima_of_ when fruit_maximum
-    bool fruit_maximum = false;  // a fruit maximum instead of a row's own value
+    std::size_t index = 0;  // in view_feature_names() (kOwn) or in maxima_of_ (kFruitMaximum)
+    Source source = Source::kOwn;
   };
-  std::string path_;
-  std::vector<Column> columns_;         // the model's inputs, in its order
-  std::vector<std::size_t> maxima_of_;  // the features whose fruit maximum it reads
+  using Booster = std::unique_ptr<void, BoosterFree>;  // a BoosterHandle (the C API's handles are void*)
 
-  void* booster_ = nullptr;  // BoosterHandle (the C API's handles are void*)
+  // The inputs the model at `path` names, in its order; `ranker`: the view model (it may read
+  // fruit_value and its own rows' features), else a fruit-value model (fruit maxima only).
+  std::vector<Column> read_inputs(void* booster, const std::string& path, bool ranker);
+
+  std::string path_, fruit_path_;
+  std::vector<Column> columns_;         // the model's inputs, in its order
+  std::vector<Column> fruit_columns_;   // the fruit-value model's, in its order
+  std::vector<std::size_t> maxima_of_;  // the features whose fruit maximum either reads
+  Booster booster_, fruit_booster_;
 };
 
 }  // namespace canopy::nbv
