@@ -25,12 +25,22 @@ on the other seeds' rounds ranks that seed's rounds (docs/learned.md, "Choosing 
 
 --cv-hold SEEDS ranks only those worlds, and --train-worlds N trains each of their models on the N
 lowest other world seeds only: a learning curve (docs/learned.md, "Is data the limit?").
+
+--fruit-value (with --fruit-maxima) trains two models: a fruit-value model, gradient-boosted
+regression trees from a fruit's maxima to the share of the round's best truth that the fruit's best
+candidate sees, and the ranker with that estimate as one more input (fruit_value). The ranker's
+training rounds get the estimate out of fold (from models that did not see their world); the
+fruit-value model written beside the ranker (X.fruit_value.json for --out X.json) is fitted on
+every training round. Both carry the same canopy_pair attribute; nbv::ViewRanker and --model read
+the pair and refuse a ranker without its own fruit-value model.
+
 --drop-features NAME... trains without some recorded features (an ablation). A model reads its
 features by name: --evaluate runs may record more features than it names.
 """
 import argparse
 import csv
 import glob
+import hashlib
 import json
 import math
 import os
@@ -228,6 +238,118 @@ def predict(booster, rounds, names, cols=None):
         at += len(r["truth"])
 
 
+FRUIT_VALUE = "fruit_value"  # nbv::ViewRanker::kFruitValue
+
+
+def fruit_inputs(names):
+    """The fruit-value model's inputs: the fruit maxima among `names`."""
+    return [n for n in names if n.endswith(FRUIT_SUFFIX)]
+
+
+def fruit_rows(rounds, cols):
+    """Per round and fruit: the round, its candidates of that fruit, the fruit's inputs (columns `cols`
+    of the rounds' features: fruit maxima, the same for each of its candidates) and its target: the
+    share of the round's best truth that its best candidate sees."""
+    rows = []
+    for ri, r in enumerate(rounds):
+        best = r["truth"].max()
+        for c in np.unique(r["cluster"]):
+            m = np.nonzero(r["cluster"] == c)[0]
+            rows.append((ri, m, r["X"][m[0], cols], r["truth"][m].max() / best if best > 0 else 0.0))
+    return rows
+
+
+def fit_fruit_value(rows, fnames, args):
+    """The fruit-value model: gradient-boosted regression trees from a fruit's maxima to its target."""
+    import xgboost as xgb
+    X = np.array([x for _, _, x, _ in rows], dtype=np.float32)
+    y = np.array([t for _, _, _, t in rows], dtype=np.float32)
+    params = {"objective": "reg:squarederror", "eta": 0.05, "max_depth": 6, "subsample": 0.8,
+              "colsample_bytree": 0.8, "seed": args.seed, "nthread": args.threads}
+    return xgb.train(params, xgb.DMatrix(X, label=y, feature_names=fnames, missing=np.nan), num_boost_round=200)
+
+
+def apply_fruit_value(model, rounds, names):
+    """Each round's fruit_value column (r["fv"]): the fruit-value model's estimate for each candidate's
+    fruit from the fruit maxima it names, found by name among the rounds' `names`."""
+    import xgboost as xgb
+    at = {n: i for i, n in enumerate(names)}
+    missing = [n for n in model.feature_names if n not in at]
+    if missing:
+        fail(f"no feature {missing[0]} in the runs' candidates.csv, which the fruit-value model reads")
+    rows = fruit_rows(rounds, [at[n] for n in model.feature_names])
+    for r in rounds:
+        r["fv"] = np.zeros(len(r["truth"]), dtype=np.float32)
+    if not rows:
+        return
+    X = np.array([x for _, _, x, _ in rows], dtype=np.float32)
+    for (ri, m, _, _), v in zip(rows, model.predict(xgb.DMatrix(X, feature_names=model.feature_names, missing=np.nan))):
+        rounds[ri]["fv"][m] = v
+
+
+def with_fruit_value(rounds, names):
+    """The rounds' features with their fruit_value column beside them (the names, with it)."""
+    for r in rounds:
+        r["X"] = np.hstack([r["X"], r["fv"][:, None]])
+    return names + [FRUIT_VALUE]
+
+
+def out_of_fold_fruit_value(rounds, names, args):
+    """fruit_value for training rounds, each by a fruit-value model that did not see its world: the
+    training worlds in four groups (by seed, in turn), each group's rounds estimated by a model fitted
+    on the other groups'. The ranker then learns how far to trust the estimate on unseen worlds."""
+    seeds = sorted({r["world_seed"] for r in rounds})
+    if len(seeds) < 2:
+        fail("--fruit-value needs rounds of two training worlds or more (its estimates are out of fold)")
+    fnames = fruit_inputs(names)
+    cols = [names.index(n) for n in fnames]
+    for g in [seeds[i::4] for i in range(min(4, len(seeds)))]:
+        fit_on = [r for r in rounds if r["world_seed"] not in g]
+        apply_fruit_value(fit_fruit_value(fruit_rows(fit_on, cols), fnames, args),
+                          [r for r in rounds if r["world_seed"] in g], names)
+
+
+def fruit_value_model(rounds, names, args):
+    """The fruit-value model fitted on every training round (the one shipped beside the ranker)."""
+    fnames = fruit_inputs(names)
+    return fit_fruit_value(fruit_rows(rounds, [names.index(n) for n in fnames]), fnames, args)
+
+
+def load_model(path, what):
+    import xgboost as xgb
+    if not os.path.isfile(path):
+        fail(f"{path}: no such {what} file")
+    booster = xgb.Booster()
+    try:
+        booster.load_model(path)
+    except xgb.core.XGBoostError as e:
+        fail(f"{path}: not an XGBoost model ({str(e).splitlines()[0]})")
+    if not booster.feature_names:
+        fail(f"{path}: the model names no features")
+    return booster
+
+
+def paired_fruit_model(booster, path):
+    """The fruit-value model a ranker reading fruit_value names beside it (None when it reads none),
+    refused as nbv::ViewRanker refuses it."""
+    if FRUIT_VALUE not in booster.feature_names:
+        return None
+    file = booster.attr("canopy_fruit_value")
+    if not file or "/" in file:
+        fail(f"{path}: it reads {FRUIT_VALUE} but names no fruit-value model file beside it")
+    fruit_path = os.path.join(os.path.dirname(path), file)
+    fruit = load_model(fruit_path, "fruit-value model")
+    if not booster.attr("canopy_pair") or booster.attr("canopy_pair") != fruit.attr("canopy_pair"):
+        fail(f"{path}: it was not trained with the fruit-value model {fruit_path}")
+    return fruit
+
+
+def save_atomically(booster, path):
+    tmp = f"{path}.tmp{os.getpid()}.json"
+    booster.save_model(tmp)
+    os.replace(tmp, path)
+
+
 def cross_validate(rounds, names, args):
     """Model selection on the tuning worlds: for each world seed, a model trained on the other seeds'
     rounds (of --methods) ranks that seed's rounds (every method's); per run folder and P_gt, the
@@ -250,10 +372,21 @@ def cross_validate(rounds, names, args):
         train_rounds = [r for r in rounds if r["world_seed"] in others and (not args.methods or r["method"] in args.methods)]
         if not train_rounds:
             fail(f"--cv: no round to train on without world {s}")
-        predict(train(train_rounds, names, args), [r for r in rounds if r["world_seed"] == s], names)
+        test_rounds = [r for r in rounds if r["world_seed"] == s]
+        if args.fruit_value:
+            out_of_fold_fruit_value(train_rounds, names, args)
+            apply_fruit_value(fruit_value_model(train_rounds, names, args), test_rounds, names)
+            saved = [(r, r["X"]) for r in train_rounds + test_rounds]
+            fv_names = with_fruit_value(train_rounds + test_rounds, names)
+            predict(train(train_rounds, fv_names, args), test_rounds, fv_names)
+            for r, X in saved:
+                r["X"] = X
+        else:
+            predict(train(train_rounds, names, args), test_rounds, names)
     rounds = [r for r in rounds if r["world_seed"] in held]
     out = [f"### Cross-validation by tuning world ({', '.join(trained_on)}): objective {args.objective}, "
-           f"{args.trees} trees of depth {args.depth}, eta {args.eta}, seed {args.seed}", "",
+           f"{args.trees} trees of depth {args.depth}, eta {args.eta}, seed {args.seed}"
+           f"{', reading a fruit-value model (out of fold)' if args.fruit_value else ''}", "",
            "| runs | P_gt | rounds of | rounds | Spearman ρ | top-1 | top-5 | truth share |", "|---|---|---|---|---|---|---|---|"]
     shares = {}
     for run in sorted({r["run"] for r in rounds}):
@@ -324,6 +457,10 @@ def main():
                     help="with --cv: train each fold on the N lowest other world seeds only (a learning curve; default: all)")
     ap.add_argument("--threads", type=int, default=1, help="1: the same model, byte for byte, from the same data")
     ap.add_argument("--table", help="write the ranking tables (markdown) here")
+    ap.add_argument("--fruit-value", action="store_true",
+                    help="with --fruit-maxima: also train a fruit-value model (a regressor from a fruit's maxima to the "
+                         "share of the round's best truth its best view sees) and give the ranker its estimate as one "
+                         "more input, fruit_value; --out X.json writes it beside as X.fruit_value.json")
     ap.add_argument("--drop-features", nargs="*", default=[], metavar="NAME",
                     help="train without these recorded features (and their fruit maxima): an ablation")
     ap.add_argument("--fruit-maxima", action="store_true",
@@ -332,24 +469,16 @@ def main():
     args = ap.parse_args()
     if (args.cv_hold or args.train_worlds) and not args.cv:
         fail("--cv-hold and --train-worlds go with --cv")
+    if args.fruit_value and not args.fruit_maxima:
+        fail("--fruit-value goes with --fruit-maxima (the fruit-value model reads the fruit maxima)")
     if args.train_worlds < 0:
         fail("--train-worlds: give a number of worlds, 0 or more (0: every other world)")
 
     if args.model:
         if args.runs or args.out or args.holdout or not args.evaluate:
             fail("--model ranks a trained model on --evaluate runs: give neither training runs, --out nor --holdout")
-        import xgboost as xgb
-        if not os.path.isfile(args.model):
-            fail(f"{args.model}: no such model file")
-        booster = xgb.Booster()
-        try:
-            booster.load_model(args.model)
-        except xgb.core.XGBoostError as e:
-            fail(f"{args.model}: not an XGBoost model ({str(e).splitlines()[0]})")
-        names = booster.feature_names
-        if not names:
-            fail(f"{args.model}: the model names no features")
-        finish(booster, names, [], [], args)
+        booster = load_model(args.model, "model")
+        finish(booster, paired_fruit_model(booster, args.model), booster.feature_names, [], [], args)
         return
     if not args.runs or not (args.out or args.cv):
         fail("give the tuning runs to train on and --out or --cv (or --model with --evaluate)")
@@ -384,24 +513,44 @@ def main():
     train_rounds = [r for r in rounds if r["world_seed"] not in args.holdout]
     if not train_rounds:
         fail("no round to train on")
-    booster = train(train_rounds, names, args)
-    booster.save_model(args.out)
+    fruit = None
+    if args.fruit_value:
+        out_of_fold_fruit_value(train_rounds, names, args)
+        fruit = fruit_value_model(train_rounds, names, args)
+        booster = train(train_rounds, with_fruit_value(train_rounds, names), args)
+        # The pair: both models carry the fruit-value model's digest; the ranker names its file.
+        pair = hashlib.sha256(fruit.save_raw("json")).hexdigest()[:16]
+        fruit.set_attr(canopy_pair=pair)
+        fruit_out = (args.out[:-5] if args.out.endswith(".json") else args.out) + ".fruit_value.json"
+        booster.set_attr(canopy_pair=pair, canopy_fruit_value=os.path.basename(fruit_out))
+        save_atomically(fruit, fruit_out)
+        print(f"fruit-value model {os.path.getsize(fruit_out)} bytes: {fruit_out}")
+    else:
+        booster = train(train_rounds, names, args)
+    save_atomically(booster, args.out)
     n_rows = sum(len(r["truth"]) for r in train_rounds)
-    print(f"trained on {len(train_rounds)} rounds, {n_rows} candidates, {len(names)} features "
+    print(f"trained on {len(train_rounds)} rounds, {n_rows} candidates, {len(booster.feature_names)} features "
           f"({len({(r['run'], r['trial']) for r in train_rounds})} trials); model {os.path.getsize(args.out)} bytes: {args.out}")
-    finish(booster, names, held, scores_names, args)
+    finish(booster, fruit, booster.feature_names, held, scores_names, args)
 
 
-def finish(booster, names, held, scores_names, args):
-    """Ranks the model on the held-out rounds and on each --evaluate run; prints and writes the tables."""
+def finish(booster, fruit, names, held, scores_names, args):
+    """Ranks the model (and its fruit-value model `fruit`, None without) on the held-out rounds and on
+    each --evaluate run; prints and writes the tables."""
     tables = []
     if held:
+        if fruit is not None:
+            apply_fruit_value(fruit, held, [n for n in names if n != FRUIT_VALUE])
+            with_fruit_value(held, [])
         predict(booster, held, names)
         tables.append(ranking_table(held, names, scores_names, f"Held-out tuning worlds {args.holdout}", True))
     for run in args.evaluate:
         ev, ev_names, ev_scores = read_rounds([run], tuning_only=False)
-        if any(n.endswith(FRUIT_SUFFIX) for n in names):
+        if fruit is not None or any(n.endswith(FRUIT_SUFFIX) for n in names):
             ev_names = add_fruit_maxima(ev, ev_names)
+        if fruit is not None:
+            apply_fruit_value(fruit, ev, ev_names)
+            ev_names = with_fruit_value(ev, ev_names)
         # The model reads its features by name, as nbv::ViewRanker does (an audit may record more).
         at = {n: i for i, n in enumerate(ev_names)}
         missing = [n for n in names if n not in at]

@@ -7,7 +7,8 @@ world's rounds by the signal, so every condition's truth share and Spearman rho 
 text is the same when run twice (fixed seed). An evaluation world (seed >= 1000) among the runs,
 or --cv beside --out, is one line and exit 2. --fruit-maxima trains a model that also names each
 feature's fruit maximum (equal to a slow reference), which --model --evaluate reads back;
---drop-features trains on fewer features, and such a model reads a run recording more by name.
+--drop-features trains on fewer features, and such a model reads a run recording more by name;
+--fruit-value writes a fruit-value model beside the ranker, paired with it, read back by --model.
 Usage: train_view_ranker_test.py SOURCE_DIR"""
 import csv
 import json
@@ -134,6 +135,55 @@ with tempfile.TemporaryDirectory() as tmp:
         r = run(runs, *bad, "--out", str(pathlib.Path(tmp) / "bad.json"), *small)
         check(r.returncode == 2 and len(r.stderr.strip().splitlines()) == 1 and what in r.stderr,
               f"{' '.join(bad)}: one line, exit 2 ({r.returncode}: {r.stderr.strip()})")
+
+    # --fruit-value: a fruit-value model beside the ranker, paired with it; the ranker reads
+    # fruit_value, --model reads both back, and a ranker whose fruit-value model is missing or
+    # not its own is refused. The fruit-value model's estimate of a fruit is its best candidate's
+    # share of the round's best truth, which grows with the fruit's signal maximum.
+    model = pathlib.Path(tmp) / "fv.json"
+    trained = run(runs, "--fruit-maxima", "--fruit-value", "--out", str(model), *small)
+    fruit_model = pathlib.Path(tmp) / "fv.fruit_value.json"
+    ranker = json.loads(model.read_text()) if model.is_file() else {}
+    fruit = json.loads(fruit_model.read_text()) if fruit_model.is_file() else {}
+    names = ranker.get("learner", {}).get("feature_names", [])
+    check(trained.returncode == 0 and names == ["signal", "noise", "signal@fruit", "noise@fruit", "fruit_value"],
+          f"--fruit-value: the ranker reads fruit_value ({trained.returncode}: {names} {trained.stderr.strip()})")
+    check(fruit.get("learner", {}).get("feature_names") == ["signal@fruit", "noise@fruit"],
+          f"the fruit-value model reads the fruit maxima ({fruit.get('learner', {}).get('feature_names')})")
+    attrs = ranker.get("learner", {}).get("attributes", {})
+    check(attrs.get("canopy_fruit_value") == "fv.fruit_value.json" and attrs.get("canopy_pair") and
+          attrs.get("canopy_pair") == fruit.get("learner", {}).get("attributes", {}).get("canopy_pair"),
+          f"the ranker names its fruit-value model and both carry the same pair ({attrs})")
+    import xgboost as xgb
+    fv = xgb.Booster()
+    fv.load_model(str(fruit_model))
+    lo, hi = fv.predict(xgb.DMatrix(np.array([[0.1, 0.5], [0.9, 0.5]], dtype=np.float32),
+                                    feature_names=["signal@fruit", "noise@fruit"]))
+    check(hi > lo + 0.3, f"the fruit-value estimate grows with the fruit's signal maximum ({lo:.2f} -> {hi:.2f})")
+    ranked = run("--model", str(model), "--evaluate", evaluation)
+    rho = [float(line.split("|")[4]) for line in ranked.stdout.splitlines() if "| learned (model) |" in line]
+    check(ranked.returncode == 0 and rho and min(rho) > 0.9 and "| fruit_value |" in ranked.stdout,
+          f"--model reads the pair back and ranks by the signal ({ranked.returncode}: rho {rho} {ranked.stderr.strip()})")
+    cv = run(runs, "--fruit-maxima", "--fruit-value", "--cv", *small)
+    check(cv.returncode == 0 and "reading a fruit-value model" in cv.stdout and
+          re.search(r"Mean truth share over the conditions: all 0\.9\d\d", cv.stdout) is not None,
+          f"--cv with --fruit-value ({cv.returncode}: {cv.stderr.strip()} {cv.stdout[-200:]})")
+    other = pathlib.Path(tmp) / "other.json"
+    run(runs, "--fruit-maxima", "--fruit-value", "--out", str(other), "--seed", "2", *small)
+    unpaired = pathlib.Path(tmp) / "unpaired"
+    unpaired.mkdir()
+    (unpaired / "fv.json").write_text(model.read_text())
+    (unpaired / "fv.fruit_value.json").write_text((pathlib.Path(tmp) / "other.fruit_value.json").read_text())
+    alone = pathlib.Path(tmp) / "alone"
+    alone.mkdir()
+    (alone / "fv.json").write_text(model.read_text())
+    for path, what in ((unpaired / "fv.json", "was not trained with the fruit-value model"),
+                       (alone / "fv.json", "no such fruit-value model file")):
+        r = run("--model", str(path), "--evaluate", evaluation)
+        check(r.returncode == 2 and len(r.stderr.strip().splitlines()) == 1 and what in r.stderr,
+              f"{path}: one line, exit 2 ({r.returncode}: {r.stderr.strip()})")
+    r = run(runs, "--fruit-value", "--out", str(pathlib.Path(tmp) / "bad.json"), *small)
+    check(r.returncode == 2 and "goes with --fruit-maxima" in r.stderr, f"--fruit-value alone refused ({r.stderr.strip()})")
 
 if failures:
     print(f"{len(failures)} failure(s)")
