@@ -74,12 +74,16 @@ expect_error "holds more than 16 radii" mission --world worlds/small.yaml --meth
 expect_error "holds 1001 numbers, at most 1000" mission --world worlds/small.yaml \
   --set "mission.record.time_budgets_s=[$(seq -s, 1 1001)]"
 
-# The learned planner's model (docs/learned.md): missing, corrupt or trained on other features is
-# one line naming the file, exit 2, never a silent fallback to another scorer.
+# The learned planner's model (docs/learned.md): missing, corrupt, trained on other features or
+# without its fruit-value model is one line naming the file, exit 2, never a silent fallback to
+# another scorer.
 printf '{"learner": [1, 2' > "$tmp/corrupt_model.json"
 sed 's/"shape_seen"/"shape_sen"/' models/nbv/view_ranker.json > "$tmp/renamed_model.json"
+# A model reading fruit_value (--fruit-value) without the fruit-value model it needs beside it.
+sed 's/"shape_seen"/"fruit_value"/' models/nbv/view_ranker.json > "$tmp/no_fruit_model.json"
 for model in "$tmp/missing_model.json:no such file" "$tmp/corrupt_model.json:not an XGBoost model" \
-  "$tmp/renamed_model.json:feature 17 is 'shape_sen', which this canopy does not compute"; do
+  "$tmp/renamed_model.json:feature 17 is 'shape_sen', which this canopy does not compute" \
+  "$tmp/no_fruit_model.json:it reads fruit_value but names no fruit-value model file beside it"; do
   file="${model%%:*}"
   expect_error "view ranker model '$file': ${model#*:}" mission --world worlds/small.yaml --method learned \
     --set "nbv.learned.model=$file"
