@@ -34,6 +34,25 @@ std::string refusal(const std::string& path) {
   return "";
 }
 
+// A round of three fruits whose rows hold feature `by`: fruit 4 own values 1 and 9 (maximum 9),
+// fruit 2 5 and 5, fruit 8 missing and 3 (maximum 3), every other feature 5. A ranker ordering by
+// the fruit maximum of `by` puts both rows of fruit 4 above fruit 2's, and those above fruit 8's,
+// whatever a row's own value; without each row's fruit it refuses to score.
+void expect_ordered_by_fruit_maximum(const ViewRanker& ranker, std::size_t by) {
+  const std::size_t cols = view_feature_names().size();
+  const std::vector<int> fruit = {4, 2, 8, 4, 2, 8};
+  const std::vector<float> own = {1.f, 5.f, std::nanf(""), 9.f, 5.f, 3.f};
+  std::vector<float> rows(6 * cols, 5.f);
+  for (std::size_t r = 0; r < 6; ++r) rows[r * cols + by] = own[r];
+  const std::vector<float> s = ranker.score(rows, 6, fruit);
+  ASSERT_EQ(s.size(), 6u);
+  for (std::size_t hi : {0u, 3u})
+    for (std::size_t lo : {1u, 4u}) EXPECT_GT(s[hi], s[lo]) << hi << " over " << lo;
+  for (std::size_t hi : {1u, 4u})
+    for (std::size_t lo : {2u, 5u}) EXPECT_GT(s[hi], s[lo]) << hi << " over " << lo;
+  EXPECT_THROW(ranker.score(rows, 6), InternalError);  // no fruit per row
+}
+
 TEST(ViewRanker, AModelTrainedToRankByAFeatureOrdersViewsByIt) {
   const std::size_t by = 7;
   const ViewRanker ranker(train_model("by_feature.json", by));
@@ -58,18 +77,7 @@ TEST(ViewRanker, AModelReadingFruitMaximaGetsThemFromTheRound) {
   const ViewRanker ranker(train_model("by_fruit_maximum.json", cols + by, names));
   EXPECT_TRUE(ranker.fruit_maxima());
   EXPECT_FALSE(ViewRanker(train_model("by_feature_too.json", by)).fruit_maxima());
-  // Fruit 4: own values 1 and 9 (maximum 9); fruit 2: 5 and 5; fruit 8: missing and 3 (maximum 3).
-  const std::vector<int> fruit = {4, 2, 8, 4, 2, 8};
-  const std::vector<float> own = {1.f, 5.f, std::nanf(""), 9.f, 5.f, 3.f};
-  std::vector<float> rows(6 * cols, 5.f);
-  for (std::size_t r = 0; r < 6; ++r) rows[r * cols + by] = own[r];
-  const std::vector<float> s = ranker.score(rows, 6, fruit);
-  ASSERT_EQ(s.size(), 6u);
-  for (std::size_t hi : {0u, 3u})
-    for (std::size_t lo : {1u, 4u}) EXPECT_GT(s[hi], s[lo]) << hi << " over " << lo;
-  for (std::size_t hi : {1u, 4u})
-    for (std::size_t lo : {2u, 5u}) EXPECT_GT(s[hi], s[lo]) << hi << " over " << lo;
-  EXPECT_THROW(ranker.score(rows, 6), InternalError);  // no fruit per row
+  expect_ordered_by_fruit_maximum(ranker, by);
 }
 
 // A model may name any of the features, in any order (one trained before features were added
@@ -110,19 +118,7 @@ TEST(ViewRanker, AModelReadingFruitValueGetsItFromItsFruitValueModel) {
   EXPECT_TRUE(ranker.fruit_maxima());  // the fruit-value model's inputs
   EXPECT_EQ(ranker.inputs(), 2u);
   EXPECT_EQ(fs::path(ranker.fruit_value_path()), fs::path(fruit_model));
-  // Fruit 4: own values 1 and 9 (maximum 9); fruit 2: 5 and 5; fruit 8: missing and 1 (maximum 1).
-  const std::vector<int> fruit = {4, 2, 8, 4, 2, 8};
-  const std::vector<float> own = {1.f, 5.f, std::nanf(""), 9.f, 5.f, 1.f};
-  const std::size_t cols = all.size();
-  std::vector<float> rows(6 * cols, 5.f);
-  for (std::size_t r = 0; r < 6; ++r) rows[r * cols + by] = own[r];
-  const std::vector<float> s = ranker.score(rows, 6, fruit);
-  ASSERT_EQ(s.size(), 6u);
-  for (std::size_t hi : {0u, 3u})
-    for (std::size_t lo : {1u, 4u}) EXPECT_GT(s[hi], s[lo]) << hi << " over " << lo;
-  for (std::size_t hi : {1u, 4u})
-    for (std::size_t lo : {2u, 5u}) EXPECT_GT(s[hi], s[lo]) << hi << " over " << lo;
-  EXPECT_THROW(ranker.score(rows, 6), InternalError);  // no fruit per row
+  expect_ordered_by_fruit_maximum(ranker, by);
   EXPECT_FALSE(ViewRanker(train_model("no_fv.json", by)).fruit_value());
 }
 
