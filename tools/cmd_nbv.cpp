@@ -83,6 +83,7 @@ void add_nbv_command(CLI::App& app) {
     std::string gain, rays;  // "": the bundle's method.gain / method.rays
     int k = -1;
     std::uint64_t seed = 1;
+    std::vector<std::string> set;
   };
   auto opt = std::make_shared<Options>();
   CLI::App* sub = app.add_subcommand(
@@ -99,6 +100,8 @@ void add_nbv_command(CLI::App& app) {
   sub->add_option("--intrinsics", opt->intrinsics,
                   "Camera YAML (as for 'canopy map --frames', TUM); default: the D405 of configs");
   sub->add_option("--config", opt->config, kConfigHelp)->capture_default_str();
+  sub->add_option("--set", opt->set,
+                  "Any setting of the bundle, KEY=VALUE (e.g. nbv.learned.model=my_model.json); repeatable");
   sub->add_option("--seed", opt->seed, "Seed of the planner's random draws")->capture_default_str();
   sub->add_option("--out", opt->out, "Output file (JSON)")->required();
   sub->callback([opt] {
@@ -109,6 +112,8 @@ void add_nbv_command(CLI::App& app) {
     if (!opt->gain.empty()) settings.set("method.gain", opt->gain, "--gain");
     if (!opt->rays.empty()) settings.set("method.rays", opt->rays, "--rays");
     if (opt->k > 0) settings.set("nbv.ours.top_k", std::to_string(opt->k), "--k");
+    for (const settings::SettingOverride& kv : settings::parse_overrides(opt->set, "--set"))
+      settings.set(kv.first, kv.second, "--set " + kv.first);
     jobs::NextViewsJob job;
     job.base = parse_base_pose(opt->base, "--base");
     if (!opt->joints.empty()) {

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# canopy map --frames and canopy nbv from the command line: a rendered sequence maps and
+# canopy map --frames and canopy nbv from the command line (its --set too): a rendered sequence maps and
 # plans; bad input (missing folder, malformed TUM line, 8-bit or wrong-size depth, non-unit
 # quaternion, unknown label colour, a map file of another version) gives one line naming
 # the problem and exit code 2. Usage: frames_test.sh path/to/canopy
@@ -81,6 +81,14 @@ expect_error "cannot open" nbv --map "$tmp/none.csm" --base 0,0,0 --out "$tmp/v.
 expect_error "--joints: value '9,9,9,9,9,9' is outside the joint limits" \
   nbv --map "$tmp/map/map.csm" --base 0,0,0 --joints 9,9,9,9,9,9 --out "$tmp/v.json"
 expect_error "gain" nbv --map "$tmp/map/map.csm" --base 0,0,0 --gain nonsense --out "$tmp/v.json"
+# --set: any setting of the bundle (a lab's own view ranker model, a planner's parameter).
+"$canopy" nbv --map "$tmp/map/map.csm" --base -0.3,0,0 --set nbv.ours.top_k=1 --out "$tmp/views_k1.json" >/dev/null 2>&1 ||
+  fail "nbv --set"
+python3 -c 'import json, sys; d = json.load(open(sys.argv[1])); assert d["k"] == 1, d["k"]' "$tmp/views_k1.json" ||
+  fail "nbv --set nbv.ours.top_k=1: k 1 in views.json"
+expect_error "view ranker model '$tmp/no_model.json': no such file" \
+  nbv --map "$tmp/map/map.csm" --base 0,0,0 --method learned --set "nbv.learned.model=$tmp/no_model.json" --out "$tmp/v.json"
+expect_error "nbv.no_such_key" nbv --map "$tmp/map/map.csm" --base 0,0,0 --set nbv.no_such_key=1 --out "$tmp/v.json"
 expect_error "--out: folder '$tmp/nodir' does not exist" nbv --map "$tmp/map/map.csm" --base 0,0,0 --out "$tmp/nodir/v.json"
 [[ -e "$tmp/v.json" ]] && fail "views file written on bad input"
 
