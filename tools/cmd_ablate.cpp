@@ -115,8 +115,7 @@ void add_ablate_command(CLI::App& app) {
     // Validate everything before any work.
     settings::Settings bundle = load_settings(o.config);
     if (!o.seg.empty()) bundle.mapping.extractor.source = perception::label_source_from_string(o.seg, "--seg");
-    for (const settings::SettingOverride& kv : settings::parse_overrides(o.set, "--set"))
-      bundle.set(kv.first, kv.second, "--set " + kv.first);
+    apply_set_options(bundle, o.set);
     const std::vector<std::string> gains = split(o.gains), rays = split(o.rays);
     std::vector<double> pgts;
     for (const auto& s : split(o.pgt)) {

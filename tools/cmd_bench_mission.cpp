@@ -94,8 +94,7 @@ void add_bench_mission(CLI::App& bench) {
     p.rows = jobs::parse_row_sizes(opt->rows, "--rows");
     p.settings = load_settings(opt->config);
     p.settings.set("method.name", opt->method, "--method");
-    for (const settings::SettingOverride& kv : settings::parse_overrides(opt->sets, "--set"))
-      p.settings.set(kv.first, kv.second, "--set " + kv.first);
+    apply_set_options(p.settings, opt->sets);
     p.seed = opt->seed;
     p.progress = [](const std::string& line) { spdlog::info("{}", line); };
     const std::vector<jobs::BenchMissionLine> lines = jobs::bench_mission(p);

@@ -104,8 +104,7 @@ void run_mission(const MissionCliOptions& o, CLI::App* sub) {
       settings.set("mission.stops.positions_m", list + "]", "--stops");
     }
   }
-  for (const settings::SettingOverride& kv : settings::parse_overrides(o.set, "--set"))
-    settings.set(kv.first, kv.second, "--set " + kv.first);
+  apply_set_options(settings, o.set);
   job.video = jobs::video_options(o.video, o.video_size, o.video_fps);
   job.world_file = o.world;
   job.seed = o.seed;

@@ -112,8 +112,7 @@ void add_nbv_command(CLI::App& app) {
     if (!opt->gain.empty()) settings.set("method.gain", opt->gain, "--gain");
     if (!opt->rays.empty()) settings.set("method.rays", opt->rays, "--rays");
     if (opt->k > 0) settings.set("nbv.ours.top_k", std::to_string(opt->k), "--k");
-    for (const settings::SettingOverride& kv : settings::parse_overrides(opt->set, "--set"))
-      settings.set(kv.first, kv.second, "--set " + kv.first);
+    apply_set_options(settings, opt->set);
     jobs::NextViewsJob job;
     job.base = parse_base_pose(opt->base, "--base");
     if (!opt->joints.empty()) {

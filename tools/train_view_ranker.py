@@ -269,22 +269,27 @@ def fit_fruit_value(rows, fnames, args):
     return xgb.train(params, xgb.DMatrix(X, label=y, feature_names=fnames, missing=np.nan), num_boost_round=200)
 
 
-def apply_fruit_value(model, rounds, names):
-    """Each round's fruit_value column (r["fv"]): the fruit-value model's estimate for each candidate's
-    fruit from the fruit maxima it names, found by name among the rounds' `names`."""
+def set_fruit_value(model, rounds, rows):
+    """The fruit-value model's estimate of each of `rows` (fruit_rows of `rounds`) written to its
+    candidates' fruit_value (r["fv"])."""
     import xgboost as xgb
-    at = {n: i for i, n in enumerate(names)}
-    missing = [n for n in model.feature_names if n not in at]
-    if missing:
-        fail(f"no feature {missing[0]} in the runs' candidates.csv, which the fruit-value model reads")
-    rows = fruit_rows(rounds, [at[n] for n in model.feature_names])
-    for r in rounds:
-        r["fv"] = np.zeros(len(r["truth"]), dtype=np.float32)
     if not rows:
         return
     X = np.array([x for _, _, x, _ in rows], dtype=np.float32)
     for (ri, m, _, _), v in zip(rows, model.predict(xgb.DMatrix(X, feature_names=model.feature_names, missing=np.nan))):
         rounds[ri]["fv"][m] = v
+
+
+def apply_fruit_value(model, rounds, names):
+    """Each round's fruit_value column (r["fv"]): the fruit-value model's estimate for each candidate's
+    fruit from the fruit maxima it names, found by name among the rounds' `names`."""
+    at = {n: i for i, n in enumerate(names)}
+    missing = [n for n in model.feature_names if n not in at]
+    if missing:
+        fail(f"no feature {missing[0]} in the runs' candidates.csv, which the fruit-value model reads")
+    for r in rounds:
+        r["fv"] = np.zeros(len(r["truth"]), dtype=np.float32)
+    set_fruit_value(model, rounds, fruit_rows(rounds, [at[n] for n in model.feature_names]))
 
 
 def with_fruit_value(rounds, names):
@@ -294,25 +299,23 @@ def with_fruit_value(rounds, names):
     return names + [FRUIT_VALUE]
 
 
-def out_of_fold_fruit_value(rounds, names, args):
-    """fruit_value for training rounds, each by a fruit-value model that did not see its world: the
+def fit_fruit_values(rounds, names, args):
+    """The fruit-value model of training rounds, fitted on all of them (the one shipped beside the
+    ranker), and each round's fruit_value out of fold, by a model that did not see its world: the
     training worlds in four groups (by seed, in turn), each group's rounds estimated by a model fitted
     on the other groups'. The ranker then learns how far to trust the estimate on unseen worlds."""
     seeds = sorted({r["world_seed"] for r in rounds})
     if len(seeds) < 2:
         fail("--fruit-value needs rounds of two training worlds or more (its estimates are out of fold)")
     fnames = fruit_inputs(names)
-    cols = [names.index(n) for n in fnames]
-    for g in [seeds[i::4] for i in range(min(4, len(seeds)))]:
-        fit_on = [r for r in rounds if r["world_seed"] not in g]
-        apply_fruit_value(fit_fruit_value(fruit_rows(fit_on, cols), fnames, args),
-                          [r for r in rounds if r["world_seed"] in g], names)
-
-
-def fruit_value_model(rounds, names, args):
-    """The fruit-value model fitted on every training round (the one shipped beside the ranker)."""
-    fnames = fruit_inputs(names)
-    return fit_fruit_value(fruit_rows(rounds, [names.index(n) for n in fnames]), fnames, args)
+    rows = fruit_rows(rounds, [names.index(n) for n in fnames])
+    for r in rounds:
+        r["fv"] = np.zeros(len(r["truth"]), dtype=np.float32)
+    for g in [set(seeds[i::4]) for i in range(min(4, len(seeds)))]:
+        held = [row for row in rows if rounds[row[0]]["world_seed"] in g]
+        set_fruit_value(fit_fruit_value([row for row in rows if rounds[row[0]]["world_seed"] not in g], fnames, args),
+                        rounds, held)
+    return fit_fruit_value(rows, fnames, args)
 
 
 def load_model(path, what):
@@ -374,8 +377,7 @@ def cross_validate(rounds, names, args):
             fail(f"--cv: no round to train on without world {s}")
         test_rounds = [r for r in rounds if r["world_seed"] == s]
         if args.fruit_value:
-            out_of_fold_fruit_value(train_rounds, names, args)
-            apply_fruit_value(fruit_value_model(train_rounds, names, args), test_rounds, names)
+            apply_fruit_value(fit_fruit_values(train_rounds, names, args), test_rounds, names)
             saved = [(r, r["X"]) for r in train_rounds + test_rounds]
             fv_names = with_fruit_value(train_rounds + test_rounds, names)
             predict(train(train_rounds, fv_names, args), test_rounds, fv_names)
@@ -515,8 +517,7 @@ def main():
         fail("no round to train on")
     fruit = None
     if args.fruit_value:
-        out_of_fold_fruit_value(train_rounds, names, args)
-        fruit = fruit_value_model(train_rounds, names, args)
+        fruit = fit_fruit_values(train_rounds, names, args)
         booster = train(train_rounds, with_fruit_value(train_rounds, names), args)
         # The pair: both models carry the fruit-value model's digest; the ranker names its file.
         pair = hashlib.sha256(fruit.save_raw("json")).hexdigest()[:16]

@@ -143,40 +143,40 @@ std::vector<float> ViewRanker::score(const std::vector<float>& features, std::si
   const std::size_t base = view_feature_names().size();
   CANOPY_CHECK(features.size() == rows * base, "one feature vector per row");
   if (rows == 0) return {};
-  // The largest value of each feature either model reads the maximum of, over the rows of the
-  // same fruit, NaN ignored (NaN when all are).
-  std::map<int, std::vector<float>> maxima;
+  // Per fruit: the largest value of each feature either model reads the maximum of, over the
+  // rows of the same fruit, NaN ignored (NaN when all are); then, in the slot after them, the
+  // fruit-value model's estimate from those maxima.
+  const std::size_t value_slot = maxima_of_.size();
+  std::map<int, std::vector<float>> per_fruit;
   if (fruit_maxima()) {
     CANOPY_CHECK(fruit.size() == rows, "a model reading fruit maxima needs each row's fruit");
     for (std::size_t r = 0; r < rows; ++r) {
-      std::vector<float>& m = maxima.try_emplace(fruit[r], maxima_of_.size(), std::nanf("")).first->second;
-      for (std::size_t j = 0; j < maxima_of_.size(); ++j) {
+      std::vector<float>& m = per_fruit.try_emplace(fruit[r], value_slot + 1, std::nanf("")).first->second;
+      for (std::size_t j = 0; j < value_slot; ++j) {
         const float v = features[r * base + maxima_of_[j]];
         if (!std::isnan(v) && (std::isnan(m[j]) || v > m[j])) m[j] = v;
       }
     }
   }
-  // The fruit-value model's estimate for each fruit, from its maxima (one row per fruit).
-  std::map<int, float> value;
-  if (fruit_value()) {
+  if (fruit_value()) {  // one row per fruit
     std::vector<float> input;
-    input.reserve(maxima.size() * fruit_columns_.size());
-    for (const auto& [id, m] : maxima)
+    input.reserve(per_fruit.size() * fruit_columns_.size());
+    for (const auto& [id, m] : per_fruit)
       for (const Column& c : fruit_columns_) input.push_back(m[c.index]);
-    const std::vector<float> v = predict(fruit_booster_.get(), input, maxima.size(), fruit_columns_.size());
+    const std::vector<float> v = predict(fruit_booster_.get(), input, per_fruit.size(), fruit_columns_.size());
     std::size_t i = 0;
-    for (const auto& entry : maxima) value.emplace(entry.first, v[i++]);
+    for (auto& [id, m] : per_fruit) m[value_slot] = v[i++];
   }
   // The model's columns, in its order.
   std::vector<float> input;
   input.reserve(rows * columns_.size());
   for (std::size_t r = 0; r < rows; ++r) {
-    const std::vector<float>* m = fruit_maxima() ? &maxima.at(fruit[r]) : nullptr;
+    const std::vector<float>* m = fruit_maxima() ? &per_fruit.at(fruit[r]) : nullptr;
     for (const Column& c : columns_) {
       switch (c.source) {
         case Source::kOwn: input.push_back(features[r * base + c.index]); break;
         case Source::kFruitMaximum: input.push_back((*m)[c.index]); break;
-        case Source::kFruitValue: input.push_back(value.at(fruit[r])); break;
+        case Source::kFruitValue: input.push_back((*m)[value_slot]); break;
       }
     }
   }
