@@ -4,8 +4,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cstdint>
 #include <iterator>
 #include <limits>
+#include <random>
 #include <utility>
 
 #include "canopy/evaluation/segmentation_check.h"
@@ -73,6 +76,60 @@ TEST(WindowVoxels, EveryWindowIsTheWorldsVoxelsAndTwoWindowsAtMostAreHeld) {
   EXPECT_TRUE(whole.voxels(-std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()) ==
               world_occupied_voxels(w, 0.02));
   EXPECT_EQ(whole.plants_held(), 0u);
+}
+
+}  // namespace
+}  // namespace canopy::evaluation
+
+namespace canopy::evaluation {
+namespace {
+
+// A plant's surface keys computed four samples at a time in AVX2 lanes (where the processor
+// has them) and gathered in a bit grid over the plant's box are the reference's (scalar samples,
+// every key sorted), key for key: on the dense preset's plants at the mission's resolution
+// (1 cm) and an odd one, and on random triangles from a tenth of a voxel to forty voxels long,
+// some far out (the scalar code's, and keys outside any box) and some degenerate.
+TEST(TruthVoxels, VectorisedSurfaceKeysAreTheScalarOnes) {
+  world::WorldSpec spec = world::WorldSpec::load("worlds/dense.yaml");
+  spec.rows.plants_per_row = 1;
+  const world::World w = world::generate_world(spec);
+  ASSERT_FALSE(w.plants.empty());
+  for (const double res : {0.01, 0.0037}) {
+    for (const auto& plant : w.plants) {
+      const std::vector<std::uint64_t> scalar = plant_surface_keys(plant, res, false);
+      EXPECT_GT(scalar.size(), 10000u);
+      EXPECT_TRUE(plant_surface_keys(plant, res, true) == scalar) << "plant " << plant.index << ", res " << res;
+    }
+  }
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0), size(0.001, 0.4);
+  // Every third triangle's vertices on a grid of a quarter voxel: samples on voxel faces, where
+  // a rounding of its own (a reciprocal, another order of sums) would give other keys.
+  const auto snap = [&](const Vec3& p, int t) { return t % 3 == 0 ? Vec3((p / 0.0025).array().round() * 0.0025) : p; };
+  const auto random_part = [&](double far_m) {
+    world::PlantPart part;
+    for (int t = 0; t < 1500; ++t) {
+      const Vec3 a = snap(Vec3(unit(rng) * (t % 100 == 0 ? far_m : 2.0), unit(rng), unit(rng)), t);
+      const double s = size(rng);
+      const Vec3 b = snap(a + s * Vec3(unit(rng), unit(rng), unit(rng)), t);
+      const Vec3 c = t % 50 == 0 ? b : snap(a + s * Vec3(unit(rng), unit(rng), unit(rng)), t);
+      const int base = static_cast<int>(part.mesh.vertices.size());
+      part.mesh.vertices.insert(part.mesh.vertices.end(), {a, b, c});
+      part.mesh.faces.push_back({base, base + 1, base + 2});
+    }
+    return part;
+  };
+  world::Plant odd;  // a box of 45 M cells: the bit grid's
+  odd.parts = {random_part(2.0), random_part(2.0)};
+  world::Plant far = odd;  // a box too large: every key sorted, some far out of the lanes' reach
+  far.parts.push_back(random_part(1e7));
+  for (const world::Plant* plant : {&odd, &far}) {
+    const std::vector<std::uint64_t> scalar = plant_surface_keys(*plant, 0.01, false);
+    EXPECT_GT(scalar.size(), 100000u);
+    EXPECT_TRUE(plant_surface_keys(*plant, 0.01, true) == scalar) << (plant == &far ? "far" : "odd");
+    EXPECT_TRUE(std::is_sorted(scalar.begin(), scalar.end()));
+    EXPECT_TRUE(std::adjacent_find(scalar.begin(), scalar.end()) == scalar.end());
+  }
 }
 
 }  // namespace

@@ -23,6 +23,13 @@ std::vector<Vec3> world_occupied_voxels(const world::World& world, double resolu
                                         double plants_from_x_m = -std::numeric_limits<double>::infinity(),
                                         double plants_to_x_m = std::numeric_limits<double>::infinity());
 
+/// The keys (mapping::grid_key, sorted, each once) of the voxels of edge `resolution_m` that
+/// samples of `plant`'s surfaces fall in (samples closer than half a voxel, so no voxel is
+/// skipped): the plant's part of world_occupied_voxels. `vectorised`: four samples at a time in
+/// AVX2 lanes when the processor has them, their keys set in a bit grid over the plant's box;
+/// else the reference, every sample's key sorted. The same keys: tests compare both.
+std::vector<std::uint64_t> plant_surface_keys(const world::Plant& plant, double resolution_m, bool vectorised = true);
+
 /// world_occupied_voxels of the windows of a long row (issue 49: the mission's truth voxels per
 /// rendered window), which overlap: each plant's voxels are kept from the last two windows asked,
 /// so a window samples the surfaces of its new plants only. The same voxels, in the same order,
