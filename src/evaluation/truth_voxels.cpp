@@ -100,6 +100,16 @@ class KeySet {
   std::vector<std::uint64_t> outside_;  // keys outside the box
 };
 
+// Appends the first `lanes` keys of out[] unless one is the key appended before it.
+inline void append_keys(const std::uint64_t* out, std::size_t lanes, std::uint64_t& last, bool& any, KeySet& keys) {
+  for (std::size_t l = 0; l < lanes; ++l) {
+    if (any && out[l] == last) continue;
+    keys.add(out[l]);
+    last = out[l];
+    any = true;
+  }
+}
+
 // A triangle's samples (barycentric steps of 1/n: closer than half a voxel when n is the
 // longest edge over half a voxel), each sample's key appended unless it is the last one's
 // (neighbouring samples mostly share a voxel).
@@ -109,10 +119,7 @@ void triangle_keys(const Vec3& a, const Vec3& b, const Vec3& c, int n, double re
   for (int i = 0; i <= n; ++i)
     for (int j = 0; j <= n - i; ++j) {
       const std::uint64_t k = mapping::grid_key(a + (b - a) * (double(i) / n) + (c - a) * (double(j) / n), res);
-      if (any && k == last) continue;
-      keys.add(k);
-      last = k;
-      any = true;
+      append_keys(&k, 1, last, any, keys);
     }
 }
 
@@ -168,16 +175,6 @@ const SampleTable& sample_table(int n, std::vector<SampleTable>& tables) {
   return table;
 }
 
-// Appends the first `lanes` keys of out[] unless one is the key appended before it.
-inline void append_keys(const std::uint64_t* out, std::size_t lanes, std::uint64_t& last, bool& any, KeySet& keys) {
-  for (std::size_t l = 0; l < lanes; ++l) {
-    if (any && out[l] == last) continue;
-    keys.add(out[l]);
-    last = out[l];
-    any = true;
-  }
-}
-
 // triangle_keys with four samples at a time in AVX2 lanes: the same keys in the same order.
 // Small n from the n's table; larger n row by row (i fixed, four j at a time), the fractions
 // j / n from `fractions` (computed once per triangle, padded to whole lanes).
@@ -231,9 +228,11 @@ std::vector<std::uint64_t> plant_keys(const world::Plant& plant, double res, std
       const Vec3 &a = v[static_cast<size_t>(f[0])], &b = v[static_cast<size_t>(f[1])], &c = v[static_cast<size_t>(f[2])];
       const double longest = std::max({(b - a).norm(), (c - a).norm(), (c - b).norm()});
       const int n = std::max(1, static_cast<int>(std::ceil(longest / step)));
-      const bool near = a.cwiseAbs().maxCoeff() < lane_limit && b.cwiseAbs().maxCoeff() < lane_limit &&
-                        c.cwiseAbs().maxCoeff() < lane_limit;
-      if (avx2 && near)
+      const auto near = [&] {
+        return a.cwiseAbs().maxCoeff() < lane_limit && b.cwiseAbs().maxCoeff() < lane_limit &&
+               c.cwiseAbs().maxCoeff() < lane_limit;
+      };
+      if (avx2 && near())
         triangle_keys_avx2(a, b, c, n, res, tables, fractions, keys);
       else
         triangle_keys(a, b, c, n, res, keys);
