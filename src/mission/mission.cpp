@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "canopy/common/error.h"
 #include "canopy/common/value_text.h"
@@ -96,6 +97,7 @@ bool Mission::Impl::drive_to_stop(int k) {
   rec.stop = k;
   rec.goal = stop_pose(k);
   const double t0 = sim.time();
+  if (settings.mission.stops.arm_on_drive == "clear") rec.arm_on_drive = clear_arm_for_drive(k, rec.goal);
   progress("stop " + std::to_string(k + 1) + "/" + std::to_string(stops_x.size()) + ": driving to x = " +
            std::to_string(rec.goal.x_m));
   Stopwatch watch;
@@ -159,6 +161,50 @@ bool Mission::Impl::drive_to_stop(int k) {
   for_each_planner([](nbv::ViewPlanner& p) { p.begin_stop(); });
   failed_here = nbv::TakenViews(settings.nbv.views);
   return rec.reached_goal;
+}
+
+std::string Mission::Impl::clear_arm_for_drive(int k, const BasePose& goal) {
+  const ArmConfig q0 = sim.arm_positions();
+  const ArmConfig& home = model.config().home;
+  if (q0 == home) return "free";
+  const BasePose start = sim.base_pose();
+  // A long row's environment holds the map near the last stop only: the sweep is tested where
+  // the arm stays inside it (the arm reaches less than a metre from the base).
+  const double near = near_robot_m();
+  const double held_x = k > 0 ? stops_x[static_cast<std::size_t>(k - 1)] : start.x_m;
+  const double inf = std::numeric_limits<double>::infinity();
+  bool in_way = false;
+  {
+    ScopedPhase t(result.times, to_string(WallPhase::kMotionPlanning));
+    scans.follow();  // the last scan's voxels in the environment
+    clear_robot_volume();
+    in_way = motion::held_arm_sweep_hit(map_checker, start, goal, q0, 0.5 * map_env->resolution_m(),
+                                        near > 0.0 ? held_x - (near - 1.5) : -inf,
+                                        near > 0.0 ? held_x + (near - 1.5) : inf)
+                 .has_value();
+  }
+  if (!in_way) return "free";
+  motion::PlanResult plan;
+  {
+    ScopedPhase t(result.times, to_string(WallPhase::kMotionPlanning));
+    plan = planner.plan_to_configs(start, q0, {home}, mix_seed(seed, 2000000 + std::uint64_t(k)));
+  }
+  const std::string where = "stop " + std::to_string(k + 1) + "/" + std::to_string(stops_x.size()) + ": ";
+  if (!plan.ok()) {
+    progress(where + "the arm, held, would sweep mapped voxels on the drive, and no plan takes it home (" +
+             plan.message + "); driving with it held");
+    return "blocked";
+  }
+  nbv::PlannedView to;
+  to.T_world_camera = model.camera_pose(start, home);
+  const ArmMove moved = move(plan, to, sim.snapshot(), result.times);
+  if (!moved.diverged.empty()) ++result.unstable_faults;
+  if (!moved.diverged.empty() || !moved.report.success) {
+    progress(where + "the arm's move home before the drive failed (" +
+             (moved.diverged.empty() ? moved.report.message : moved.diverged) + "); driving with it as it is");
+    return "blocked";
+  }
+  return "home";
 }
 
 void Mission::Impl::note_unreached_stops() {

@@ -511,4 +511,20 @@ bool CollisionChecker::check(const BasePose& base, const ArmConfig& q, BodySet s
   return hit;
 }
 
+std::optional<BasePose> held_arm_sweep_hit(const CollisionChecker& checker, const BasePose& from, const BasePose& to,
+                                           const ArmConfig& q, double step_m, double x_lo_m, double x_hi_m) {
+  if (!(step_m > 0.0)) throw InputError("held_arm_sweep_hit: step must be > 0, got " + std::to_string(step_m));
+  const double distance_m = std::hypot(to.x_m - from.x_m, to.y_m - from.y_m);
+  const int n = std::max(1, static_cast<int>(std::ceil(distance_m / step_m)));
+  for (int i = 1; i <= n; ++i) {
+    const double f = static_cast<double>(i) / n;
+    BasePose b = from;
+    b.x_m = from.x_m + f * (to.x_m - from.x_m);
+    b.y_m = from.y_m + f * (to.y_m - from.y_m);
+    if (b.x_m < x_lo_m || b.x_m > x_hi_m) continue;
+    if (checker.in_collision(b, q, BodySet::kArmOnly)) return b;
+  }
+  return std::nullopt;
+}
+
 }  // namespace canopy::motion

@@ -4,7 +4,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <array>
+#include <optional>
 #include <random>
 #include <set>
 #include <sstream>
@@ -150,6 +152,49 @@ TEST(Collision, GroundAndMap) {
   EXPECT_TRUE(under.base_in_collision(base));
   EXPECT_TRUE(under.in_collision(base, q));
   EXPECT_FALSE(under.in_collision(base, q, BodySet::kArmOnly));
+}
+
+// The arm held while the base drives (mission.stops.arm_on_drive): a slab of voxels 0.2 m
+// ahead of the camera along the drive is found where the held arm first touches it, against a
+// reference that steps four times finer; a slab past the goal, or outside the x tested, is not.
+TEST(Collision, HeldArmSweepFindsTheFirstTouchOnTheDrive) {
+  const ArmConfig q = model().config().home;
+  const BasePose from{0.0, 0.0, 0.0}, to{0.4, 0.0, 0.0};
+  const Vec3 cam = model().camera_pose(from, q).translation();
+  auto slab_at = [&](double dx) {
+    std::vector<Vec3> slab;
+    for (double y = -0.06; y <= 0.06; y += 0.01)
+      for (double z = -0.06; z <= 0.06; z += 0.01) slab.push_back(cam + Vec3(dx, y, z));
+    return CollisionEnvironment::from_voxels(slab, 0.01);
+  };
+  const CollisionChecker ahead(model(), CollisionParams{}, slab_at(0.2));
+  ASSERT_FALSE(ahead.in_collision(from, q));
+  const double step = 0.0075;
+  const std::optional<BasePose> hit = held_arm_sweep_hit(ahead, from, to, q, step);
+  ASSERT_TRUE(hit.has_value());
+  EXPECT_TRUE(ahead.in_collision(*hit, q, BodySet::kArmOnly));
+  EXPECT_DOUBLE_EQ(hit->y_m, 0.0);
+  EXPECT_DOUBLE_EQ(hit->yaw_rad, 0.0);
+  // The slow reference: the first touching pose four times finer lies within one step before it.
+  double first = std::numeric_limits<double>::infinity();
+  for (int i = 1; i <= 4 * 54 && first > 1.0; ++i) {
+    const BasePose b{0.4 * i / (4 * 54), 0.0, 0.0};
+    if (ahead.in_collision(b, q, BodySet::kArmOnly)) first = b.x_m;
+  }
+  ASSERT_LT(first, 0.4);
+  EXPECT_LE(first, hit->x_m + 1e-12);
+  EXPECT_GT(first, hit->x_m - step - 1e-12);
+  EXPECT_LT(hit->x_m, 0.2);  // the arm's shapes reach the slab before the camera's centre does
+  // Past the goal, behind the start, or outside the x tested: nothing.
+  const CollisionChecker past(model(), CollisionParams{}, slab_at(0.8));
+  EXPECT_FALSE(held_arm_sweep_hit(past, from, to, q, step).has_value());
+  const CollisionChecker behind(model(), CollisionParams{}, slab_at(-0.3));
+  EXPECT_FALSE(held_arm_sweep_hit(behind, from, to, q, step).has_value());
+  EXPECT_FALSE(held_arm_sweep_hit(ahead, from, to, q, step, -1.0, 0.05).has_value());
+  EXPECT_TRUE(held_arm_sweep_hit(ahead, from, to, q, step, -1.0, 0.4).has_value());
+  // Driving back the other way from beyond the slab meets it too.
+  EXPECT_TRUE(held_arm_sweep_hit(ahead, BasePose{0.6, 0.0, 0.0}, from, q, step).has_value());
+  EXPECT_THROW(held_arm_sweep_hit(ahead, from, to, q, 0.0), InputError);
 }
 
 TEST(Collision, BaseInAPlantRowCollidesWithTheTruePlants) {

@@ -5,7 +5,9 @@
 // FCL stays inside collision.cpp; this header is FCL-free.
 
 #include <iosfwd>
+#include <limits>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -154,5 +156,16 @@ class CollisionChecker {
   std::unique_ptr<Shapes> shapes_;
   std::vector<std::pair<int, int>> self_pairs_;
 };
+
+/// Where the arm, held at `q`, first touches the checker's environment or the ground while the
+/// base moves in a straight line from `from` to `to` (the yaw of `from` kept): the first base
+/// pose, every `step_m` at most, `from` itself not tested and `to` tested, at which it does; or
+/// nullopt. Poses whose base x is outside [x_lo_m, x_hi_m] are not tested (a long row's
+/// environment held near one stop, CollisionEnvironment::keep_x). A step not > 0 is an
+/// InputError.
+std::optional<BasePose> held_arm_sweep_hit(const CollisionChecker& checker, const BasePose& from, const BasePose& to,
+                                           const ArmConfig& q, double step_m,
+                                           double x_lo_m = -std::numeric_limits<double>::infinity(),
+                                           double x_hi_m = std::numeric_limits<double>::infinity());
 
 }  // namespace canopy::motion

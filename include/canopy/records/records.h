@@ -322,6 +322,10 @@ struct StopRecord {
   std::string end;
   int budget = 0;
   int start_repairs = 0;
+  /// The arm before the drive here (mission.stops.arm_on_drive): held (as the last view left it),
+  /// free (clear: its sweep along the drive passes no mapped voxel, so it was held), home (moved to
+  /// the robot's home configuration first) or blocked (in the way, but no move home; held).
+  std::string arm_on_drive = "held";
   double sim_time_s = 0.0;
   /// Counts an attempt made at this stop (attempted, successful, target points, failures).
   void count(const ViewRecord& view);
@@ -357,6 +361,9 @@ struct StopRecord {
       F("", "rounds planned by mission.loop.exploration because the method had nothing to attempt"));
     a("rounds", rounds, F("", "planning rounds"));
     a("failures", failures, F("", "failed attempts by cause"));
+    a("arm_on_drive", arm_on_drive,
+      F("", "the arm before the drive here: `held`, `free` (not in the way), `home` (moved home first) or `blocked` "
+            "(in the way, no move home); mission.stops.arm_on_drive"));
     a("end_reason", end_reason, F("", "why the stop's loop ended, in a line"));
     a("end", end, F("", "why, as a code: `budget_met`, `planner_done`, `attempt_cap`, `round_cap`, `idle_rounds`, "
                         "`interrupted` or `base_failed`"));
