@@ -136,10 +136,17 @@ bool Mission::Impl::drive_to_stop(int k) {
   const double distance_m = std::hypot(rec.goal.x_m - start.x_m, rec.goal.y_m - start.y_m);
   const double limit_s = settings.mission.stops.timeout_s + distance_m / settings.motion.base.max_speed_m_s;
   DriveReport d;
+  // The arm is checked against the true plants at the base's checks too: counted, as the base's
+  // contacts are, but a touching arm does not fail the stop (mission.stops.arm_on_drive).
+  int arm_contacts = 0;
   try {
-    d = drive_base(stepper, settings.motion.base, rec.goal, limit_s,
-                   [this](const BasePose& b) { return truth_checker.base_in_collision(b); },
-                   settings.mission.record.base_check_period_s);
+    d = drive_base(
+        stepper, settings.motion.base, rec.goal, limit_s,
+        [this, &arm_contacts](const BasePose& b) {
+          arm_contacts += truth_checker.in_collision(b, sim.arm_positions(), motion::BodySet::kArmOnly);
+          return truth_checker.base_in_collision(b);
+        },
+        settings.mission.record.base_check_period_s);
   } catch (const SimulationDiverged& e) {
     sim.restore(before);
     ++result.unstable_faults;
@@ -156,6 +163,7 @@ bool Mission::Impl::drive_to_stop(int k) {
              " m at most " + format_number(settings.motion.base.max_speed_m_s, "%.2f") +
              " m/s, plus mission.stops.timeout_s); it stopped " + format_number(d.position_error_m, "%.2f") + " m away");
   rec.base_truth_contacts = d.contacts;
+  rec.arm_drive_truth_contacts = arm_contacts;
   rec.sim_time_s = sim.time() - t0;
   result.stops.push_back(rec);
   for_each_planner([](nbv::ViewPlanner& p) { p.begin_stop(); });

@@ -4,7 +4,8 @@
 # row (y = -0.47 m); held there while the base drives 0.375 m to the second stop, the arm ends
 # surrounded by the leaves it mapped, and every one of that stop's 72 attempts failed
 # (plan_timeout; Fig. 3's dense twin lost the stop this way). With `clear` the held arm's sweep
-# is found in the way, the arm goes home first and the second stop meets its budget.
+# is found in the way, the arm goes home first, touches no plant on the drive (held, it touched
+# them at 105 of the drive's checks) and the second stop meets its budget.
 set -euo pipefail
 canopy="$1"
 tmp=$(mktemp -d)
@@ -23,5 +24,7 @@ assert stops[1]["arm_on_drive"] == "home", stops[1]["arm_on_drive"]   # in the w
 for st in stops:
     assert st["end"] == "budget_met", (st["stop"], st["end"], st["end_reason"])
     assert st["initial_successful"] + st["nbv_successful"] == 24, st
+    assert st["arm_drive_truth_contacts"] == 0, st   # at home, the arm touches no plant on the drive
+assert s["contacts"]["arm_drive_truth_contact_checks"] == 0, s["contacts"]
 print("arm_on_drive: ok (second stop: arm home before the drive, 24 views)")
 PY

@@ -305,6 +305,7 @@ struct StopRecord {
   BasePose goal, reached;
   bool reached_goal = false;
   int base_truth_contacts = 0;
+  int arm_drive_truth_contacts = 0;
   int initial_attempted = 0, initial_ok = 0;
   long initial_target_points = 0;
   long initial_true_target_pixels = 0;
@@ -339,6 +340,8 @@ struct StopRecord {
     a("reached", reached, F("m, m, rad", "the base pose reached: x, y, yaw"));
     a("reached_goal", reached_goal, F("", "reached within tolerance without touching the plants"));
     a("base_truth_contacts", base_truth_contacts, F("", "base-vs-plant contacts seen while driving here (geometric)"));
+    a("arm_drive_truth_contacts", arm_drive_truth_contacts,
+      F("", "arm-vs-plant contacts seen while driving here, at the base's checks (geometric; counted, never planned with)"));
     a("initial_attempted", initial_attempted, F("", "views of the initial scan attempted"));
     a("initial_successful", initial_ok, F("", "views of the initial scan that succeeded"));
     a("initial_target_points", initial_target_points, F("", "points the initial scan's views labelled the target class"));
