@@ -97,7 +97,8 @@ bool Mission::Impl::drive_to_stop(int k) {
   rec.stop = k;
   rec.goal = stop_pose(k);
   const double t0 = sim.time();
-  if (settings.mission.stops.arm_on_drive == "clear") rec.arm_on_drive = clear_arm_for_drive(k, rec.goal);
+  if (settings.mission.stops.arm_on_drive == "clear")
+    rec.arm_on_drive = clear_arm_for_drive(k, rec.goal, &rec.arm_drive_truth_contacts);
   progress("stop " + std::to_string(k + 1) + "/" + std::to_string(stops_x.size()) + ": driving to x = " +
            std::to_string(rec.goal.x_m));
   Stopwatch watch;
@@ -163,7 +164,7 @@ bool Mission::Impl::drive_to_stop(int k) {
              " m at most " + format_number(settings.motion.base.max_speed_m_s, "%.2f") +
              " m/s, plus mission.stops.timeout_s); it stopped " + format_number(d.position_error_m, "%.2f") + " m away");
   rec.base_truth_contacts = d.contacts;
-  rec.arm_drive_truth_contacts = arm_contacts;
+  rec.arm_drive_truth_contacts += arm_contacts;
   rec.sim_time_s = sim.time() - t0;
   result.stops.push_back(rec);
   for_each_planner([](nbv::ViewPlanner& p) { p.begin_stop(); });
@@ -171,7 +172,7 @@ bool Mission::Impl::drive_to_stop(int k) {
   return rec.reached_goal;
 }
 
-std::string Mission::Impl::clear_arm_for_drive(int k, const BasePose& goal) {
+std::string Mission::Impl::clear_arm_for_drive(int k, const BasePose& goal, int* truth_contacts) {
   const ArmConfig q0 = sim.arm_positions();
   const ArmConfig& home = model.config().home;
   if (q0 == home) return "free";
@@ -206,6 +207,7 @@ std::string Mission::Impl::clear_arm_for_drive(int k, const BasePose& goal) {
   nbv::PlannedView to;
   to.T_world_camera = model.camera_pose(start, home);
   const ArmMove moved = move(plan, to, sim.snapshot(), result.times);
+  *truth_contacts += moved.report.truth_contact_checks;
   if (!moved.diverged.empty()) ++result.unstable_faults;
   if (!moved.diverged.empty() || !moved.report.success) {
     progress(where + "the arm's move home before the drive failed (" +

@@ -341,7 +341,8 @@ struct StopRecord {
     a("reached_goal", reached_goal, F("", "reached within tolerance without touching the plants"));
     a("base_truth_contacts", base_truth_contacts, F("", "base-vs-plant contacts seen while driving here (geometric)"));
     a("arm_drive_truth_contacts", arm_drive_truth_contacts,
-      F("", "arm-vs-plant contacts seen while driving here, at the base's checks (geometric; counted, never planned with)"));
+      F("", "arm-vs-plant contacts seen while driving here, at the base's checks, and on the move home before "
+            "(geometric; counted, never planned with)"));
     a("initial_attempted", initial_attempted, F("", "views of the initial scan attempted"));
     a("initial_successful", initial_ok, F("", "views of the initial scan that succeeded"));
     a("initial_target_points", initial_target_points, F("", "points the initial scan's views labelled the target class"));
