@@ -97,8 +97,9 @@ bool Mission::Impl::drive_to_stop(int k) {
   rec.stop = k;
   rec.goal = stop_pose(k);
   const double t0 = sim.time();
-  if (settings.mission.stops.arm_on_drive == "clear")
-    rec.arm_on_drive = clear_arm_for_drive(k, rec.goal, &rec.arm_drive_truth_contacts);
+  if (settings.mission.stops.arm_on_drive != "hold")
+    rec.arm_on_drive = clear_arm_for_drive(k, rec.goal, settings.mission.stops.arm_on_drive == "always",
+                                           &rec.arm_home_truth_contacts);
   progress("stop " + std::to_string(k + 1) + "/" + std::to_string(stops_x.size()) + ": driving to x = " +
            std::to_string(rec.goal.x_m));
   Stopwatch watch;
@@ -164,7 +165,7 @@ bool Mission::Impl::drive_to_stop(int k) {
              " m at most " + format_number(settings.motion.base.max_speed_m_s, "%.2f") +
              " m/s, plus mission.stops.timeout_s); it stopped " + format_number(d.position_error_m, "%.2f") + " m away");
   rec.base_truth_contacts = d.contacts;
-  rec.arm_drive_truth_contacts += arm_contacts;
+  rec.arm_drive_truth_contacts = arm_contacts;
   rec.sim_time_s = sim.time() - t0;
   result.stops.push_back(rec);
   for_each_planner([](nbv::ViewPlanner& p) { p.begin_stop(); });
@@ -172,10 +173,10 @@ bool Mission::Impl::drive_to_stop(int k) {
   return rec.reached_goal;
 }
 
-std::string Mission::Impl::clear_arm_for_drive(int k, const BasePose& goal, int* truth_contacts) {
+std::string Mission::Impl::clear_arm_for_drive(int k, const BasePose& goal, bool always, int* truth_contacts) {
   const ArmConfig q0 = sim.arm_positions();
   const ArmConfig& home = model.config().home;
-  if (q0 == home) return "free";
+  if (q0 == home) return always ? "home" : "free";
   const BasePose start = sim.base_pose();
   // A long row's environment holds the map near the last stop only: the sweep is tested where
   // the arm stays inside it (the arm reaches less than a metre from the base).
@@ -187,10 +188,10 @@ std::string Mission::Impl::clear_arm_for_drive(int k, const BasePose& goal, int*
     ScopedPhase t(result.times, to_string(WallPhase::kMotionPlanning));
     scans.follow();  // the last scan's voxels in the environment
     clear_robot_volume();
-    in_way = motion::held_arm_sweep_hit(map_checker, start, goal, q0, 0.5 * map_env->resolution_m(),
-                                        near > 0.0 ? held_x - (near - 1.5) : -inf,
-                                        near > 0.0 ? held_x + (near - 1.5) : inf)
-                 .has_value();
+    in_way = always || motion::held_arm_sweep_hit(map_checker, start, goal, q0, 0.5 * map_env->resolution_m(),
+                                                  near > 0.0 ? held_x - (near - 1.5) : -inf,
+                                                  near > 0.0 ? held_x + (near - 1.5) : inf)
+                           .has_value();
   }
   if (!in_way) return "free";
   motion::PlanResult plan;
@@ -200,7 +201,8 @@ std::string Mission::Impl::clear_arm_for_drive(int k, const BasePose& goal, int*
   }
   const std::string where = "stop " + std::to_string(k + 1) + "/" + std::to_string(stops_x.size()) + ": ";
   if (!plan.ok()) {
-    progress(where + "the arm, held, would sweep mapped voxels on the drive, and no plan takes it home (" +
+    progress(where + (always ? std::string("no plan takes the arm home before the drive (")
+                             : std::string("the arm, held, would sweep mapped voxels on the drive, and no plan takes it home (")) +
              plan.message + "); driving with it held");
     return "blocked";
   }

@@ -141,9 +141,10 @@ struct Mission::Impl {
   StopRecord& stop_record() { return result.stops.back(); }
   bool drive_to_stop(int k);
   // mission.stops.arm_on_drive = clear: before the drive to `goal`, the arm goes home when, held
-  // as it is, it would pass through the map's occupied voxels on the straight drive (the move's
-  // contacts with the true plants added to `truth_contacts`). Returns the StopRecord::arm_on_drive code.
-  std::string clear_arm_for_drive(int k, const BasePose& goal, int* truth_contacts);
+  // as it is, it would pass through the map's occupied voxels on the straight drive; `always`
+  // (arm_on_drive = always): whenever it is not home. The move's contacts with the true plants
+  // are added to `truth_contacts`. Returns the StopRecord::arm_on_drive code.
+  std::string clear_arm_for_drive(int k, const BasePose& goal, bool always, int* truth_contacts);
 
   // A new attempt's record.
   ViewRecord open_record(const nbv::PlannedView& view, ViewPhase phase) const;

@@ -26,5 +26,17 @@ for st in stops:
     assert st["initial_successful"] + st["nbv_successful"] == 24, st
     assert st["arm_drive_truth_contacts"] == 0, st   # at home, the arm touches no plant on the drive
 assert s["contacts"]["arm_drive_truth_contact_checks"] == 0, s["contacts"]
-print("arm_on_drive: ok (second stop: arm home before the drive, 24 views)")
+assert s["contacts"]["arm_home_truth_contact_checks"] == sum(st["arm_home_truth_contacts"] for st in stops), s
+print("arm_on_drive clear: ok (second stop: arm home before the drive, 24 views)")
+PY
+# `always`: home before every drive, the first one's too (the arm starts there, but not exactly).
+"$canopy" mission --world "$tmp/dense1006.yaml" --method ours --pgt 1 --stops=0,0.375 --set mission.stops.arm_on_drive=always \
+  --out "$tmp/always" --no-report --no-plots 2> "$tmp/log"
+python3 - "$tmp/always/summary.json" <<'PY'
+import json, sys
+s = json.load(open(sys.argv[1]))
+assert [st["arm_on_drive"] for st in s["stops"]] == ["home", "home"], s["stops"]
+assert all(st["end"] == "budget_met" for st in s["stops"]), s["stops"]
+assert s["contacts"]["arm_drive_truth_contact_checks"] == 0, s["contacts"]
+print("arm_on_drive always: ok")
 PY

@@ -2,8 +2,8 @@
 """mission.stops.arm_on_drive: clear against hold, trial by trial (docs/experiments/arm_on_drive).
 
 Each argument is PRESET=CLEAR_RUN:HOLD_RUN, two `canopy experiment` --out folders of the same
-trials (the same methods, worlds, P_gt and seeds), the first run with `clear`, the second with
-`hold`. Prints, per preset, P_gt and method: the missions in which the arm went home at least
+trials (the same methods, worlds, P_gt and seeds), the first run with `clear` (or another setting,
+named by --label), the second with `hold`. Prints, per preset, P_gt and method: the missions in which the arm went home at least
 once, the moves home, the stops lost (no successful view) in each run, fruit SC after the 60th
 successful view and at the end in each run with the paired difference (SC points, mean ± paired
 standard error over the worlds), then per preset the failed attempts, plan_timeout among them, the
@@ -59,6 +59,7 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("runs", nargs="+", help="PRESET=CLEAR_RUN:HOLD_RUN")
     ap.add_argument("--csv", help="one row per trial")
+    ap.add_argument("--label", default="clear", help="the first run's setting, in the table's header")
     a = ap.parse_args()
     rows = []
     for spec in a.runs:
@@ -89,8 +90,9 @@ def main():
             rows.append([preset, t.name, meta["label"], meta["p_gt"], c["home"], c["blocked"], h["lost"], c["lost"],
                          f"{h['sc60']:.6f}", f"{c['sc60']:.6f}", f"{h['sc']:.6f}", f"{c['sc']:.6f}"])
         print(f"## {preset}\n")
-        print("| P_gt | method | missions with a move home | moves home | stops lost, hold → clear | "
-              "SC after 60 views, hold → clear (paired, points) | final SC, hold → clear (paired, points) |")
+        c = a.label
+        print(f"| P_gt | method | missions with a move home | moves home | stops lost, hold → {c} | "
+              f"SC after 60 views, hold → {c} (paired, points) | final SC, hold → {c} (paired, points) |")
         print("|---|---|---|---|---|---|---|")
         for p_gt in sorted({k[0] for k in by}, reverse=True):
             for label in METHODS + sorted({k[1] for k in by} - set(METHODS)):
@@ -109,7 +111,7 @@ def main():
                       f"({dend[0]:+.1f} ± {dend[1]:.1f}) |")
         n = len(trials)
         blocked = sum(c["blocked"] for v in by.values() for c, _ in v)
-        print(f"\n{n} missions; failed attempts hold {totals['hold'][0]} → clear {totals['clear'][0]} "
+        print(f"\n{n} missions; failed attempts hold {totals['hold'][0]} → {a.label} {totals['clear'][0]} "
               f"(plan_timeout {totals['hold'][1]} → {totals['clear'][1]}); simulated time per mission "
               f"{totals['hold'][2] / n:.1f} → {totals['clear'][2] / n:.1f} s; drives with the arm in the way "
               f"and no move home: {blocked}; missions without a move home: {same + changed_without_home}, "

@@ -306,6 +306,7 @@ struct StopRecord {
   bool reached_goal = false;
   int base_truth_contacts = 0;
   int arm_drive_truth_contacts = 0;
+  int arm_home_truth_contacts = 0;
   int initial_attempted = 0, initial_ok = 0;
   long initial_target_points = 0;
   long initial_true_target_pixels = 0;
@@ -325,7 +326,7 @@ struct StopRecord {
   int start_repairs = 0;
   /// The arm before the drive here (mission.stops.arm_on_drive): held (as the last view left it),
   /// free (clear: its sweep along the drive passes no mapped voxel, so it was held), home (moved to
-  /// the robot's home configuration first) or blocked (in the way, but no move home; held).
+  /// the robot's home configuration first, or there already) or blocked (no move home; held).
   std::string arm_on_drive = "held";
   double sim_time_s = 0.0;
   /// Counts an attempt made at this stop (attempted, successful, target points, failures).
@@ -341,8 +342,11 @@ struct StopRecord {
     a("reached_goal", reached_goal, F("", "reached within tolerance without touching the plants"));
     a("base_truth_contacts", base_truth_contacts, F("", "base-vs-plant contacts seen while driving here (geometric)"));
     a("arm_drive_truth_contacts", arm_drive_truth_contacts,
-      F("", "arm-vs-plant contacts seen while driving here, at the base's checks, and on the move home before "
-            "(geometric; counted, never planned with)"));
+      F("", "arm-vs-plant contacts seen while driving here, at the base's checks (geometric; counted, never planned "
+            "with)"));
+    a("arm_home_truth_contacts", arm_home_truth_contacts,
+      F("", "executed arm states in contact with the true plants on the move home before the drive here "
+            "(mission.stops.arm_on_drive)"));
     a("initial_attempted", initial_attempted, F("", "views of the initial scan attempted"));
     a("initial_successful", initial_ok, F("", "views of the initial scan that succeeded"));
     a("initial_target_points", initial_target_points, F("", "points the initial scan's views labelled the target class"));
@@ -367,7 +371,7 @@ struct StopRecord {
     a("failures", failures, F("", "failed attempts by cause"));
     a("arm_on_drive", arm_on_drive,
       F("", "the arm before the drive here: `held`, `free` (not in the way), `home` (moved home first) or `blocked` "
-            "(in the way, no move home); mission.stops.arm_on_drive"));
+            "(no move home); mission.stops.arm_on_drive"));
     a("end_reason", end_reason, F("", "why the stop's loop ended, in a line"));
     a("end", end, F("", "why, as a code: `budget_met`, `planner_done`, `attempt_cap`, `round_cap`, `idle_rounds`, "
                         "`interrupted` or `base_failed`"));

@@ -105,14 +105,14 @@ void MissionSummary::visit(A& a) {
     F("", "when the final coverage is 0: why (also the command's last line); absent otherwise").if_present());
   a.list("stops", r.stops, F("", "one per base stop"));
   int refused = 0, repairs = 0, replaced = 0, replacement_attempts = 0, arm_contacts = 0, base_contacts = 0;
-  int arm_drive_contacts = 0;
+  int arm_drive_contacts = 0, arm_home_contacts = 0;
   int guarded = 0, exploration_rounds = 0;
   bool all_reached = !r.stops.empty();
   for (const StopRecord& s : r.stops) {
     refused += s.refused, repairs += s.start_repairs, replaced += s.scripted_replaced;
     guarded += s.guarded, exploration_rounds += s.exploration_rounds;
     replacement_attempts += s.replacement_attempts, base_contacts += s.base_truth_contacts;
-    arm_drive_contacts += s.arm_drive_truth_contacts;
+    arm_drive_contacts += s.arm_drive_truth_contacts, arm_home_contacts += s.arm_home_truth_contacts;
     all_reached = all_reached && s.reached_goal;
   }
   for (const ViewRecord& v : r.views) arm_contacts += v.truth_contacts;
@@ -129,6 +129,8 @@ void MissionSummary::visit(A& a) {
     s("base_truth_contact_checks", base_contacts, F("", "base-vs-plant contacts while driving"));
     s("arm_drive_truth_contact_checks", arm_drive_contacts,
       F("", "arm-vs-plant contacts while driving (the arm as mission.stops.arm_on_drive left it)"));
+    s("arm_home_truth_contact_checks", arm_home_contacts,
+      F("", "executed arm states in contact with the true plants on the moves home before drives"));
   }, F("", "contacts with the true plants (counted, never planned with)"));
   const evaluation::MapMetrics& m = r.final_metrics;
   const nlohmann::json metrics = m.to_json();

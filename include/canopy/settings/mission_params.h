@@ -26,10 +26,10 @@ struct StopParams {
     a("positions_m", positions_m, limits::finite(), "Arm-base x of each stop in the world; overrides count [m]");
     a("base_y_m", base_y_m, limits::finite(), "Base y at every stop (the aisle centre) [m]");
     a("timeout_s", timeout_s, limits::positive(), "Give up driving to a stop after this much simulated time beyond the straight drive's least time at the base's top speed [s]");
-    a.one_of("arm_on_drive", arm_on_drive, {"hold", "clear"},
+    a.one_of("arm_on_drive", arm_on_drive, {"hold", "clear", "always"},
              "The arm while the base drives to the next stop: 'hold' keeps the last view's configuration; 'clear' "
              "first moves it to the robot's home configuration (planned against the map) when, held, it would pass "
-             "through the map's occupied voxels on the straight drive");
+             "through the map's occupied voxels on the straight drive; 'always' before every drive");
   }
 };
 
