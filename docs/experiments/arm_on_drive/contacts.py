@@ -3,7 +3,7 @@
 
 Each argument is LABEL=RUN, a `canopy experiment` --out folder whose summaries count
 arm_drive_truth_contacts and arm_home_truth_contacts per stop. Prints per method, for each run:
-the drives after the first stop, those on which the arm touched the true plants at a check of the
+the drives (every stop's, the first from the aisle's start), those on which the arm touched the true plants at a check of the
 base and the contact checks in all, then the moves home before a drive that touched them and their
 contact checks (executed arm states).
 
@@ -38,7 +38,7 @@ def main():
                         sys.exit(f"contacts.py: {t} has no arm_home_truth_contacts (an older canopy)")
                     s["arm_home_truth_contacts"] = 0
             r = table.setdefault((label, method), [0, 0, 0, 0, 0])
-            for s in stops[1:]:
+            for s in stops:
                 r[0] += 1
                 r[1] += s["arm_drive_truth_contacts"] > 0
                 r[2] += s["arm_drive_truth_contacts"]
