@@ -178,20 +178,24 @@ std::string Mission::Impl::clear_arm_for_drive(int k, const BasePose& goal, bool
   const ArmConfig& home = model.config().home;
   if (q0 == home) return always ? "home" : "free";
   const BasePose start = sim.base_pose();
-  // A long row's environment holds the map near the last stop only: the sweep is tested where
-  // the arm stays inside it (the arm reaches less than a metre from the base).
-  const double near = near_robot_m();
-  const double held_x = k > 0 ? stops_x[static_cast<std::size_t>(k - 1)] : start.x_m;
-  const double inf = std::numeric_limits<double>::infinity();
-  bool in_way = false;
+  // A long row's environment holds the map near the last stop only: the sweep is tested for base
+  // x within `near` less a margin of that stop, where the arm (it reaches less than a metre from
+  // the base) stays inside what is held.
+  constexpr double kArmReachMarginM = 1.5;
+  double x_lo = -std::numeric_limits<double>::infinity(), x_hi = std::numeric_limits<double>::infinity();
+  if (const double near = near_robot_m(); near > 0.0) {
+    const double held_x = k > 0 ? stops_x[static_cast<std::size_t>(k - 1)] : start.x_m;
+    x_lo = held_x - (near - kArmReachMarginM);
+    x_hi = held_x + (near - kArmReachMarginM);
+  }
+  bool in_way = always;
   {
     ScopedPhase t(result.times, to_string(WallPhase::kMotionPlanning));
     scans.follow();  // the last scan's voxels in the environment
     clear_robot_volume();
-    in_way = always || motion::held_arm_sweep_hit(map_checker, start, goal, q0, 0.5 * map_env->resolution_m(),
-                                                  near > 0.0 ? held_x - (near - 1.5) : -inf,
-                                                  near > 0.0 ? held_x + (near - 1.5) : inf)
-                           .has_value();
+    if (!always)
+      in_way = motion::held_arm_sweep_hit(map_checker, start, goal, q0, 0.5 * map_env->resolution_m(), x_lo, x_hi)
+                   .has_value();
   }
   if (!in_way) return "free";
   motion::PlanResult plan;
