@@ -158,6 +158,10 @@ void Mission::Impl::nbv_loop(int k, int scan_views_count) {
       index.keep_x(map, stops_x[static_cast<std::size_t>(k)] - near, stops_x[static_cast<std::size_t>(k)] + near);
     req.base = sim.base_pose();
     req.q = sim.arm_positions();
+    // The camera where the arm is now: after a drive and a stop without a successful view nothing
+    // has rendered (which updates the kinematics) since the last step, and a render in between
+    // (the candidate audit's) must not change what the planner is given.
+    sim.update_kinematics();
     req.T_world_camera = sim.camera_pose();
     req.budget = wanted_total - ok;
     req.max_views = static_cast<std::size_t>(attempts_left);

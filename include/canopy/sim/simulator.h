@@ -129,7 +129,9 @@ class Simulator {
   double timestep() const { return model_->opt.timestep; }
   /// Recomputes positions-dependent quantities (kinematics, cameras) for the current qpos.
   void update_kinematics();
-  /// T_world_camera of the wrist camera (optical frame: x right, y down, z forward).
+  /// T_world_camera of the wrist camera (optical frame: x right, y down, z forward), as the
+  /// kinematics last computed it: after step() that is the state before the step's integration
+  /// (MuJoCo's positions-dependent quantities lag qpos by a step) until update_kinematics().
   Pose camera_pose() const;
   /// World pose of a robot link (its frame site).
   Pose frame_pose(const std::string& link) const;
