@@ -10,8 +10,11 @@ standard error over the worlds), then per preset the failed attempts, plan_timeo
 simulated time per mission and whether every mission without a move home gave the same views.csv.
 --csv FILE also writes one row per trial.
 
-  python3 docs/experiments/arm_on_drive/compare.py default=runs/clear_eval:runs/learned_eval \\
-      dense=runs/clear_eval_dense:runs/learned_eval_dense --csv trials.csv
+  python3 docs/experiments/arm_on_drive/compare.py default=runs/learned_eval:runs/hold_eval \\
+      dense=runs/learned_eval_dense:runs/hold_eval_dense --csv trials.csv
+
+(Fig. 3's experiment files run with the default, `clear` since 7 December 2026; hold_eval*.yaml
+beside this script are the same missions with `hold`.)
 """
 import argparse
 import csv

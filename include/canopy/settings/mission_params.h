@@ -18,7 +18,7 @@ struct StopParams {
   std::vector<double> positions_m;
   double base_y_m = 0.0;
   double timeout_s = 30.0;
-  std::string arm_on_drive = "hold";
+  std::string arm_on_drive = "clear";
 
   template <class A>
   void visit(A& a) {
