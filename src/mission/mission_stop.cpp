@@ -160,7 +160,8 @@ void Mission::Impl::nbv_loop(int k, int scan_views_count) {
     req.q = sim.arm_positions();
     // The camera where the arm is now: after a drive and a stop without a successful view nothing
     // has rendered (which updates the kinematics) since the last step, and a render in between
-    // (the candidate audit's) must not change what the planner is given.
+    // (the candidate audit's) must not change what the planner is given. (The robot model's pose,
+    // model.camera_pose(base, q), differs from MuJoCo's in the last digits: it would change views.)
     sim.update_kinematics();
     req.T_world_camera = sim.camera_pose();
     req.budget = wanted_total - ok;

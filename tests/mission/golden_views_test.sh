@@ -17,7 +17,7 @@
 # again for that model trained on nine tuning worlds instead of three (the same day), and for
 # the same data and inputs trained with rank:ndcg instead of rank:pairwise (the same day).
 # global's, reveal's and learned's were retaken when mission.stops.arm_on_drive became `clear`
-# (7 December 2026: their default missions move the arm home before a drive; the others' do not).
+# (7 December 2026: their default missions changed; the others' hashes held).
 set -euo pipefail
 canopy="$1"
 here="$(cd "$(dirname "$0")" && pwd)"
