@@ -129,7 +129,7 @@ std::size_t IncrementalEvaluator::memory_bytes() const {
   for (const auto& entry : components_) component_codes += entry.second.codes.capacity() * sizeof(std::uint64_t);
   return point_covered_.capacity() + (first_point_.capacity() + centroids_.capacity() * 3 + fruit_x_lo_.capacity() * 2) * 8 +
          tree(window_points()) + window_index_.capacity() * 4 + fruit_boxes_.capacity() * sizeof(KeyBox) +
-         box_cells_.capacity() * 16 + voxels_.size() * (8 + 1 + hashed) + component_of_.size() * (8 + 4 + hashed) +
+         box_cells_.capacity() * 16 + voxels_.memory_bytes() + component_of_.size() * (8 + 4 + hashed) +
          component_codes;
 }
 
@@ -160,13 +160,16 @@ void IncrementalEvaluator::index_fruit_boxes(const SemanticOcTree& map) {
   box_cells_.shrink_to_fit();
 }
 
-void IncrementalEvaluator::mark_dirty_fruits(std::uint64_t code, std::vector<char>* dirty) const {
+void IncrementalEvaluator::mark_dirty_fruits(std::uint64_t code, CellRange* last, std::vector<char>* dirty) const {
   const octomap::OcTreeKey k = mapping::morton_key(code);
   const std::uint64_t cell = std::uint64_t(k[0] >> kBoxCellShift) | std::uint64_t(k[1] >> kBoxCellShift) << 16 |
                              std::uint64_t(k[2] >> kBoxCellShift) << 32;
-  const auto range = std::equal_range(box_cells_.begin(), box_cells_.end(), std::make_pair(cell, std::uint32_t(0)),
-                                      [](const auto& a, const auto& b) { return a.first < b.first; });
-  for (auto it = range.first; it != range.second; ++it) {
+  if (cell != last->cell) {  // codes in Morton order stay in a cell for runs of them
+    const auto range = std::equal_range(box_cells_.begin(), box_cells_.end(), std::make_pair(cell, std::uint32_t(0)),
+                                        [](const auto& a, const auto& b) { return a.first < b.first; });
+    *last = {cell, range.first, range.second};
+  }
+  for (auto it = last->first; it != last->last; ++it) {
     const KeyBox& b = fruit_boxes_[it->second];
     bool inside = true;
     for (int a = 0; a < 3; ++a) inside = inside && b.lo[a] <= int(k[a]) && int(k[a]) <= b.hi[a];
@@ -184,8 +187,7 @@ std::uint8_t IncrementalEvaluator::classify(const SemanticOcTree& map, const oct
 }
 
 void IncrementalEvaluator::set_voxel(std::uint64_t code, std::uint8_t flags, const Vec3& centre) {
-  const auto it = voxels_.find(code);
-  const std::uint8_t old = it == voxels_.end() ? 0 : it->second;
+  const std::uint8_t old = voxels_.get(code);
   // Whether a fruit voxel lies on a true fruit is fixed by its centre: tested once.
   if (flags && ((old & kOnFruit) || (!old && surface_->on_fruit(centre)))) flags |= kOnFruit;
   const auto count = [&](std::uint8_t f, bool add) {
@@ -200,8 +202,7 @@ void IncrementalEvaluator::set_voxel(std::uint64_t code, std::uint8_t flags, con
   const std::uint8_t rule_flag = params_.rule == EvaluationRule::kPaper ? kPaper : kPrototype;
   if ((old & rule_flag) && !(flags & rule_flag)) left_.push_back(code);
   if (!(old & rule_flag) && (flags & rule_flag)) joined_.push_back(code);
-  if (flags) voxels_[code] = flags;
-  else if (it != voxels_.end()) voxels_.erase(it);
+  voxels_.set(code, flags);
 }
 
 std::uint8_t IncrementalEvaluator::covered_flags(const SemanticOcTree& map, const Vec3& p) const {
@@ -211,10 +212,10 @@ std::uint8_t IncrementalEvaluator::covered_flags(const SemanticOcTree& map, cons
   for_each_key_overlapping(p - Vec3::Constant(r + kSlack), p + Vec3::Constant(r + kSlack), resolution_,
                            [&](const octomap::OcTreeKey& key) {
                              if (out == (kPaper | kPrototype)) return;
-                             const auto it = voxels_.find(mapping::morton_code(key));
-                             if (it == voxels_.end()) return;
+                             const std::uint8_t flags = voxels_.get(mapping::morton_code(key));
+                             if (!flags) return;
                              if (squared_distance(p, map.center_of(key)) > r2) return;
-                             out |= it->second & (kPaper | kPrototype);
+                             out |= flags & (kPaper | kPrototype);
                            });
   return out;
 }
@@ -290,12 +291,12 @@ const MapMetrics& IncrementalEvaluator::update(const SemanticOcTree& map, const 
   // (the window first made to hold their stretch).
   std::vector<std::pair<std::uint64_t, std::uint8_t>> flips;
   double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  CellRange cell;
   for (const mapping::VoxelUpdate& u : changed) {
-    mark_dirty_fruits(u.code, &fruit_dirty);
+    mark_dirty_fruits(u.code, &cell, &fruit_dirty);
     const octomap::OcTreeKey key = mapping::morton_key(u.code);
     const std::uint8_t now = classify(map, key, map.find(key));
-    const auto it = voxels_.find(u.code);
-    const std::uint8_t old = it == voxels_.end() ? 0 : std::uint8_t(it->second & (kPaper | kPrototype));
+    const std::uint8_t old = std::uint8_t(voxels_.get(u.code) & (kPaper | kPrototype));
     if (now == old) continue;
     flips.emplace_back(u.code, now);
     const double x = map.center_of(key).x();
@@ -346,8 +347,7 @@ void IncrementalEvaluator::update_components(const SemanticOcTree& map) {
   if (joined_.empty() && left_.empty()) return;
   const std::uint8_t rule_flag = params_.rule == EvaluationRule::kPaper ? kPaper : kPrototype;
   const auto in_set = [&](std::uint64_t code) {
-    const auto it = voxels_.find(code);
-    return it != voxels_.end() && (it->second & rule_flag);
+    return (voxels_.get(code) & rule_flag) != 0;
   };
   const auto for_each_neighbour = [](std::uint64_t code, auto&& f) {
     const octomap::OcTreeKey k = mapping::morton_key(code);

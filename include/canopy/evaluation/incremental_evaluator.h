@@ -3,12 +3,13 @@
 // change is scored again, so a view costs the same whatever the size of the world and the map.
 //
 //  - coverage: a surface point's covered flag (per rule) can only change when a fruit voxel
-//    within delta S of it appears or disappears; only those points are tested again, against a
-//    hash of the current fruit voxels (the same squared distance, summed in the same order, as
+//    within delta S of it appears or disappears; only those points are tested again, against the
+//    current fruit voxels (the same squared distance, summed in the same order, as
 //    the reference's KD-tree query);
 //  - entropy: a fruit's entropies are summed again when a changed voxel lies in its paper box
 //    or its prototype sphere's box;
-//  - fruit voxels and their voxel precision (on a true fruit or not) are kept in a hash;
+//  - fruit voxels and their voxel precision (on a true fruit or not) are kept in bricks
+//    (brick_flags.h);
 //  - detection: the fruit voxels' connected components are kept; only those a change touches
 //    (a voxel of theirs left, or a new voxel next to them) are flooded again, and each cluster
 //    is computed as fruit_clusters computes it (members in grid-cell order).
@@ -28,6 +29,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "canopy/evaluation/brick_flags.h"
 #include "canopy/evaluation/fruit_metrics.h"
 #include "canopy/evaluation/map_metrics.h"
 #include "canopy/mapping/semantic_octree.h"
@@ -91,7 +93,12 @@ class IncrementalEvaluator {
   void hold_x(double lo, double hi);
   /// Indices (fruit by fruit, in truth order) of the points within `radius` of `q`, appended; q +- radius held.
   void points_within(const Vec3& q, double radius, std::vector<std::uint32_t>* out);
-  void mark_dirty_fruits(std::uint64_t code, std::vector<char>* dirty) const;
+  /// The boxes of one grid cell (box_cells_' entries), the last cell mark_dirty_fruits() looked up.
+  struct CellRange {
+    std::uint64_t cell = ~std::uint64_t(0);  // no cell
+    std::vector<std::pair<std::uint64_t, std::uint32_t>>::const_iterator first, last;
+  };
+  void mark_dirty_fruits(std::uint64_t code, CellRange* last, std::vector<char>* dirty) const;
   void update_components(const SemanticOcTree& map);
 
   /// A fruit's entropy box as the (clamped) key range its voxels fill; two per fruit.
@@ -131,7 +138,7 @@ class IncrementalEvaluator {
   std::vector<KeyBox> fruit_boxes_;                                ///< 2 i, 2 i + 1: fruit i's.
   std::vector<std::pair<std::uint64_t, std::uint32_t>> box_cells_;  ///< (cell, box), sorted.
 
-  std::unordered_map<std::uint64_t, std::uint8_t> voxels_;  ///< Fruit voxels: kPaper [| kPrototype] | kOnFruit.
+  BrickFlags voxels_;  ///< Fruit voxels: kPaper [| kPrototype] | kOnFruit.
   std::size_t paper_voxels_ = 0, prototype_voxels_ = 0;
   std::size_t paper_on_fruit_ = 0, prototype_on_fruit_ = 0;
 
