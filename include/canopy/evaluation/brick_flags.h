@@ -3,9 +3,9 @@
 // (mapping::morton_code), kept in bricks of 8 x 8 x 8 voxels: a brick is the run of 512 codes
 // that share all but their last 9 bits. A scan's voxel updates come sorted by Morton code, so
 // looking them up one after another mostly stays in the brick looked up last, which is
-// remembered: one hash lookup per brick instead of one per voxel. (A hash of every voxel was
-// most of the evaluator's cost on a 200-plant row, where its millions of entries miss the
-// caches on every lookup: docs/performance.md.)
+// remembered: one hash lookup per brick instead of one per voxel. (Looking voxels up in a hash of
+// every fruit voxel was about 40 % of the evaluator's time on a 200-plant row, its lookups
+// missing the caches: docs/performance.md.)
 //
 // A voxel absent from the set reads 0; setting 0 removes it, and a brick with no voxel left is
 // freed. Not safe for concurrent readers: get() remembers the brick it read.
