@@ -6,7 +6,10 @@ planner scored with its view features (nbv/view_features.h: columns f:<name>) an
 (the uncovered true fruit surface points it sees). One round is one query; the model orders its
 candidates (XGBoost learning to rank, gradient-boosted trees).
 
-    python3 tools/train_view_ranker.py runs/ranker_default runs/ranker_dense --out models/nbv/view_ranker.json
+    python3 tools/train_view_ranker.py runs/ranker_default runs/ranker_dense --out model.json
+
+(The model in the tree, models/nbv/view_ranker.json, comes from the command in docs/learned.md,
+"Training data and the command", with its flags and four audits.)
 
 Only tuning worlds train: a trial whose world seed is 1000 or more (the evaluation worlds) is
 refused, one line and exit 2. --evaluate RUN... ranks the model against the truth on other runs
