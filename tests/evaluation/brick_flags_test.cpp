@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "canopy/evaluation/brick_flags.h"
+#include "canopy/mapping/voxel_key.h"
 
 using canopy::evaluation::BrickFlags;
 
@@ -80,4 +81,25 @@ TEST(BrickFlags, ABrickIsTheRunOf512CodesSharingTheirHighBits) {
   EXPECT_EQ(flags.get(1024), 3);
   EXPECT_EQ(flags.get(511), 4);
   EXPECT_EQ(flags.size(), 2u);
+}
+
+TEST(BrickFlags, ItsBricksAreTheVoxelIndexsBricks) {
+  // Every voxel of one mapping::brick_key, and only those, share a brick here: filling the 512
+  // voxels of a brick (and one voxel of each neighbour) makes one brick per brick_key.
+  BrickFlags flags;
+  const unsigned bx = 4097, by = 123, bz = 77;  // brick coordinates
+  for (unsigned z = 0; z < 8; ++z)
+    for (unsigned y = 0; y < 8; ++y)
+      for (unsigned x = 0; x < 8; ++x) {
+        const octomap::OcTreeKey k(octomap::key_type(bx * 8 + x), octomap::key_type(by * 8 + y), octomap::key_type(bz * 8 + z));
+        ASSERT_EQ(canopy::mapping::brick_key(k), canopy::mapping::brick_key_of_brick(bx, by, bz));
+        flags.set(canopy::mapping::morton_code(k), 1);
+      }
+  EXPECT_EQ(flags.bricks(), 1u);
+  EXPECT_EQ(flags.size(), 512u);
+  const octomap::OcTreeKey past(octomap::key_type(bx * 8 + 8), octomap::key_type(by * 8), octomap::key_type(bz * 8));
+  const octomap::OcTreeKey before(octomap::key_type(bx * 8), octomap::key_type(by * 8 - 1), octomap::key_type(bz * 8));
+  flags.set(canopy::mapping::morton_code(past), 2);
+  flags.set(canopy::mapping::morton_code(before), 3);
+  EXPECT_EQ(flags.bricks(), 3u);
 }

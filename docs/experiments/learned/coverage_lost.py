@@ -76,7 +76,7 @@ def main():
                     continue
                 x = [float(r[f]) for _, r in lost]
                 y = [-d for d, _ in lost]
-                corr = statistics.correlation(x, y) if len(x) > 2 and hasattr(statistics, "correlation") else float("nan")
+                corr = statistics.correlation(x, y) if len(x) > 2 else float("nan")
                 print(f"  {f}: mean {statistics.mean(x):.3f} where SC was lost, {statistics.mean(float(r[f]) for _, r in kept):.3f} "
                       f"elsewhere; its correlation with the loss's size {corr:+.2f}")
 

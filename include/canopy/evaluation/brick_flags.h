@@ -1,9 +1,11 @@
 #pragma once
 // A byte of flags per voxel for a sparse set of voxels, addressed by Morton code
-// (mapping::morton_code), kept in bricks of 8 x 8 x 8 voxels: a brick is the run of 512 codes
-// that share all but their last 9 bits. A scan's voxel updates come sorted by Morton code, so
-// looking them up one after another mostly stays in the brick looked up last, which is
-// remembered: one hash lookup per brick instead of one per voxel. (Looking voxels up in a hash of
+// (mapping::morton_code), kept in the project's bricks of 8 x 8 x 8 voxels (mapping/voxel_key.h).
+// In Morton order a brick is the run of 512 codes that share all but their last 9 bits, so a
+// brick is found by the code shifted, not by mapping::brick_key (which would decode the code
+// first). A scan's voxel updates come sorted by Morton code, so looking them up one after
+// another mostly stays in the brick looked up last, which is remembered: one hash lookup per
+// brick instead of one per voxel. (Looking voxels up in a hash of
 // every fruit voxel was about 40 % of the evaluator's time on a 200-plant row, its lookups
 // missing the caches: docs/performance.md.)
 //
@@ -14,6 +16,8 @@
 #include <cstddef>
 #include <cstdint>
 #include <unordered_map>
+
+#include "canopy/mapping/voxel_key.h"
 
 namespace canopy::evaluation {
 
@@ -57,15 +61,18 @@ class BrickFlags {
     last_key_ = kNone;
     last_ = nullptr;
   }
-  /// Bytes held: the bricks, each with a hash entry and its bucket.
-  std::size_t memory_bytes() const { return bricks_.size() * (sizeof(Brick) + 8 + 2 * sizeof(void*)) + bricks_.bucket_count() * sizeof(void*); }
+  /// Bytes held: the bricks, each in a hash node (its key and link), and the buckets.
+  std::size_t memory_bytes() const {
+    return bricks_.size() * (sizeof(Brick) + sizeof(std::uint64_t) + sizeof(void*)) + bricks_.bucket_count() * sizeof(void*);
+  }
 
  private:
-  static constexpr unsigned kShift = 9;
+  static constexpr unsigned kShift = 3 * mapping::kBrickBits;  // a brick's cells in the code's low bits
   static constexpr std::uint64_t kMask = (std::uint64_t(1) << kShift) - 1;
+  static_assert(mapping::kBrickCells == int(kMask + 1), "a brick is the run of codes kShift spans");
   static constexpr std::uint64_t kNone = ~std::uint64_t(0);  // no Morton code shifted by kShift
   struct Brick {
-    std::array<std::uint8_t, std::size_t(1) << kShift> flags{};
+    std::array<std::uint8_t, mapping::kBrickCells> flags{};
     std::uint16_t count = 0;  // non-zero flags
   };
   const Brick* find(std::uint64_t key) const {
