@@ -449,6 +449,9 @@ def main():
                     help="tuning world seeds kept out of training and ranked instead (model selection)")
     ap.add_argument("--methods", nargs="*", default=[],
                     help="train on the rounds of these trial labels only (e.g. ours shape reveal: the shipped model)")
+    ap.add_argument("--p-gt", type=float, nargs="*", default=[], metavar="P",
+                    help="only the rounds of trials with these segmentation accuracies (P_gt): a model for a "
+                         "segmentation that clean or that noisy (nbv.learned.noisy_model: trained on P_gt 0.7)")
     ap.add_argument("--objective", default="rank:pairwise")
     ap.add_argument("--trees", type=int, default=300)
     ap.add_argument("--depth", type=int, default=6)
@@ -488,6 +491,11 @@ def main():
     if not args.runs or not (args.out or args.cv):
         fail("give the tuning runs to train on and --out or --cv (or --model with --evaluate)")
     rounds, names, scores_names = read_rounds(args.runs, tuning_only=True)
+    if args.p_gt:
+        missing = sorted(set(args.p_gt) - {r["p_gt"] for r in rounds})
+        if missing:
+            fail(f"--p-gt: no trial with P_gt {missing[0]:g} in the training runs")
+        rounds = [r for r in rounds if r["p_gt"] in args.p_gt]
     if args.drop_features:
         unknown = sorted(set(args.drop_features) - set(names))
         if unknown:

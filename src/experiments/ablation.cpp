@@ -96,10 +96,7 @@ nlohmann::json run_ablation_job(const AblationConfig& cfg, int trial, int plant,
   mapping::SemanticOcTree map(mp, world.spec.classes);
   mapping::ScanInserter inserter(map);
   nbv::VoxelIndex index;
-  nbv::ViewPlannerSettings ps;
-  ps.params = s.nbv;
-  ps.intrinsics = renderer.intrinsics();
-  ps.method = s.method;
+  const nbv::ViewPlannerSettings ps = canopy::settings::planner_settings(s, renderer.intrinsics());
   const std::unique_ptr<nbv::ViewPlanner> planner = nbv::make_view_planner(ps);
   Rng init_rng(mix_seed(job_seed, 2));      // initial views: shared by all configurations
   Rng fallback_rng(mix_seed(job_seed, 3));  // views when the planner has none

@@ -30,10 +30,7 @@ NextViewsJobResult next_views(const mapping::SemanticOcTree& map, const settings
   NextViewsJobResult out;
   out.method = settings.method;
   out.joints = checked_joints(robot, job);
-  nbv::ViewPlannerSettings ps;
-  ps.params = settings.nbv;
-  ps.intrinsics = job.intrinsics.value_or(CameraIntrinsics{});
-  ps.method = settings.method;
+  const nbv::ViewPlannerSettings ps = canopy::settings::planner_settings(settings, job.intrinsics.value_or(CameraIntrinsics{}));
   const std::unique_ptr<nbv::ViewPlanner> planner = nbv::make_view_planner(ps, "method");
 
   motion::NextViewsRequest req;

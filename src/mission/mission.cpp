@@ -23,10 +23,7 @@ Mission::Impl::Impl(const world::World& w, const Settings& s, std::uint64_t miss
       map(map_params(s), w.spec.classes), inserter(map), extractor(extractor_params(s, mission_seed), w.spec.classes),
       stepper(sim, callbacks.video_period_s, video_tick(), callbacks.stop_requested),
       stops_x(stop_positions(s.mission.stops, w.spec)), evaluator(w.truth, s.mapping.metrics) {
-  nbv::ViewPlannerSettings ps;
-  ps.params = s.nbv;
-  ps.intrinsics = w.spec.camera;
-  ps.method = s.method;
+  nbv::ViewPlannerSettings ps = canopy::settings::planner_settings(s, w.spec.camera);
   auto context = std::make_shared<MissionContext>();
   context->world = &world;
   context->sim = &sim;

@@ -122,6 +122,15 @@ std::vector<SettingOverride> parse_overrides(const std::vector<std::string>& tex
 
 std::string default_settings_path() { return "configs/canopy.yaml"; }
 
+nbv::ViewPlannerSettings planner_settings(const Settings& s, const CameraIntrinsics& intrinsics) {
+  nbv::ViewPlannerSettings ps;
+  ps.params = s.nbv;
+  ps.intrinsics = intrinsics;
+  ps.method = s.method;
+  ps.label_accuracy = s.mapping.extractor.p_gt;
+  return ps;
+}
+
 std::vector<std::string> generated_settings_files() { return {"canopy", "nbv"}; }
 
 std::string settings_file_text(const std::string& name, const std::string& where) {
