@@ -37,6 +37,9 @@ fruit-value model written beside the ranker (X.fruit_value.json for --out X.json
 every training round. Both carry the same canopy_pair attribute; nbv::ViewRanker and --model read
 the pair and refuse a ranker without its own fruit-value model.
 
+--p-gt P... trains (or cross-validates) on the rounds of trials with those segmentation accuracies
+only: a model for a clean or a noisy segmentation alone (docs/learned.md: tried, not taken).
+
 --drop-features NAME... trains without some recorded features (an ablation). A model reads its
 features by name: --evaluate runs may record more features than it names.
 """
@@ -450,8 +453,8 @@ def main():
     ap.add_argument("--methods", nargs="*", default=[],
                     help="train on the rounds of these trial labels only (e.g. ours shape reveal: the shipped model)")
     ap.add_argument("--p-gt", type=float, nargs="*", default=[], metavar="P",
-                    help="only the rounds of trials with these segmentation accuracies (P_gt): a model for a "
-                         "segmentation that clean or that noisy (nbv.learned.noisy_model: trained on P_gt 0.7)")
+                    help="only the rounds of trials with these segmentation accuracies (P_gt): a model for a segmentation "
+                         "that clean or that noisy (docs/learned.md: tried, not taken)")
     ap.add_argument("--objective", default="rank:pairwise")
     ap.add_argument("--trees", type=int, default=300)
     ap.add_argument("--depth", type=int, default=6)

@@ -127,7 +127,6 @@ nbv::ViewPlannerSettings planner_settings(const Settings& s, const CameraIntrins
   ps.params = s.nbv;
   ps.intrinsics = intrinsics;
   ps.method = s.method;
-  ps.label_accuracy = s.mapping.extractor.p_gt;
   return ps;
 }
 

@@ -8,7 +8,8 @@ text is the same when run twice (fixed seed). An evaluation world (seed >= 1000)
 or --cv beside --out, is one line and exit 2. --fruit-maxima trains a model that also names each
 feature's fruit maximum (equal to a slow reference), which --model --evaluate reads back;
 --drop-features trains on fewer features, and such a model reads a run recording more by name;
---fruit-value writes a fruit-value model beside the ranker, paired with it, read back by --model.
+--fruit-value writes a fruit-value model beside the ranker, paired with it, read back by --model;
+--p-gt keeps the rounds of trials with those segmentation accuracies only.
 Usage: train_view_ranker_test.py SOURCE_DIR"""
 import csv
 import json
@@ -135,6 +136,13 @@ with tempfile.TemporaryDirectory() as tmp:
         r = run(runs, *bad, "--out", str(pathlib.Path(tmp) / "bad.json"), *small)
         check(r.returncode == 2 and len(r.stderr.strip().splitlines()) == 1 and what in r.stderr,
               f"{' '.join(bad)}: one line, exit 2 ({r.returncode}: {r.stderr.strip()})")
+
+    # --p-gt: the rounds of trials with those segmentation accuracies only (all of these are P_gt 1).
+    same = run(runs, "--cv", *small, "--p-gt", "1")
+    check(same.returncode == 0 and same.stdout == first.stdout, f"--p-gt 1 keeps every round here ({same.stderr.strip()})")
+    r = run(runs, "--cv", *small, "--p-gt", "0.7")
+    check(r.returncode == 2 and len(r.stderr.strip().splitlines()) == 1 and "no trial with P_gt 0.7" in r.stderr,
+          f"--p-gt 0.7 with no such trial: one line, exit 2 ({r.returncode}: {r.stderr.strip()})")
 
     # --fruit-value: a fruit-value model beside the ranker, paired with it; the ranker reads
     # fruit_value, --model reads both back, and a ranker whose fruit-value model is missing or

@@ -73,37 +73,3 @@ TEST(Learned, AModelFileItCannotUseIsRefusedNamingIt) {
 }
 
 }  // namespace
-
-// Which model plans: the noisy segmentation's when the segmentation's accuracy is below 1 (auto)
-// or when asked, else `model`. Shown by which of the two files, one of them missing, is read.
-TEST(Learned, PlansWithTheNoisyModelWhenTheSegmentationIsNoisy) {
-  const std::string model =
-      nbv_test::train_model("by_shape_seen.json", feature_index("shape_seen"), {}, 300.f);
-  const std::string missing = "/nonexistent/clean_view_ranker.json";
-  auto refused = [](const ViewPlannerSettings& s, const std::string& what) {
-    try {
-      learned::make_planner(s);
-      return std::string("no refusal");
-    } catch (const InputError& e) {
-      return std::string(e.what()).find(what) != std::string::npos ? std::string() : std::string(e.what());
-    }
-  };
-  ViewPlannerSettings s = learned_settings(missing);
-  s.params.planner<LearnedParams>().noisy_model = model;
-  s.label_accuracy = 0.7;  // auto: the noisy model, which exists
-  EXPECT_NO_THROW(learned::make_planner(s));
-  s.label_accuracy = 1.0;  // auto: the clean one, which does not
-  EXPECT_EQ(refused(s, "'" + missing + "': no such file"), "");
-  s.params.planner<LearnedParams>().segmentation = LabelNoise::kNoisy;  // asked: noisy whatever P_gt
-  EXPECT_NO_THROW(learned::make_planner(s));
-  s.params.planner<LearnedParams>().segmentation = LabelNoise::kClean;
-  s.label_accuracy = 0.7;
-  EXPECT_EQ(refused(s, "'" + missing + "': no such file"), "");
-  // No noisy model named: auto plans with `model` for both; asking for it is refused.
-  s = learned_settings(model);
-  s.params.planner<LearnedParams>().noisy_model = "";
-  s.label_accuracy = 0.7;
-  EXPECT_NO_THROW(learned::make_planner(s));
-  s.params.planner<LearnedParams>().segmentation = LabelNoise::kNoisy;
-  EXPECT_EQ(refused(s, "nbv.learned.noisy_model names no model"), "");
-}

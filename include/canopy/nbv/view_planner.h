@@ -237,9 +237,6 @@ struct ViewPlannerSettings {
   CameraIntrinsics intrinsics;
   MethodChoice method;
   std::shared_ptr<const PlannerContext> context;  ///< May be null (no mission: canopy nbv, tests).
-  /// The segmentation's accuracy: the probability a mask keeps its class (P_gt,
-  /// mapping.extractor.p_gt; 1: labels as good as the truth). learned picks its model by it.
-  double label_accuracy = 1.0;
 };
 
 /// One registry entry.

@@ -84,8 +84,8 @@ struct Settings {
   bool operator==(const Settings& o) const { return to_yaml_text() == o.to_yaml_text(); }
 };
 
-/// What a planner is built from, out of a bundle: its method, the nbv section, the segmentation's
-/// accuracy (mapping.extractor.p_gt) and the camera; the context is left for a mission to set.
+/// What a planner is built from, out of a bundle: its method, the nbv section and the camera; the
+/// context is left for a mission to set.
 nbv::ViewPlannerSettings planner_settings(const Settings& s, const CameraIntrinsics& intrinsics);
 /// Parses "key=value" (the value is YAML); throws InputError naming `where`.
 SettingOverride parse_override(const std::string& text, const std::string& where);

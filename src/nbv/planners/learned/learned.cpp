@@ -15,15 +15,6 @@ namespace canopy::nbv::learned {
 
 namespace {
 
-// The model file that plans: the noisy segmentation's when asked, or (auto) when the
-// segmentation's accuracy is below 1 and a noisy model is named.
-std::string model_of(const LearnedParams& p, double label_accuracy) {
-  const bool noisy = p.segmentation == LabelNoise::kNoisy || (p.segmentation == LabelNoise::kAuto && label_accuracy < 1.0);
-  if (noisy && p.noisy_model.empty() && p.segmentation == LabelNoise::kNoisy)
-    throw InputError("nbv.learned.segmentation: noisy, but nbv.learned.noisy_model names no model");
-  return find_data_file(noisy && !p.noisy_model.empty() ? p.noisy_model : p.model);
-}
-
 ViewFeatureParams feature_params(const LearnedParams& p) {
   ViewFeatureParams f;
   f.fit = p.fit;
@@ -36,7 +27,7 @@ ViewFeatureParams feature_params(const LearnedParams& p) {
 class LearnedPlanner : public RoundPlanner {
  public:
   explicit LearnedPlanner(const ViewPlannerSettings& s)
-      : RoundPlanner(s), params_(s.params.planner<LearnedParams>()), ranker_(model_of(params_, s.label_accuracy)),
+      : RoundPlanner(s), params_(s.params.planner<LearnedParams>()), ranker_(find_data_file(params_.model)),
         features_(s.intrinsics, s.params, feature_params(params_)) {
     const auto& names = view_feature_names();
     seen_ = std::size_t(std::find(names.begin(), names.end(), "shape_in_view") - names.begin());

@@ -4,22 +4,14 @@
 #include <string>
 #include <vector>
 
-#include "canopy/common/enum_names.h"
 #include "canopy/common/params.h"
 #include "canopy/mapping/shape_fit.h"
 
 namespace canopy::nbv {
 
-/// Which of learned's two models plans: the one trained on clean segmentation or on noisy.
-enum class LabelNoise { kAuto, kClean, kNoisy };
-inline constexpr EnumName<LabelNoise> kLabelNoiseNames[] = {
-    {LabelNoise::kAuto, "auto"}, {LabelNoise::kClean, "clean"}, {LabelNoise::kNoisy, "noisy"}};
-
 /// The planner on the learned view scorer "learned" (planners/learned/learned.h).
 struct LearnedParams {
   std::string model = "models/nbv/view_ranker.json";
-  std::string noisy_model;
-  LabelNoise segmentation = LabelNoise::kAuto;
   mapping::ShapeFitParams fit;
   std::vector<double> radii_m = {0.4};
   double spacing_m = 0.01;
@@ -32,11 +24,6 @@ struct LearnedParams {
     a("model", model,
       "The view scorer: an XGBoost model over the view features (tools/train_view_ranker.py; relative paths "
       "from the data folder); missing, corrupt or trained on other features: refused");
-    a("noisy_model", noisy_model,
-      "The view scorer for a noisy segmentation (trained on rounds mapped with P_gt 0.7); empty: `model` for both");
-    a.choice("segmentation", segmentation, kLabelNoiseNames,
-             "Which model plans: clean (`model`), noisy (`noisy_model`) or auto: noisy when the segmentation's "
-             "accuracy mapping.extractor.p_gt is below 1");
     a.section("fit", fit, "The fruit shape fit of the features (as nbv.shape.fit)");
     a("radii_m", radii_m, limits::in(0.05, 2.0), "Candidate spheres around each fitted fruit centre [m]");
     a.check(radii_m.size() <= 16, "radii_m", "holds more than 16 radii (each adds a sphere of candidates per fruit)");
