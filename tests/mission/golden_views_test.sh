@@ -17,7 +17,9 @@
 # again for that model trained on nine tuning worlds instead of three (the same day), and for
 # the same data and inputs trained with rank:ndcg instead of rank:pairwise (the same day).
 # global's, reveal's and learned's were retaken when mission.stops.arm_on_drive became `clear`
-# (7 December 2026: their default missions changed; the others' hashes held).
+# (7 December 2026: their default missions changed; the others' hashes held). learned's again
+# when its fruits took voxels hit once as fruit (nbv.learned.fruit_min_logodds 0, chosen in closed
+# loop on tuning worlds; 8 December 2026).
 set -euo pipefail
 canopy="$1"
 here="$(cd "$(dirname "$0")" && pwd)"

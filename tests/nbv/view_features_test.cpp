@@ -326,3 +326,48 @@ TEST(ViewFeatures, ReadAFruitsEvidenceFromItsVoxelsAndItsFit) {
     EXPECT_EQ(unknown[i][feature("fruit_logodds_mean")], known[i][feature("fruit_logodds_mean")]);
   }
 }
+
+// fruit_min_logodds: a fruit whose voxels were each hit once as fruit (log-odds 1) is no fruit
+// at the clustering's 1 (a voxel needs log-odds above it: two hits), and is one at 0; a fruit hit
+// twice is one at both.
+TEST(ViewFeatures, AFruitHitOnceIsAFruitOnlyBelowTheClusteringsThreshold) {
+  mapping::SemanticMapParams p;
+  p.threads = 1;
+  const double r = 0.03;
+  const Vec3 once(0.5, 0.0, 1.0), twice = once + Vec3(0.0, 0.3, 0.0);
+  mapping::SemanticOcTree map(p, SemanticClasses{});
+  const int fruit = map.classes().target_index();
+  const double res = map.getResolution();
+  for (const auto& [c, hits] : {std::pair<Vec3, int>{once, 1}, std::pair<Vec3, int>{twice, 2}}) {
+    octomap::OcTreeKey k0, k1;
+    ASSERT_TRUE(map.key_of(c - Vec3::Constant(2 * r), &k0) && map.key_of(c + Vec3::Constant(2 * r), &k1));
+    for (int x = k0[0]; x <= k1[0]; ++x)
+      for (int y = k0[1]; y <= k1[1]; ++y)
+        for (int z = k0[2]; z <= k1[2]; ++z) {
+          const octomap::OcTreeKey k{std::uint16_t(x), std::uint16_t(y), std::uint16_t(z)};
+          const octomap::point3d q = map.keyToCoord(k);
+          const Vec3 v(q.x(), q.y(), q.z());
+          if (std::abs((v - c).norm() - r) <= res / 2 && v.x() <= c.x())
+            for (int h = 0; h < hits; ++h) map.update_hit(k, fruit);
+        }
+  }
+  const Eigen::AlignedBox3d region(Vec3(0.2, -0.4, 0.6), Vec3(0.8, 0.6, 1.4));
+  const auto fruits = [&](double threshold) {
+    VoxelIndex index(map);
+    ViewFeatureParams fp;
+    fp.fruit_min_logodds = threshold;
+    ViewFeatures features(CameraIntrinsics{}, NbvParams{}, fp);
+    features.begin_round(map, index, region, synth::look_at(Vec3(0.1, 0.15, 1.0), once));
+    std::vector<double> y;
+    for (const FittedFruit& f : features.fruits()) y.push_back(f.cluster.centroid.y());
+    std::sort(y.begin(), y.end());
+    return y;
+  };
+  EXPECT_EQ(NbvParams{}.cluster.min_logodds, 1.0);
+  const std::vector<double> at_one = fruits(1.0), at_zero = fruits(0.0);
+  ASSERT_EQ(at_one.size(), 1u);
+  EXPECT_NEAR(at_one[0], twice.y(), 0.02);
+  ASSERT_EQ(at_zero.size(), 2u);
+  EXPECT_NEAR(at_zero[0], once.y(), 0.02);
+  EXPECT_NEAR(at_zero[1], twice.y(), 0.02);
+}

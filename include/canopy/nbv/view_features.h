@@ -38,6 +38,9 @@ struct ViewFeatureParams {
   double covered_m = 0.015;        ///< A predicted point is seen with a confirmed fruit voxel this close [m].
   double unknown_transmit = 0.97;  ///< Sight-line transmission per unknown voxel.
   double margin_m = 0.1;           ///< Fruit voxels within this of the stop region are clustered [m].
+  /// A voxel is one of a fruit's (clustered, fitted, confirmed) when its most likely class is the
+  /// target with log-odds above this (the other fields of the clustering: NbvParams::cluster).
+  double fruit_min_logodds = 1.0;
 };
 
 /// True when no point within `radius_m` of `centre_world` can lie in the view of a camera at

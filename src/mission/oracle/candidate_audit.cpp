@@ -22,6 +22,7 @@ nbv::ViewFeatureParams feature_params(const settings::Settings& s) {
   p.spacing_m = shape.spacing_m;
   p.covered_m = shape.covered_m;
   p.unknown_transmit = shape.unknown_transmit;
+  p.fruit_min_logodds = s.nbv.cluster.min_logodds;  // the training data's fruits (learned may plan with others)
   return p;
 }
 

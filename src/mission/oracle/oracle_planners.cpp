@@ -129,15 +129,17 @@ class OraclePlanner : public nbv::ViewPlanner {
   }
 
   // learned's candidates (planners/learned): spheres of nbv.learned.radii_m around the fitted
-  // centres of the stop's fruits (the shape fit of nbv.learned.fit), neither taken nor failed
+  // centres of the stop's fruits (the shape fit of nbv.learned.fit over the voxels above
+  // nbv.learned.fruit_min_logodds), neither taken nor failed
   // and reachable; no map test of what a view could add (the truth decides).
   std::vector<TruthView> learned_views(const nbv::ViewRequest& req, nbv::ViewBatch* batch) {
     const nbv::LearnedParams& lp = settings_.params.planner<nbv::LearnedParams>();
     std::vector<nbv::FittedFruit> fruits;
     {
       ScopedPhase phase(batch->times, "clustering");
-      fruits = nbv::fit_fruits(*req.map, settings_.params.cluster, lp.fit, &req.region, nbv::ViewFeatureParams{}.margin_m,
-                               nullptr, &fits_);
+      nbv::ClusterParams cluster = settings_.params.cluster;
+      cluster.min_logodds = lp.fruit_min_logodds;
+      fruits = nbv::fit_fruits(*req.map, cluster, lp.fit, &req.region, nbv::ViewFeatureParams{}.margin_m, nullptr, &fits_);
     }
     batch->clusters = fruits.size();
     std::vector<TruthView> out;

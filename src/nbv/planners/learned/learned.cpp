@@ -21,6 +21,7 @@ ViewFeatureParams feature_params(const LearnedParams& p) {
   f.spacing_m = p.spacing_m;
   f.covered_m = p.covered_m;
   f.unknown_transmit = p.unknown_transmit;
+  f.fruit_min_logodds = p.fruit_min_logodds;
   return f;
 }
 
