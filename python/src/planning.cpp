@@ -121,7 +121,9 @@ py::dict next_views(const PyMap& map, const py::object& base, const py::object& 
                     const py::object& method, const py::object& planner, const py::object& seed,
                     const py::object& intrinsics) {
   settings::Settings s = settings_from(settings);
-  choose_method(s, method, planner);
+  // The default is canopy nbv's, the planner a lab deploys (learned), not the bundle's method.name
+  // (the paper's ours, which run_mission keeps).
+  choose_method(s, method.is_none() && planner.is_none() ? py::str("learned") : method, planner);
   jobs::NextViewsJob job;
   job.base = base_from(base, "base");
   if (!joints.is_none()) job.joints = joints_from(joints, "joints");
@@ -240,7 +242,8 @@ planner in the loop scores against the mission's index with request.gains.)");
 for the stop's region (the settings' mission.loop box around the arm base), the workspace
 filter and IK against the map's occupied voxels, then the tour from joints (default: home).
 
-method: a planner name (default: the settings' method.name); planner: a Python planner
+method: a planner name (default: learned, as `canopy nbv`: the planner a lab deploys,
+docs/real_robot.md; the settings' method.name is run_mission's); planner: a Python planner
 (docs/python.md), instead of method. Returns {'views': dict of arrays (pose, target, cluster,
 gain, shift_m, source, tour_index (-1: no IK), has_joints, joints (NaN without IK)), 'method',
 'region', 'clusters', 'candidates', 'filtered', 'robot_voxels_cleared', 'finished', 'reason'}.)");

@@ -110,9 +110,14 @@ def same_as_the_cli(got, expected):
 
 def test_next_views_equal_the_cli(mapped, cli, tmp_path):
     m, path, base = mapped
-    cli("nbv", "--map", path, "--base", ",".join(map(repr, base)), "--out", tmp_path / "v.json")
+    # Both defaults are learned (the planner a lab deploys), whatever the settings' method.name.
+    cli("nbv", "--map", path, "--base", ",".join(map(repr, base)), "--out", tmp_path / "d.json")
+    default = canopy.next_views(m, base)
+    assert default["method"] == "learned" and json.load(open(tmp_path / "d.json"))["planner"] == "learned"
+    same_as_the_cli(default, json.load(open(tmp_path / "d.json")))
+    cli("nbv", "--map", path, "--base", ",".join(map(repr, base)), "--method", "ours", "--out", tmp_path / "v.json")
     expected = json.load(open(tmp_path / "v.json"))
-    got = canopy.next_views(m, base)
+    got = canopy.next_views(m, base, method="ours")
     assert got["method"] == "ours" and len(got["views"]["pose"]) > 0
     same_as_the_cli(got, expected)
     # The planner's gains are the gain function's, scored on the same map.

@@ -51,7 +51,7 @@ TEST(NbvCli, SavedMapGivesTheInProcessViews) {
   const BasePose base{-0.3, 0.0, 0.0};
   const std::string out = (saved.dir / "views.json").string();
   const ProcessStatus st = run_process({CANOPY_CLI, "nbv", "--map", (saved.dir / "map.csm").string(), "--base",
-                                        "-0.3,0,0", "--gain", "osamcep", "--k", "2", "--out", out});
+                                        "-0.3,0,0", "--method", "ours", "--gain", "osamcep", "--k", "2", "--out", out});
   ASSERT_TRUE(st.ok()) << st.describe();
   const nlohmann::json j = nlohmann::json::parse(read_file(out));
 
