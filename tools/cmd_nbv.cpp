@@ -95,9 +95,9 @@ void add_nbv_command(CLI::App& app) {
                   "View planner (canopy settings lists them; not an oracle); learned: the view scorer trained against "
                   "the truth, the planner a lab deploys (docs/real_robot.md); ours: the paper's")
       ->capture_default_str();
-  sub->add_option("--gain", opt->gain, "Gain of ours' views (default: the bundle's method.gain, osamcep)");
-  sub->add_option("--rays", opt->rays, "Ray set of ours (default: the bundle's method.rays, ours)");
-  sub->add_option("--k", opt->k, "Views ours keeps per cluster (default from config, nbv.ours.top_k)")
+  sub->add_option("--gain", opt->gain, "Gain of ours' views, with --method ours only (default: the bundle's method.gain, osamcep)");
+  sub->add_option("--rays", opt->rays, "Ray set of ours, with --method ours only (default: the bundle's method.rays, ours)");
+  sub->add_option("--k", opt->k, "Views ours keeps per cluster, with --method ours only (default from config, nbv.ours.top_k)")
       ->check(CLI::Range(1, 100));
   sub->add_option("--intrinsics", opt->intrinsics,
                   "Camera YAML (as for 'canopy map --frames', TUM); default: the D405 of configs");

@@ -452,7 +452,7 @@ def main():
                     help="tuning world seeds kept out of training and ranked instead (model selection)")
     ap.add_argument("--methods", nargs="*", default=[],
                     help="train on the rounds of these trial labels only (e.g. ours shape reveal: the shipped model)")
-    ap.add_argument("--p-gt", type=float, nargs="*", default=[], metavar="P",
+    ap.add_argument("--p-gt", type=float, nargs="+", default=[], metavar="P",
                     help="only the rounds of trials with these segmentation accuracies (P_gt): a model for a segmentation "
                          "that clean or that noisy (docs/learned.md: tried, not taken)")
     ap.add_argument("--objective", default="rank:pairwise")
@@ -486,8 +486,8 @@ def main():
         fail("--train-worlds: give a number of worlds, 0 or more (0: every other world)")
 
     if args.model:
-        if args.runs or args.out or args.holdout or not args.evaluate:
-            fail("--model ranks a trained model on --evaluate runs: give neither training runs, --out nor --holdout")
+        if args.runs or args.out or args.holdout or args.p_gt or not args.evaluate:
+            fail("--model ranks a trained model on --evaluate runs: give neither training runs, --out, --holdout nor --p-gt")
         booster = load_model(args.model, "model")
         finish(booster, paired_fruit_model(booster, args.model), booster.feature_names, [], [], args)
         return

@@ -114,6 +114,7 @@ def test_next_views_equal_the_cli(mapped, cli, tmp_path):
     cli("nbv", "--map", path, "--base", ",".join(map(repr, base)), "--out", tmp_path / "d.json")
     default = canopy.next_views(m, base)
     assert default["method"] == "learned" and json.load(open(tmp_path / "d.json"))["planner"] == "learned"
+    assert len(default["views"]["pose"]) > 0
     same_as_the_cli(default, json.load(open(tmp_path / "d.json")))
     cli("nbv", "--map", path, "--base", ",".join(map(repr, base)), "--method", "ours", "--out", tmp_path / "v.json")
     expected = json.load(open(tmp_path / "v.json"))

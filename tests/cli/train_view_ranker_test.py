@@ -32,16 +32,16 @@ def check(ok, what):
         print("FAIL:", what)
 
 
-def write_run(root, name, worlds):
+def write_run(root, name, worlds, p_gt=1.0):
     rng = np.random.default_rng(7)
     run = pathlib.Path(root) / name
     for world in worlds:
         for label in ("shape", "learned"):
-            trial_id = f"{label}_pgt1_world{world}_seed1"
+            trial_id = f"{label}_pgt{p_gt:g}_world{world}_seed1"
             folder = run / "trials" / trial_id
             (folder / "mission").mkdir(parents=True)
             (folder / "trial.json").write_text(json.dumps(
-                {"status": "ok", "trial": {"id": trial_id, "label": label, "method": label, "p_gt": 1.0,
+                {"status": "ok", "trial": {"id": trial_id, "label": label, "method": label, "p_gt": p_gt,
                                            "world_seed": world, "seed": 1}}))
             with open(folder / "mission" / "candidates.csv", "w", newline="") as f:
                 w = csv.writer(f)
@@ -137,9 +137,20 @@ with tempfile.TemporaryDirectory() as tmp:
         check(r.returncode == 2 and len(r.stderr.strip().splitlines()) == 1 and what in r.stderr,
               f"{' '.join(bad)}: one line, exit 2 ({r.returncode}: {r.stderr.strip()})")
 
-    # --p-gt: the rounds of trials with those segmentation accuracies only (all of these are P_gt 1).
-    same = run(runs, "--cv", *small, "--p-gt", "1")
-    check(same.returncode == 0 and same.stdout == first.stdout, f"--p-gt 1 keeps every round here ({same.stderr.strip()})")
+    # --p-gt: the rounds of trials with those segmentation accuracies only. The same worlds again at
+    # P_gt 0.7: --p-gt 1 ranks the first run's rounds alone (its text as without the second run's),
+    # --p-gt 0.7 the second's alone, both P_gt every round.
+    noisy = write_run(tmp, "noisy", [1, 2, 3], p_gt=0.7)
+    clean = run(runs, noisy, "--cv", *small, "--p-gt", "1")
+    clean_rows = [l for l in clean.stdout.splitlines() if l.startswith("| ")]
+    check(clean.returncode == 0 and clean_rows and all(l.startswith("| synthetic | 1 |") for l in clean_rows[2:]),
+          f"--p-gt 1: only P_gt 1's rounds ({clean.returncode}: {clean.stderr.strip()} {clean_rows[:4]})")
+    both = run(runs, noisy, "--cv", *small)
+    only = run(runs, noisy, "--cv", *small, "--p-gt", "0.7")
+    check(any("| noisy | 0.7 |" in l for l in both.stdout.splitlines()) and
+          not any("| synthetic |" in l for l in only.stdout.splitlines()) and
+          any("| noisy | 0.7 |" in l for l in only.stdout.splitlines()),
+          f"--p-gt 0.7: only the noisy run's rounds ({only.returncode}: {only.stderr.strip()})")
     r = run(runs, "--cv", *small, "--p-gt", "0.7")
     check(r.returncode == 2 and len(r.stderr.strip().splitlines()) == 1 and "no trial with P_gt 0.7" in r.stderr,
           f"--p-gt 0.7 with no such trial: one line, exit 2 ({r.returncode}: {r.stderr.strip()})")

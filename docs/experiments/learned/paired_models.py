@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Two models of one planner in closed loop on the same worlds, paired (docs/learned.md).
 
-Reads per-trial figures (goal_table.py --csv) of a new and a base model, preset by preset, and
+Reads per-trial figures (goal_table.py --csv) of a new and a base model, preset by preset
+(PRESET=CSV, or PRESET=CSV:LABEL for the trials of one label of a file holding several), and
 prints, per preset and P_gt, the new minus the base after 30, 60 and 90 views and at the end: SC
 points, mean ± paired standard error over the worlds both ran (worlds where the new is ahead),
 then the mean over every cell. A (P_gt, world) in one set only is left out and counted.
@@ -21,17 +22,26 @@ import sys
 COLUMNS = ["sc_after_30", "sc_after_60", "sc_after_90", "sc_final"]
 
 
-def read(path):
+def fail(msg):
+    print(f"paired_models: {msg}", file=sys.stderr)
+    sys.exit(2)
+
+
+def read(path, label=None):
     try:
         with open(path, newline="") as f:
             rows = list(csv.DictReader(f))
     except OSError as e:
-        sys.exit(f"paired_models: {path}: {e.strerror}")
+        fail(f"{path}: {e.strerror}")
     out = {}
+    if label is not None:
+        rows = [r for r in rows if r["label"] == label]
+        if not rows:
+            fail(f"{path}: no trial of label {label}")
     for r in rows:
         key = (float(r["p_gt"]), int(r["world_seed"]))
         if key in out:
-            sys.exit(f"paired_models: {path}: P_gt {key[0]:g}, world {key[1]} given twice")
+            fail(f"{path}: P_gt {key[0]:g}, world {key[1]} given twice (name a label: PRESET=CSV:LABEL)")
         out[key] = [float(r[c]) for c in COLUMNS]
     return out
 
@@ -41,8 +51,9 @@ def sources(specs, what):
     for spec in specs:
         preset, _, path = spec.partition("=")
         if not path:
-            sys.exit(f"paired_models: {what} '{spec}': give preset=file")
-        by.setdefault(preset, {}).update(read(path))
+            fail(f"{what} '{spec}': give preset=file or preset=file:label")
+        path, _, label = path.partition(":")
+        by.setdefault(preset, {}).update(read(path, label or None))
     return by
 
 
@@ -57,7 +68,7 @@ def main():
     means = []
     for preset in new:
         if preset not in base:
-            sys.exit(f"paired_models: no --base figures of preset {preset}")
+            fail(f"no --base figures of preset {preset}")
         a_, b_ = new[preset], base[preset]
         for p in sorted({k[0] for k in a_}, reverse=True):
             keys = sorted(k for k in a_ if k[0] == p and k in b_)

@@ -1,6 +1,7 @@
 #pragma once
 // The planner on the learned view scorer ("learned", docs/learned.md). Each round, on the latest
-// map: the fruits of the stop region fitted as the shape planner fits them; candidates on
+// map: the fruits of the stop region fitted as the shape planner fits them, from the voxels hit as
+// fruit once or more (fruit_min_logodds, where the shape planner needs two); candidates on
 // spheres (radii_m) around each fitted centre, through ours' reach test; each candidate's view
 // features (nbv/view_features.h) scored by the model (nbv/view_ranker.h), trained against the
 // truth on tuning worlds only; candidates that would see neither unseen predicted fruit surface
