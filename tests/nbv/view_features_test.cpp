@@ -241,6 +241,22 @@ TEST(ViewFeatures, KeptRayFeaturesEqualFreshOnesAsTheMapChanges) {
   EXPECT_GT(kept.rays_kept(), views.size() / 2);
 }
 
+// Calls f(key, voxel centre, distance to c) for every voxel of the box c ± 2r (fruits built
+// voxel by voxel).
+template <class F>
+void for_each_voxel_around(const mapping::SemanticOcTree& map, const Vec3& c, double r, F&& f) {
+  octomap::OcTreeKey k0, k1;
+  ASSERT_TRUE(map.key_of(c - Vec3::Constant(2 * r), &k0) && map.key_of(c + Vec3::Constant(2 * r), &k1));
+  for (int x = k0[0]; x <= k1[0]; ++x)
+    for (int y = k0[1]; y <= k1[1]; ++y)
+      for (int z = k0[2]; z <= k1[2]; ++z) {
+        const octomap::OcTreeKey k{std::uint16_t(x), std::uint16_t(y), std::uint16_t(z)};
+        const octomap::point3d q = map.keyToCoord(k);
+        const Vec3 v(q.x(), q.y(), q.z());
+        f(k, v, (v - c).norm());
+      }
+}
+
 // The evidence features (fruit_logodds_mean .. fruit_unseen_share) on fruits built voxel by
 // voxel: the front halves of spherical shells of fruit voxels, the lower quarter hit 3 times,
 // the upper 5 times.
@@ -258,21 +274,13 @@ TEST(ViewFeatures, ReadAFruitsEvidenceFromItsVoxelsAndItsFit) {
     const int fruit = map.classes().target_index(), leaf = 1;
     const double res = map.getResolution();
     for (const Vec3& c : {a, b, far}) {
-      octomap::OcTreeKey k0, k1;
-      EXPECT_TRUE(map.key_of(c - Vec3::Constant(2 * r), &k0) && map.key_of(c + Vec3::Constant(2 * r), &k1));
-      for (int x = k0[0]; x <= k1[0]; ++x)
-        for (int y = k0[1]; y <= k1[1]; ++y)
-          for (int z = k0[2]; z <= k1[2]; ++z) {
-            const octomap::OcTreeKey k{std::uint16_t(x), std::uint16_t(y), std::uint16_t(z)};
-            const octomap::point3d q = map.keyToCoord(k);
-            const Vec3 v(q.x(), q.y(), q.z());
-            const double d = (v - c).norm();
-            if (std::abs(d - r) <= res / 2 && v.x() <= c.x()) {  // the front half: the back unseen
-              for (int h = 0; h < (v.z() < c.z() ? 3 : 5); ++h) map.update_hit(k, fruit);
-            } else if (d < r - res / 2 && interior_free) {
-              map.update_free(k);
-            }
-          }
+      for_each_voxel_around(map, c, r, [&](const octomap::OcTreeKey& k, const Vec3& v, double d) {
+        if (std::abs(d - r) <= res / 2 && v.x() <= c.x()) {  // the front half: the back unseen
+          for (int h = 0; h < (v.z() < c.z() ? 3 : 5); ++h) map.update_hit(k, fruit);
+        } else if (d < r - res / 2 && interior_free) {
+          map.update_free(k);
+        }
+      });
       if (leaf_inside) {
         octomap::OcTreeKey k;
         EXPECT_TRUE(map.key_of(c, &k));
@@ -339,17 +347,12 @@ TEST(ViewFeatures, AFruitHitOnceIsAFruitOnlyBelowTheClusteringsThreshold) {
   const int fruit = map.classes().target_index();
   const double res = map.getResolution();
   for (const auto& [c, hits] : {std::pair<Vec3, int>{once, 1}, std::pair<Vec3, int>{twice, 2}}) {
-    octomap::OcTreeKey k0, k1;
-    ASSERT_TRUE(map.key_of(c - Vec3::Constant(2 * r), &k0) && map.key_of(c + Vec3::Constant(2 * r), &k1));
-    for (int x = k0[0]; x <= k1[0]; ++x)
-      for (int y = k0[1]; y <= k1[1]; ++y)
-        for (int z = k0[2]; z <= k1[2]; ++z) {
-          const octomap::OcTreeKey k{std::uint16_t(x), std::uint16_t(y), std::uint16_t(z)};
-          const octomap::point3d q = map.keyToCoord(k);
-          const Vec3 v(q.x(), q.y(), q.z());
-          if (std::abs((v - c).norm() - r) <= res / 2 && v.x() <= c.x())
-            for (int h = 0; h < hits; ++h) map.update_hit(k, fruit);
-        }
+    const Vec3 centre = c;
+    const int n = hits;
+    for_each_voxel_around(map, centre, r, [&](const octomap::OcTreeKey& k, const Vec3& v, double d) {
+      if (std::abs(d - r) <= res / 2 && v.x() <= centre.x())
+        for (int h = 0; h < n; ++h) map.update_hit(k, fruit);
+    });
   }
   const Eigen::AlignedBox3d region(Vec3(0.2, -0.4, 0.6), Vec3(0.8, 0.6, 1.4));
   const auto fruits = [&](double threshold) {
