@@ -79,7 +79,7 @@ void add_nbv_command(CLI::App& app) {
   struct Options {
     std::string map, base, joints, out, intrinsics;
     std::string config = settings::default_settings_path();
-    std::string method = "learned";  // issue 47's goal met (docs/real_robot.md); canopy run keeps the paper's
+    std::string method = jobs::kNextViewsMethod;
     std::string gain, rays;  // "": the bundle's method.gain / method.rays
     int k = -1;
     std::uint64_t seed = 1;

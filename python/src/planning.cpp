@@ -121,9 +121,9 @@ py::dict next_views(const PyMap& map, const py::object& base, const py::object& 
                     const py::object& method, const py::object& planner, const py::object& seed,
                     const py::object& intrinsics) {
   settings::Settings s = settings_from(settings);
-  // The default is canopy nbv's, the planner a lab deploys (learned), not the bundle's method.name
-  // (the paper's ours, which run_mission keeps).
-  choose_method(s, method.is_none() && planner.is_none() ? py::str("learned") : method, planner);
+  // The default is canopy nbv's (jobs::kNextViewsMethod), not the bundle's method.name (the
+  // paper's ours, which run_mission keeps).
+  choose_method(s, method.is_none() && planner.is_none() ? py::str(jobs::kNextViewsMethod) : method, planner);
   jobs::NextViewsJob job;
   job.base = base_from(base, "base");
   if (!joints.is_none()) job.joints = joints_from(joints, "joints");

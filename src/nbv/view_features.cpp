@@ -235,9 +235,7 @@ void ViewFeatures::begin_round(const mapping::SemanticOcTree& map, const VoxelIn
   T_now_ = T_world_camera;
   eval_ = std::make_unique<ViewEvaluator>(index, intrinsics_, nbv_.rays);
   std::vector<Vec3> confirmed;
-  ClusterParams cluster = nbv_.cluster;
-  cluster.min_logodds = params_.fruit_min_logodds;
-  fruits_ = fit_fruits(map, cluster, params_.fit, &region, params_.margin_m, &confirmed, &cache_);
+  fruits_ = fit_fruits(map, params_.clustering(nbv_.cluster), params_.fit, &region, params_.margin_m, &confirmed, &cache_);
   points_ = unseen_surface(fruits_, confirmed, params_.spacing_m, params_.covered_m);
   const int target = map.classes().target_index();
   const int fruit_cat = target + 1;  // prob[] holds free first

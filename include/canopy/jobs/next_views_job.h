@@ -16,6 +16,12 @@
 #include "canopy/settings/settings.h"
 
 namespace canopy::jobs {
+/// The planner `canopy nbv` and Python's next_views use when none is named: learned, the planner a
+/// lab deploys (issue 47's goal met, docs/real_robot.md); canopy run keeps the paper's ours.
+inline constexpr const char* kNextViewsMethod = "learned";
+}  // namespace canopy::jobs
+
+namespace canopy::jobs {
 
 /// Where the robot is and what else the planner is given.
 struct NextViewsJob {

@@ -40,7 +40,12 @@ struct ViewFeatureParams {
   double margin_m = 0.1;           ///< Fruit voxels within this of the stop region are clustered [m].
   /// A voxel is one of a fruit's (clustered, fitted, confirmed) when its most likely class is the
   /// target with log-odds above this (the other fields of the clustering: NbvParams::cluster).
-  double fruit_min_logodds = 1.0;
+  double fruit_min_logodds = ClusterParams{}.min_logodds;
+  /// `base` (NbvParams::cluster) with this threshold: the clustering of the features' fruits.
+  ClusterParams clustering(ClusterParams base) const {
+    base.min_logodds = fruit_min_logodds;
+    return base;
+  }
 };
 
 /// True when no point within `radius_m` of `centre_world` can lie in the view of a camera at

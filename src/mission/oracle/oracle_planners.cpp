@@ -12,7 +12,7 @@
 #include "canopy/nbv/clusters.h"
 #include "canopy/nbv/failed_views.h"
 #include "canopy/nbv/fruit_shapes.h"
-#include "canopy/nbv/planners/learned/learned_params.h"
+#include "canopy/nbv/planners/learned/learned.h"
 #include "canopy/nbv/planners/ours/ours.h"
 #include "canopy/nbv/round_planner.h"
 #include "canopy/nbv/view_features.h"
@@ -134,12 +134,12 @@ class OraclePlanner : public nbv::ViewPlanner {
   // and reachable; no map test of what a view could add (the truth decides).
   std::vector<TruthView> learned_views(const nbv::ViewRequest& req, nbv::ViewBatch* batch) {
     const nbv::LearnedParams& lp = settings_.params.planner<nbv::LearnedParams>();
+    const nbv::ViewFeatureParams fp = nbv::learned::feature_params(lp);  // the fruits learned finds
     std::vector<nbv::FittedFruit> fruits;
     {
       ScopedPhase phase(batch->times, "clustering");
-      nbv::ClusterParams cluster = settings_.params.cluster;
-      cluster.min_logodds = lp.fruit_min_logodds;
-      fruits = nbv::fit_fruits(*req.map, cluster, lp.fit, &req.region, nbv::ViewFeatureParams{}.margin_m, nullptr, &fits_);
+      fruits = nbv::fit_fruits(*req.map, fp.clustering(settings_.params.cluster), fp.fit, &req.region, fp.margin_m,
+                               nullptr, &fits_);
     }
     batch->clusters = fruits.size();
     std::vector<TruthView> out;

@@ -13,8 +13,6 @@
 
 namespace canopy::nbv::learned {
 
-namespace {
-
 ViewFeatureParams feature_params(const LearnedParams& p) {
   ViewFeatureParams f;
   f.fit = p.fit;
@@ -24,6 +22,8 @@ ViewFeatureParams feature_params(const LearnedParams& p) {
   f.fruit_min_logodds = p.fruit_min_logodds;
   return f;
 }
+
+namespace {
 
 class LearnedPlanner : public RoundPlanner {
  public:

@@ -12,12 +12,16 @@
 #include <memory>
 
 #include "canopy/nbv/planners/learned/learned_params.h"
+#include "canopy/nbv/view_features.h"
 #include "canopy/nbv/view_planner.h"
 
 namespace canopy::nbv::learned {
 
 /// The planner (registry name "learned"); throws InputError naming the model file when it cannot be used.
 std::unique_ptr<ViewPlanner> make_planner(const ViewPlannerSettings& settings);
+/// How learned computes its features and finds its fruits (the oracle on learned's candidates
+/// finds the same fruits).
+ViewFeatureParams feature_params(const LearnedParams& params);
 /// Its registry entry.
 ViewPlannerEntry entry();
 
